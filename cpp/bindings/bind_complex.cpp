@@ -1,0 +1,74 @@
+#include "animanifold/complex.hpp"
+#include "animanifold/normals.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+void bind_complex(py::module_& m) {
+  py::class_<Complex, std::shared_ptr<Complex>>(m, "Complex",
+                                                 "Points (#V by D) and oriented simplices (#S by k+1) "
+                                                 "with per-vertex float and per-simplex integer attributes.")
+      .def(py::init([](PointsRef V, SimplicesRef S, VertexAttributes va, SimplexAttributes sa) {
+             auto c = std::make_shared<Complex>();
+             c->V = V;
+             c->S = S;
+             c->vertex_attributes = std::move(va);
+             c->simplex_attributes = std::move(sa);
+             c->validate();
+             return c;
+           }),
+           py::arg("points"), py::arg("simplices"), py::arg("vertex_attributes") = VertexAttributes{},
+           py::arg("simplex_attributes") = SimplexAttributes{})
+      // Read-only views into the complex's own memory (no copies).
+      .def_property_readonly("points", [](const Complex& c) -> const PointMatrix& { return c.V; },
+                             py::return_value_policy::reference_internal)
+      .def_property_readonly("simplices", [](const Complex& c) -> const SimplexMatrix& { return c.S; },
+                             py::return_value_policy::reference_internal)
+      .def_property_readonly("vertex_attributes", [](py::object self) {
+        const Complex& c = self.cast<const Complex&>();
+        py::dict out;
+        for (const auto& [name, table] : c.vertex_attributes)
+          out[py::str(name)] = py::cast(table, py::return_value_policy::reference_internal, self);
+        return out;
+      })
+      .def_property_readonly("simplex_attributes", [](py::object self) {
+        const Complex& c = self.cast<const Complex&>();
+        py::dict out;
+        for (const auto& [name, table] : c.simplex_attributes)
+          out[py::str(name)] = py::cast(table, py::return_value_policy::reference_internal, self);
+        return out;
+      })
+      .def("validate", &Complex::validate);
+
+  m.def("facets", [](SimplicesRef S) { return facets(S); }, py::arg("simplices"),
+        "All facets (#S*k by k-1), facet i of simplex s at row s*k+i, oriented by the rule of §2.4.");
+  m.def("boundary_facets", [](SimplicesRef S) { return boundary_facets(S); }, py::arg("simplices"));
+  m.def("facet_adjacency", [](SimplicesRef S) {
+        auto a = facet_adjacency(S);
+        return py::make_tuple(a.neighbour, a.opposite);
+      }, py::arg("simplices"), "(neighbour, opposite): simplex across each facet and its facet index, -1 on the boundary.");
+  m.def("check_manifold", [](SimplicesRef S) {
+        const auto r = check_manifold(S);
+        py::dict out;
+        out["interior_facets"] = r.interior_facets;
+        out["boundary_facets"] = r.boundary_facets;
+        out["nonmanifold_facets"] = r.nonmanifold_facets;
+        out["misoriented_facets"] = r.misoriented_facets;
+        out["degenerate_simplices"] = r.degenerate_simplices;
+        out["is_oriented_manifold"] = r.is_oriented_manifold();
+        return out;
+      }, py::arg("simplices"));
+  m.def("signed_volumes", [](PointsRef V, SimplicesRef S) { return signed_volumes(V, S); }, py::arg("points"),
+        py::arg("simplices"));
+  m.def("simplex_volumes", [](PointsRef V, SimplicesRef S) { return simplex_volumes(V, S); }, py::arg("points"),
+        py::arg("simplices"));
+  m.def("wedge", [](PointsRef vectors) { return wedge(vectors); }, py::arg("vectors"));
+  m.def("simplex_normals", [](PointsRef V, SimplicesRef S) { return simplex_normals(V, S); }, py::arg("points"),
+        py::arg("simplices"));
+  m.def("vertex_normals", [](PointsRef V, SimplicesRef S) { return vertex_normals(V, S); }, py::arg("points"),
+        py::arg("simplices"));
+  m.def("drop_component", [](PointsRef N, int axis) { return drop_component(N, axis); }, py::arg("normals"),
+        py::arg("axis"));
+}
+
+}  // namespace animanifold::bindings

@@ -1,0 +1,25 @@
+#include "animanifold/io.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+void bind_io(py::module_& m) {
+  m.def("read_mesh",
+        [](const std::string& path) {
+          SurfaceMesh mesh;
+          {
+            py::gil_scoped_release release;
+            mesh = read_mesh(path);
+          }
+          return py::make_tuple(mesh.vertices, mesh.faces, mesh.polygons_triangulated);
+        },
+        py::arg("path"), "(vertices, triangles, polygons_triangulated) of an OFF/OBJ/PLY/STL file, via CGAL.");
+  m.def("write_mesh",
+        [](const std::string& path, PointsRef V, SimplicesRef F) {
+          py::gil_scoped_release release;
+          write_mesh(path, V, F);
+        },
+        py::arg("path"), py::arg("vertices"), py::arg("faces"));
+}
+
+}  // namespace animanifold::bindings

@@ -1,0 +1,36 @@
+#include "animanifold/slice.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+void bind_slice(py::module_& m) {
+  py::class_<Slice, std::shared_ptr<Slice>>(m, "Slice", "One iso-slice (frame) of a manifold.")
+      .def_readonly("vertices", &Slice::vertices)
+      .def_readonly("faces", &Slice::faces)
+      .def_readonly("normals", &Slice::normals)
+      .def_readonly("vertex_attributes", &Slice::vertex_attributes)
+      .def_readonly("face_attributes", &Slice::face_attributes)
+      .def_readonly("vertex_edges", &Slice::vertex_edges)
+      .def_readonly("edge_parameter", &Slice::edge_parameter)
+      .def_readonly("face_simplex", &Slice::face_simplex);
+
+  py::class_<Slicer>(m, "Slicer", "A manifold with its cached interval indices and vertex normals.")
+      .def(py::init<std::shared_ptr<const Complex>>(), py::arg("manifold"), py::keep_alive<1, 2>())
+      .def("slice",
+           [](Slicer& s, int axis, double value, bool use_index) {
+             py::gil_scoped_release release;
+             return std::make_shared<Slice>(s.slice(axis, value, use_index));
+           },
+           py::arg("axis"), py::arg("value"), py::arg("use_index") = true)
+      .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"));
+
+  m.def("slice",
+        [](const Complex& c, int axis, double value) {
+          py::gil_scoped_release release;
+          return std::make_shared<Slice>(slice(c, axis, value));
+        },
+        py::arg("manifold"), py::arg("axis"), py::arg("value"),
+        "One slice without an index or cached normals (tests every simplex).");
+}
+
+}  // namespace animanifold::bindings

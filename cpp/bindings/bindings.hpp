@@ -1,0 +1,25 @@
+// The pybind11 module `animanifold._core`: thin wrappers only, no logic.
+// Each bind_*.cpp registers one header's functions; module.cpp calls them.
+#pragma once
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "animanifold/types.hpp"
+
+namespace animanifold::bindings {
+
+namespace py = pybind11;
+
+// C-contiguous inputs map onto these without a copy.
+using PointsRef = Eigen::Ref<const PointMatrix>;
+using SimplicesRef = Eigen::Ref<const SimplexMatrix>;
+
+void bind_complex(py::module_& m);
+void bind_stitch(py::module_& m);
+void bind_slice(py::module_& m);
+void bind_io(py::module_& m);
+
+}  // namespace animanifold::bindings

@@ -1,0 +1,91 @@
+// The oriented simplicial complex: points, simplices, attributes, and the
+// combinatorial queries every algorithm needs (chapter 2.1, 2.4, 8.2).
+//
+// Orientation follows §2.4: facet i (0-based here, i+1 in the text) of a
+// simplex drops vertex i and swaps the first two remaining vertices when i+1
+// is even. For [A,B,C,D] this gives [B,C,D], [C,A,D], [A,B,D], [B,A,C]: all
+// facets outward. Two simplices sharing a facet are consistently oriented
+// when they list that facet with opposite orientations.
+#pragma once
+
+#include "animanifold/types.hpp"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace animanifold {
+
+// An animation manifold (n-simplices in R^(n+1)) or any other simplicial
+// complex: `V` is #V by D, `S` is #S by (k+1), attribute tables are indexed
+// like V (vertex attributes) or S (simplex attributes).
+struct Complex {
+  PointMatrix V;
+  SimplexMatrix S;
+  VertexAttributes vertex_attributes;
+  SimplexAttributes simplex_attributes;
+
+  int ambient_dimension() const { return static_cast<int>(V.cols()); }
+  int vertices_per_simplex() const { return static_cast<int>(S.cols()); }
+
+  // Throws InputError naming the offending simplex, vertex or attribute when
+  // indices are out of range, coordinates are not finite, or attribute
+  // tables have the wrong number of rows.
+  void validate() const;
+};
+
+// Writes facet `i` of `simplex` (k vertices) into `out` (k-1 vertices) with
+// the orientation rule of §2.4.
+void facet(const Index* simplex, int k, int i, Index* out);
+
+// All facets, simplex-major: row s*k + i is facet i of simplex s.
+// (#S*k) by (k-1).
+SimplexMatrix facets(const SimplexMatrix& S);
+
+// Simplex-to-simplex adjacency across facets.
+struct FacetAdjacency {
+  SimplexMatrix neighbour;  // #S by k: simplex across facet i, or -1 on the boundary
+  SimplexMatrix opposite;   // #S by k: which facet of that neighbour it is, or -1
+};
+// Throws InputError when a facet is shared by more than two simplices
+// (naming the facet's vertices) since adjacency is then not a function.
+FacetAdjacency facet_adjacency(const SimplexMatrix& S);
+
+// The facets that belong to exactly one simplex, oriented outward (as facets
+// of their simplex). #B by (k-1).
+SimplexMatrix boundary_facets(const SimplexMatrix& S);
+
+// What a manifold check found. A valid oriented pseudo-manifold has
+// nonmanifold == 0 and misoriented == 0.
+struct ManifoldReport {
+  std::int64_t interior_facets = 0;  // shared by exactly two simplices
+  std::int64_t boundary_facets = 0;  // in exactly one simplex
+  std::int64_t nonmanifold_facets = 0;   // in three or more simplices
+  std::int64_t misoriented_facets = 0;   // shared by two with the same orientation
+  std::int64_t degenerate_simplices = 0; // repeating a vertex index
+  bool is_oriented_manifold() const {
+    return nonmanifold_facets == 0 && misoriented_facets == 0 && degenerate_simplices == 0;
+  }
+};
+ManifoldReport check_manifold(const SimplexMatrix& S);
+
+// Signed volume of full-dimensional simplices (k = D+1 vertices in R^D):
+// det[v1-v0, ..., vD-v0] / D!. #S vector.
+Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S);
+
+// Unsigned k-volume of k-simplices in any ambient dimension (length, area,
+// volume, ...), from the Gram determinant. #S vector.
+Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S);
+
+// Vertex-to-simplex incidence in compressed form: the simplices incident to
+// vertex v are `simplices[offsets[v] .. offsets[v+1])`.
+struct VertexStar {
+  std::vector<Index> offsets;
+  std::vector<Index> simplices;
+};
+VertexStar vertex_star(const SimplexMatrix& S, Index vertex_count);
+
+// Parity of the permutation that sorts `ids` (k entries, k <= 8): +1 even, -1 odd.
+int permutation_parity(const Index* ids, int k);
+
+}  // namespace animanifold

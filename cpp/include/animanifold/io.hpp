@@ -1,0 +1,27 @@
+// Mesh files through CGAL's IO (OFF, OBJ, PLY, STL), as polygon soups.
+// (The manifold cache format lives in the Python package: animanifold.cache.)
+#pragma once
+
+#include "animanifold/types.hpp"
+
+#include <string>
+
+namespace animanifold {
+
+struct SurfaceMesh {
+  PointMatrix vertices;  // #V by 3
+  SimplexMatrix faces;   // #F by 3 triangles
+  Index polygons_triangulated = 0;  // input polygons with more than three corners, fan-split
+};
+
+// Reads a polygon mesh; polygons with more than three corners are split into
+// fans (the same split for files with the same connectivity, so keyframes
+// still correspond). Throws IOError naming the file when it cannot be read,
+// has no faces, or has a face with fewer than three corners.
+SurfaceMesh read_mesh(const std::string& path);
+
+// Writes triangles (or any polygons given as rows) with full double precision;
+// the format comes from the extension. Throws IOError naming the file.
+void write_mesh(const std::string& path, const PointMatrix& vertices, const SimplexMatrix& faces);
+
+}  // namespace animanifold

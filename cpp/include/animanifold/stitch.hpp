@@ -1,0 +1,45 @@
+// Keyframes with vertex correspondence → animation manifold (§2.2).
+//
+// m keyframes of k vertices share one connectivity of l faces (triangles in
+// R^3, or edges of closed polygons in R^2). Keyframe i is embedded at time
+// times[i]; vertex j of keyframe i becomes manifold vertex i*k + j. Each
+// face sweeps a prism between consecutive keyframes, split into n simplices
+// (3 tets, or 2 triangles) by the global order of the face's vertex indices:
+// a side quad shared by two prisms is split along the same diagonal in both,
+// so the result is conforming. The manifold has exactly n·l·(m−1) simplices,
+// its boundary is the first keyframe (in its own orientation) and the last
+// keyframe (reversed), and slicing at times[i] gives keyframe i back.
+#pragma once
+
+#include "animanifold/complex.hpp"
+
+namespace animanifold {
+
+struct StitchInput {
+  // (m*k) by d keyframe positions, keyframe-major: row i*k + j is vertex j of
+  // keyframe i (d = 3 for triangle meshes, d = 2 for polygons).
+  PointMatrix frames;
+  // l by d faces (triangles when d = 3, edges when d = 2), shared by all keyframes.
+  SimplexMatrix faces;
+  // m strictly increasing, finite times.
+  Eigen::VectorXd times;
+  // Per-vertex float attributes: k by c (constant over time) or (m*k) by c.
+  VertexAttributes vertex_attributes;
+  // Per-face integer attributes: l by c, carried onto every simplex of the face's prisms.
+  SimplexAttributes face_attributes;
+};
+
+// Throws InputError naming the keyframe, vertex or face at fault: fewer than
+// two keyframes, frames not a multiple of the keyframe count, non-finite
+// coordinates, non-increasing times, face indices out of range or repeated,
+// attribute tables of the wrong size.
+Complex stitch(const StitchInput& input);
+
+// The manifold simplex that face `face` of the prism between keyframes
+// `segment` and `segment+1` became: simplices of one prism are consecutive,
+// starting at (segment * l + face) * n.
+inline Index stitched_simplex(Index segment, Index face, Index face_count, int simplices_per_prism) {
+  return (segment * face_count + face) * simplices_per_prism;
+}
+
+}  // namespace animanifold

@@ -1,0 +1,206 @@
+#include "animanifold/complex.hpp"
+
+#include "animanifold/errors.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace animanifold {
+
+void Complex::validate() const {
+  const Index n = static_cast<Index>(V.rows());
+  for (Index v = 0; v < n; ++v)
+    for (int c = 0; c < V.cols(); ++c)
+      if (!std::isfinite(V(v, c))) fail<InputError>("vertex ", v, " has a non-finite coordinate ", c);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < S.cols(); ++c)
+      if (S(s, c) < 0 || S(s, c) >= n)
+        fail<InputError>("simplex ", s, " refers to vertex ", S(s, c), ", outside 0..", n - 1);
+  for (const auto& [name, table] : vertex_attributes)
+    if (table.rows() != V.rows())
+      fail<InputError>("vertex attribute '", name, "' has ", table.rows(), " rows for ", V.rows(), " vertices");
+  for (const auto& [name, table] : simplex_attributes)
+    if (table.rows() != S.rows())
+      fail<InputError>("simplex attribute '", name, "' has ", table.rows(), " rows for ", S.rows(), " simplices");
+}
+
+void facet(const Index* simplex, int k, int i, Index* out) {
+  int j = 0;
+  for (int c = 0; c < k; ++c)
+    if (c != i) out[j++] = simplex[c];
+  // §2.4 counts facets from 1: facet i+1 swaps its first two vertices when even.
+  if ((i + 1) % 2 == 0 && k - 1 >= 2) std::swap(out[0], out[1]);
+}
+
+SimplexMatrix facets(const SimplexMatrix& S) {
+  const int k = static_cast<int>(S.cols());
+  SimplexMatrix F(S.rows() * k, k - 1);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int i = 0; i < k; ++i) facet(S.row(s).data(), k, i, F.row(s * k + i).data());
+  return F;
+}
+
+int permutation_parity(const Index* ids, int k) {
+  int inversions = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = a + 1; b < k; ++b)
+      if (ids[a] > ids[b]) ++inversions;
+  return inversions % 2 == 0 ? 1 : -1;
+}
+
+namespace {
+
+// One facet occurrence, sortable by its vertex set. Facets have at most four
+// vertices (simplices of at most five: 4-simplices filling R^4).
+struct FacetRecord {
+  std::array<Index, 4> key;
+  Index simplex;
+  std::int8_t index;
+  std::int8_t parity;
+};
+
+std::vector<FacetRecord> sorted_facet_records(const SimplexMatrix& S) {
+  const int k = static_cast<int>(S.cols());
+  if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
+  std::vector<FacetRecord> records;
+  records.reserve(static_cast<size_t>(S.rows()) * k);
+  Index f[5];
+  for (Index s = 0; s < S.rows(); ++s) {
+    for (int i = 0; i < k; ++i) {
+      facet(S.row(s).data(), k, i, f);
+      FacetRecord r;
+      r.key.fill(-1);
+      std::copy(f, f + k - 1, r.key.begin());
+      r.parity = static_cast<std::int8_t>(permutation_parity(f, k - 1));
+      std::sort(r.key.begin(), r.key.begin() + (k - 1));
+      r.simplex = s;
+      r.index = static_cast<std::int8_t>(i);
+      records.push_back(r);
+    }
+  }
+  std::sort(records.begin(), records.end(),
+            [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; });
+  return records;
+}
+
+// Calls visit(first, last) for each run of records with equal keys.
+template <class Visit>
+void for_each_facet_group(const std::vector<FacetRecord>& records, Visit visit) {
+  size_t begin = 0;
+  while (begin < records.size()) {
+    size_t end = begin + 1;
+    while (end < records.size() && records[end].key == records[begin].key) ++end;
+    visit(begin, end);
+    begin = end;
+  }
+}
+
+bool has_repeated_vertex(const Index* s, int k) {
+  for (int a = 0; a < k; ++a)
+    for (int b = a + 1; b < k; ++b)
+      if (s[a] == s[b]) return true;
+  return false;
+}
+
+}  // namespace
+
+FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
+  const int k = static_cast<int>(S.cols());
+  FacetAdjacency adjacency;
+  adjacency.neighbour = SimplexMatrix::Constant(S.rows(), k, -1);
+  adjacency.opposite = SimplexMatrix::Constant(S.rows(), k, -1);
+  const auto records = sorted_facet_records(S);
+  for_each_facet_group(records, [&](size_t begin, size_t end) {
+    if (end - begin > 2) {
+      const auto& r = records[begin];
+      fail<InputError>("facet (", r.key[0], ", ", r.key[1], k > 3 ? ", ..." : "", ") of simplex ", r.simplex,
+                       " is shared by ", end - begin, " simplices: the complex is not a manifold");
+    }
+    if (end - begin == 2) {
+      const auto& a = records[begin];
+      const auto& b = records[begin + 1];
+      adjacency.neighbour(a.simplex, a.index) = b.simplex;
+      adjacency.opposite(a.simplex, a.index) = b.index;
+      adjacency.neighbour(b.simplex, b.index) = a.simplex;
+      adjacency.opposite(b.simplex, b.index) = a.index;
+    }
+  });
+  return adjacency;
+}
+
+SimplexMatrix boundary_facets(const SimplexMatrix& S) {
+  const int k = static_cast<int>(S.cols());
+  const auto records = sorted_facet_records(S);
+  std::vector<std::pair<Index, int>> boundary;
+  for_each_facet_group(records, [&](size_t begin, size_t end) {
+    if (end - begin == 1) boundary.emplace_back(records[begin].simplex, records[begin].index);
+  });
+  std::sort(boundary.begin(), boundary.end());
+  SimplexMatrix B(static_cast<Index>(boundary.size()), k - 1);
+  for (size_t r = 0; r < boundary.size(); ++r)
+    facet(S.row(boundary[r].first).data(), k, boundary[r].second, B.row(static_cast<Index>(r)).data());
+  return B;
+}
+
+ManifoldReport check_manifold(const SimplexMatrix& S) {
+  ManifoldReport report;
+  const int k = static_cast<int>(S.cols());
+  for (Index s = 0; s < S.rows(); ++s)
+    if (has_repeated_vertex(S.row(s).data(), k)) ++report.degenerate_simplices;
+  const auto records = sorted_facet_records(S);
+  for_each_facet_group(records, [&](size_t begin, size_t end) {
+    const size_t count = end - begin;
+    if (count == 1) ++report.boundary_facets;
+    else if (count > 2) ++report.nonmanifold_facets;
+    else {
+      ++report.interior_facets;
+      if (records[begin].parity == records[begin + 1].parity) ++report.misoriented_facets;
+    }
+  });
+  return report;
+}
+
+Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S) {
+  const int D = static_cast<int>(V.cols());
+  if (S.cols() != D + 1)
+    fail<InputError>("signed volume needs full-dimensional simplices: ", S.cols(), " vertices in R^", D);
+  double factorial = 1;
+  for (int i = 2; i <= D; ++i) factorial *= i;
+  Eigen::VectorXd volumes(S.rows());
+  Eigen::MatrixXd edges(D, D);
+  for (Index s = 0; s < S.rows(); ++s) {
+    for (int i = 0; i < D; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
+    volumes(s) = edges.determinant() / factorial;
+  }
+  return volumes;
+}
+
+Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S) {
+  const int n = static_cast<int>(S.cols()) - 1;
+  double factorial = 1;
+  for (int i = 2; i <= n; ++i) factorial *= i;
+  Eigen::VectorXd volumes(S.rows());
+  Eigen::MatrixXd edges(n, V.cols());
+  for (Index s = 0; s < S.rows(); ++s) {
+    for (int i = 0; i < n; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
+    const double gram = (edges * edges.transpose()).determinant();
+    volumes(s) = std::sqrt(std::max(gram, 0.0)) / factorial;
+  }
+  return volumes;
+}
+
+VertexStar vertex_star(const SimplexMatrix& S, Index vertex_count) {
+  VertexStar star;
+  star.offsets.assign(static_cast<size_t>(vertex_count) + 1, 0);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < S.cols(); ++c) ++star.offsets[S(s, c) + 1];
+  for (Index v = 0; v < vertex_count; ++v) star.offsets[v + 1] += star.offsets[v];
+  star.simplices.resize(star.offsets.back());
+  std::vector<Index> cursor(star.offsets.begin(), star.offsets.end() - 1);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < S.cols(); ++c) star.simplices[cursor[S(s, c)]++] = s;
+  return star;
+}
+
+}  // namespace animanifold

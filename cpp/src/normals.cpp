@@ -1,0 +1,98 @@
+#include "animanifold/normals.hpp"
+
+#include "animanifold/errors.hpp"
+
+#include <Eigen/Dense>
+
+namespace animanifold {
+
+namespace {
+
+// Fixed-size wedge of the rows of an n by n+1 matrix: N_j is the cofactor of
+// e_j on the bottom row of eq. 2.2, (-1)^(D+j) times the minor without column
+// j (1-based j, D = n+1).
+template <int D>
+Eigen::Matrix<double, D, 1> wedge_fixed(const Eigen::Matrix<double, D - 1, D>& rows) {
+  Eigen::Matrix<double, D, 1> n;
+  for (int j = 0; j < D; ++j) {
+    Eigen::Matrix<double, D - 1, D - 1> minor;
+    for (int c = 0, m = 0; c < D; ++c)
+      if (c != j) minor.col(m++) = rows.col(c);
+    const double sign = ((D + j + 1) % 2 == 0) ? 1.0 : -1.0;
+    n(j) = sign * minor.determinant();
+  }
+  return n;
+}
+
+template <int D>
+void simplex_normals_fixed(const PointMatrix& V, const SimplexMatrix& S, PointMatrix& N) {
+  Eigen::Matrix<double, D - 1, D> edges;
+  for (Index s = 0; s < S.rows(); ++s) {
+    for (int i = 0; i < D - 1; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
+    N.row(s) = wedge_fixed<D>(edges).transpose();
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd wedge(const PointMatrix& vectors) {
+  const int D = static_cast<int>(vectors.cols());
+  if (vectors.rows() != D - 1)
+    fail<InputError>("wedge product needs n vectors in R^(n+1); got ", vectors.rows(), " in R^", D);
+  Eigen::VectorXd n(D);
+  for (int j = 0; j < D; ++j) {
+    Eigen::MatrixXd minor(D - 1, D - 1);
+    for (int c = 0, m = 0; c < D; ++c)
+      if (c != j) minor.col(m++) = vectors.col(c);
+    const double sign = ((D + j + 1) % 2 == 0) ? 1.0 : -1.0;
+    n(j) = D == 1 ? sign : sign * minor.determinant();
+  }
+  return n;
+}
+
+PointMatrix simplex_normals(const PointMatrix& V, const SimplexMatrix& S) {
+  const int D = static_cast<int>(V.cols());
+  if (S.cols() != D)
+    fail<InputError>("simplex normals need n-simplices in R^(n+1); got ", S.cols(), " vertices in R^", D);
+  PointMatrix N(S.rows(), D);
+  switch (D) {
+    case 2: simplex_normals_fixed<2>(V, S, N); break;
+    case 3: simplex_normals_fixed<3>(V, S, N); break;
+    case 4: simplex_normals_fixed<4>(V, S, N); break;
+    default: {
+      PointMatrix edges(D - 1, D);
+      for (Index s = 0; s < S.rows(); ++s) {
+        for (int i = 0; i < D - 1; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
+        N.row(s) = wedge(edges).transpose();
+      }
+    }
+  }
+  return N;
+}
+
+PointMatrix vertex_normals(const PointMatrix& V, const SimplexMatrix& S) {
+  const PointMatrix face_normals = simplex_normals(V, S);
+  PointMatrix N = PointMatrix::Zero(V.rows(), V.cols());
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < S.cols(); ++c) N.row(S(s, c)) += face_normals.row(s);
+  for (Index v = 0; v < N.rows(); ++v) {
+    const double length = N.row(v).norm();
+    if (length > 0) N.row(v) /= length;
+  }
+  return N;
+}
+
+PointMatrix drop_component(const PointMatrix& normals, int axis) {
+  const int D = static_cast<int>(normals.cols());
+  if (axis < 0 || axis >= D) fail<InputError>("axis ", axis, " is outside 0..", D - 1);
+  PointMatrix out(normals.rows(), D - 1);
+  for (Index r = 0; r < normals.rows(); ++r) {
+    for (int c = 0, m = 0; c < D; ++c)
+      if (c != axis) out(r, m++) = normals(r, c);
+    const double length = out.row(r).norm();
+    if (length > 0) out.row(r) /= length;
+  }
+  return out;
+}
+
+}  // namespace animanifold

@@ -1,0 +1,297 @@
+#include "animanifold/slice.hpp"
+
+#include "animanifold/errors.hpp"
+#include "animanifold/normals.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+namespace animanifold {
+
+// ---------------------------------------------------------------- interval index
+
+IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis) : axis_(axis) {
+  if (axis < 0 || axis >= V.cols()) fail<InputError>("axis ", axis, " is outside 0..", V.cols() - 1);
+  nodes_.resize(S.rows());
+  lowest_ = std::numeric_limits<double>::infinity();
+  highest_ = -lowest_;
+  for (Index s = 0; s < S.rows(); ++s) {
+    double low = V(S(s, 0), axis), high = low;
+    for (int c = 1; c < S.cols(); ++c) {
+      const double x = V(S(s, c), axis);
+      low = std::min(low, x);
+      high = std::max(high, x);
+    }
+    nodes_[s] = {low, high, high, s};
+    lowest_ = std::min(lowest_, low);
+    highest_ = std::max(highest_, high);
+  }
+  std::sort(nodes_.begin(), nodes_.end(), [](const Node& a, const Node& b) {
+    return a.low < b.low || (a.low == b.low && a.simplex < b.simplex);
+  });
+  // The tree is implicit: the root of a range [lo, hi) is its midpoint.
+  // subtree_high of a root is the largest `high` in its range.
+  struct Builder {
+    std::vector<Node>& nodes;
+    double build(size_t lo, size_t hi) {
+      if (lo >= hi) return -std::numeric_limits<double>::infinity();
+      const size_t mid = lo + (hi - lo) / 2;
+      const double h = std::max({nodes[mid].high, build(lo, mid), build(mid + 1, hi)});
+      nodes[mid].subtree_high = h;
+      return h;
+    }
+  };
+  Builder{nodes_}.build(0, nodes_.size());
+}
+
+void IntervalIndex::stab(double value, std::vector<Index>& out) const {
+  // Explicit stack of ranges: depth is log2(#S) + 1.
+  std::pair<size_t, size_t> stack[64];
+  int top = 0;
+  stack[top++] = {0, nodes_.size()};
+  while (top > 0) {
+    const auto [lo, hi] = stack[--top];
+    if (lo >= hi) continue;
+    const size_t mid = lo + (hi - lo) / 2;
+    const Node& node = nodes_[mid];
+    if (node.subtree_high < value) continue;  // nothing in this range reaches the value
+    stack[top++] = {lo, mid};
+    if (node.low <= value) {  // ranges right of mid start at or after node.low
+      if (node.high >= value) out.push_back(node.simplex);
+      stack[top++] = {mid + 1, hi};
+    }
+  }
+}
+
+size_t IntervalIndex::memory_bytes() const { return nodes_.size() * sizeof(Node); }
+
+// ---------------------------------------------------------------- slicing
+
+namespace {
+
+// Welds cut points: one slice vertex per manifold vertex or edge.
+class CutPoints {
+ public:
+  CutPoints(const Complex& m, int axis, double value, size_t expected)
+      : m_(m), axis_(axis), value_(value) {
+    ids_.reserve(expected);
+  }
+
+  // The slice vertex where the hyperplane crosses edge (a, b); a == b for a
+  // manifold vertex on the plane. Edges are keyed by (min, max) so both
+  // simplices sharing an edge get the same vertex and the same coordinates.
+  Index on_edge(Index a, Index b) {
+    if (a > b) std::swap(a, b);
+    double s = 0.0;
+    if (a != b) {
+      const double xa = m_.V(a, axis_), xb = m_.V(b, axis_);
+      s = (value_ - xa) / (xb - xa);
+      if (s <= 0.0) s = 0.0, b = a;          // the plane passes through a
+      else if (s >= 1.0) s = 0.0, a = b;     // ... or through b
+    }
+    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+                              static_cast<std::uint32_t>(b);
+    auto [it, inserted] = ids_.try_emplace(key, static_cast<Index>(edges_.size()));
+    if (inserted) edges_.push_back({a, b, s});
+    return it->second;
+  }
+
+  struct Cut {
+    Index a, b;
+    double s;
+  };
+  const std::vector<Cut>& cuts() const { return edges_; }
+
+ private:
+  const Complex& m_;
+  int axis_;
+  double value_;
+  std::unordered_map<std::uint64_t, Index> ids_;
+  std::vector<Cut> edges_;
+};
+
+struct FaceSink {
+  std::vector<Index> corners;  // n per face
+  std::vector<Index> simplex;
+  int n;
+  void add(const Index* ids, Index source) {
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if (ids[a] == ids[b]) return;  // collapsed: zero area
+    corners.insert(corners.end(), ids, ids + n);
+    simplex.push_back(source);
+  }
+};
+
+// Tets in R^4 → triangles in R^3 (Figure 2.6).
+void cut_tet(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts, FaceSink& faces) {
+  Index f[3];
+  if (above_count == 1 || above_count == 3) {
+    // The lone vertex and the opposite facet in its outward orientation.
+    int apex = 0;
+    while (above[apex] != (above_count == 1)) ++apex;
+    facet(t, 4, apex, f);
+    Index tri[3] = {cuts.on_edge(t[apex], f[0]), cuts.on_edge(t[apex], f[1]), cuts.on_edge(t[apex], f[2])};
+    if (above_count == 3) std::swap(tri[0], tri[1]);  // the part above lies away from the apex
+    faces.add(tri, source);
+    return;
+  }
+  // Two above (i, j), two below (k, l), with [i, j, k, l] an even permutation
+  // of the tet: the quad (ik, il, jl, jk), split along its shorter diagonal.
+  Index up[2], down[2];
+  int position[4];
+  for (int c = 0, u = 0, d = 0; c < 4; ++c) {
+    if (above[c]) position[u] = c, up[u++] = t[c];
+    else position[2 + d] = c, down[d++] = t[c];
+  }
+  if (permutation_parity(position, 4) < 0) std::swap(down[0], down[1]);
+  const Index ik = cuts.on_edge(up[0], down[0]), il = cuts.on_edge(up[0], down[1]);
+  const Index jl = cuts.on_edge(up[1], down[1]), jk = cuts.on_edge(up[1], down[0]);
+  Index a[3] = {ik, il, jl}, b[3] = {ik, jl, jk};
+  faces.add(a, source);
+  faces.add(b, source);
+}
+
+// Triangles in R^3 → segments in R^2.
+void cut_triangle(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts,
+                  FaceSink& faces) {
+  int apex = 0;
+  while (above[apex] != (above_count == 1)) ++apex;
+  Index f[2];
+  facet(t, 3, apex, f);
+  Index seg[2] = {cuts.on_edge(t[apex], f[0]), cuts.on_edge(t[apex], f[1])};
+  if (above_count == 2) std::swap(seg[0], seg[1]);
+  faces.add(seg, source);
+}
+
+}  // namespace
+
+Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index, const PointMatrix* normals) {
+  const int D = m.ambient_dimension();
+  const int k = m.vertices_per_simplex();
+  if (k != D || (D != 3 && D != 4))
+    fail<InputError>("slicing needs tets in R^4 or triangles in R^3; got ", k, "-vertex simplices in R^", D);
+  if (axis < 0 || axis >= D) fail<InputError>("slicing axis ", axis, " is outside 0..", D - 1);
+  if (!std::isfinite(value)) fail<InputError>("slicing value is not finite");
+  if (index && (index->axis() != axis))
+    fail<InputError>("interval index was built for axis ", index->axis(), ", not ", axis);
+
+  std::vector<Index> candidates;
+  double highest;
+  if (index) {
+    index->stab(value, candidates);
+    highest = index->highest();
+  } else {
+    highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
+    candidates.reserve(1024);
+    for (Index s = 0; s < m.S.rows(); ++s) {
+      double low = m.V(m.S(s, 0), axis), high = low;
+      for (int c = 1; c < k; ++c) {
+        const double x = m.V(m.S(s, c), axis);
+        low = std::min(low, x), high = std::max(high, x);
+      }
+      if (low <= value && value <= high) candidates.push_back(s);
+    }
+  }
+  // On-plane vertices count as below, except at the very top of the manifold.
+  const bool on_plane_is_above = value >= highest;
+
+  CutPoints cuts(m, axis, value, candidates.size() * 2);
+  FaceSink faces{{}, {}, k - 1};
+  faces.corners.reserve(candidates.size() * 2 * (k - 1));
+  bool above[4];
+  for (const Index s : candidates) {
+    const Index* t = m.S.row(s).data();
+    int above_count = 0;
+    for (int c = 0; c < k; ++c) {
+      const double x = m.V(t[c], axis);
+      above[c] = on_plane_is_above ? x >= value : x > value;
+      above_count += above[c];
+    }
+    if (above_count == 0 || above_count == k) continue;
+    if (k == 4) cut_tet(t, above, above_count, s, cuts, faces);
+    else cut_triangle(t, above, above_count, s, cuts, faces);
+  }
+
+  Slice out;
+  const auto& cut = cuts.cuts();
+  const Index P = static_cast<Index>(cut.size());
+  out.vertices.resize(P, D - 1);
+  out.vertex_edges.resize(P, 2);
+  out.edge_parameter.resize(P);
+  for (Index p = 0; p < P; ++p) {
+    const auto& c = cut[p];
+    out.vertex_edges(p, 0) = c.a, out.vertex_edges(p, 1) = c.b;
+    out.edge_parameter(p) = c.s;
+    for (int d = 0, o = 0; d < D; ++d) {
+      if (d == axis) continue;
+      // A vertex on the plane is copied, never interpolated: keyframes come back exactly.
+      out.vertices(p, o++) = c.a == c.b ? m.V(c.a, d) : (1.0 - c.s) * m.V(c.a, d) + c.s * m.V(c.b, d);
+    }
+  }
+  const Index F = static_cast<Index>(faces.simplex.size());
+  out.faces = Eigen::Map<const SimplexMatrix>(faces.corners.data(), F, k - 1);
+  out.face_simplex = Eigen::Map<const IndexVector>(faces.simplex.data(), F);
+
+  for (const auto& [name, table] : m.vertex_attributes) {
+    PointMatrix values(P, table.cols());
+    for (Index p = 0; p < P; ++p) {
+      const auto& c = cut[p];
+      values.row(p) = c.a == c.b ? table.row(c.a) : ((1.0 - c.s) * table.row(c.a) + c.s * table.row(c.b)).eval();
+    }
+    out.vertex_attributes[name] = std::move(values);
+  }
+  for (const auto& [name, table] : m.simplex_attributes) {
+    SimplexMatrix values(F, table.cols());
+    for (Index f = 0; f < F; ++f) values.row(f) = table.row(out.face_simplex(f));
+    out.face_attributes[name] = std::move(values);
+  }
+
+  PointMatrix computed;
+  if (!normals) {
+    computed = vertex_normals(m.V, m.S);
+    normals = &computed;
+  }
+  PointMatrix interpolated(P, D);
+  for (Index p = 0; p < P; ++p) {
+    const auto& c = cut[p];
+    interpolated.row(p) = (1.0 - c.s) * normals->row(c.a) + c.s * normals->row(c.b);
+  }
+  out.normals = drop_component(interpolated, axis);
+  // Dropping coordinate `axis` instead of the last one permutes the remaining
+  // coordinates' orientation by (-1)^(D-1-axis): the table's faces then face
+  // against the (outward) projected normals, so they are turned over. Slices
+  // along time are never turned, so keyframes keep their orientation.
+  if ((D - 1 - axis) % 2 == 1) out.faces.col(0).swap(out.faces.col(1));
+  return out;
+}
+
+}  // namespace animanifold
+
+namespace animanifold {
+
+Slicer::Slicer(std::shared_ptr<const Complex> manifold) : manifold_(std::move(manifold)) {
+  if (!manifold_) fail<InputError>("Slicer needs a manifold");
+  indices_.resize(manifold_->ambient_dimension());
+}
+
+const IntervalIndex& Slicer::index(int axis) {
+  if (axis < 0 || axis >= static_cast<int>(indices_.size()))
+    fail<InputError>("slicing axis ", axis, " is outside 0..", indices_.size() - 1);
+  if (!indices_[axis]) indices_[axis] = std::make_unique<IntervalIndex>(manifold_->V, manifold_->S, axis);
+  return *indices_[axis];
+}
+
+const PointMatrix& Slicer::vertex_normals() {
+  if (!normals_) normals_ = std::make_unique<PointMatrix>(animanifold::vertex_normals(manifold_->V, manifold_->S));
+  return *normals_;
+}
+
+Slice Slicer::slice(int axis, double value, bool use_index) {
+  const PointMatrix& normals = vertex_normals();
+  return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr, &normals);
+}
+
+}  // namespace animanifold

@@ -1,0 +1,151 @@
+#include "animanifold/stitch.hpp"
+
+#include "animanifold/errors.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace animanifold {
+
+namespace {
+
+void validate(const StitchInput& in, Index& m, Index& k, int& d) {
+  d = static_cast<int>(in.frames.cols());
+  if (d != 2 && d != 3) fail<InputError>("keyframe points must be 2D or 3D, got ", d, " coordinates");
+  if (in.faces.cols() != d)
+    fail<InputError>("faces must have ", d, " vertices for ", d, "D keyframes (", d == 3 ? "triangles" : "edges",
+                     "), got ", in.faces.cols());
+  m = static_cast<Index>(in.times.size());
+  if (m < 2) fail<InputError>("an animation manifold needs at least two keyframes, got ", m);
+  if (in.frames.rows() % m != 0)
+    fail<InputError>(in.frames.rows(), " keyframe points do not split into ", m, " keyframes of equal size");
+  k = static_cast<Index>(in.frames.rows() / m);
+  if (k == 0) fail<InputError>("keyframes have no vertices");
+  if (in.faces.rows() == 0) fail<InputError>("keyframes have no faces");
+  for (Index i = 0; i < m; ++i) {
+    if (!std::isfinite(in.times(i))) fail<InputError>("time of keyframe ", i, " is not finite");
+    if (i > 0 && !(in.times(i) > in.times(i - 1)))
+      fail<InputError>("keyframe times must increase strictly: keyframe ", i, " at t=", in.times(i),
+                       " follows t=", in.times(i - 1));
+  }
+  for (Index r = 0; r < in.frames.rows(); ++r)
+    for (int c = 0; c < d; ++c)
+      if (!std::isfinite(in.frames(r, c)))
+        fail<InputError>("keyframe ", r / k, ", vertex ", r % k, " has a non-finite coordinate");
+  for (Index f = 0; f < in.faces.rows(); ++f)
+    for (int a = 0; a < d; ++a) {
+      const Index v = in.faces(f, a);
+      if (v < 0 || v >= k) fail<InputError>("face ", f, " refers to vertex ", v, ", outside 0..", k - 1);
+      for (int b = a + 1; b < d; ++b)
+        if (in.faces(f, b) == v) fail<InputError>("face ", f, " repeats vertex ", v);
+    }
+  for (const auto& [name, table] : in.vertex_attributes)
+    if (table.rows() != k && table.rows() != static_cast<Eigen::Index>(m) * k)
+      fail<InputError>("vertex attribute '", name, "' has ", table.rows(), " rows; expected ", k,
+                       " (one per keyframe vertex) or ", static_cast<Eigen::Index>(m) * k, " (per keyframe)");
+  for (const auto& [name, table] : in.face_attributes)
+    if (table.rows() != in.faces.rows())
+      fail<InputError>("face attribute '", name, "' has ", table.rows(), " rows for ", in.faces.rows(), " faces");
+}
+
+// The staircase split of the prism over a face whose vertices, sorted by
+// index, are v0 < v1 < ... < v_{n-1}: simplex r is
+// [p0 .. p_{n-1-r}, q_{n-1-r} .. q_{n-1}] (p at the earlier keyframe, q at
+// the later). A side quad (vi, vj), i < j, is always cut by the diagonal
+// p_i–q_j, whichever prism it belongs to, so neighbours agree.
+//
+// Orientation: every simplex gets the orientation of the "tent"
+// [L, f0, ..., f_{n-1}] over the face f (in the face's own order), L being f0
+// lifted to the later keyframe. The tent's facet opposite L is f itself, so
+// the first keyframe appears in the boundary in its own orientation and an
+// iso-slice (the outward facet of the part above the cut) reproduces every
+// keyframe's orientation. Orientations are compared by the sign of the
+// determinant in the prism's reference coordinates (face vertex j at the
+// origin or unit vector e_{j-1}; time last), which is exact.
+template <int n>
+int tent_determinant_sign() {
+  // Rows L - f0, f1 - f0 ... as edges from L: (f_j - L) = e_{j-1} - t.
+  Eigen::Matrix<double, n, n> edges = Eigen::Matrix<double, n, n>::Zero();
+  for (int j = 0; j < n; ++j) {
+    if (j > 0) edges(j, j - 1) = 1.0;
+    edges(j, n - 1) = -1.0;
+  }
+  return edges.determinant() > 0 ? 1 : -1;
+}
+
+template <int n>
+void split_prism(const Index* face, Index bottom, Index top, Index* out /* n*(n+1) */) {
+  std::array<Index, n> sorted;
+  std::copy(face, face + n, sorted.begin());
+  std::sort(sorted.begin(), sorted.end());
+  // Reference coordinates of each face vertex: its position in the face's own order.
+  std::array<int, n> slot{};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      if (face[j] == sorted[i]) slot[i] = j;
+
+  for (int r = 0; r < n; ++r) {
+    Index* simplex = out + r * (n + 1);
+    Eigen::Matrix<double, n + 1, n> reference;  // rows: vertices; cols: (barycentric axes..., t)
+    int c = 0;
+    auto add = [&](int i, bool upper) {
+      simplex[c] = sorted[i] + (upper ? top : bottom);
+      reference.row(c).setZero();
+      if (slot[i] > 0) reference(c, slot[i] - 1) = 1.0;
+      reference(c, n - 1) = upper ? 1.0 : 0.0;
+      ++c;
+    };
+    for (int i = 0; i < n - r; ++i) add(i, false);
+    for (int i = n - 1 - r; i < n; ++i) add(i, true);
+    Eigen::Matrix<double, n, n> edges;
+    for (int i = 0; i < n; ++i) edges.row(i) = reference.row(i + 1) - reference.row(0);
+    if ((edges.determinant() > 0) != (tent_determinant_sign<n>() > 0)) std::swap(simplex[0], simplex[1]);
+  }
+}
+
+}  // namespace
+
+Complex stitch(const StitchInput& in) {
+  Index m = 0, k = 0;
+  int d = 0;
+  validate(in, m, k, d);
+  const Index l = static_cast<Index>(in.faces.rows());
+  const int n = d;  // simplices per prism == vertices per face
+
+  Complex out;
+  out.V.resize(static_cast<Eigen::Index>(m) * k, d + 1);
+  for (Index i = 0; i < m; ++i) {
+    out.V.block(static_cast<Eigen::Index>(i) * k, 0, k, d) = in.frames.block(static_cast<Eigen::Index>(i) * k, 0, k, d);
+    out.V.block(static_cast<Eigen::Index>(i) * k, d, k, 1).setConstant(in.times(i));
+  }
+
+  const Eigen::Index prism_count = static_cast<Eigen::Index>(m - 1) * l;
+  out.S.resize(prism_count * n, d + 1);
+  for (Index i = 0; i + 1 < m; ++i)
+    for (Index f = 0; f < l; ++f) {
+      Index* dst = out.S.row(stitched_simplex(i, f, l, n)).data();
+      if (n == 3) split_prism<3>(in.faces.row(f).data(), i * k, (i + 1) * k, dst);
+      else split_prism<2>(in.faces.row(f).data(), i * k, (i + 1) * k, dst);
+    }
+
+  for (const auto& [name, table] : in.vertex_attributes) {
+    if (table.rows() == out.V.rows()) {
+      out.vertex_attributes[name] = table;
+    } else {
+      PointMatrix repeated(out.V.rows(), table.cols());
+      for (Index i = 0; i < m; ++i) repeated.block(static_cast<Eigen::Index>(i) * k, 0, k, table.cols()) = table;
+      out.vertex_attributes[name] = std::move(repeated);
+    }
+  }
+  for (const auto& [name, table] : in.face_attributes) {
+    SimplexMatrix carried(out.S.rows(), table.cols());
+    for (Eigen::Index p = 0; p < prism_count; ++p)
+      for (int r = 0; r < n; ++r) carried.row(p * n + r) = table.row(p % l);
+    out.simplex_attributes[name] = std::move(carried);
+  }
+  return out;
+}
+
+}  // namespace animanifold

@@ -1,0 +1,30 @@
+"""animanifold: animations as animation manifolds.
+
+An animation of a surface becomes one tetrahedral 3-manifold in R^4
+(x, y, z, t); a frame is its iso-slice at time t, so frames may change
+topology. ::
+
+    import animanifold as am
+    m = am.stitch(frames, faces, times)      # keyframes with correspondence
+    s = m.slice(0.5)                          # s.vertices, s.faces, s.normals
+    am.save(m, "walk.amf"); m2 = am.load("walk.amf")
+"""
+
+from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
+from .cache import CacheError, load, save
+from .manifold import AnimationManifold, Slice, axis_index, stitch
+from .meshio import read_mesh, write_mesh
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AnimationManifold",
+    "CacheError",
+    "Slice",
+    "axis_index",
+    "load",
+    "read_mesh",
+    "save",
+    "stitch",
+    "write_mesh",
+]

@@ -1,0 +1,241 @@
+"""The animation manifold: numpy in, numpy out, backed by the native core.
+
+An :class:`AnimationManifold` holds points (N, D) — (x, y, z, t) or (x, y, t) —
+and oriented simplices (M, D) in the core's own memory; the arrays it returns
+are read-only views, not copies. :meth:`AnimationManifold.slice` cuts a frame
+(or a sweep view along x, y or z) through a cached interval index, so a frame
+costs what it cuts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from . import _core
+
+AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
+
+
+def axis_index(axis: str | int, dimension: int) -> int:
+    """Column of `axis` ('x', 'y', 'z', 't' or an int) in points of `dimension` columns."""
+    if isinstance(axis, str):
+        key = axis.lower()
+        if key not in AXES:
+            raise ValueError(f"unknown axis {axis!r}: use 't', 'x', 'y' or 'z'")
+        if key == "z" and dimension < 4:
+            raise ValueError("a 2D animation manifold (x, y, t) has no z axis")
+        index = AXES[key]
+        return dimension - 1 if index < 0 else index
+    index = int(axis)
+    if not -dimension <= index < dimension:
+        raise ValueError(f"axis {axis} is outside 0..{dimension - 1}")
+    return index % dimension
+
+
+@dataclass(frozen=True)
+class Slice:
+    """One frame: the iso-slice of a manifold at `value` along `axis`.
+
+    vertices (P, D-1) are the coordinates other than the slicing axis, in
+    order; faces (F, 3) triangles — (F, 2) segments for 2D animations —
+    oriented like the keyframes; normals (P, D-1) unit smooth normals.
+    vertex_edges (P, 2) and edge_parameter (P,) say which manifold edge each
+    vertex lies on (a == b for a manifold vertex); face_simplex (F,) which
+    manifold simplex each face was cut from.
+    """
+
+    axis: int
+    value: float
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    vertex_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+    face_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+    vertex_edges: np.ndarray | None = None
+    edge_parameter: np.ndarray | None = None
+    face_simplex: np.ndarray | None = None
+
+    @classmethod
+    def _from_core(cls, axis: int, value: float, s: "_core.Slice") -> "Slice":
+        def squeeze(table: np.ndarray) -> np.ndarray:
+            return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
+
+        return cls(
+            axis=axis,
+            value=value,
+            vertices=s.vertices,
+            faces=s.faces,
+            normals=s.normals,
+            vertex_attributes={k: squeeze(v) for k, v in s.vertex_attributes.items()},
+            face_attributes={k: squeeze(v) for k, v in s.face_attributes.items()},
+            vertex_edges=s.vertex_edges,
+            edge_parameter=s.edge_parameter,
+            face_simplex=s.face_simplex,
+        )
+
+
+class AnimationManifold:
+    """An n-manifold of n-simplices in R^(n+1) whose last coordinate is time."""
+
+    def __init__(self, complex_: "_core.Complex", metadata: Mapping[str, object] | None = None):
+        self._complex = complex_
+        self._slicer: _core.Slicer | None = None
+        self.metadata: dict = dict(metadata or {})
+
+    @classmethod
+    def from_arrays(
+        cls,
+        points: np.ndarray,
+        simplices: np.ndarray,
+        vertex_attributes: Mapping[str, np.ndarray] | None = None,
+        simplex_attributes: Mapping[str, np.ndarray] | None = None,
+        metadata: Mapping[str, object] | None = None,
+    ) -> "AnimationManifold":
+        """Builds a manifold from raw arrays (validated: indices in range, finite points)."""
+        points = np.ascontiguousarray(points, dtype=np.float64)
+        simplices = np.ascontiguousarray(simplices, dtype=np.int32)
+        if points.ndim != 2 or points.shape[1] not in (3, 4):
+            raise ValueError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
+        if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
+            raise ValueError(
+                f"simplices must be (M, {points.shape[1]}) for {points.shape[1]}D points, got shape {simplices.shape}"
+            )
+        va = {k: _as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
+        sa = {k: _as_table(v, np.int32, f"simplex attribute {k!r}") for k, v in (simplex_attributes or {}).items()}
+        return cls(_core.Complex(points, simplices, va, sa), metadata)
+
+    # -- data ---------------------------------------------------------------
+    @property
+    def points(self) -> np.ndarray:
+        """(N, D) float64, read-only: (x, y, z, t) or (x, y, t)."""
+        return self._complex.points
+
+    @property
+    def simplices(self) -> np.ndarray:
+        """(M, D) int32, read-only, oriented."""
+        return self._complex.simplices
+
+    @property
+    def vertex_attributes(self) -> dict[str, np.ndarray]:
+        return self._complex.vertex_attributes
+
+    @property
+    def simplex_attributes(self) -> dict[str, np.ndarray]:
+        return self._complex.simplex_attributes
+
+    @property
+    def dimension(self) -> int:
+        """Ambient dimension D (4 for animated surfaces, 3 for animated contours)."""
+        return self.points.shape[1]
+
+    @property
+    def time_range(self) -> tuple[float, float]:
+        t = self.points[:, -1]
+        return (float(t.min()), float(t.max())) if len(t) else (0.0, 0.0)
+
+    @property
+    def bounding_box(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.points.min(axis=0), self.points.max(axis=0)
+
+    def __repr__(self) -> str:
+        t0, t1 = self.time_range
+        kind = "tets" if self.dimension == 4 else "triangles"
+        return f"AnimationManifold({len(self.points)} points, {len(self.simplices)} {kind}, t in [{t0:g}, {t1:g}])"
+
+    # -- queries ------------------------------------------------------------
+    def slice(self, value: float, axis: str | int = "t", use_index: bool = True) -> Slice:
+        """The frame at `value` along `axis` ('t' by default; 'x', 'y', 'z' for sweep views)."""
+        a = axis_index(axis, self.dimension)
+        if self._slicer is None:
+            self._slicer = _core.Slicer(self._complex)
+        return Slice._from_core(a, float(value), self._slicer.slice(a, float(value), use_index))
+
+    def check(self) -> dict:
+        """Manifold validity: facet counts, non-manifold and misoriented facets."""
+        return _core.check_manifold(self.simplices)
+
+    def boundary(self) -> np.ndarray:
+        """Boundary facets, oriented outward (for a stitched manifold: first and last keyframe)."""
+        return _core.boundary_facets(self.simplices)
+
+    def vertex_normals(self) -> np.ndarray:
+        """Area-weighted unit normals (N, D) from the wedge product (§2.3)."""
+        return _core.vertex_normals(self.points, self.simplices)
+
+
+def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
+    table = np.asarray(values)
+    if table.ndim == 1:
+        table = table[:, None]
+    if table.ndim != 2:
+        raise ValueError(f"{what} must be 1D or 2D, got shape {table.shape}")
+    if dtype is np.int32 and table.size and not np.issubdtype(table.dtype, np.integer):
+        raise ValueError(f"{what} must be integers, got {table.dtype}")
+    return np.ascontiguousarray(table, dtype=dtype)
+
+
+def stitch(
+    frames: np.ndarray | Sequence[np.ndarray],
+    faces: np.ndarray,
+    times: Sequence[float] | np.ndarray,
+    vertex_attributes: Mapping[str, np.ndarray] | None = None,
+    face_attributes: Mapping[str, np.ndarray] | None = None,
+) -> AnimationManifold:
+    """Keyframes with vertex correspondence → animation manifold (§2.2).
+
+    frames: (m, k, 3) or a list of m (k, 3) arrays — (m, k, 2) for contours;
+    faces: (l, 3) triangles — (l, 2) edges for contours — shared by all
+    keyframes; times: (m,) strictly increasing. vertex_attributes: name →
+    (k,) / (k, c) constant over time, or (m, k) / (m, k, c) per keyframe.
+    face_attributes: name → (l,) / (l, c) integers (material index, ...).
+    The result has exactly 3·l·(m−1) tets (2·l·(m−1) triangles for contours).
+    """
+    if isinstance(frames, np.ndarray):
+        stacked = frames
+        if stacked.ndim != 3:
+            raise ValueError(f"frames must be (m, k, d), got shape {stacked.shape}")
+    else:
+        frames = [np.asarray(f) for f in frames]
+        if not frames:
+            raise ValueError("an animation manifold needs at least two keyframes, got 0")
+        for i, f in enumerate(frames):
+            if f.ndim != 2:
+                raise ValueError(f"keyframe {i} must be (k, d), got shape {f.shape}")
+            if f.shape != frames[0].shape:
+                raise ValueError(
+                    f"keyframe {i} has {f.shape[0]} vertices of {f.shape[1]}D; keyframe 0 has "
+                    f"{frames[0].shape[0]} of {frames[0].shape[1]}D: keyframes must correspond vertex for vertex"
+                )
+        stacked = np.stack(frames)
+    m, k, d = stacked.shape
+    times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
+    if len(times) != m:
+        raise ValueError(f"{m} keyframes but {len(times)} times")
+    faces = np.asarray(faces)
+    if faces.ndim != 2 or faces.shape[1] != d:
+        raise ValueError(f"faces must be (l, {d}) for {d}D keyframes, got shape {faces.shape}")
+    if faces.size and not np.issubdtype(faces.dtype, np.integer):
+        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+    if faces.size and (faces.max() >= 2**31 or faces.min() < -(2**31)):
+        raise ValueError("face indices do not fit in 32 bits")
+
+    va = {}
+    for name, values in (vertex_attributes or {}).items():
+        table = np.asarray(values, dtype=np.float64)
+        if table.ndim == 3:  # (m, k, c): per keyframe
+            if table.shape[:2] != (m, k):
+                raise ValueError(f"vertex attribute {name!r} has shape {table.shape}; expected ({m}, {k}, c)")
+            table = table.reshape(m * k, -1)
+        elif table.ndim == 2 and table.shape == (m, k) and m != k:  # (m, k): per keyframe, one channel
+            table = table.reshape(m * k, 1)
+        va[name] = _as_table(table, np.float64, f"vertex attribute {name!r}")
+    fa = {name: _as_table(values, np.int32, f"face attribute {name!r}") for name, values in (face_attributes or {}).items()}
+
+    flat = np.ascontiguousarray(stacked.reshape(m * k, d), dtype=np.float64)
+    return AnimationManifold(
+        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa),
+        metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
+    )

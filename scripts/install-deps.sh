@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs everything animanifold needs on a fresh Debian machine (idempotent).
+# System libraries come from Debian's packages, Python tools from PyPI.
+set -euo pipefail
+
+APT_PACKAGES=(
+  build-essential cmake ninja-build
+  pybind11-dev libeigen3-dev libsuitesparse-dev libcgal-dev
+  libtet1.5-dev libqhull-dev libosd-dev libgtest-dev
+  blender
+)
+PIP_PACKAGES=(
+  "numpy<2" pytest hypothesis matplotlib scikit-build-core pybind11
+  "bpy>=4.5,<4.6"
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "install-deps: apt packages: ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+PYTHON="${PYTHON:-python3}"
+if ! "$PYTHON" - <<'PY' 2>/dev/null
+import importlib.metadata as md, sys
+need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "hypothesis": None,
+        "matplotlib": None, "scikit-build-core": None, "pybind11": None,
+        "bpy": lambda v: v.startswith("4.5")}
+for name, ok in need.items():
+    v = md.version(name)
+    if ok and not ok(v):
+        sys.exit(1)
+PY
+then
+  echo "install-deps: pip packages: ${PIP_PACKAGES[*]}"
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check "${PIP_PACKAGES[@]}"
+fi
+echo "install-deps: done"

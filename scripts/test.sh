@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Runs every test: C++ (ctest) and Python (pytest, including the Blender tests).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh
+ctest --test-dir build --output-on-failure
+python3 -m pytest "$@"
