@@ -1,0 +1,54 @@
+"""Small procedural meshes for tests: closed, outward-oriented, exactly known."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def icosahedron() -> tuple[np.ndarray, np.ndarray]:
+    p = (1 + 5**0.5) / 2
+    v = np.array(
+        [[-1, p, 0], [1, p, 0], [-1, -p, 0], [1, -p, 0], [0, -1, p], [0, 1, p],
+         [0, -1, -p], [0, 1, -p], [p, 0, -1], [p, 0, 1], [-p, 0, -1], [-p, 0, 1]], float)
+    f = np.array(
+        [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2],
+         [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5],
+         [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int32)
+    return v / np.linalg.norm(v, axis=1, keepdims=True), f
+
+
+def icosphere(subdivisions: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Unit icosphere with outward faces (20·4^s faces)."""
+    v, f = icosahedron()
+    for _ in range(subdivisions):
+        edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+        unique, inverse = np.unique(edges, axis=0, return_inverse=True)
+        mids = v[unique].mean(axis=1)
+        mid_ids = len(v) + inverse.reshape(3, -1).T  # (F, 3): mid of edge 01, 12, 20
+        v = np.concatenate([v, mids])
+        a, b, c = f.T
+        ab, bc, ca = mid_ids.T
+        f = np.concatenate([np.stack(x, 1) for x in ([a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca])])
+        v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    return v, f.astype(np.int32)
+
+
+def cube() -> tuple[np.ndarray, np.ndarray]:
+    """The cube [-1, 1]^3 as 12 outward triangles."""
+    v = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+    quads = [[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]]
+    f = np.array([t for q in quads for t in ([q[0], q[1], q[2]], [q[0], q[2], q[3]])], np.int32)
+    return v, f
+
+
+def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    tri = vertices[faces]
+    return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+
+
+def polygon(n: int, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Counter-clockwise regular n-gon and its edges."""
+    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    v = radius * np.stack([np.cos(a), np.sin(a)], 1)
+    e = np.stack([np.arange(n), (np.arange(n) + 1) % n], 1).astype(np.int32)
+    return v, e

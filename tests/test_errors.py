@@ -1,0 +1,101 @@
+"""Bad input raises errors that name the culprit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import animanifold as am
+from shapes import icosphere
+
+
+@pytest.fixture
+def sphere():
+    return icosphere(1)
+
+
+def test_fewer_than_two_keyframes(sphere):
+    v, f = sphere
+    with pytest.raises(ValueError, match="at least two keyframes, got 1"):
+        am.stitch([v], f, [0.0])
+    with pytest.raises(ValueError, match="at least two keyframes, got 0"):
+        am.stitch([], f, [])
+
+
+def test_mismatched_vertex_counts_name_the_keyframe(sphere):
+    v, f = sphere
+    with pytest.raises(ValueError, match="keyframe 2 has 41 vertices.*keyframe 0 has 42"):
+        am.stitch([v, v, v[:-1]], f, [0, 1, 2])
+
+
+def test_non_increasing_times_name_the_keyframe(sphere):
+    v, f = sphere
+    with pytest.raises(ValueError, match="keyframe 2 at t=1 follows t=1"):
+        am.stitch([v, v, v], f, [0, 1, 1])
+    with pytest.raises(ValueError, match="keyframe 1 at t=-1"):
+        am.stitch([v, v], f, [0, -1])
+    with pytest.raises(ValueError, match="3 keyframes but 2 times"):
+        am.stitch([v, v, v], f, [0, 1])
+    with pytest.raises(ValueError, match="time of keyframe 1 is not finite"):
+        am.stitch([v, v], f, [0, np.inf])
+
+
+def test_non_finite_coordinates_name_keyframe_and_vertex(sphere):
+    v, f = sphere
+    bad = v.copy()
+    bad[17, 1] = np.nan
+    with pytest.raises(ValueError, match="keyframe 1, vertex 17 has a non-finite coordinate"):
+        am.stitch([v, bad], f, [0, 1])
+
+
+def test_face_indices_out_of_range_or_repeated(sphere):
+    v, f = sphere
+    bad = f.copy()
+    bad[5, 2] = len(v)
+    with pytest.raises(ValueError, match="face 5 refers to vertex 42, outside 0..41"):
+        am.stitch([v, v], bad, [0, 1])
+    bad = f.copy()
+    bad[3, 1] = -1
+    with pytest.raises(ValueError, match="face 3 refers to vertex -1"):
+        am.stitch([v, v], bad, [0, 1])
+    bad = f.copy()
+    bad[7, 1] = bad[7, 0]
+    with pytest.raises(ValueError, match="face 7 repeats vertex"):
+        am.stitch([v, v], bad, [0, 1])
+
+
+def test_wrong_shapes_and_types(sphere):
+    v, f = sphere
+    with pytest.raises(ValueError, match=r"faces must be \(l, 3\)"):
+        am.stitch([v, v], f[:, :2], [0, 1])
+    with pytest.raises(ValueError, match="faces must be integer"):
+        am.stitch([v, v], f.astype(float), [0, 1])
+    with pytest.raises(ValueError, match=r"frames must be \(m, k, d\)"):
+        am.stitch(np.zeros((2, 3)), f, [0, 1])
+    with pytest.raises(ValueError, match="keyframe points must be 2D or 3D"):
+        am.stitch(np.zeros((2, 4, 4)), np.zeros((1, 4), int), [0, 1])
+
+
+def test_attribute_sizes_are_checked(sphere):
+    v, f = sphere
+    with pytest.raises(ValueError, match="vertex attribute 'uv' has 41 rows; expected 42"):
+        am.stitch([v, v], f, [0, 1], vertex_attributes={"uv": v[:-1, :2]})
+    with pytest.raises(ValueError, match="face attribute 'material_index' has 3 rows for 80 faces"):
+        am.stitch([v, v], f, [0, 1], face_attributes={"material_index": [0, 1, 2]})
+
+
+def test_from_arrays_validates(sphere):
+    with pytest.raises(ValueError, match="simplex 1 refers to vertex 9"):
+        am.AnimationManifold.from_arrays(np.zeros((4, 4)), np.array([[0, 1, 2, 3], [0, 1, 2, 9]]))
+    pts = np.zeros((4, 4))
+    pts[2, 3] = np.inf
+    with pytest.raises(ValueError, match="vertex 2 has a non-finite coordinate 3"):
+        am.AnimationManifold.from_arrays(pts, np.array([[0, 1, 2, 3]]))
+
+
+def test_mesh_io_errors_name_the_file(tmp_path):
+    with pytest.raises(OSError, match="nope.obj' does not exist"):
+        am.read_mesh(tmp_path / "nope.obj")
+    (tmp_path / "empty.off").write_text("OFF\n0 0 0\n")
+    with pytest.raises(OSError, match="empty.off"):
+        am.read_mesh(tmp_path / "empty.off")
