@@ -23,8 +23,12 @@ for p in "${APT_PACKAGES[@]}"; do
 done
 if [ "${#missing[@]}" -gt 0 ]; then
   echo "install-deps: apt packages: ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  log=$(mktemp)
+  if ! { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq \
+         --no-install-recommends "${missing[@]}"; } > "$log" 2>&1; then
+    tail -40 "$log"; echo "install-deps: apt-get failed (full log: $log)" >&2; exit 1
+  fi
+  rm -f "$log"
 fi
 
 PYTHON="${PYTHON:-python3}"

@@ -1,4 +1,5 @@
 #include "animanifold/complex.hpp"
+#include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
 
 #include <Eigen/Geometry>
@@ -57,4 +58,39 @@ TEST(Normals, WedgeInR4IsOrthogonalWithVolumeLength) {
   EXPECT_NEAR(std::abs(n(3)), 6.0, 1e-14);
   EXPECT_NEAR(n.head<3>().norm(), 0.0, 1e-14);
   for (int r = 0; r < 3; ++r) EXPECT_NEAR(rows.row(r).dot(n), 0.0, 1e-14);
+}
+
+TEST(Complex, AdjacencyIsSymmetricAndBoundaryIsMinusOne) {
+  // Two tets sharing the facet (1,2,3), oppositely oriented.
+  SimplexMatrix S(2, 4);
+  S << 0, 1, 2, 3, 4, 2, 1, 3;
+  const auto report = check_manifold(S);
+  EXPECT_TRUE(report.is_oriented_manifold());
+  EXPECT_EQ(report.interior_facets, 1);
+  const FacetAdjacency a = facet_adjacency(S);
+  EXPECT_EQ(a.neighbour(0, 0), 1);  // facet 0 of tet 0 drops vertex 0: (1,2,3)
+  EXPECT_EQ(a.neighbour(1, 0), 0);  // facet 0 of tet 1 drops vertex 4: (2,1,3)
+  EXPECT_EQ(a.opposite(0, 0), 0);
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(a.neighbour(0, i), -1);
+  // Same orientation on the shared facet is reported, and three tets on one facet throw.
+  SimplexMatrix bad(2, 4);
+  bad << 0, 1, 2, 3, 4, 1, 2, 3;
+  EXPECT_EQ(check_manifold(bad).misoriented_facets, 1);
+  SimplexMatrix fan(3, 4);
+  fan << 0, 1, 2, 3, 4, 2, 1, 3, 5, 2, 1, 3;
+  EXPECT_EQ(check_manifold(fan).nonmanifold_facets, 1);
+  EXPECT_THROW(facet_adjacency(fan), InputError);
+}
+
+TEST(Normals, SphereVertexNormalsAreRadial) {
+  // Octahedron: area-weighted normals at the six vertices are exactly radial.
+  PointMatrix V(6, 3);
+  V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  SimplexMatrix F(8, 3);
+  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  const PointMatrix N = vertex_normals(V, F);
+  for (int v = 0; v < 6; ++v) EXPECT_NEAR((N.row(v) - V.row(v)).norm(), 0, 1e-14);
+  const PointMatrix dropped = drop_component(N, 2);
+  EXPECT_NEAR(dropped.row(0).norm(), 1.0, 1e-14);
+  EXPECT_NEAR(dropped.row(4).norm(), 0.0, 1e-14);  // the pole's normal was all z
 }

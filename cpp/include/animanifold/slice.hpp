@@ -16,7 +16,9 @@
 //
 // Orientation: each slice face is the facet, lying on the hyperplane, of the
 // part of its simplex above the cut, oriented outward by the facet rule of
-// §2.4; this is the table of Figure 2.6.
+// §2.4; this is the table of Figure 2.6. Slices along t keep the keyframes'
+// orientation; slices along another axis are turned where needed so their
+// faces agree with their (outward) normals.
 #pragma once
 
 #include "animanifold/complex.hpp"
