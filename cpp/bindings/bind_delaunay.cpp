@@ -1,0 +1,56 @@
+#include "animanifold/delaunay.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+namespace {
+
+py::dict to_dict(const ConformingDelaunay& c) {
+  py::dict out;
+  out["points"] = c.points;
+  out["simplices"] = c.simplices;
+  out["constraints"] = c.constraints;
+  out["constraint_parent"] = c.constraint_parent;
+  out["is_delaunay"] = c.is_delaunay;
+  out["non_delaunay_faces"] = c.non_delaunay_faces;
+  return out;
+}
+
+}  // namespace
+
+void bind_delaunay(py::module_& m) {
+  m.def("delaunay",
+        [](PointsRef points) {
+          DelaunayTriangulation dt;
+          {
+            py::gil_scoped_release release;
+            dt = delaunay(points);
+          }
+          return py::make_tuple(dt.simplices, dt.flat_simplices);
+        },
+        py::arg("points"), "(simplices, flat_count): Delaunay triangulation in any dimension (Qhull).");
+  m.def("conforming_delaunay_3d",
+        [](PointsRef points, SimplicesRef faces) {
+          ConformingDelaunay c;
+          {
+            py::gil_scoped_release release;
+            c = conforming_delaunay_3d(points, faces);
+          }
+          return to_dict(c);
+        },
+        py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD).");
+  m.def("conforming_delaunay_2d",
+        [](PointsRef points, SimplicesRef edges) {
+          ConformingDelaunay c;
+          {
+            py::gil_scoped_release release;
+            c = conforming_delaunay_2d(points, edges);
+          }
+          return to_dict(c);
+        },
+        py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL).");
+  m.def("missing_facets", [](SimplicesRef simplices, SimplicesRef faces) { return missing_facets(simplices, faces); },
+        py::arg("simplices"), py::arg("faces"), "Rows of faces that are not faces of any simplex (Theorem 5.2.1).");
+}
+
+}  // namespace animanifold::bindings

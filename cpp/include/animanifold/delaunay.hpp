@@ -1,0 +1,63 @@
+// Delaunay triangulations (chapter 5).
+//
+//  - delaunay(): the d-dimensional Delaunay triangulation of a point set
+//    through Qhull (reentrant libqhull_r, triangulated output), every simplex
+//    positively oriented. Points on two parallel hyperplanes (two embedded
+//    cross-sections) are degenerate for Delaunay: Qhull's triangulated output
+//    may contain flat simplices, which are reported and left out.
+//  - conforming_delaunay_3d(): a conforming Delaunay tetrahedralization of
+//    constraint triangles in R^3 through TetGen (`-p -D`), with the refined
+//    constraint surface S' read directly from TetGen's subfaces (each with
+//    the input triangle it lies in), and a check that the result is Delaunay.
+//  - conforming_delaunay_2d(): the same for constraint segments in R^2
+//    through CGAL (make_conforming_Delaunay_2).
+//  - missing_facets(): Theorem 5.2.1's check, which constraint faces are not
+//    faces of a triangulation.
+#pragma once
+
+#include "animanifold/types.hpp"
+
+#include <string>
+
+namespace animanifold {
+
+struct DelaunayTriangulation {
+  SimplexMatrix simplices;       // #S by d+1, positive signed volume
+  Index flat_simplices = 0;      // zero-volume simplices Qhull returned, left out
+};
+
+// `points` is #P by d (d >= 2). Throws InputError for too few or non-finite
+// points, and std::runtime_error with Qhull's message when Qhull fails.
+DelaunayTriangulation delaunay(const PointMatrix& points);
+
+struct ConformingDelaunay {
+  // Input points first (same indices), then the Steiner points the mesher added.
+  PointMatrix points;
+  // The triangulation of the convex hull, positively oriented (tets in 3D,
+  // triangles in 2D).
+  SimplexMatrix simplices;
+  // The refined constraints S': triangles (3D) or segments (2D), each
+  // oriented like the input constraint it lies in.
+  SimplexMatrix constraints;
+  IndexVector constraint_parent;  // the input constraint each refined one lies in
+  // Every interior face passes the empty-circumsphere test (exact predicate):
+  // the triangulation is Delaunay and so every refined constraint is a
+  // Delaunay face. False when the mesher gave a constrained but not a
+  // conforming result; `non_delaunay_faces` counts the offending faces.
+  bool is_delaunay = false;
+  Index non_delaunay_faces = 0;
+};
+
+// Constraint triangles `faces` (#F by 3) over `points` (#P by 3); points that
+// belong to no face (skeleton vertices, say) are inserted too. Throws
+// InputError for bad indices and std::runtime_error naming TetGen's failure.
+ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces);
+
+// Constraint segments `edges` (#E by 2) over `points` (#P by 2).
+ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const SimplexMatrix& edges);
+
+// Rows of `faces` (#F by k) that are not faces of any simplex of `simplices`
+// (compared as vertex sets). Empty when the triangulation conforms.
+IndexVector missing_facets(const SimplexMatrix& simplices, const SimplexMatrix& faces);
+
+}  // namespace animanifold

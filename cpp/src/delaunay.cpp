@@ -1,0 +1,137 @@
+// d-dimensional Delaunay through Qhull, and Theorem 5.2.1's facet check.
+#include "animanifold/delaunay.hpp"
+
+#include "animanifold/complex.hpp"
+#include "animanifold/errors.hpp"
+
+#include <Eigen/Dense>
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <stdexcept>
+
+namespace animanifold {
+
+namespace {
+
+// Qhull reports errors to a FILE*; collect them in memory for the exception.
+class MessageStream {
+ public:
+  MessageStream() : file_(open_memstream(&buffer_, &size_)) {}
+  ~MessageStream() {
+    if (file_) std::fclose(file_);
+    std::free(buffer_);
+  }
+  FILE* file() const { return file_; }
+  std::string text() {
+    if (file_) std::fflush(file_);
+    return buffer_ ? std::string(buffer_, size_) : std::string();
+  }
+
+ private:
+  char* buffer_ = nullptr;
+  size_t size_ = 0;
+  FILE* file_;
+};
+
+}  // namespace
+
+DelaunayTriangulation delaunay(const PointMatrix& points) {
+  const int d = static_cast<int>(points.cols());
+  const Index n = static_cast<Index>(points.rows());
+  if (d < 2) fail<InputError>("Delaunay triangulation needs at least 2D points, got ", d, "D");
+  if (n < d + 1) fail<InputError>("Delaunay triangulation in R^", d, " needs at least ", d + 1, " points, got ", n);
+  for (Index r = 0; r < n; ++r)
+    for (int c = 0; c < d; ++c)
+      if (!std::isfinite(points(r, c))) fail<InputError>("point ", r, " has a non-finite coordinate");
+
+  std::vector<coordT> coordinates(points.data(), points.data() + static_cast<size_t>(n) * d);
+  MessageStream errors;
+  qhT storage;
+  qhT* qh = &storage;
+  qh_zero(qh, errors.file());
+  // d: Delaunay by lifting; Qt: triangulated output; Qbb: scale the lifted
+  // coordinate (precision); Qz: point at infinity, which helps with the
+  // cospherical sites two parallel cross-sections produce; Qx: exact
+  // pre-merges, Qhull's own default once the lifted dimension reaches 5.
+  std::string options = d >= 4 ? "qhull d Qt Qbb Qz Qx" : "qhull d Qt Qbb Qz";
+  const int exit_code =
+      qh_new_qhull(qh, d, n, coordinates.data(), False, options.data(), nullptr, errors.file());
+
+  std::vector<Index> corners;
+  if (exit_code == 0) {
+    facetT* facet;
+    vertexT *vertex, **vertexp;
+    FORALLfacets {
+      if (facet->upperdelaunay) continue;
+      FOREACHvertex_(facet->vertices) corners.push_back(static_cast<Index>(qh_pointid(qh, vertex->point)));
+    }
+  }
+  qh_freeqhull(qh, !qh_ALL);
+  int still_allocated = 0, total_allocated = 0;
+  qh_memfreeshort(qh, &still_allocated, &total_allocated);
+  if (exit_code != 0) throw std::runtime_error("Qhull could not triangulate the points: " + errors.text());
+
+  DelaunayTriangulation out;
+  const Index count = static_cast<Index>(corners.size() / (d + 1));
+  SimplexMatrix all = Eigen::Map<SimplexMatrix>(corners.data(), count, d + 1);
+  const Eigen::VectorXd volumes = signed_volumes(points, all);
+  // A simplex is flat when its volume is negligible next to its edge lengths^d.
+  std::vector<Index> keep;
+  keep.reserve(count);
+  for (Index s = 0; s < count; ++s) {
+    double longest = 0;
+    for (int a = 0; a < d + 1; ++a)
+      for (int b = a + 1; b < d + 1; ++b)
+        longest = std::max(longest, (points.row(all(s, a)) - points.row(all(s, b))).squaredNorm());
+    const double scale = std::pow(std::sqrt(longest), d);
+    if (std::abs(volumes(s)) <= 1e-12 * scale) {
+      ++out.flat_simplices;
+      continue;
+    }
+    if (volumes(s) < 0) std::swap(all(s, 0), all(s, 1));
+    keep.push_back(s);
+  }
+  out.simplices.resize(static_cast<Index>(keep.size()), d + 1);
+  for (size_t r = 0; r < keep.size(); ++r) out.simplices.row(static_cast<Index>(r)) = all.row(keep[r]);
+  return out;
+}
+
+IndexVector missing_facets(const SimplexMatrix& simplices, const SimplexMatrix& faces) {
+  const int k = static_cast<int>(faces.cols());
+  const int s = static_cast<int>(simplices.cols());
+  if (k < 1 || k > s || k > 5) fail<InputError>("faces of ", k, " vertices cannot be faces of ", s, "-vertex simplices");
+  // Every k-subset of every simplex, sorted, in a set.
+  std::set<std::array<Index, 5>> present;
+  for (Index r = 0; r < simplices.rows(); ++r) {
+    // iterate over k-combinations of the s corners
+    std::vector<bool> mask(s, false);
+    std::fill(mask.begin(), mask.begin() + k, true);
+    do {
+      std::array<Index, 5> key;
+      key.fill(-1);
+      int j = 0;
+      for (int c = 0; c < s; ++c)
+        if (mask[c]) key[j++] = simplices(r, c);
+      std::sort(key.begin(), key.begin() + k);
+      present.insert(key);
+    } while (std::prev_permutation(mask.begin(), mask.end()));
+  }
+  std::vector<Index> missing;
+  for (Index f = 0; f < faces.rows(); ++f) {
+    std::array<Index, 5> key;
+    key.fill(-1);
+    for (int c = 0; c < k; ++c) key[c] = faces(f, c);
+    std::sort(key.begin(), key.begin() + k);
+    if (!present.count(key)) missing.push_back(f);
+  }
+  return Eigen::Map<IndexVector>(missing.data(), static_cast<Index>(missing.size()));
+}
+
+}  // namespace animanifold
