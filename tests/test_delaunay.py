@@ -79,10 +79,10 @@ def test_theorem_fails_visibly_without_conforming(rng):
     assert len(_core.missing_facets(fill, f)) > 0
 
 
-def test_cgal_conforming_delaunay_2d_refines_a_notched_slab():
-    # the notch at (5, 0.1) sits inside the diametral circle of the long bottom edge
-    p = np.array([[0.0, 0], [10, 0], [10, 1], [5, 0.1], [0, 1]])
-    e = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [4, 0]], np.int32)
+def test_cgal_conforming_delaunay_2d_splits_a_non_delaunay_edge():
+    # the long edge (0, 1) crosses the Delaunay edge between the two close points 2 and 3
+    p = np.array([[0.0, 0], [10, 0], [5, 0.5], [5, -0.5], [0, 3], [10, -3]])
+    e = np.array([[0, 1], [4, 0], [1, 5]], np.int32)
     r = _core.conforming_delaunay_2d(p, e)
     assert r["is_delaunay"]
     assert len(r["points"]) > len(p), "the long edge needs Steiner points"
