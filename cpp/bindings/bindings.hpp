@@ -22,5 +22,6 @@ void bind_stitch(py::module_& m);
 void bind_slice(py::module_& m);
 void bind_io(py::module_& m);
 void bind_delaunay(py::module_& m);
+void bind_morph(py::module_& m);
 
 }  // namespace animanifold::bindings

@@ -20,6 +20,7 @@ PYBIND11_MODULE(_core, m) {
   bind_slice(m);
   bind_io(m);
   bind_delaunay(m);
+  bind_morph(m);
 }
 
 }  // namespace animanifold::bindings

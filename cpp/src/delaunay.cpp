@@ -42,7 +42,7 @@ class MessageStream {
 
 }  // namespace
 
-DelaunayTriangulation delaunay(const PointMatrix& points) {
+DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
   const int d = static_cast<int>(points.cols());
   const Index n = static_cast<Index>(points.rows());
   if (d < 2) fail<InputError>("Delaunay triangulation needs at least 2D points, got ", d, "D");
@@ -60,17 +60,29 @@ DelaunayTriangulation delaunay(const PointMatrix& points) {
   // coordinate (precision); Qz: point at infinity, which helps with the
   // cospherical sites two parallel cross-sections produce; Qx: exact
   // pre-merges, Qhull's own default once the lifted dimension reaches 5.
-  std::string options = d >= 4 ? "qhull d Qt Qbb Qz Qx" : "qhull d Qt Qbb Qz";
+  std::string options = joggle ? "qhull d QJ Qbb" : d >= 4 ? "qhull d Qt Qbb Qz Qx" : "qhull d Qt Qbb Qz";
   const int exit_code =
       qh_new_qhull(qh, d, n, coordinates.data(), False, options.data(), nullptr, errors.file());
 
+  // Corners of each lower facet, and its signed volume measured on the points
+  // Qhull actually triangulated (joggled, with 'QJ').
   std::vector<Index> corners;
+  std::vector<double> facet_volumes;
   if (exit_code == 0) {
     facetT* facet;
     vertexT *vertex, **vertexp;
+    Eigen::MatrixXd corner_points(d + 1, d), edges(d, d);
     FORALLfacets {
       if (facet->upperdelaunay) continue;
-      FOREACHvertex_(facet->vertices) corners.push_back(static_cast<Index>(qh_pointid(qh, vertex->point)));
+      int c = 0;
+      FOREACHvertex_(facet->vertices) {
+        corners.push_back(static_cast<Index>(qh_pointid(qh, vertex->point)));
+        if (c <= d)
+          for (int k = 0; k < d; ++k) corner_points(c, k) = vertex->point[k];
+        ++c;
+      }
+      for (int r = 0; r < d; ++r) edges.row(r) = corner_points.row(r + 1) - corner_points.row(0);
+      facet_volumes.push_back(edges.determinant());
     }
   }
   qh_freeqhull(qh, !qh_ALL);
@@ -81,7 +93,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points) {
   DelaunayTriangulation out;
   const Index count = static_cast<Index>(corners.size() / (d + 1));
   SimplexMatrix all = Eigen::Map<SimplexMatrix>(corners.data(), count, d + 1);
-  const Eigen::VectorXd volumes = signed_volumes(points, all);
+  const Eigen::VectorXd volumes = Eigen::Map<Eigen::VectorXd>(facet_volumes.data(), count);
   // A simplex is flat when its volume is negligible next to its edge lengths^d.
   std::vector<Index> keep;
   keep.reserve(count);
@@ -90,8 +102,12 @@ DelaunayTriangulation delaunay(const PointMatrix& points) {
     for (int a = 0; a < d + 1; ++a)
       for (int b = a + 1; b < d + 1; ++b)
         longest = std::max(longest, (points.row(all(s, a)) - points.row(all(s, b))).squaredNorm());
-    const double scale = std::pow(std::sqrt(longest), d);
-    if (std::abs(volumes(s)) <= 1e-12 * scale) {
+    double factorial = 1;
+    for (int i = 2; i <= d; ++i) factorial *= i;
+    const double scale = std::pow(std::sqrt(longest), d) * factorial;  // volumes here are D! times the simplex volume
+    // Joggled output is proper by construction: its orientation is trusted
+    // even when the simplex is a sliver of the original points.
+    if (!joggle && std::abs(volumes(s)) <= 1e-12 * scale) {
       ++out.flat_simplices;
       continue;
     }

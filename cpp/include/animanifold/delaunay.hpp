@@ -26,9 +26,15 @@ struct DelaunayTriangulation {
   Index flat_simplices = 0;      // zero-volume simplices Qhull returned, left out
 };
 
-// `points` is #P by d (d >= 2). Throws InputError for too few or non-finite
-// points, and std::runtime_error with Qhull's message when Qhull fails.
-DelaunayTriangulation delaunay(const PointMatrix& points);
+// `points` is #P by d (d >= 2). With `joggle`, Qhull perturbs the input by a
+// tiny random amount ('QJ') so that every simplex it returns is proper: the
+// result is a Delaunay triangulation of points within roundoff of the input,
+// with no flat simplices; orientation is decided on the joggled points.
+// Without it, degenerate input gives merged facets that 'Qt' triangulates,
+// possibly into flat simplices (counted, left out). Throws InputError for too
+// few or non-finite points, and std::runtime_error with Qhull's message when
+// Qhull fails.
+DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 
 struct ConformingDelaunay {
   // Input points first (same indices), then the Steiner points the mesher added.

@@ -1,0 +1,47 @@
+#include "animanifold/morph.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+void bind_morph(py::module_& m) {
+  m.def(
+      "morph",
+      [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
+         py::object progress) {
+        MorphOptions options;
+        options.t0 = t0;
+        options.t1 = t1;
+        options.method = method;
+        if (!progress.is_none())
+          options.progress = [progress](const std::string& stage, double fraction) {
+            py::gil_scoped_acquire acquire;
+            return progress(stage, fraction).cast<bool>();
+          };
+        Morph result;
+        {
+          py::gil_scoped_release release;
+          result = morph(VS, FS, VT, FT, options);
+        }
+        const MorphReport& r = result.report;
+        py::dict report;
+        report["missing_source_faces"] = r.missing_source_faces;
+        report["missing_target_faces"] = r.missing_target_faces;
+        report["source_conforming"] = r.source_conforming;
+        report["target_conforming"] = r.target_conforming;
+        report["flat_fill_simplices"] = r.flat_fill_simplices;
+        report["fill_simplices"] = r.fill_simplices;
+        report["stripped_simplices"] = r.stripped_simplices;
+        report["min_volume"] = r.min_volume;
+        report["source_distance"] = r.source_distance;
+        report["target_distance"] = r.target_distance;
+        report["ends_reproduced"] = r.ends_reproduced;
+        report["stage_seconds"] = r.stage_seconds;
+        return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);
+      },
+      py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
+      py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "strip", py::arg("progress") = py::none(),
+      "Morph between two closed shapes: (manifold Complex, validity report dict).");
+  py::register_exception<Cancelled>(m, "Cancelled");
+}
+
+}  // namespace animanifold::bindings

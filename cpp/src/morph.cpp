@@ -1,0 +1,303 @@
+#include "animanifold/morph.hpp"
+
+#include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
+#include "animanifold/slice.hpp"
+#include "animanifold/surface_distance.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <random>
+#include <unordered_map>
+
+namespace animanifold {
+
+namespace {
+
+using Key = std::array<Index, 5>;  // a sorted vertex set, padded with -1
+
+Key make_key(const Index* ids, int count) {
+  Key key;
+  key.fill(-1);
+  std::copy(ids, ids + count, key.begin());
+  std::sort(key.begin(), key.begin() + count);
+  return key;
+}
+
+struct KeyHash {
+  size_t operator()(const Key& k) const {
+    size_t h = 1469598103934665603ull;
+    for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
+    return h;
+  }
+};
+
+// A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
+void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char* name) {
+  const int d = static_cast<int>(V.cols());
+  if (d != 2 && d != 3) fail<InputError>("the ", name, " must be 2D or 3D, got ", d, "D points");
+  if (F.cols() != d)
+    fail<InputError>("the ", name, " must have ", d == 3 ? "triangles" : "edges", " as faces, got ", F.cols(), " corners");
+  if (F.rows() == 0) fail<InputError>("the ", name, " has no faces");
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < d; ++c)
+      if (F(f, c) < 0 || F(f, c) >= V.rows())
+        fail<InputError>("the ", name, "'s face ", f, " refers to vertex ", F(f, c), ", outside 0..", V.rows() - 1);
+  for (Index v = 0; v < V.rows(); ++v)
+    for (int c = 0; c < d; ++c)
+      if (!std::isfinite(V(v, c))) fail<InputError>("the ", name, "'s vertex ", v, " is not finite");
+  double volume = 0.0;
+  if (d == 3) {
+    const ManifoldReport report = check_manifold(F);
+    if (report.boundary_facets > 0)
+      fail<InputError>("the ", name, " is open (", report.boundary_facets, " boundary edges): only closed shapes can be morphed");
+    if (report.nonmanifold_facets > 0)
+      fail<InputError>("the ", name, " is not a manifold (", report.nonmanifold_facets, " edges in more than two faces)");
+    if (report.misoriented_facets > 0 || report.degenerate_simplices > 0)
+      fail<InputError>("the ", name, " is not consistently oriented (", report.misoriented_facets, " edges)");
+    for (Index f = 0; f < F.rows(); ++f)
+      volume += Eigen::Vector3d(V.row(F(f, 0))).dot(Eigen::Vector3d(V.row(F(f, 1))).cross(Eigen::Vector3d(V.row(F(f, 2)))));
+  } else {
+    std::vector<int> starts(V.rows(), 0), ends(V.rows(), 0);
+    for (Index f = 0; f < F.rows(); ++f) ++starts[F(f, 0)], ++ends[F(f, 1)];
+    for (Index v = 0; v < V.rows(); ++v)
+      if (starts[v] != ends[v] || starts[v] > 1)
+        fail<InputError>("the ", name, " is not a closed polygon at vertex ", v, " (", starts[v], " edges leave, ", ends[v],
+                         " arrive)");
+    for (Index f = 0; f < F.rows(); ++f)
+      volume += V(F(f, 0), 0) * V(F(f, 1), 1) - V(F(f, 1), 0) * V(F(f, 0), 1);
+  }
+  if (volume <= 0)
+    fail<InputError>("the ", name, " is inside out (its faces point inward): flip its normals");
+}
+
+ConformingDelaunay conform(const PointMatrix& V, const SimplexMatrix& F) {
+  return V.cols() == 3 ? conforming_delaunay_3d(V, F) : conforming_delaunay_2d(V, F);
+}
+
+// Is `apex` on the outer side of the outward constraint face `face` (n
+// vertices), within the constraint plane (the first n coordinates)?
+bool on_outer_side(const PointMatrix& P, const Index* face, int n, Index apex) {
+  if (n == 3) {
+    const Eigen::Vector3d a = P.row(face[0]).head<3>(), b = P.row(face[1]).head<3>(), c = P.row(face[2]).head<3>();
+    return (Eigen::Vector3d(P.row(apex).head<3>()) - a).dot((b - a).cross(c - a)) > 0;
+  }
+  const Eigen::Vector2d a = P.row(face[0]).head<2>(), b = P.row(face[1]).head<2>();
+  const Eigen::Vector2d e = b - a, w = Eigen::Vector2d(P.row(apex).head<2>()) - a;
+  return e.x() * w.y() - e.y() * w.x() < 0;  // right of a counter-clockwise edge
+}
+
+}  // namespace
+
+std::vector<bool> outside_of_constraint(const PointMatrix& P, const SimplexMatrix& A, Index first, Index last,
+                                        const SimplexMatrix& constraint) {
+  const int D = static_cast<int>(P.cols());  // fill dimension, n + 1
+  const int n = D - 1;
+  auto in_plane = [&](Index v) { return v >= first && v < last; };
+
+  // Projections (Figure 8.5): the face of each simplex spanned by its vertices in the plane.
+  std::vector<Key> projection(A.rows());
+  std::vector<int> projection_size(A.rows());
+  std::unordered_map<Key, Index, KeyHash> cell_of;  // in-plane full simplices (n-simplices of the plane)
+  std::vector<Key> cells;
+  for (Index s = 0; s < A.rows(); ++s) {
+    Index ids[5];
+    int count = 0;
+    for (int c = 0; c < D + 1; ++c)
+      if (in_plane(A(s, c))) ids[count++] = A(s, c);
+    projection[s] = make_key(ids, count);
+    projection_size[s] = count;
+    if (count == n + 1 && !cell_of.count(projection[s])) {
+      cell_of.emplace(projection[s], static_cast<Index>(cells.size()));
+      cells.push_back(projection[s]);
+    }
+  }
+
+  // Cell adjacency across their facets, and which facets are constraints.
+  std::unordered_map<Key, std::array<Index, 2>, KeyHash> cells_of_facet;
+  for (Index c = 0; c < static_cast<Index>(cells.size()); ++c)
+    for (int drop = 0; drop < n + 1; ++drop) {
+      Index ids[4];
+      for (int i = 0, j = 0; i < n + 1; ++i)
+        if (i != drop) ids[j++] = cells[c][i];
+      auto [it, inserted] = cells_of_facet.try_emplace(make_key(ids, n), std::array<Index, 2>{c, -1});
+      if (!inserted) it->second[1] = c;
+    }
+  std::unordered_map<Key, Index, KeyHash> constraint_face;
+  for (Index f = 0; f < constraint.rows(); ++f) constraint_face.emplace(make_key(constraint.row(f).data(), n), f);
+
+  // Grow the outside from the outer side of every constraint face (§8.5.2):
+  // the front never crosses a constraint face, so it fills exactly the part
+  // of the plane's triangulation outside the shape.
+  std::vector<bool> cell_outside(cells.size(), false);
+  std::deque<Index> front;
+  for (Index f = 0; f < constraint.rows(); ++f) {
+    const auto it = cells_of_facet.find(make_key(constraint.row(f).data(), n));
+    if (it == cells_of_facet.end())
+      fail<std::runtime_error>("constraint face ", f, " is not a face of the fill (Theorem 5.2.1 does not hold)");
+    for (const Index c : it->second) {
+      if (c < 0 || cell_outside[c]) continue;
+      Index apex = -1;
+      for (int i = 0; i < n + 1; ++i)
+        if (std::find(constraint.row(f).data(), constraint.row(f).data() + n, cells[c][i]) ==
+            constraint.row(f).data() + n)
+          apex = cells[c][i];
+      if (on_outer_side(P, constraint.row(f).data(), n, apex)) cell_outside[c] = true, front.push_back(c);
+    }
+  }
+  while (!front.empty()) {
+    const Index c = front.front();
+    front.pop_front();
+    for (int drop = 0; drop < n + 1; ++drop) {
+      Index ids[4];
+      for (int i = 0, j = 0; i < n + 1; ++i)
+        if (i != drop) ids[j++] = cells[c][i];
+      const Key facet = make_key(ids, n);
+      if (constraint_face.count(facet)) continue;
+      for (const Index other : cells_of_facet.at(facet))
+        if (other >= 0 && !cell_outside[other]) cell_outside[other] = true, front.push_back(other);
+    }
+  }
+
+  // Lower-dimensional projections are outside when every cell around them is.
+  std::unordered_map<Index, std::vector<Index>> cells_at_vertex;
+  for (Index c = 0; c < static_cast<Index>(cells.size()); ++c)
+    for (int i = 0; i < n + 1; ++i) cells_at_vertex[cells[c][i]].push_back(c);
+  std::vector<bool> outside(A.rows(), false);
+  for (Index s = 0; s < A.rows(); ++s) {
+    const int count = projection_size[s];
+    if (count == 0) continue;  // the simplex does not touch this plane
+    if (count == n + 2) {      // flat in the plane: adds nothing (§8.5.1)
+      outside[s] = true;
+      continue;
+    }
+    if (count == n + 1) {
+      outside[s] = cell_outside[cell_of.at(projection[s])];
+      continue;
+    }
+    bool any = false, all_outside = true;
+    for (const Index c : cells_at_vertex[projection[s][0]]) {
+      bool contains = true;
+      for (int i = 1; i < count && contains; ++i)
+        contains = std::find(cells[c].begin(), cells[c].begin() + n + 1, projection[s][i]) != cells[c].begin() + n + 1;
+      if (!contains) continue;
+      any = true;
+      all_outside = all_outside && cell_outside[c];
+    }
+    outside[s] = any && all_outside;
+  }
+  return outside;
+}
+
+Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+            const MorphOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  Morph result;
+  MorphReport& report = result.report;
+  auto stage_start = Clock::now();
+  auto stage = [&](const std::string& name, double fraction) {
+    const auto now = Clock::now();
+    report.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
+    stage_start = now;
+    if (options.progress && !options.progress(name, fraction)) throw Cancelled();
+  };
+
+  check_closed_shape(VS, FS, "source");
+  check_closed_shape(VT, FT, "target");
+  if (VS.cols() != VT.cols()) fail<InputError>("source and target must both be 2D or both 3D");
+  if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
+  if (options.method != "strip") fail<InputError>("unknown morph method '", options.method, "'");
+  const int d = static_cast<int>(VS.cols());
+
+  // Inputs in general position: cospherical points (a cube's square faces)
+  // make the Delaunay fill ambiguous, so Theorem 5.2.1 could pick another
+  // diagonal than the conforming surface. A perturbation far below the
+  // validity tolerance (1e-12 of the size) removes the ambiguity; input
+  // vertices get their exact coordinates back in the result.
+  const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
+                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> jitter(-1e-12 * size, 1e-12 * size);
+  auto perturbed = [&](const PointMatrix& V) {
+    PointMatrix out = V;
+    for (Index r = 0; r < out.rows(); ++r)
+      for (int c = 0; c < d; ++c) out(r, c) += jitter(rng);
+    return out;
+  };
+
+  const ConformingDelaunay S = conform(perturbed(VS), FS);
+  const ConformingDelaunay T = conform(perturbed(VT), FT);
+  report.source_conforming = S.is_delaunay;
+  report.target_conforming = T.is_delaunay;
+  stage("conforming", 0.3);
+
+  const Index nS = static_cast<Index>(S.points.rows()), nT = static_cast<Index>(T.points.rows());
+  PointMatrix P(nS + nT, d + 1);
+  P.topLeftCorner(nS, d) = S.points;
+  P.topRightCorner(nS, 1).setConstant(options.t0);
+  P.bottomLeftCorner(nT, d) = T.points;
+  P.bottomRightCorner(nT, 1).setConstant(options.t1);
+  const DelaunayTriangulation fill = delaunay(P, /*joggle=*/true);
+  report.flat_fill_simplices = fill.flat_simplices;
+  report.fill_simplices = static_cast<Index>(fill.simplices.rows());
+  SimplexMatrix target_constraints = T.constraints.array() + nS;
+  report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.constraints).size());
+  report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
+  stage("fill", 0.6);
+  if (report.missing_source_faces || report.missing_target_faces)
+    fail<std::runtime_error>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
+                             " source and ", report.missing_target_faces, " target faces are missing",
+                             S.is_delaunay && T.is_delaunay ? "" : " (the mesher returned a constrained, not conforming, result)");
+
+  const std::vector<bool> out_s = outside_of_constraint(P, fill.simplices, 0, nS, S.constraints);
+  const std::vector<bool> out_t = outside_of_constraint(P, fill.simplices, nS, nS + nT, target_constraints);
+  std::vector<Index> kept;
+  for (Index s = 0; s < fill.simplices.rows(); ++s)
+    if (!out_s[s] && !out_t[s]) kept.push_back(s);
+  report.stripped_simplices = report.fill_simplices - static_cast<Index>(kept.size());
+  SimplexMatrix A(static_cast<Index>(kept.size()), d + 2);
+  for (size_t r = 0; r < kept.size(); ++r) A.row(static_cast<Index>(r)) = fill.simplices.row(kept[r]);
+  stage("strip", 0.8);
+
+  // Exact input coordinates back for input vertices (Steiner points keep theirs).
+  P.topLeftCorner(VS.rows(), d) = VS;
+  P.block(nS, 0, VT.rows(), d) = VT;
+  const Eigen::VectorXd volumes = signed_volumes(P, A);
+  report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
+
+  // The animation manifold: the boundary of what remains, less the caps.
+  const SimplexMatrix B = boundary_facets(A);
+  std::vector<Index> lateral;
+  for (Index f = 0; f < B.rows(); ++f) {
+    bool all_start = true, all_end = true;
+    for (int c = 0; c < d + 1; ++c) all_start = all_start && B(f, c) < nS, all_end = all_end && B(f, c) >= nS;
+    if (!all_start && !all_end) lateral.push_back(f);
+  }
+  result.manifold.V = P;
+  result.manifold.S.resize(static_cast<Index>(lateral.size()), d + 1);
+  for (size_t r = 0; r < lateral.size(); ++r) {
+    result.manifold.S.row(static_cast<Index>(r)) = B.row(lateral[r]);
+    // Outward facets of positive simplices face the other way from the
+    // stitched convention (the tent orientation of stitch.hpp): turn them.
+    std::swap(result.manifold.S(static_cast<Index>(r), 0), result.manifold.S(static_cast<Index>(r), 1));
+  }
+  stage("boundary", 0.9);
+
+  // Validity 2: the slices at t0 and t1 are the inputs.
+  const double diagonal = std::max(size, 1e-300);
+  const Slice start = slice(result.manifold, d, options.t0), end = slice(result.manifold, d, options.t1);
+  report.source_distance = std::max(max_distance_to_surface(start.vertices, VS, FS),
+                                    max_distance_to_surface(VS, start.vertices, start.faces)) / diagonal;
+  report.target_distance = std::max(max_distance_to_surface(end.vertices, VT, FT),
+                                    max_distance_to_surface(VT, end.vertices, end.faces)) / diagonal;
+  report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
+  stage("validity", 1.0);
+  return result;
+}
+
+}  // namespace animanifold
