@@ -381,3 +381,5 @@ def test_bad_options_raise_value_errors():
         am.refine(V, S, [], order="random")
     with pytest.raises(ValueError, match="epsilon"):
         am.refine(V, S, [([0, 7], [0.5, 0.5])], epsilon=0.7)
+    with pytest.raises(ValueError, match="simplex 1 repeats vertex 3"):
+        am.refine(V, np.array([[0, 1, 2, 4], [3, 3, 5, 6]]), [])

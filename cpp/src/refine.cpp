@@ -519,6 +519,13 @@ Refinement refine(const Complex& input, const SimplexMatrix& split_vertices, con
   const int k = static_cast<int>(input.S.cols());
   if (k < 2 || k > kMax)
     fail<InputError>("refine supports simplices of 2..", kMax, " vertices, got ", k);
+  // A simplex repeating a vertex has no well-defined children (which copy
+  // would the new vertex replace?).
+  for (Index s = 0; s < input.S.rows(); ++s)
+    for (int a = 0; a < k; ++a)
+      for (int b = a + 1; b < k; ++b)
+        if (input.S(s, a) == input.S(s, b))
+          fail<InputError>("simplex ", s, " repeats vertex ", input.S(s, a));
   if (!(options.epsilon >= 0 && options.epsilon < 0.5))
     fail<InputError>("epsilon ", options.epsilon, " is outside [0, 0.5)");
   if (split_vertices.rows() != split_barycentric.rows() || split_vertices.cols() != split_barycentric.cols())

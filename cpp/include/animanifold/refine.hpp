@@ -28,8 +28,9 @@
 //
 // Ordering (§6.3): `Given` applies tuples in input order (Figure 6.1);
 // `Degeneracy` applies them greedily from a priority queue keyed by the worst
-// degeneracy the split would create, recomputed whenever a split changes
-// the star of a tuple's simplex. Pending tuples are found through a hash
+// degeneracy (edge_length_degeneracy below) among the top simplices the
+// split would create, recomputed whenever a split changes the star of a
+// tuple's simplex; ties go to the earlier tuple. Pending tuples are found through a hash
 // keyed by their simplex (sorted vertex ids), and the simplices around a
 // face through a vertex-to-simplex incidence map, so a split costs what its
 // neighbourhood holds, not a scan of the complex.
@@ -92,9 +93,9 @@ struct Refinement {
 //                 summing to 1 (within 1e-6; they are renormalised); entries
 //                 under the padding are ignored.
 //
-// Throws InputError naming the split (and vertex) at fault, or when the
-// simplices have more than kMaxRefineVertices vertices or epsilon is out of
-// range.
+// Throws InputError naming the split (and vertex) at fault, the simplex that
+// repeats a vertex, or when the simplices have more than kMaxRefineVertices
+// vertices or epsilon is out of range.
 Refinement refine(const Complex& input, const SimplexMatrix& split_vertices, const PointMatrix& split_barycentric,
                   const RefineOptions& options = {});
 
