@@ -49,8 +49,9 @@ def main() -> None:
 
     V, F = torus(args.u, args.v)
     times = np.linspace(0, 1, args.keyframes)
-    frames = [V + 0.2 * np.sin(4 * np.arctan2(V[:, 1], V[:, 0]) - 6 * t)[:, None] * (V / np.linalg.norm(V, axis=1)[:, None])
-              for t in times]
+    radial = V / np.linalg.norm(V, axis=1)[:, None]
+    angle = np.arctan2(V[:, 1], V[:, 0])
+    frames = [V + 0.2 * np.sin(4 * angle - 6 * t)[:, None] * radial for t in times]
     start = time.perf_counter()
     m = am.stitch(frames, F, times)
     points, simplices = np.array(m.points), np.array(m.simplices)
@@ -75,7 +76,8 @@ def main() -> None:
     applied = int(np.count_nonzero(r.new_vertex_of_split >= 0))
     print(f"order={args.order}: {n:,} splits ({applied:,} applied, {n - applied:,} removed by epsilon) in "
           f"{elapsed:.2f} s = {n / elapsed:,.0f} splits/s")
-    print(f"result: {len(r.points):,} vertices, {len(r.simplices):,} tets; peak memory (ru_maxrss) {peak_mib():.0f} MiB")
+    print(f"result: {len(r.points):,} vertices, {len(r.simplices):,} tets; "
+          f"peak memory (ru_maxrss) {peak_mib():.0f} MiB")
     if args.check:
         report = _core.check_manifold(r.simplices)
         volume = (_core.simplex_volumes(r.points, r.simplices).sum(), _core.simplex_volumes(points, simplices).sum())

@@ -178,7 +178,12 @@ def assert_valid_refinement(V, S, r: am.Refinement, splits, epsilon: float) -> N
 def test_icosahedron_example_of_section_6_4():
     V, F = icosahedron()
     A, B, C = F[0]
-    splits = [([A, B], [0.5, 0.5]), ([A, B], [0.4999999, 0.5000001]), ([B, C], [0.5, 0.5]), ([A, B, C], [0.3, 0.3, 0.4])]
+    splits = [
+        ([A, B], [0.5, 0.5]),
+        ([A, B], [0.4999999, 0.5000001]),
+        ([B, C], [0.5, 0.5]),
+        ([A, B, C], [0.3, 0.3, 0.4]),
+    ]
     r = am.refine(V, F, splits, epsilon=1e-3, order="given")
     D = r.new_vertex_of_split[0]
     assert D == 12

@@ -505,7 +505,8 @@ Eigen::VectorXd edge_length_degeneracy(const PointMatrix& V, const SimplexMatrix
   for (Index s = 0; s < S.rows(); ++s) {
     for (int c = 0; c < k; ++c) {
       const Index v = S(s, c);
-      if (v < 0 || v >= V.rows()) fail<InputError>("simplex ", s, " refers to vertex ", v, ", outside 0..", V.rows() - 1);
+      if (v < 0 || v >= V.rows())
+        fail<InputError>("simplex ", s, " refers to vertex ", v, ", outside 0..", V.rows() - 1);
       corners[c] = V.row(v).data();
     }
     out(s) = degeneracy_of(corners.data(), k, static_cast<int>(V.cols()));

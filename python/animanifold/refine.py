@@ -18,7 +18,7 @@ done by the native core (``animanifold/refine.hpp``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 
@@ -182,4 +182,4 @@ def _tables(tables: Mapping[str, np.ndarray] | None, dtype, what: str) -> tuple[
     return squeezed, out
 
 
-__all__: Sequence[str] = ["Refinement", "refine"]
+__all__ = ["Refinement", "refine"]
