@@ -23,5 +23,6 @@ void bind_slice(py::module_& m);
 void bind_io(py::module_& m);
 void bind_delaunay(py::module_& m);
 void bind_morph(py::module_& m);
+void bind_refine(py::module_& m);
 
 }  // namespace animanifold::bindings

@@ -21,6 +21,7 @@ PYBIND11_MODULE(_core, m) {
   bind_io(m);
   bind_delaunay(m);
   bind_morph(m);
+  bind_refine(m);
 }
 
 }  // namespace animanifold::bindings

@@ -72,7 +72,10 @@ std::vector<FacetRecord> sorted_facet_records(const SimplexMatrix& S) {
       FacetRecord r;
       r.key.fill(-1);
       std::copy(f, f + k - 1, r.key.begin());
-      r.parity = static_cast<std::int8_t>(permutation_parity(f, k - 1));
+      // A vertex facet of an edge carries its orientation as a sign: the rule's
+      // "swap" of facet i+1 even (the edge's start) has nothing to swap, so it
+      // negates instead (the end of an edge is +, its start is -).
+      r.parity = static_cast<std::int8_t>(k == 2 ? (i % 2 == 0 ? 1 : -1) : permutation_parity(f, k - 1));
       std::sort(r.key.begin(), r.key.begin() + (k - 1));
       r.simplex = s;
       r.index = static_cast<std::int8_t>(i);

@@ -94,3 +94,12 @@ TEST(Normals, SphereVertexNormalsAreRadial) {
   EXPECT_NEAR(dropped.row(0).norm(), 1.0, 1e-14);
   EXPECT_NEAR(dropped.row(4).norm(), 0.0, 1e-14);  // the pole's normal was all z
 }
+
+TEST(Complex, PolygonOrientationUsesVertexSigns) {
+  SimplexMatrix ring(3, 2);
+  ring << 0, 1, 1, 2, 2, 0;
+  EXPECT_TRUE(check_manifold(ring).is_oriented_manifold());
+  SimplexMatrix flipped(3, 2);
+  flipped << 0, 1, 2, 1, 2, 0;  // edge 1 runs backwards
+  EXPECT_EQ(check_manifold(flipped).misoriented_facets, 2);
+}

@@ -14,6 +14,7 @@ from ._core import Complex as _Complex  # noqa: F401  (import check: the native 
 from .cache import CacheError, load, save
 from .manifold import AnimationManifold, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
+from .refine import Refinement, refine
 
 __version__ = "0.1.0"
 
@@ -24,6 +25,8 @@ __all__ = [
     "axis_index",
     "load",
     "read_mesh",
+    "refine",
+    "Refinement",
     "save",
     "stitch",
     "write_mesh",

@@ -165,6 +165,29 @@ class AnimationManifold:
         """Area-weighted unit normals (N, D) from the wedge product (§2.3)."""
         return _core.vertex_normals(self.points, self.simplices)
 
+    def refine(self, splits, epsilon: float = 1e-3, order: str = "degeneracy") -> tuple:
+        """Barycentric refinement (chapter 6): the refined manifold and the maps.
+
+        splits, epsilon and order as in :func:`animanifold.refine`. Returns a
+        new manifold (attributes interpolated / inherited, metadata kept) and
+        the :class:`~animanifold.refine.Refinement` with new_vertex_of_split,
+        parent_simplex and the other maps.
+        """
+        from .refine import refine
+
+        r = refine(
+            self.points,
+            self.simplices,
+            splits,
+            epsilon=epsilon,
+            order=order,
+            vertex_attributes=self.vertex_attributes,
+            simplex_attributes=self.simplex_attributes,
+        )
+        return AnimationManifold.from_arrays(
+            r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata
+        ), r
+
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
     table = np.asarray(values)
