@@ -32,6 +32,8 @@ void bind_morph(py::module_& m) {
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
         report["min_volume"] = r.min_volume;
+        report["inverted_simplices"] = r.inverted_simplices;
+        report["degenerate_simplices"] = r.degenerate_simplices;
         report["source_distance"] = r.source_distance;
         report["target_distance"] = r.target_distance;
         report["ends_reproduced"] = r.ends_reproduced;

@@ -5,6 +5,7 @@
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -80,16 +81,47 @@ ConformingDelaunay conform(const PointMatrix& V, const SimplexMatrix& F) {
   return V.cols() == 3 ? conforming_delaunay_3d(V, F) : conforming_delaunay_2d(V, F);
 }
 
-// Is `apex` on the outer side of the outward constraint face `face` (n
-// vertices), within the constraint plane (the first n coordinates)?
-bool on_outer_side(const PointMatrix& P, const Index* face, int n, Index apex) {
-  if (n == 3) {
-    const Eigen::Vector3d a = P.row(face[0]).head<3>(), b = P.row(face[1]).head<3>(), c = P.row(face[2]).head<3>();
-    return (Eigen::Vector3d(P.row(apex).head<3>()) - a).dot((b - a).cross(c - a)) > 0;
+// The conforming surface was built on perturbed input (`perturbed`); give
+// input vertices their exact coordinates back and put every added point on
+// the input face it lies in, at the same barycentric coordinates, so the
+// result lies exactly on the input surface.
+PointMatrix restore_on_input(const ConformingDelaunay& c, const PointMatrix& perturbed, const PointMatrix& V,
+                             const SimplexMatrix& F) {
+  PointMatrix out = c.points;
+  const Index n = static_cast<Index>(V.rows());
+  const int d = static_cast<int>(V.cols());
+  out.topRows(n) = V;
+  std::vector<bool> done(out.rows(), false);
+  for (Index r = 0; r < c.constraints.rows(); ++r) {
+    const Index parent = c.constraint_parent(r);
+    for (int k = 0; k < d; ++k) {
+      const Index p = c.constraints(r, k);
+      if (p < n || done[p]) continue;
+      done[p] = true;
+      // Barycentric coordinates in the perturbed parent (least squares in its plane).
+      Eigen::MatrixXd edges(d, d - 1);
+      for (int j = 1; j < d; ++j) edges.col(j - 1) = (perturbed.row(F(parent, j)) - perturbed.row(F(parent, 0))).transpose();
+      const Eigen::VectorXd w = edges.colPivHouseholderQr().solve((c.points.row(p) - perturbed.row(F(parent, 0))).transpose());
+      Eigen::RowVectorXd restored = V.row(F(parent, 0));
+      for (int j = 1; j < d; ++j) restored += w(j - 1) * (V.row(F(parent, j)) - V.row(F(parent, 0)));
+      out.row(p) = restored;
+    }
   }
-  const Eigen::Vector2d a = P.row(face[0]).head<2>(), b = P.row(face[1]).head<2>();
-  const Eigen::Vector2d e = b - a, w = Eigen::Vector2d(P.row(apex).head<2>()) - a;
-  return e.x() * w.y() - e.y() * w.x() < 0;  // right of a counter-clockwise edge
+  return out;
+}
+
+// Is `apex` strictly on the outer side of the outward constraint face `face`
+// (n vertices), within the constraint plane (the first n coordinates)? Exact:
+// a flat cell (four coplanar corners of a planar quad) is not outside.
+bool on_outer_side(const PointMatrix& P, const Index* face, int n, Index apex) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  if (n == 3) {
+    auto at = [&](Index v) { return K::Point_3(P(v, 0), P(v, 1), P(v, 2)); };
+    // orientation(a, b, c, s) is the sign of (s - a) . ((b - a) x (c - a)): positive on the outward side.
+    return CGAL::orientation(at(face[0]), at(face[1]), at(face[2]), at(apex)) == CGAL::POSITIVE;
+  }
+  auto at = [&](Index v) { return K::Point_2(P(v, 0), P(v, 1)); };
+  return CGAL::orientation(at(face[0]), at(face[1]), at(apex)) == CGAL::RIGHT_TURN;  // right of a counter-clockwise edge
 }
 
 }  // namespace
@@ -214,15 +246,16 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   if (options.method != "strip") fail<InputError>("unknown morph method '", options.method, "'");
   const int d = static_cast<int>(VS.cols());
 
-  // Inputs in general position: cospherical points (a cube's square faces)
-  // make the Delaunay fill ambiguous, so Theorem 5.2.1 could pick another
-  // diagonal than the conforming surface. A perturbation far below the
-  // validity tolerance (1e-12 of the size) removes the ambiguity; input
-  // vertices get their exact coordinates back in the result.
+  // Inputs in general position: cospherical points (a cube's square faces, a
+  // regular torus) make the Delaunay fill ambiguous, so the fill could pick
+  // another diagonal than the conforming surface. A perturbation of 1e-9 of
+  // the size settles every tie decisively (Qhull's own joggle is far
+  // smaller); the combinatorics are computed on the perturbed points and the
+  // result gets exact coordinates back (restore_on_input).
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
   std::mt19937_64 rng(20261122);
-  std::uniform_real_distribution<double> jitter(-1e-12 * size, 1e-12 * size);
+  std::uniform_real_distribution<double> jitter(-1e-9 * size, 1e-9 * size);
   auto perturbed = [&](const PointMatrix& V) {
     PointMatrix out = V;
     for (Index r = 0; r < out.rows(); ++r)
@@ -230,8 +263,9 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     return out;
   };
 
-  const ConformingDelaunay S = conform(perturbed(VS), FS);
-  const ConformingDelaunay T = conform(perturbed(VT), FT);
+  const PointMatrix VS_perturbed = perturbed(VS), VT_perturbed = perturbed(VT);
+  const ConformingDelaunay S = conform(VS_perturbed, FS);
+  const ConformingDelaunay T = conform(VT_perturbed, FT);
   report.source_conforming = S.is_delaunay;
   report.target_conforming = T.is_delaunay;
   stage("conforming", 0.3);
@@ -254,6 +288,11 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
                              " source and ", report.missing_target_faces, " target faces are missing",
                              S.is_delaunay && T.is_delaunay ? "" : " (the mesher returned a constrained, not conforming, result)");
 
+  // From here on, exact coordinates: input vertices as given, added points
+  // on their input faces. The fill's combinatorics came from the perturbed
+  // points; sidedness below is decided exactly on the real geometry.
+  P.topLeftCorner(nS, d) = restore_on_input(S, VS_perturbed, VS, FS);
+  P.bottomLeftCorner(nT, d) = restore_on_input(T, VT_perturbed, VT, FT);
   const std::vector<bool> out_s = outside_of_constraint(P, fill.simplices, 0, nS, S.constraints);
   const std::vector<bool> out_t = outside_of_constraint(P, fill.simplices, nS, nS + nT, target_constraints);
   std::vector<Index> kept;
@@ -264,11 +303,13 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   for (size_t r = 0; r < kept.size(); ++r) A.row(static_cast<Index>(r)) = fill.simplices.row(kept[r]);
   stage("strip", 0.8);
 
-  // Exact input coordinates back for input vertices (Steiner points keep theirs).
-  P.topLeftCorner(VS.rows(), d) = VS;
-  P.block(nS, 0, VT.rows(), d) = VT;
   const Eigen::VectorXd volumes = signed_volumes(P, A);
   report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
+  const double volume_tolerance = 1e-8 * std::pow(size, d + 1);
+  for (Index s = 0; s < volumes.size(); ++s) {
+    if (volumes(s) < -volume_tolerance) ++report.inverted_simplices;
+    else if (volumes(s) <= volume_tolerance) ++report.degenerate_simplices;
+  }
 
   // The animation manifold: the boundary of what remains, less the caps.
   const SimplexMatrix B = boundary_facets(A);
@@ -282,19 +323,36 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   result.manifold.S.resize(static_cast<Index>(lateral.size()), d + 1);
   for (size_t r = 0; r < lateral.size(); ++r) {
     result.manifold.S.row(static_cast<Index>(r)) = B.row(lateral[r]);
-    // Outward facets of positive simplices face the other way from the
-    // stitched convention (the tent orientation of stitch.hpp): turn them.
-    std::swap(result.manifold.S(static_cast<Index>(r), 0), result.manifold.S(static_cast<Index>(r), 1));
+    // Outward facets of positive simplices in R^4 face the other way from the
+    // stitched convention (the tent orientation of stitch.hpp), those in R^3
+    // the same way (the wedge product's sign alternates with the dimension,
+    // see stitch.cpp): turn them in R^4 so slices face outward in both.
+    if (d == 3) std::swap(result.manifold.S(static_cast<Index>(r), 0), result.manifold.S(static_cast<Index>(r), 1));
   }
   stage("boundary", 0.9);
 
-  // Validity 2: the slices at t0 and t1 are the inputs.
+  // Validity 2: the slices at t0 and t1 are the inputs, both ways: every
+  // slice vertex and face centre on the input, every input vertex and face
+  // centre on the slice (face centres catch extra faces whose corners all lie
+  // on the input, such as a triangle across its inside).
   const double diagonal = std::max(size, 1e-300);
+  auto with_face_centres = [](const PointMatrix& V, const SimplexMatrix& F) {
+    PointMatrix out(V.rows() + F.rows(), V.cols());
+    out.topRows(V.rows()) = V;
+    for (Index f = 0; f < F.rows(); ++f) {
+      Eigen::RowVectorXd centre = Eigen::RowVectorXd::Zero(V.cols());
+      for (int c = 0; c < F.cols(); ++c) centre += V.row(F(f, c));
+      out.row(V.rows() + f) = centre / static_cast<double>(F.cols());
+    }
+    return out;
+  };
+  auto two_sided = [&](const Slice& s, const PointMatrix& V, const SimplexMatrix& F) {
+    return std::max(max_distance_to_surface(with_face_centres(s.vertices, s.faces), V, F),
+                    max_distance_to_surface(with_face_centres(V, F), s.vertices, s.faces)) / diagonal;
+  };
   const Slice start = slice(result.manifold, d, options.t0), end = slice(result.manifold, d, options.t1);
-  report.source_distance = std::max(max_distance_to_surface(start.vertices, VS, FS),
-                                    max_distance_to_surface(VS, start.vertices, start.faces)) / diagonal;
-  report.target_distance = std::max(max_distance_to_surface(end.vertices, VT, FT),
-                                    max_distance_to_surface(VT, end.vertices, end.faces)) / diagonal;
+  report.source_distance = two_sided(start, VS, FS);
+  report.target_distance = two_sided(end, VT, FT);
   report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
   stage("validity", 1.0);
   return result;

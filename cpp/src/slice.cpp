@@ -4,6 +4,7 @@
 #include "animanifold/normals.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -125,6 +126,51 @@ struct FaceSink {
   }
 };
 
+// A face and its exact reverse on the same vertices bound nothing: they are
+// the two sides of a zero-width slit (where a manifold that opens a hole or a
+// split right after this time is cut at that time). Cancel such pairs so the
+// slice is the limit surface, not the slit.
+void cancel_opposite_pairs(FaceSink& faces) {
+  const int n = faces.n;
+  const size_t count = faces.simplex.size();
+  std::unordered_map<std::uint64_t, std::vector<size_t>> by_vertices;
+  std::vector<std::array<Index, 3>> sorted(count);
+  std::vector<int> parity(count);
+  for (size_t f = 0; f < count; ++f) {
+    std::array<Index, 3> key{-1, -1, -1};
+    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
+    parity[f] = n == 2 ? (key[0] < key[1] ? 1 : -1) : permutation_parity(key.data(), n);
+    std::sort(key.begin(), key.begin() + n);
+    sorted[f] = key;
+    std::uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < n; ++c) h = (h ^ static_cast<std::uint32_t>(key[c])) * 1099511628211ull;
+    by_vertices[h].push_back(f);
+  }
+  std::vector<bool> drop(count, false);
+  bool any = false;
+  for (auto& [hash, group] : by_vertices) {
+    if (group.size() < 2) continue;
+    for (size_t i = 0; i < group.size(); ++i) {
+      if (drop[group[i]]) continue;
+      for (size_t j = i + 1; j < group.size(); ++j) {
+        const size_t a = group[i], b = group[j];
+        if (drop[b] || sorted[a] != sorted[b] || parity[a] == parity[b]) continue;
+        drop[a] = drop[b] = any = true;
+        break;
+      }
+    }
+  }
+  if (!any) return;
+  size_t kept = 0;
+  for (size_t f = 0; f < count; ++f) {
+    if (drop[f]) continue;
+    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, faces.corners.begin() + kept * n);
+    faces.simplex[kept++] = faces.simplex[f];
+  }
+  faces.corners.resize(kept * n);
+  faces.simplex.resize(kept);
+}
+
 // Tets in R^4 → triangles in R^3 (Figure 2.6).
 void cut_tet(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts, FaceSink& faces) {
   Index f[3];
@@ -231,6 +277,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
       out.vertices(p, o++) = c.a == c.b ? m.V(c.a, d) : (1.0 - c.s) * m.V(c.a, d) + c.s * m.V(c.b, d);
     }
   }
+  cancel_opposite_pairs(faces);
   const Index F = static_cast<Index>(faces.simplex.size());
   out.faces = Eigen::Map<const SimplexMatrix>(faces.corners.data(), F, k - 1);
   out.face_simplex = Eigen::Map<const IndexVector>(faces.simplex.data(), F);

@@ -8,7 +8,9 @@
 //  - conforming_delaunay_3d(): a conforming Delaunay tetrahedralization of
 //    constraint triangles in R^3 through TetGen (`-p -D`), with the refined
 //    constraint surface S' read directly from TetGen's subfaces (each with
-//    the input triangle it lies in), and a check that the result is Delaunay.
+//    the input triangle it lies in), checked against Qhull's Delaunay
+//    triangulation; where TetGen returned a constrained but not conforming
+//    result, the input edges there are split and TetGen runs again.
 //  - conforming_delaunay_2d(): the same for constraint segments in R^2
 //    through CGAL (make_conforming_Delaunay_2).
 //  - missing_facets(): Theorem 5.2.1's check, which constraint faces are not
@@ -39,17 +41,17 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 struct ConformingDelaunay {
   // Input points first (same indices), then the Steiner points the mesher added.
   PointMatrix points;
-  // The triangulation of the convex hull, positively oriented (tets in 3D,
-  // triangles in 2D).
+  // The Delaunay triangulation of `points` (the convex hull), positively
+  // oriented (tets in 3D, triangles in 2D).
   SimplexMatrix simplices;
   // The refined constraints S': triangles (3D) or segments (2D), each
   // oriented like the input constraint it lies in.
   SimplexMatrix constraints;
   IndexVector constraint_parent;  // the input constraint each refined one lies in
-  // Every interior face passes the empty-circumsphere test (exact predicate):
-  // the triangulation is Delaunay and so every refined constraint is a
-  // Delaunay face. False when the mesher gave a constrained but not a
-  // conforming result; `non_delaunay_faces` counts the offending faces.
+  // Every refined constraint is a face of the Delaunay triangulation. False
+  // when the mesher gave a constrained but not a conforming result (and, in
+  // 3D, the refinement rounds did not mend it); `non_delaunay_faces` counts
+  // the offending faces.
   bool is_delaunay = false;
   Index non_delaunay_faces = 0;
 };

@@ -38,8 +38,12 @@ struct MorphReport {
   bool source_conforming = false, target_conforming = false;  // the mesher's result was Delaunay
   Index flat_fill_simplices = 0;  // zero-volume simplices Qhull returned (left out)
   Index fill_simplices = 0, stripped_simplices = 0;
-  // Validity 1: the smallest signed hypervolume of the kept simplices (> 0).
+  // Validity 1: the smallest signed hypervolume of the kept simplices, how
+  // many are inverted (below -tolerance) and how many are degenerate slivers
+  // (within tolerance of zero: four coplanar corners of a planar quad, say).
+  // The tolerance is 1e-8 of the bounding-box diagonal to the power n+1.
   double min_volume = 0.0;
+  Index inverted_simplices = 0, degenerate_simplices = 0;
   // Validity 2: one-sided distances between the slices at t0/t1 and the
   // inputs, relative to the bounding-box diagonal (every slice vertex on the
   // input, every input vertex in the slice).

@@ -1,0 +1,116 @@
+"""Morphing by fill and strip (chapters 5 and 8): what works today, checked against §8.3."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import animanifold as am
+from animanifold import _core
+from shapes import cube, face_normals, icosphere
+from test_slice import assert_closed_oriented_surface
+
+
+def morph(source, target, **kwargs):
+    complex_, report = _core.morph(*source, *target, **kwargs)
+    return am.AnimationManifold(complex_), report
+
+
+def blob(n, radius, centre, wobble=0.0, lobes=3):
+    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    r = radius * (1 + wobble * np.cos(lobes * a))
+    return np.stack([centre[0] + r * np.cos(a), centre[1] + r * np.sin(a)], 1)
+
+
+def polygons(*loops):
+    points, edges, offset = [], [], 0
+    for loop in loops:
+        n = len(loop)
+        points.append(loop)
+        edges.append(np.stack([offset + np.arange(n), offset + (np.arange(n) + 1) % n], 1))
+        offset += n
+    return np.concatenate(points), np.concatenate(edges).astype(np.int32)
+
+
+def polygon_area(s):
+    p, q = s.vertices[s.faces[:, 0]], s.vertices[s.faces[:, 1]]
+    return 0.5 * np.sum(p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0])
+
+
+def volume(s):
+    tri = s.vertices[s.faces]
+    return np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum() / 6
+
+
+def test_convex_shapes_morph_into_a_closed_manifold_whose_frames_are_closed_and_outward():
+    v, f = icosphere(2)
+    target = v * [1.5, 1, 0.7] + [0.3, 0, 0]
+    m, report = morph((v, f), (target, f), t0=0.0, t1=2.0)
+    assert report["missing_source_faces"] == 0 and report["missing_target_faces"] == 0
+    assert report["inverted_simplices"] == 0
+    assert report["ends_reproduced"], report
+    assert m.check()["is_oriented_manifold"]
+    assert m.time_range == (0.0, 2.0)
+    for t in [0.0, 0.3, 1.0, 1.7, 2.0]:
+        s = m.slice(t)
+        assert_closed_oriented_surface(s.faces)
+        centre = np.array([0.15 * t, 0, 0])
+        assert (np.einsum("ij,ij->i", face_normals(s.vertices, s.faces), s.vertices[s.faces].mean(1) - centre) > 0).all()
+    # the end frames are the inputs: the same volume (the slice at t0 is the input surface, refined)
+    assert volume(m.slice(0.0)) == pytest.approx(volume(type("S", (), {"vertices": v, "faces": f})), rel=1e-12)
+
+
+def test_cubes_with_planar_quads_morph_robustly():
+    """Four cocircular corners per face make the Delaunay fill ambiguous; the result must still conform."""
+    v, f = cube()
+    m, report = morph((v, f), (v * 1.3 + [0.2, 0.1, 0], f))
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0
+    assert m.check()["is_oriented_manifold"]
+    for t in np.linspace(0, 1, 6):
+        s = m.slice(t)
+        assert_closed_oriented_surface(s.faces)
+        side = 2 * (1 + 0.3 * t)
+        assert volume(s) == pytest.approx(side**3, rel=1e-9)  # a linearly growing cube
+
+
+def test_2d_concave_contour_to_separate_blobs_reproduces_both_ends():
+    star = polygons(blob(40, 1.0, (0, 0), 0.5, 5))
+    blobs = polygons(blob(16, 0.4, (-1.2, 0)), blob(16, 0.4, (1.2, 0)), blob(16, 0.4, (0, 1.2)))
+    m, report = morph(star, blobs)
+    assert report["ends_reproduced"], report
+    assert report["inverted_simplices"] == 0
+    start, end = m.slice(0.0), m.slice(1.0)
+    assert polygon_area(start) == pytest.approx(polygon_area(type("S", (), {"vertices": star[0], "faces": star[1]})), rel=1e-12)
+    assert polygon_area(end) == pytest.approx(3 * polygon_area(type("S", (), {"vertices": blobs[0][:16], "faces": blobs[1][:16]})), rel=1e-12)
+    for t in [0.0, 0.5, 1.0]:
+        s = m.slice(t)
+        # every frame is a set of closed, counter-clockwise loops
+        assert sorted(s.faces[:, 0].tolist()) == sorted(s.faces[:, 1].tolist())
+        assert polygon_area(s) > 0
+
+
+def test_ring_to_disc():
+    ring = polygons(blob(24, 1.0, (0, 0)), blob(12, 0.4, (0, 0))[::-1])
+    disc = polygons(blob(20, 0.8, (0.1, 0)))
+    m, report = morph(ring, disc)
+    assert report["ends_reproduced"] and m.check()["is_oriented_manifold"]
+    assert m.slice(0.0).faces.shape[0] == 36 and m.slice(1.0).faces.shape[0] == 20
+
+
+def test_open_inside_out_and_non_manifold_inputs_are_refused():
+    v, f = icosphere(1)
+    with pytest.raises(ValueError, match="source is open"):
+        _core.morph(v, f[:-1], v, f)
+    with pytest.raises(ValueError, match="target is inside out"):
+        _core.morph(v, f, v, f[:, [1, 0, 2]])
+    with pytest.raises(ValueError, match=r"source is not a closed polygon at vertex 0 \(1 edges leave, 0 arrive\)"):
+        _core.morph(np.array([[0.0, 0], [1, 0], [0, 1]]), np.array([[0, 1], [1, 2]], np.int32), v[:, :2], f[:, :2])
+
+
+def test_progress_reports_stages_and_can_cancel():
+    v, f = icosphere(1)
+    stages = []
+    _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: stages.append(stage) or True)
+    assert stages == ["conforming", "fill", "strip", "boundary", "validity"]
+    with pytest.raises(_core.Cancelled):
+        _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
