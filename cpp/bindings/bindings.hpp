@@ -7,6 +7,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include "animanifold/types.hpp"
 
 namespace animanifold::bindings {
@@ -21,5 +23,6 @@ void bind_complex(py::module_& m);
 void bind_stitch(py::module_& m);
 void bind_slice(py::module_& m);
 void bind_io(py::module_& m);
+void bind_subdivide(py::module_& m);
 
 }  // namespace animanifold::bindings
