@@ -185,7 +185,9 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
     std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(type, sdc)));
     if (!refiner)
       fail<InputError>("OpenSubdiv rejected the frame's topology", osd_last_error.empty() ? "" : ": ", osd_last_error);
-    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(options.levels));
+    Far::TopologyRefiner::UniformOptions uniform(options.levels);
+    uniform.fullTopologyInLastLevel = true;  // PrimvarRefiner::Limit needs it
+    refiner->RefineUniform(uniform);
 
     const int L = options.levels;
     Far::PrimvarRefinerReal<double> primvar(*refiner);
@@ -208,6 +210,7 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
         primvar.Limit(src, dst);
         src.swap(dst);
       }
+      if (!osd_last_error.empty()) fail<InputError>("OpenSubdiv failed: ", osd_last_error);
       out.vertices.resize(outV, 3);
       for (int v = 0; v < outV; ++v)
         for (int c = 0; c < 3; ++c) out.vertices(v, c) = src[v].p[c];

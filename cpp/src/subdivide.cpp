@@ -355,6 +355,41 @@ Level refine(const Level& L) {
   return N;
 }
 
+// Area-weighted normals (unnormalised) of a hypersurface level (D == k):
+// tetrahedra in R^4 by the wedge product of their edges, octahedra through
+// their cut into four tetrahedra, triangles in R^3 by the cross product.
+PointMatrix hypersurface_normals(const Level& L, int D) {
+  const Tables& T = tables();
+  PointMatrix N = PointMatrix::Zero(L.X.rows(), D);
+  auto add = [&](const Index* c) {
+    if (D == 4) {
+      Eigen::Matrix<double, 3, 4> e;
+      for (int i = 0; i < 3; ++i) e.row(i) = L.X.row(c[i + 1]).head(4) - L.X.row(c[0]).head(4);
+      Eigen::RowVector4d n;
+      for (int j = 0; j < 4; ++j) {
+        Eigen::Matrix3d minor;
+        int col = 0;
+        for (int m = 0; m < 4; ++m)
+          if (m != j) minor.col(col++) = e.col(m);
+        n(j) = ((j % 2) ? -1.0 : 1.0) * minor.determinant();
+      }
+      for (int i = 0; i < 4; ++i) N.row(c[i]) += n;
+    } else {
+      const Eigen::Vector3d a = L.X.row(c[0]).head(3).transpose();
+      const Eigen::Vector3d n = (Eigen::Vector3d(L.X.row(c[1]).head(3).transpose()) - a)
+                                    .cross(Eigen::Vector3d(L.X.row(c[2]).head(3).transpose()) - a);
+      for (int i = 0; i < 3; ++i) N.row(c[i]) += n.transpose();
+    }
+  };
+  for (size_t s = 0; s + L.k <= L.simplices.size(); s += L.k) add(&L.simplices[s]);
+  for (const auto& o : L.octs)
+    for (const auto& child : T.oct_cut[0]) {
+      const Index c[4] = {o[child[0]], o[child[1]], o[child[2]], o[child[3]]};
+      add(c);
+    }
+  return N;
+}
+
 // The averaging step. `times` are the keyframe times; `D` the number of
 // coordinate columns of X (time is column D-1).
 void average(Level& L, int D, const std::vector<double>& times, bool keep_keyframe_times) {
@@ -416,6 +451,16 @@ void average(Level& L, int D, const std::vector<double>& times, bool keep_keyfra
     accumulate_simplices(L.simplices, 3, 3, -1.0 / 8.0, 3.0 / 8.0);
     accumulate_simplices(L.boundary, 2, 2, 0.0, 0.5);
   }
+  // With keep_keyframe_times, a keyframe point that the averaging moved off
+  // its hyperplane (by dt) is slid back along the manifold rather than along
+  // the time axis: along u, the time axis projected onto the manifold's
+  // tangent space (n the unit normal). Resetting only the time coordinate
+  // would displace the point by velocity * dt, which distorts moving shapes.
+  // Needs the normal of a hypersurface (D == k), taken before averaging.
+  PointMatrix normals;
+  const bool slide = keep_keyframe_times && D == k;
+  if (slide) normals = hypersurface_normals(L, D);
+
   for (Index v = 0; v < V; ++v)
     if (count[v] > 0) L.X.row(v) = sum.row(v) / count[v];
 
@@ -428,8 +473,22 @@ void average(Level& L, int D, const std::vector<double>& times, bool keep_keyfra
     for (int i = 0; i < f; ++i) L.X(L.boundary[b * f + i], D - 1) = times[patch];
   }
   if (keep_keyframe_times)
-    for (Index v = 0; v < V; ++v)
-      if (L.keyframe[v] >= 0) L.X(v, D - 1) = times[L.keyframe[v]];
+    for (Index v = 0; v < V; ++v) {
+      if (L.keyframe[v] < 0) continue;
+      const double target = times[L.keyframe[v]];
+      const double dt = L.X(v, D - 1) - target;
+      if (slide && dt != 0 && kind[v] == 3) {
+        const double length = normals.row(v).norm();
+        if (length > 0) {
+          const Eigen::RowVectorXd n = normals.row(v) / length;
+          Eigen::RowVectorXd u = -n(D - 1) * n;
+          u(D - 1) += 1.0;
+          // u(D-1) = 1 - n_t^2: how far the manifold is from lying in the hyperplane.
+          if (u(D - 1) > 0.05) L.X.row(v).head(D) -= (dt / u(D - 1)) * u;
+        }
+      }
+      L.X(v, D - 1) = target;
+    }
 }
 
 int time_index(const std::vector<double>& times, double t) {
