@@ -344,6 +344,30 @@ def test_slice_with_smooth_levels():
     np.testing.assert_array_equal(again.faces, plain.faces)
     with pytest.raises(ValueError, match="smooth_levels"):
         m.slice(0.5, smooth_levels=-1)
-    contour = am.stitch([polygon(8)[0], polygon(8)[0] + 1], polygon(8)[1], [0, 1])
-    with pytest.raises(ValueError, match="surface frames"):
-        contour.slice(0.5, smooth_levels=1)
+
+
+def test_contour_frames_of_2d_animations_smooth_as_bspline_curves():
+    pv, pe = polygon(12)
+    m = am.stitch([pv, pv + [1, 0]], pe, [0, 1])
+    plain = m.slice(0.5)
+    for levels in (1, 3):
+        s = m.slice(0.5, smooth_levels=levels, crease_angle=45)  # the 12-gon turns by 30 degrees
+        assert len(s.faces) == 2**levels * len(plain.faces)
+        n = len(s.vertices)
+        assert np.array_equal(np.sort(s.faces[:, 0]), np.arange(n))
+        assert np.array_equal(np.sort(s.faces[:, 1]), np.arange(n))
+        offset = s.vertices - s.vertices.mean(axis=0)
+        radius = np.linalg.norm(offset, axis=1)
+        assert radius.max() < 1 + 1e-3 and radius.min() > 0.96  # round, inside the 12-gon's circumcircle
+        assert np.einsum("ij,ij->i", s.normals, offset / radius[:, None]).min() > 0.99  # outward, like the slice's
+    # A square keeps its corners (turns of 90 degrees > crease angle) and stays a square.
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    edges = np.array([[0, 1], [1, 2], [2, 3], [3, 0]])
+    square = am.stitch([sq, sq + [1, 0]], edges, [0, 1]).slice(0.5, smooth_levels=3)
+    centred = np.abs(square.vertices - square.vertices.mean(axis=0)).max(axis=1)
+    np.testing.assert_allclose(centred, 0.5, atol=1e-12)
+    r = am.subdivide_frame(sq, edges, levels=2, crease_angle=0)
+    assert r.crease_count == 0 and len(r.faces) == 16
+    assert np.abs(r.vertices - 0.5).max(axis=1).max() < 0.5 - 1e-3  # rounded without corners
+    with pytest.raises(ValueError, match="does not apply"):
+        am.subdivide_frame(sq, edges, scheme="loop")

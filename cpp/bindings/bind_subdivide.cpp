@@ -59,6 +59,33 @@ void bind_subdivide(py::module_& m) {
         py::arg("vertex_attributes") = VertexAttributes{}, py::arg("face_attributes") = SimplexAttributes{},
         "OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays.");
 
+  m.def("subdivide_polyline",
+        [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,
+           SimplexAttributes segment_attributes) {
+          FrameSubdivisionOptions options;
+          options.levels = levels;
+          options.crease_angle_degrees = crease_angle;
+          options.limit = limit;
+          FrameSubdivision r;
+          {
+            py::gil_scoped_release release;
+            r = subdivide_polyline(V, E, options, vertex_attributes, segment_attributes);
+          }
+          py::dict out;
+          out["vertices"] = std::move(r.vertices);
+          out["faces"] = std::move(r.faces);
+          out["normals"] = std::move(r.normals);
+          out["vertex_attributes"] = std::move(r.vertex_attributes);
+          out["face_attributes"] = std::move(r.face_attributes);
+          out["face_parent"] = std::move(r.face_parent);
+          out["crease_count"] = r.crease_count;
+          return out;
+        },
+        py::arg("vertices"), py::arg("segments"), py::arg("levels") = 1, py::arg("crease_angle") = 30.0,
+        py::arg("limit") = true, py::arg("vertex_attributes") = VertexAttributes{},
+        py::arg("segment_attributes") = SimplexAttributes{},
+        "Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations).");
+
   m.def("smooth_slice",
         [](const Slice& s, int levels, double crease_angle, bool limit) {
           FrameSubdivisionOptions options;
@@ -69,7 +96,7 @@ void bind_subdivide(py::module_& m) {
           return std::make_shared<Slice>(smooth_slice(s, options));
         },
         py::arg("slice"), py::arg("levels"), py::arg("crease_angle") = 30.0, py::arg("limit") = true,
-        "A frame refined with Loop subdivision (OpenSubdiv); face_simplex inherited.");
+        "A frame refined with Loop subdivision (OpenSubdiv), or B-spline curves for 2D animations; face_simplex inherited.");
 }
 
 }  // namespace animanifold::bindings

@@ -273,12 +273,153 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
   return out;
 }
 
+FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMatrix& segments,
+                                    const FrameSubdivisionOptions& options, const VertexAttributes& vertex_attributes,
+                                    const SimplexAttributes& segment_attributes) {
+  const Index nV = static_cast<Index>(vertices.rows());
+  const Index nE = static_cast<Index>(segments.rows());
+  const int D = static_cast<int>(vertices.cols());
+  if (segments.cols() != 2) fail<InputError>("polyline segments must be #E by 2, got ", segments.cols(), " columns");
+  if (D < 2) fail<InputError>("polyline points need at least 2 coordinates, got ", D);
+  if (options.levels < 0 || options.levels > 16)
+    fail<InputError>("polyline subdivision levels must be in 0..16, got ", options.levels);
+  for (Index e = 0; e < nE; ++e)
+    for (int i = 0; i < 2; ++i)
+      if (segments(e, i) < 0 || segments(e, i) >= nV)
+        fail<InputError>("segment ", e, " refers to vertex ", segments(e, i), ", outside 0..", nV - 1);
+  for (Index v = 0; v < nV; ++v)
+    for (int c = 0; c < D; ++c)
+      if (!std::isfinite(vertices(v, c))) fail<InputError>("polyline vertex ", v, " has a non-finite coordinate");
+  for (const auto& [name, table] : vertex_attributes)
+    if (table.rows() != nV)
+      fail<InputError>("vertex attribute '", name, "' has ", table.rows(), " rows for ", nV, " vertices");
+  for (const auto& [name, table] : segment_attributes)
+    if (table.rows() != nE)
+      fail<InputError>("segment attribute '", name, "' has ", table.rows(), " rows for ", nE, " segments");
+
+  // Points and attributes travel together.
+  Eigen::Index C = D;
+  for (const auto& [name, table] : vertex_attributes) C += table.cols();
+  PointMatrix X(nV, C);
+  X.leftCols(D) = vertices;
+  {
+    Eigen::Index c = D;
+    for (const auto& [name, table] : vertex_attributes) {
+      X.middleCols(c, table.cols()) = table;
+      c += table.cols();
+    }
+  }
+  SimplexMatrix E = segments;
+  IndexVector parent(nE);
+  for (Index e = 0; e < nE; ++e) parent(e) = e;
+
+  // Neighbours along the curve; -1 where the curve ends or branches.
+  auto neighbours = [](Index n, const SimplexMatrix& S, std::vector<Index>& prev, std::vector<Index>& next) {
+    prev.assign(n, -1);
+    next.assign(n, -1);
+    std::vector<int> in(n, 0), out(n, 0);
+    for (Eigen::Index e = 0; e < S.rows(); ++e) {
+      next[S(e, 0)] = S(e, 1);
+      prev[S(e, 1)] = S(e, 0);
+      ++out[S(e, 0)];
+      ++in[S(e, 1)];
+    }
+    for (Index v = 0; v < n; ++v)
+      if (in[v] != 1 || out[v] != 1) prev[v] = next[v] = -1;
+  };
+  // Corners (kept fixed): ends, branches, and turns sharper than the crease angle.
+  std::vector<Index> prev, next;
+  neighbours(nV, E, prev, next);
+  std::vector<char> fixed(nV, 0);
+  const bool by_angle = options.crease_angle_degrees > 0 && options.crease_angle_degrees < 180;
+  const double cos_limit = std::cos(options.crease_angle_degrees * M_PI / 180.0);
+  Index corners = 0;
+  for (Index v = 0; v < nV; ++v) {
+    if (prev[v] < 0) {
+      fixed[v] = 1;
+    } else if (by_angle) {
+      const Eigen::VectorXd a = (vertices.row(v) - vertices.row(prev[v])).transpose();
+      const Eigen::VectorXd b = (vertices.row(next[v]) - vertices.row(v)).transpose();
+      const double la = a.norm(), lb = b.norm();
+      if (la > 0 && lb > 0 && a.dot(b) / (la * lb) < cos_limit) fixed[v] = 1;
+    }
+    corners += fixed[v];
+  }
+
+  // Cubic B-spline subdivision: midpoints on segments, 1/8 (prev) + 3/4 (self) + 1/8 (next) at old points.
+  for (int level = 0; level < options.levels; ++level) {
+    const Index V = static_cast<Index>(X.rows());
+    const Index S = static_cast<Index>(E.rows());
+    PointMatrix Y(static_cast<Eigen::Index>(V) + S, C);
+    for (Index v = 0; v < V; ++v)
+      Y.row(v) = fixed[v] ? Eigen::RowVectorXd(X.row(v)) : Eigen::RowVectorXd(0.75 * X.row(v) + 0.125 * (X.row(prev[v]) + X.row(next[v])));
+    SimplexMatrix F(2 * static_cast<Eigen::Index>(S), 2);
+    IndexVector P(2 * static_cast<Eigen::Index>(S));
+    for (Index e = 0; e < S; ++e) {
+      const Index m = V + e;
+      Y.row(m) = 0.5 * (X.row(E(e, 0)) + X.row(E(e, 1)));
+      F.row(2 * e) << E(e, 0), m;
+      F.row(2 * e + 1) << m, E(e, 1);
+      P(2 * e) = P(2 * e + 1) = parent(e);
+    }
+    X = std::move(Y);
+    E = std::move(F);
+    parent = std::move(P);
+    fixed.resize(X.rows(), 0);
+    neighbours(static_cast<Index>(X.rows()), E, prev, next);
+  }
+  if (options.limit && options.levels > 0) {
+    PointMatrix Y = X;
+    for (Index v = 0; v < static_cast<Index>(X.rows()); ++v)
+      if (!fixed[v] && prev[v] >= 0) Y.row(v) = (2.0 / 3.0) * X.row(v) + (1.0 / 6.0) * (X.row(prev[v]) + X.row(next[v]));
+    X = std::move(Y);
+  }
+
+  FrameSubdivision out;
+  out.vertices = X.leftCols(D);
+  {
+    Eigen::Index c = D;
+    for (const auto& [name, table] : vertex_attributes) {
+      out.vertex_attributes[name] = X.middleCols(c, table.cols());
+      c += table.cols();
+    }
+  }
+  out.faces = std::move(E);
+  out.face_parent = std::move(parent);
+  for (const auto& [name, table] : segment_attributes) {
+    SimplexMatrix inherited(out.faces.rows(), table.cols());
+    for (Eigen::Index f = 0; f < out.faces.rows(); ++f) inherited.row(f) = table.row(out.face_parent(f));
+    out.face_attributes[name] = std::move(inherited);
+  }
+  out.crease_count = corners;
+  // Normals of planar curves: the segment a -> b has normal (dy, -dx), which
+  // points out of a counter-clockwise loop; length-weighted at the points.
+  out.normals = PointMatrix::Zero(out.vertices.rows(), D);
+  if (D == 2) {
+    for (Eigen::Index f = 0; f < out.faces.rows(); ++f) {
+      const Eigen::RowVector2d d = out.vertices.row(out.faces(f, 1)) - out.vertices.row(out.faces(f, 0));
+      const Eigen::RowVector2d n(d.y(), -d.x());
+      out.normals.row(out.faces(f, 0)) += n;
+      out.normals.row(out.faces(f, 1)) += n;
+    }
+    for (Eigen::Index v = 0; v < out.normals.rows(); ++v) {
+      const double length = out.normals.row(v).norm();
+      if (length > 0) out.normals.row(v) /= length;
+    }
+  }
+  return out;
+}
+
 Slice smooth_slice(const Slice& frame, const FrameSubdivisionOptions& options) {
-  if (frame.vertices.cols() != 3 || frame.faces.cols() != 3)
-    fail<InputError>("only surface frames (triangles in 3D) can be smoothed; this frame has ", frame.faces.cols(),
-                     "-vertex faces in ", frame.vertices.cols(), "D");
+  const bool surface = frame.vertices.cols() == 3 && frame.faces.cols() == 3;
+  const bool curve = frame.vertices.cols() == 2 && frame.faces.cols() == 2;
+  if (!surface && !curve)
+    fail<InputError>("only surface frames (triangles in 3D) and curve frames (segments in 2D) can be smoothed; this "
+                     "frame has ", frame.faces.cols(), "-vertex faces in ", frame.vertices.cols(), "D");
   FrameSubdivision refined =
-      subdivide_frame(frame.vertices, frame.faces, options, frame.vertex_attributes, frame.face_attributes);
+      surface ? subdivide_frame(frame.vertices, frame.faces, options, frame.vertex_attributes, frame.face_attributes)
+              : subdivide_polyline(frame.vertices, frame.faces, options, frame.vertex_attributes,
+                                   frame.face_attributes);
   Slice out;
   out.vertices = std::move(refined.vertices);
   out.faces = std::move(refined.faces);

@@ -159,7 +159,8 @@ class AnimationManifold:
 
         smooth_levels > 0 refines the frame with Loop subdivision (OpenSubdiv),
         projected to the limit surface, with sharp creases where faces meet at
-        more than `crease_angle` degrees; the smoothed slice has no
+        more than `crease_angle` degrees (frames of 2D animations: cubic
+        B-spline curves with corners); the smoothed slice has no
         vertex_edges / edge_parameter (its points are not on manifold edges).
         """
         a = axis_index(axis, self.dimension)

@@ -11,8 +11,10 @@ Two kinds of smoothness (§4.3, §10.2.2, §10.3.1):
 * :func:`subdivide_frame` refines one frame mesh with OpenSubdiv (Loop for
   triangles, Catmull-Clark for triangles or quads), with infinitely sharp
   creases on edges whose dihedral angle exceeds ``crease_angle`` degrees (or
-  given as ``crease_edges``). ``AnimationManifold.slice(t, smooth_levels=n)``
-  does this for a sliced frame.
+  given as ``crease_edges``). Frames of 2D animations are polylines, which
+  OpenSubdiv does not refine: they get cubic B-spline subdivision with
+  corners where they turn by more than ``crease_angle``.
+  ``AnimationManifold.slice(t, smooth_levels=n)`` does this for a sliced frame.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .manifold import AnimationManifold
 
 MANIFOLD_SCHEMES = ("schaefer", "linear")
-FRAME_SCHEMES = ("loop", "catmull-clark")
+FRAME_SCHEMES = ("loop", "catmull-clark", "bspline")
 
 
 def subdivide(
@@ -96,33 +98,41 @@ def subdivide_frame(
     vertices: np.ndarray,
     faces: np.ndarray,
     levels: int = 1,
-    scheme: str = "loop",
+    scheme: str | None = None,
     crease_angle: float = 30.0,
     crease_edges: np.ndarray | None = None,
     limit: bool = True,
     vertex_attributes: Mapping[str, np.ndarray] | None = None,
     face_attributes: Mapping[str, np.ndarray] | None = None,
 ) -> SmoothFrame:
-    """Refines a frame mesh with OpenSubdiv.
+    """Refines a frame mesh with OpenSubdiv (or a polyline with B-splines).
 
-    vertices (V, 3); faces (F, 3) or (F, 4); scheme "loop" (triangles) or
-    "catmull-clark". Edges whose faces meet at more than `crease_angle`
-    degrees, and `crease_edges` (C, 2), become infinitely sharp creases
-    (crease_angle <= 0 or >= 180 disables the angle test). With `limit`
-    the points are projected onto the limit surface.
+    vertices (V, 3) — (V, d) for polylines; faces (F, 3) triangles, (F, 4)
+    quads or (F, 2) directed segments. scheme: "loop" (triangles; the default
+    for them), "catmull-clark" (triangles or quads; the default for quads) or
+    "bspline" (segments; their default and only scheme). Edges whose faces
+    meet at more than `crease_angle` degrees, and `crease_edges` (C, 2),
+    become infinitely sharp creases; polylines keep corners where they turn
+    by more than `crease_angle` (crease_angle <= 0 or >= 180 disables the
+    angle test). With `limit` the points are projected onto the limit surface
+    (curve). crease_count is the number of creased edges (corners for curves).
     """
-    if scheme not in FRAME_SCHEMES:
-        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(FRAME_SCHEMES)}")
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
         raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
-    if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise ValueError(f"vertices must be (V, 3), got shape {vertices.shape}")
-    if faces.ndim != 2 or faces.shape[1] not in (3, 4):
-        raise ValueError(f"faces must be (F, 3) or (F, 4), got shape {faces.shape}")
+    if faces.ndim != 2 or faces.shape[1] not in (2, 3, 4):
+        raise ValueError(f"faces must be (F, 3), (F, 4) or (F, 2) segments, got shape {faces.shape}")
     if faces.size and not np.issubdtype(faces.dtype, np.integer):
         raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+    if scheme is None:
+        scheme = {2: "bspline", 3: "loop", 4: "catmull-clark"}[faces.shape[1]]
+    if scheme not in FRAME_SCHEMES:
+        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(FRAME_SCHEMES)}")
+    if (scheme == "bspline") != (faces.shape[1] == 2):
+        raise ValueError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
+    if vertices.ndim != 2 or vertices.shape[1] != 3 and scheme != "bspline":
+        raise ValueError(f"vertices must be (V, 3), got shape {vertices.shape}")
     creases = None
     if crease_edges is not None:
         creases = np.asarray(crease_edges)
@@ -133,10 +143,13 @@ def subdivide_frame(
         creases = np.ascontiguousarray(creases, dtype=np.int32)
     va = {k: _table(v, np.float64) for k, v in (vertex_attributes or {}).items()}
     fa = {k: _table(v, np.int32) for k, v in (face_attributes or {}).items()}
-    r = _core.subdivide_frame(
-        vertices, np.ascontiguousarray(faces, dtype=np.int32), int(levels), scheme, float(crease_angle), creases,
-        bool(limit), va, fa,
-    )
+    faces = np.ascontiguousarray(faces, dtype=np.int32)
+    if scheme == "bspline":
+        if creases is not None:
+            raise ValueError("crease_edges apply to surfaces; polylines take corners from crease_angle")
+        r = _core.subdivide_polyline(vertices, faces, int(levels), float(crease_angle), bool(limit), va, fa)
+    else:
+        r = _core.subdivide_frame(vertices, faces, int(levels), scheme, float(crease_angle), creases, bool(limit), va, fa)
     return SmoothFrame(
         vertices=r["vertices"],
         faces=r["faces"],

@@ -125,12 +125,24 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
                                  const VertexAttributes& vertex_attributes = {},
                                  const SimplexAttributes& face_attributes = {});
 
-// A sliced frame refined by subdivide_frame (Loop; 3D frames only): the
+// Frames of 2D animations are polylines, which OpenSubdiv does not refine:
+// cubic B-spline subdivision (midpoints, then 1/8, 3/4, 1/8 at old points;
+// limit 1/6, 2/3, 1/6) with corners kept where the curve turns by more than
+// the crease angle, ends or branches. `vertices` is #V by d (any d >= 2),
+// `segments` #E by 2 directed a -> b. `faces` of the result are segments;
+// normals (d == 2 only, else zero) are (dy, -dx), outward for
+// counter-clockwise loops; `crease_count` is the number of corners.
+FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMatrix& segments,
+                                    const FrameSubdivisionOptions& options = {},
+                                    const VertexAttributes& vertex_attributes = {},
+                                    const SimplexAttributes& segment_attributes = {});
+
+// A sliced frame refined by subdivide_frame (Loop on the triangles of a 3D
+// frame) or subdivide_polyline (the segments of a 2D animation's frame): the
 // vertices, faces, normals and vertex attributes are those of the refined
-// surface, face attributes and face_simplex are inherited from the parent
-// face, and vertex_edges / edge_parameter are empty (refined points do not
-// lie on manifold edges). Throws InputError for frames of 2D animations
-// (polylines), which OpenSubdiv does not refine.
+// frame, face attributes and face_simplex are inherited from the parent face,
+// and vertex_edges / edge_parameter are empty (refined points do not lie on
+// manifold edges).
 Slice smooth_slice(const Slice& frame, const FrameSubdivisionOptions& options);
 
 // Parses "schaefer"/"linear" and "loop"/"catmull-clark" (InputError otherwise).
