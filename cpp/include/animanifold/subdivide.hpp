@@ -57,10 +57,15 @@ enum class ManifoldScheme {
 struct ManifoldSubdivisionOptions {
   int levels = 1;
   ManifoldScheme scheme = ManifoldScheme::Schaefer;
-  // Points that lie on a keyframe hyperplane keep their time coordinate
-  // (their other coordinates are still averaged), so slices at keyframe times
-  // stay attached to those times. The first and last keyframe stay on their
-  // hyperplanes in any case (boundary rule).
+  // Points that lie on a keyframe hyperplane stay on it, so slices at
+  // keyframe times stay attached to those times (the first and last keyframe
+  // stay on their hyperplanes in any case: boundary rule). An interior point
+  // that the averaging moved off its hyperplane by dt is slid back along the
+  // manifold — along the time axis projected onto the tangent space, from the
+  // manifold's normal when D == columns (tets in R^4, triangles in R^3) —
+  // and not just reset in time, which would shift moving shapes by
+  // velocity * dt. Otherwise (and for boundary points) only the time
+  // coordinate is reset. Vertex attributes are not slid.
   bool keep_keyframe_times = false;
   // The keyframe times. Empty: inferred as every time value t at which some
   // facet of a simplex lies entirely on the hyperplane {time = t} (for a
