@@ -131,7 +131,7 @@ def subdivide_frame(
         raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(FRAME_SCHEMES)}")
     if (scheme == "bspline") != (faces.shape[1] == 2):
         raise ValueError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
-    if vertices.ndim != 2 or vertices.shape[1] != 3 and scheme != "bspline":
+    if vertices.ndim != 2 or (vertices.shape[1] != 3 and scheme != "bspline"):
         raise ValueError(f"vertices must be (V, 3), got shape {vertices.shape}")
     creases = None
     if crease_edges is not None:
