@@ -7,6 +7,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+
 #include "animanifold/types.hpp"
 
 namespace animanifold::bindings {
@@ -24,5 +26,6 @@ void bind_io(py::module_& m);
 void bind_delaunay(py::module_& m);
 void bind_morph(py::module_& m);
 void bind_refine(py::module_& m);
+void bind_subdivide(py::module_& m);
 
 }  // namespace animanifold::bindings

@@ -22,6 +22,7 @@ PYBIND11_MODULE(_core, m) {
   bind_delaunay(m);
   bind_morph(m);
   bind_refine(m);
+  bind_subdivide(m);
 }
 
 }  // namespace animanifold::bindings

@@ -7,6 +7,8 @@ topology. ::
     import animanifold as am
     m = am.stitch(frames, faces, times)      # keyframes with correspondence
     s = m.slice(0.5)                          # s.vertices, s.faces, s.normals
+    m2 = m.subdivide(levels=1)                # smooth shape and motion (Schaefer et al.)
+    s2 = m.slice(0.5, smooth_levels=2)        # Loop-smoothed frame (OpenSubdiv)
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
 """
 
@@ -15,6 +17,7 @@ from .cache import CacheError, load, save
 from .manifold import AnimationManifold, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .refine import Refinement, refine
+from .smooth import SmoothFrame, subdivide, subdivide_frame
 
 __version__ = "0.1.0"
 
@@ -22,6 +25,7 @@ __all__ = [
     "AnimationManifold",
     "CacheError",
     "Slice",
+    "SmoothFrame",
     "axis_index",
     "load",
     "read_mesh",
@@ -29,5 +33,7 @@ __all__ = [
     "Refinement",
     "save",
     "stitch",
+    "subdivide",
+    "subdivide_frame",
     "write_mesh",
 ]

@@ -9,6 +9,7 @@ costs what it cuts.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
@@ -146,12 +147,45 @@ class AnimationManifold:
         return f"AnimationManifold({len(self.points)} points, {len(self.simplices)} {kind}, t in [{t0:g}, {t1:g}])"
 
     # -- queries ------------------------------------------------------------
-    def slice(self, value: float, axis: str | int = "t", use_index: bool = True) -> Slice:
-        """The frame at `value` along `axis` ('t' by default; 'x', 'y', 'z' for sweep views)."""
+    def slice(
+        self,
+        value: float,
+        axis: str | int = "t",
+        use_index: bool = True,
+        smooth_levels: int = 0,
+        crease_angle: float = 30.0,
+    ) -> Slice:
+        """The frame at `value` along `axis` ('t' by default; 'x', 'y', 'z' for sweep views).
+
+        smooth_levels > 0 refines the frame with Loop subdivision (OpenSubdiv),
+        projected to the limit surface, with sharp creases where faces meet at
+        more than `crease_angle` degrees (frames of 2D animations: cubic
+        B-spline curves with corners); the smoothed slice has no
+        vertex_edges / edge_parameter (its points are not on manifold edges).
+        """
         a = axis_index(axis, self.dimension)
         if self._slicer is None:
             self._slicer = _core.Slicer(self._complex)
-        return Slice._from_core(a, float(value), self._slicer.slice(a, float(value), use_index))
+        s = self._slicer.slice(a, float(value), use_index)
+        if smooth_levels:
+            if isinstance(smooth_levels, bool) or int(smooth_levels) != smooth_levels or smooth_levels < 0:
+                raise ValueError(f"smooth_levels must be a non-negative integer, got {smooth_levels!r}")
+            s = _core.smooth_slice(s, int(smooth_levels), float(crease_angle), True)
+            smooth = Slice._from_core(a, float(value), s)
+            return dataclasses.replace(smooth, vertex_edges=None, edge_parameter=None)
+        return Slice._from_core(a, float(value), s)
+
+    def subdivide(
+        self,
+        levels: int = 1,
+        scheme: str = "schaefer",
+        keep_keyframe_times: bool = False,
+        keyframe_times: Sequence[float] | None = None,
+    ) -> "AnimationManifold":
+        """A new manifold refined `levels` times (Schaefer et al. 2004); see :func:`animanifold.smooth.subdivide`."""
+        from .smooth import subdivide
+
+        return subdivide(self, levels, scheme, keep_keyframe_times, keyframe_times)
 
     def check(self) -> dict:
         """Manifold validity: facet counts, non-manifold and misoriented facets."""

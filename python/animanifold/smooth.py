@@ -1,0 +1,174 @@
+"""Smoothing: subdivision of animation manifolds and of sliced frames.
+
+Two kinds of smoothness (§4.3, §10.2.2, §10.3.1):
+
+* :func:`subdivide` refines the whole manifold with the tetrahedral scheme of
+  Schaefer, Hakenberg and Warren (2004): shape *and* motion paths become
+  smooth together. One level multiplies the tets by 8 (triangles by 4 for 2D
+  animations). The first and last keyframe stay the boundary, on their time
+  hyperplanes; ``keep_keyframe_times=True`` keeps every keyframe's points at
+  its time.
+* :func:`subdivide_frame` refines one frame mesh with OpenSubdiv (Loop for
+  triangles, Catmull-Clark for triangles or quads), with infinitely sharp
+  creases on edges whose dihedral angle exceeds ``crease_angle`` degrees (or
+  given as ``crease_edges``). Frames of 2D animations are polylines, which
+  OpenSubdiv does not refine: they get cubic B-spline subdivision with
+  corners where they turn by more than ``crease_angle``.
+  ``AnimationManifold.slice(t, smooth_levels=n)`` does this for a sliced frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Mapping, Sequence
+
+import numpy as np
+
+from . import _core
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .manifold import AnimationManifold
+
+MANIFOLD_SCHEMES = ("schaefer", "linear")
+FRAME_SCHEMES = ("loop", "catmull-clark", "bspline")
+
+
+def subdivide(
+    manifold: "AnimationManifold",
+    levels: int = 1,
+    scheme: str = "schaefer",
+    keep_keyframe_times: bool = False,
+    keyframe_times: Sequence[float] | None = None,
+    return_parents: bool = False,
+):
+    """A new manifold: `levels` of subdivision of `manifold`.
+
+    scheme: "schaefer" (split and average: smooth) or "linear" (split only).
+    keyframe_times: the times whose hyperplanes count as keyframes; by default
+    the manifold's metadata ``keyframe_times`` (set by :func:`stitch`), else
+    inferred by the core from facets lying on time hyperplanes.
+    The result's metadata records the subdivision (``subdivisions``) and the
+    keyframe times used. With ``return_parents`` the result is
+    ``(manifold, vertex_parents, simplex_parent)``: vertex_parents (V', 2)
+    relative to the previous level — (v, v) for a kept vertex (same id),
+    (a, b) for the midpoint of edge (a, b), (-1, -1) for an octahedron
+    centre — and simplex_parent (S',) the input simplex of each output one.
+    """
+    from .manifold import AnimationManifold
+
+    if scheme not in MANIFOLD_SCHEMES:
+        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(MANIFOLD_SCHEMES)}")
+    if isinstance(levels, bool) or int(levels) != levels or levels < 0:
+        raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
+    if keyframe_times is None:
+        keyframe_times = manifold.metadata.get("keyframe_times") or []
+    times = [float(t) for t in keyframe_times]
+    result = _core.subdivide_manifold(manifold._complex, int(levels), scheme, bool(keep_keyframe_times), times)
+    metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
+    metadata["keyframe_times"] = np.asarray(result["keyframe_times"]).tolist()
+    history = list(manifold.metadata.get("subdivisions", []))
+    history.append({"levels": int(levels), "scheme": scheme, "keep_keyframe_times": bool(keep_keyframe_times)})
+    metadata["subdivisions"] = history
+    out = AnimationManifold(result["manifold"], metadata)
+    if return_parents:
+        return out, result["vertex_parents"], result["simplex_parent"]
+    return out
+
+
+@dataclass(frozen=True)
+class SmoothFrame:
+    """A frame mesh refined by OpenSubdiv.
+
+    vertices (P, 3); faces (F, 3) triangles (Loop) or (F, 4) quads
+    (Catmull-Clark), oriented like the input; normals (P, 3) unit;
+    face_parent (F,) the input face each face came from; crease_count the
+    number of input edges made sharp.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    face_parent: np.ndarray
+    crease_count: int
+    vertex_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+    face_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+
+def subdivide_frame(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    levels: int = 1,
+    scheme: str | None = None,
+    crease_angle: float = 30.0,
+    crease_edges: np.ndarray | None = None,
+    limit: bool = True,
+    vertex_attributes: Mapping[str, np.ndarray] | None = None,
+    face_attributes: Mapping[str, np.ndarray] | None = None,
+) -> SmoothFrame:
+    """Refines a frame mesh with OpenSubdiv (or a polyline with B-splines).
+
+    vertices (V, 3) — (V, d) for polylines; faces (F, 3) triangles, (F, 4)
+    quads or (F, 2) directed segments. scheme: "loop" (triangles; the default
+    for them), "catmull-clark" (triangles or quads; the default for quads) or
+    "bspline" (segments; their default and only scheme). Edges whose faces
+    meet at more than `crease_angle` degrees, and `crease_edges` (C, 2),
+    become infinitely sharp creases; polylines keep corners where they turn
+    by more than `crease_angle` (crease_angle <= 0 or >= 180 disables the
+    angle test). With `limit` the points are projected onto the limit surface
+    (curve). crease_count is the number of creased edges (corners for curves).
+    """
+    if isinstance(levels, bool) or int(levels) != levels or levels < 0:
+        raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
+    vertices = np.ascontiguousarray(vertices, dtype=np.float64)
+    faces = np.asarray(faces)
+    if faces.ndim != 2 or faces.shape[1] not in (2, 3, 4):
+        raise ValueError(f"faces must be (F, 3), (F, 4) or (F, 2) segments, got shape {faces.shape}")
+    if faces.size and not np.issubdtype(faces.dtype, np.integer):
+        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+    if scheme is None:
+        scheme = {2: "bspline", 3: "loop", 4: "catmull-clark"}[faces.shape[1]]
+    if scheme not in FRAME_SCHEMES:
+        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(FRAME_SCHEMES)}")
+    if (scheme == "bspline") != (faces.shape[1] == 2):
+        raise ValueError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
+    if vertices.ndim != 2 or (vertices.shape[1] != 3 and scheme != "bspline"):
+        raise ValueError(f"vertices must be (V, 3), got shape {vertices.shape}")
+    creases = None
+    if crease_edges is not None:
+        creases = np.asarray(crease_edges)
+        if creases.size == 0:
+            creases = np.zeros((0, 2), np.int32)
+        if creases.ndim != 2 or creases.shape[1] != 2 or not np.issubdtype(creases.dtype, np.integer):
+            raise ValueError(f"crease_edges must be (C, 2) integer vertex pairs, got {creases.shape} {creases.dtype}")
+        creases = np.ascontiguousarray(creases, dtype=np.int32)
+    va = {k: _table(v, np.float64) for k, v in (vertex_attributes or {}).items()}
+    fa = {k: _table(v, np.int32) for k, v in (face_attributes or {}).items()}
+    faces = np.ascontiguousarray(faces, dtype=np.int32)
+    if scheme == "bspline":
+        if creases is not None:
+            raise ValueError("crease_edges apply to surfaces; polylines take corners from crease_angle")
+        r = _core.subdivide_polyline(vertices, faces, int(levels), float(crease_angle), bool(limit), va, fa)
+    else:
+        r = _core.subdivide_frame(vertices, faces, int(levels), scheme, float(crease_angle), creases, bool(limit), va, fa)
+    return SmoothFrame(
+        vertices=r["vertices"],
+        faces=r["faces"],
+        normals=r["normals"],
+        face_parent=r["face_parent"],
+        crease_count=int(r["crease_count"]),
+        vertex_attributes={k: _squeeze(v) for k, v in r["vertex_attributes"].items()},
+        face_attributes={k: _squeeze(v) for k, v in r["face_attributes"].items()},
+    )
+
+
+def _table(values: np.ndarray, dtype) -> np.ndarray:
+    table = np.asarray(values)
+    if table.ndim == 1:
+        table = table[:, None]
+    if table.ndim != 2:
+        raise ValueError(f"attribute tables must be 1D or 2D, got shape {table.shape}")
+    return np.ascontiguousarray(table, dtype=dtype)
+
+
+def _squeeze(table: np.ndarray) -> np.ndarray:
+    return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
