@@ -114,3 +114,15 @@ def test_progress_reports_stages_and_can_cancel():
     assert stages == ["conforming", "fill", "strip", "boundary", "validity"]
     with pytest.raises(_core.Cancelled):
         _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
+
+
+def test_python_api_keeps_the_validity_report_through_the_cache(tmp_path):
+    v, f = icosphere(1)
+    m = am.morph((v, f), (v * 1.2 + [0, 0, 0.1], f), t0=1.0, t1=3.0)
+    assert m.validity["ends_reproduced"] and m.time_range == (1.0, 3.0)
+    loaded = am.load(am.save(m, tmp_path / "morph.amf"))
+    assert loaded.validity == m.validity
+    with pytest.raises(ValueError, match="unknown morph method 'magic'"):
+        am.morph((v, f), (v, f), method="magic")
+    with pytest.raises(ValueError, match="target's faces must be integer"):
+        am.morph((v, f), (v, f.astype(float)))

@@ -16,6 +16,7 @@ from ._core import Complex as _Complex  # noqa: F401  (import check: the native 
 from .cache import CacheError, load, save
 from .manifold import AnimationManifold, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
+from .morph import morph
 from .refine import Refinement, refine
 from .smooth import SmoothFrame, subdivide, subdivide_frame
 
@@ -28,6 +29,7 @@ __all__ = [
     "SmoothFrame",
     "axis_index",
     "load",
+    "morph",
     "read_mesh",
     "refine",
     "Refinement",

@@ -128,6 +128,11 @@ class AnimationManifold:
         return self._complex.simplex_attributes
 
     @property
+    def validity(self) -> dict | None:
+        """For a morph, the validity report of §8.3 (None for other manifolds)."""
+        return self.metadata.get("validity")
+
+    @property
     def dimension(self) -> int:
         """Ambient dimension D (4 for animated surfaces, 3 for animated contours)."""
         return self.points.shape[1]
