@@ -6,24 +6,17 @@
 
 #include <random>
 
+#include "fixtures.hpp"
+
 using namespace animanifold;
 
 namespace {
 
 // A closed octahedron with outward faces, moved through three keyframes.
 StitchInput octahedron_animation() {
-  PointMatrix base(6, 3);
-  base << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  StitchInput in;
-  in.faces.resize(8, 3);
-  in.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  in.times.resize(3);
-  in.times << 0.0, 0.4, 1.5;
-  in.frames.resize(18, 3);
-  in.frames.topRows(6) = base;
-  in.frames.middleRows(6, 6) = 1.5 * base;
-  in.frames.bottomRows(6) = base.rowwise() + Eigen::RowVector3d(1, 1, 0);
-  return in;
+  Eigen::Matrix3d offset;
+  offset << 0, 0, 0, 0, 0, 0, 1, 1, 0;
+  return fixtures::octahedron_keyframes({0.0, 0.4, 1.5}, {1.0, 1.5, 1.0}, offset);
 }
 
 }  // namespace

@@ -5,24 +5,17 @@
 
 #include <gtest/gtest.h>
 
+#include "fixtures.hpp"
+
 using namespace animanifold;
 
 namespace {
 
 // A closed octahedron with outward faces, moving through three keyframes.
 Complex octahedron_manifold() {
-  PointMatrix base(6, 3);
-  base << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  StitchInput in;
-  in.faces.resize(8, 3);
-  in.faces << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
-  in.times.resize(3);
-  in.times << 0.0, 1.0, 2.0;
-  in.frames.resize(18, 3);
-  in.frames.topRows(6) = base;
-  in.frames.middleRows(6, 6) = base.rowwise() + Eigen::RowVector3d(0.5, 0.5, 0);
-  in.frames.bottomRows(6) = base.rowwise() + Eigen::RowVector3d(1, 0, 0);
-  return stitch(in);
+  Eigen::Matrix3d offset;
+  offset << 0, 0, 0, 0.5, 0.5, 0, 1, 0, 0;
+  return stitch(fixtures::octahedron_keyframes({0.0, 1.0, 2.0}, {1, 1, 1}, offset));
 }
 
 }  // namespace
