@@ -19,6 +19,7 @@ PYBIND11_MODULE(_core, m) {
   bind_stitch(m);
   bind_slice(m);
   bind_io(m);
+  bind_skeleton(m);
 }
 
 }  // namespace animanifold::bindings
