@@ -474,7 +474,8 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       }
     std::sort(recs.begin(), recs.end(),
               [](const Rec& x, const Rec& y) { return std::tie(x.a, x.b, x.t) < std::tie(y.a, y.b, y.t); });
-    std::vector<Index> ring, link, ring_ids;
+    std::vector<Index> ring, link, ring_ids, partner;
+    std::vector<std::pair<Index, Index>> occurrences;
     std::vector<char> used;
     for (size_t i = 0; i < recs.size();) {
       size_t j = i;
@@ -485,7 +486,7 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       link.clear();
       used.assign(m, 0);
       bool closed = m >= 3;
-      if (closed) {
+      if (closed && m <= 12) {
         size_t cur = 0;
         Index from = recs[i].c, to = recs[i].d;
         used[0] = 1;
@@ -504,12 +505,42 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
           link.push_back(to);
           used[found] = 1;
           cur = found;
-          const Index next = recs[i + cur].c == to ? recs[i + cur].d : recs[i + cur].c;
-          to = next;
+          to = recs[i + cur].c == to ? recs[i + cur].d : recs[i + cur].c;
           ring.push_back(recs[i + cur].t);
         }
         if (closed && to != from) closed = false;
         link.push_back(from);
+      } else if (closed) {
+        // Large rings (near-cospherical input): pair the tetrahedra through their link vertices.
+        occurrences.clear();
+        for (size_t k = 0; k < m; ++k) {
+          occurrences.push_back({recs[i + k].c, static_cast<Index>(k)});
+          occurrences.push_back({recs[i + k].d, static_cast<Index>(k)});
+        }
+        std::sort(occurrences.begin(), occurrences.end());
+        partner.assign(2 * m, -1);  // partner[2k + s]: the other tetrahedron sharing link vertex s of k
+        for (size_t o = 0; o < occurrences.size(); o += 2) {
+          if (o + 1 >= occurrences.size() || occurrences[o].first != occurrences[o + 1].first ||
+              (o + 2 < occurrences.size() && occurrences[o + 2].first == occurrences[o].first)) {
+            closed = false;
+            break;
+          }
+          const Index k0 = occurrences[o].second, k1 = occurrences[o + 1].second;
+          const Index v = occurrences[o].first;
+          partner[2 * k0 + (recs[i + k0].c == v ? 0 : 1)] = k1;
+          partner[2 * k1 + (recs[i + k1].c == v ? 0 : 1)] = k0;
+        }
+        if (closed) {
+          Index k = 0, to = recs[i].d;
+          for (size_t step = 0; step < m; ++step) {
+            ring.push_back(recs[i + k].t);
+            link.push_back(to);
+            const Index next = partner[2 * k + (recs[i + k].c == to ? 0 : 1)];
+            to = recs[i + next].c == to ? recs[i + next].d : recs[i + next].c;
+            k = next;
+          }
+          closed = k == 0;
+        }
       }
       if (closed) {
         // Centres, consecutive duplicates (cospherical pieces) merged.

@@ -14,17 +14,21 @@ from ._core import Complex as _Complex  # noqa: F401  (import check: the native 
 from .cache import CacheError, load, save
 from .manifold import AnimationManifold, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
+from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AnimationManifold",
     "CacheError",
+    "SeparabilityWarning",
     "Slice",
+    "VoronoiSkeleton",
     "axis_index",
     "load",
     "read_mesh",
     "save",
     "stitch",
+    "voronoi_skeleton",
     "write_mesh",
 ]
