@@ -511,3 +511,58 @@ def test_bunny_separates_in_three_rounds_with_the_default_rule(shared_data):
     # The refined mesh is still a closed oriented manifold.
     report = am._core.check_manifold(sep["faces"])
     assert report["is_oriented_manifold"] and report["boundary_facets"] == 0
+
+
+# ------------------------------------------------------------------- CLI
+
+
+def _cli(argv):
+    import argparse
+
+    from animanifold import cli_skeleton
+
+    parser = argparse.ArgumentParser(prog="animanifold")
+    sub = parser.add_subparsers(dest="command", required=True)
+    cli_skeleton.add_parser(sub)
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+def test_cli_writes_the_skeleton_and_the_refined_mesh(tmp_path, capsys):
+    a, fa = icosphere(2)
+    v = np.concatenate([a + [-2.0, 0, 0], a + [2.0, 0, 0]])
+    f = np.concatenate([fa, fa + len(a)]).astype(np.int32)
+    src = tmp_path / "two.obj"
+    am.write_mesh(src, v, f)
+    out, refined = tmp_path / "skel.obj", tmp_path / "refined.off"
+    assert _cli(["skeleton", str(src), "-o", str(out), "--side", "external", "--refined", str(refined)]) == 0
+    printed = capsys.readouterr()
+    assert "skeleton:" in printed.out and "separable after" in printed.out
+    sv, sf = am.read_mesh(out)
+    direct = am.voronoi_skeleton(v, f, side="external")
+    assert len(sf) == len(direct.faces) and len(sv) == len(direct.vertices)
+    np.testing.assert_allclose(sv, direct.vertices)
+    rv, rf = am.read_mesh(refined)
+    assert len(rf) == len(direct.refined_faces)
+    attached = tmp_path / "attached.obj"
+    assert _cli(["skeleton", str(src), "-o", str(attached), "--side", "external", "--attach"]) == 0
+    av, af = am.read_mesh(attached)
+    with_attachment = am.voronoi_skeleton(v, f, side="external", attach=True)
+    assert len(av) == len(direct.refined_vertices) + len(direct.vertices)
+    assert len(af) == len(rf) + len(sf) + len(with_attachment.attachment)
+
+
+def test_cli_errors_are_one_line_with_exit_code_2(tmp_path, capsys):
+    v, f = icosphere(1)
+    src = tmp_path / "open.obj"
+    am.write_mesh(src, v, f[1:])
+    assert _cli(["skeleton", str(src), "-o", str(tmp_path / "s.obj")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("animanifold: error: ") and "open" in err and err.count("\n") == 1
+    assert _cli(["skeleton", str(tmp_path / "missing.obj"), "-o", str(tmp_path / "s.obj")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    sphere = tmp_path / "sphere.obj"
+    am.write_mesh(sphere, *icosphere(2))
+    assert _cli(["skeleton", str(sphere), "-o", str(tmp_path / "s.obj"), "--side", "external"]) == 2
+    assert "empty" in capsys.readouterr().err
+    assert _cli(["skeleton", str(sphere), "-o", str(tmp_path / "s.obj"), "--max-iterations", "-1"]) == 2
