@@ -47,11 +47,13 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 class MeshQuery {
  public:
   MeshQuery(const std::vector<Vec3>& P, const SimplexMatrix& F) : P_(P), F_(F), D_(static_cast<int>(F.cols())) {
+    first_face_.assign(P.size(), 0);
+    for (Index f = F.rows() - 1; f >= 0; --f)
+      for (int k = 0; k < D_; ++k) first_face_[F(f, k)] = f;
     if (D_ == 3) {
       for (Index f = 0; f < F.rows(); ++f)
         triangles_.emplace_back(to_point(P[F(f, 0)]), to_point(P[F(f, 1)]), to_point(P[F(f, 2)]));
       triangle_tree_ = std::make_unique<TriangleTree>(triangles_.begin(), triangles_.end());
-      triangle_tree_->accelerate_distance_queries();
       edges_ = edge_table(F);
       face_normal_.resize(static_cast<size_t>(F.rows()));
       vertex_normal_.assign(P.size(), Vec3::Zero());
@@ -69,7 +71,6 @@ class MeshQuery {
     } else {
       for (Index s = 0; s < F.rows(); ++s) segments_.emplace_back(to_point(P[F(s, 0)]), to_point(P[F(s, 1)]));
       segment_tree_ = std::make_unique<SegmentTree>(segments_.begin(), segments_.end());
-      segment_tree_->accelerate_distance_queries();
       face_normal_.resize(static_cast<size_t>(F.rows()));
       vertex_normal_.assign(P.size(), Vec3::Zero());
       for (Index s = 0; s < F.rows(); ++s) {
@@ -81,12 +82,14 @@ class MeshQuery {
     }
   }
 
-  // Signed distance: negative inside.
-  double signed_distance(const Vec3& x) const {
+  // Signed distance: negative inside. `near` is a mesh vertex close to x
+  // (a Voronoi vertex's site): the search starts from it.
+  double signed_distance(const Vec3& x, Index near) const {
     const Point q = to_point(x);
     Vec3 c, n;
     if (D_ == 3) {
-      const auto [cp, it] = triangle_tree_->closest_point_and_primitive(q);
+      const auto [cp, it] = triangle_tree_->closest_point_and_primitive(
+          q, {to_point(P_[near]), triangles_.begin() + first_face_[near]});
       const Index f = static_cast<Index>(it - triangles_.begin());
       c = to_vec(cp);
       const Vec3 &a = P_[F_(f, 0)], &b = P_[F_(f, 1)], &d = P_[F_(f, 2)];
@@ -106,7 +109,8 @@ class MeshQuery {
       else if (zeros == 1) n = edge_normal_[edges_.face_edges[f][(zero_corner + 1) % 3]];  // edge opposite corner
       else n = face_normal_[f];
     } else {
-      const auto [cp, it] = segment_tree_->closest_point_and_primitive(q);
+      const auto [cp, it] = segment_tree_->closest_point_and_primitive(
+          q, {to_point(P_[near]), segments_.begin() + first_face_[near]});
       const Index s = static_cast<Index>(it - segments_.begin());
       c = to_vec(cp);
       const Vec3 &a = P_[F_(s, 0)], &b = P_[F_(s, 1)];
@@ -117,6 +121,12 @@ class MeshQuery {
     }
     const double d = (x - c).norm();
     return (x - c).dot(n) < 0 ? -d : d;
+  }
+
+  // Whether the mesh comes within `tol` of x (in the max norm).
+  bool touches(const Vec3& x, double tol) const {
+    const CGAL::Bbox_3 box(x[0] - tol, x[1] - tol, x[2] - tol, x[0] + tol, x[1] + tol, x[2] + tol);
+    return D_ == 3 ? triangle_tree_->do_intersect(box) : segment_tree_->do_intersect(box);
   }
 
   bool intersects_triangle(const Vec3& a, const Vec3& b, const Vec3& c) const {
@@ -141,6 +151,7 @@ class MeshQuery {
   std::unique_ptr<SegmentTree> segment_tree_;
   EdgeTable edges_;
   std::vector<Vec3> face_normal_, vertex_normal_, edge_normal_;
+  std::vector<Index> first_face_;
 };
 
 // A polygon corner during clipping: its position, how it is keyed for
@@ -231,11 +242,11 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
   for (Index h = 0; h < H; ++h)
     for (int k = 0; k < D; ++k) hull_normal[h][k] = hull.normals(h, k);
 
-  // Per Voronoi vertex, lazily: signed distance to the mesh and whether it is inside the hull.
-  std::vector<double> distance(centre.size(), std::numeric_limits<double>::quiet_NaN());
-  auto signed_distance = [&](Index c) {
-    if (std::isnan(distance[c])) distance[c] = mesh.signed_distance(centre[c]);
-    return distance[c];
+  // Per Voronoi vertex: which side of the mesh it is on (-1 inside, +1 outside,
+  // 0 on the mesh, 2 not computed yet); filled before the polygons are handled.
+  std::vector<signed char> side_of(centre.size(), 2);
+  auto exact_side = [&](Index c, Index near) -> signed char {
+    return mesh.signed_distance(centre[c], near) < 0 ? -1 : 1;
   };
   std::vector<signed char> in_hull(centre.size(), -1);
   auto inside_hull = [&](Index c) {
@@ -261,7 +272,7 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       if (slot < 0) {
         slot = static_cast<Index>(out_vertices.size());
         out_vertices.push_back(c.p);
-        out_on_mesh.push_back(std::abs(signed_distance(c.key[0])) <= on_tolerance ? 1 : 0);
+        out_on_mesh.push_back(side_of[c.key[0]] == 0 ? 1 : 0);
       }
       return slot;
     }
@@ -289,23 +300,46 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
   // `link` holds, per polygon edge i -> i+1, the Delaunay vertex dual to it (3D).
   auto handle = [&](Index a, Index b, const std::vector<Index>& ring, const std::vector<Index>& link) {
     ++out.bisectors;
-    // Side of the mesh: a polygon with corners strictly inside and outside crosses it.
-    bool any_in = false, any_out = false;
-    for (Index c : ring) {
-      const double s = signed_distance(c);
-      if (s < -on_tolerance) any_in = true;
-      else if (s > on_tolerance) any_out = true;
-    }
     auto discard = [&] {
       ++out.discarded;
       if (!adjacent(a, b)) ++out.discarded_nonlocal;
     };
+    // A mesh edge's own bisector usually holds the edge's midpoint, a point of the mesh.
+    if (adjacent(a, b)) {
+      const Vec3 mid = 0.5 * (P[a] + P[b]), axis = P[b] - P[a];
+      bool holds = true;
+      const size_t m = ring.size();
+      if (D == 2) {
+        const Vec3 d = centre[ring[1]] - centre[ring[0]];
+        const double t = (mid - centre[ring[0]]).dot(d);
+        holds = t > 1e-9 * d.squaredNorm() && t < (1 - 1e-9) * d.squaredNorm();
+      } else {
+        for (size_t i = 0; i < m && holds; ++i) {
+          const Vec3 &u = centre[ring[i]], &w = centre[ring[(i + 1) % m]];
+          holds = (w - u).cross(mid - u).dot(axis) > 0;
+        }
+        if (!holds) {  // the other orientation
+          holds = true;
+          for (size_t i = 0; i < m && holds; ++i) {
+            const Vec3 &u = centre[ring[i]], &w = centre[ring[(i + 1) % m]];
+            holds = (w - u).cross(mid - u).dot(axis) < 0;
+          }
+        }
+      }
+      if (holds) return discard();
+    }
+    // Side of the mesh: a polygon with corners strictly inside and outside crosses it.
+    bool any_in = false, any_out = false;
+    for (Index c : ring) {
+      if (side_of[c] < 0) any_in = true;
+      else if (side_of[c] > 0) any_out = true;
+    }
     if (any_in && any_out) return discard();
     bool inside = any_in;
     if (!any_in && !any_out) {  // every corner on the mesh: decide by the centroid
       Vec3 g = Vec3::Zero();
       for (Index c : ring) g += centre[c];
-      inside = mesh.signed_distance(g / static_cast<double>(ring.size())) < 0;
+      inside = mesh.signed_distance(g / static_cast<double>(ring.size()), a) < 0;
     }
     if (inside ? !options.internal : !options.external) {
       // Not requested, but still an intersection test for the statistics would cost time: skip.
@@ -371,10 +405,10 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       }
     }
     // Exact intersection test, staying `shrink` away from corners on the mesh.
-    std::vector<Vec3> test;
     const size_t count = poly.size();
+    std::vector<Vec3> test;
     for (size_t i = 0; i < count; ++i) {
-      const bool on = poly[i].key[1] == -1 && std::abs(signed_distance(poly[i].key[0])) <= on_tolerance;
+      const bool on = poly[i].key[1] == -1 && side_of[poly[i].key[0]] == 0;
       if (!on) {
         test.push_back(poly[i].p);
         continue;
@@ -433,6 +467,17 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
     }
   };
 
+  // Bounded bisector polygons, collected first so that the sides of their
+  // Voronoi vertices can be found together.
+  std::vector<Index> poly_a, poly_b, ring_start{0}, ring_flat, link_flat;
+  auto collect = [&](Index a, Index b, const std::vector<Index>& ring, const std::vector<Index>& link) {
+    poly_a.push_back(a);
+    poly_b.push_back(b);
+    ring_flat.insert(ring_flat.end(), ring.begin(), ring.end());
+    if (link.empty()) link_flat.insert(link_flat.end(), ring.size(), -1);
+    else link_flat.insert(link_flat.end(), link.begin(), link.end());
+    ring_start.push_back(static_cast<Index>(ring_flat.size()));
+  };
   // Enumerate the bisectors between mesh vertices: Delaunay edges (a, b), a < b < n.
   const Index T = static_cast<Index>(del.simplices.rows());
   if (D == 2) {
@@ -454,7 +499,7 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       while (j < recs.size() && recs[j].a == recs[i].a && recs[j].b == recs[i].b) ++j;
       if (j - i == 2) {
         const Index c0 = del.center[recs[i].t], c1 = del.center[recs[i + 1].t];
-        if (c0 != c1) handle(recs[i].a, recs[i].b, {c0, c1}, {});
+        if (c0 != c1) collect(recs[i].a, recs[i].b, {c0, c1}, {});
       }
       i = j;
     }
@@ -559,10 +604,62 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
           ring_ids.pop_back();
           links.pop_back();
         }
-        if (ring_ids.size() >= 3) handle(recs[i].a, recs[i].b, ring_ids, links);
+        if (ring_ids.size() >= 3) collect(recs[i].a, recs[i].b, ring_ids, links);
       }
       i = j;
     }
+  }
+
+  // Sides of the Voronoi vertices: on the mesh (a tiny box query), else
+  // propagated along Voronoi edges that do not cross the mesh (exact segment
+  // tests), with an exact signed distance (pseudonormal sign) to start each
+  // region and wherever an edge crosses.
+  {
+    const size_t P_count = poly_a.size();
+    std::vector<std::pair<Index, Index>> pairs;
+    pairs.reserve(2 * ring_flat.size());
+    std::vector<Index> site_of(centre.size(), -1);
+    for (size_t k = 0; k < P_count; ++k) {
+      const Index s0 = ring_start[k], s1 = ring_start[k + 1], m = s1 - s0;
+      for (Index i = 0; i < m; ++i) {
+        const Index u = ring_flat[s0 + i], v = ring_flat[s0 + (i + 1) % m];
+        if (site_of[u] < 0) site_of[u] = poly_a[k];
+        if (m == 2 && i == 1) break;
+        if (u == v) continue;
+        pairs.emplace_back(u, v);
+        pairs.emplace_back(v, u);
+      }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::vector<Index> first(centre.size() + 1, 0);
+    for (const auto& pr : pairs) ++first[pr.first + 1];
+    for (size_t c = 0; c < centre.size(); ++c) first[c + 1] += first[c];
+    for (size_t c = 0; c < centre.size(); ++c)
+      if (site_of[c] >= 0 && mesh.touches(centre[c], on_tolerance)) side_of[c] = 0;
+    std::vector<Index> queue;
+    for (size_t seed = 0; seed < centre.size(); ++seed) {
+      if (site_of[seed] < 0 || side_of[seed] != 2) continue;
+      side_of[seed] = exact_side(static_cast<Index>(seed), site_of[seed]);
+      queue.assign(1, static_cast<Index>(seed));
+      while (!queue.empty()) {
+        const Index u = queue.back();
+        queue.pop_back();
+        for (Index e = first[u]; e < first[u + 1]; ++e) {
+          const Index v = pairs[e].second;
+          if (side_of[v] != 2) continue;
+          if (centre[u] == centre[v] || !mesh.intersects_segment(centre[u], centre[v])) {
+            side_of[v] = side_of[u];
+            queue.push_back(v);
+          }
+        }
+      }
+    }
+  }
+  for (size_t k = 0; k < poly_a.size(); ++k) {
+    const Index s0 = ring_start[k], s1 = ring_start[k + 1];
+    handle(poly_a[k], poly_b[k], std::vector<Index>(ring_flat.begin() + s0, ring_flat.begin() + s1),
+           std::vector<Index>(link_flat.begin() + s0, link_flat.begin() + s1));
   }
 
   // Results.
