@@ -164,6 +164,22 @@ def test_closest_point_split_never_reencroaches():
     np.testing.assert_allclose(sep2["vertices"][len(v2):], [[2.5, 0], [1.5, 0]])
 
 
+def test_voronoi_vertex_on_the_mesh_is_flagged_figure_7_10():
+    """Splitting segment a-b at the foot of p (adjacent to a, sharp corner at a) makes
+    the right triangle (a, foot, p): its Voronoi vertex is the midpoint of a-p, on the
+    polygon. It is flagged and ends the internal skeleton b_(p, foot) without the
+    intersection test tripping over it."""
+    v, e = closed_polygon(np.array([[0, 0], [4, 0], [4, 2], [1, 0.5]], float))
+    sk = am.voronoi_skeleton(v, e)
+    assert sk.separable and sk.iterations == 1 and sk.splits == 1
+    np.testing.assert_allclose(sk.refined_vertices[4], [1, 0])
+    np.testing.assert_allclose(sk.vertices[sk.on_mesh], [[0.5, 0.25]])
+    touching = sk.on_mesh[sk.faces].any(1)
+    assert list(sk.side[touching]) == ["internal"]
+    np.testing.assert_array_equal(sk.sites[touching], [[3, 4]])
+    np.testing.assert_allclose(sk.vertices[sk.faces[touching]][0, :, 1], [0.25, 0.25])
+
+
 # ------------------------------------------------------------ medial axes
 
 

@@ -304,7 +304,10 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       ++out.discarded;
       if (!adjacent(a, b)) ++out.discarded_nonlocal;
     };
-    // A mesh edge's own bisector usually holds the edge's midpoint, a point of the mesh.
+    // A mesh edge's own bisector holds the edge's midpoint, a point of the mesh,
+    // when the edge is Gabriel: it is local (it crosses or touches the mesh
+    // there) and never skeleton, even when the midpoint is its corner on the
+    // mesh (Figure 7.10).
     if (adjacent(a, b)) {
       const Vec3 mid = 0.5 * (P[a] + P[b]), axis = P[b] - P[a];
       bool holds = true;
@@ -312,18 +315,16 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       if (D == 2) {
         const Vec3 d = centre[ring[1]] - centre[ring[0]];
         const double t = (mid - centre[ring[0]]).dot(d);
-        holds = t > 1e-9 * d.squaredNorm() && t < (1 - 1e-9) * d.squaredNorm();
+        holds = t >= -1e-9 * d.squaredNorm() && t <= (1 + 1e-9) * d.squaredNorm();
       } else {
-        for (size_t i = 0; i < m && holds; ++i) {
-          const Vec3 &u = centre[ring[i]], &w = centre[ring[(i + 1) % m]];
-          holds = (w - u).cross(mid - u).dot(axis) > 0;
-        }
-        if (!holds) {  // the other orientation
+        for (int orientation : {1, -1}) {
           holds = true;
           for (size_t i = 0; i < m && holds; ++i) {
             const Vec3 &u = centre[ring[i]], &w = centre[ring[(i + 1) % m]];
-            holds = (w - u).cross(mid - u).dot(axis) < 0;
+            const double tol = 1e-9 * (w - u).norm() * (mid - u).norm() * axis.norm();
+            holds = orientation * (w - u).cross(mid - u).dot(axis) >= -tol;
           }
+          if (holds) break;
         }
       }
       if (holds) return discard();
