@@ -272,7 +272,7 @@ def test_two_spheres_external_skeleton_contains_their_bisecting_plane():
 def test_torus_skeleton_is_voronoi_and_does_not_intersect_the_mesh(shared_data):
     v, f = load(shared_data, "torus-800.off")
     sk = am.voronoi_skeleton(v, f, side="both")
-    assert sk.separable
+    assert sk.separable and sk.stats["discarded_far"] == 0
     assert_voronoi_property(sk)
     hit = skel.faces_intersecting_mesh(sk.vertices, sk.faces, sk.refined_vertices, sk.refined_faces)
     clean = faces_without_on_mesh_vertices(sk)
@@ -303,6 +303,7 @@ def test_internal_skeleton_is_watertight(shared_data):
     v, f = load(shared_data, "torus.obj")
     sk = am.voronoi_skeleton(v, f, side="internal")
     assert sk.separable
+    assert sk.stats["discarded_far"] == 0, "a bisector between distant vertices crosses the mesh"
     P = sk.refined_vertices
     nb = mesh_neighbours(sk.refined_faces, len(P))
     inner = sk.faces[sk.side == "internal"]

@@ -36,6 +36,7 @@ void bind_skeleton(py::module_& m) {
       .def_readonly("bisectors", &VoronoiSkeleton::bisectors)
       .def_readonly("discarded", &VoronoiSkeleton::discarded)
       .def_readonly("discarded_nonlocal", &VoronoiSkeleton::discarded_nonlocal)
+      .def_readonly("discarded_far", &VoronoiSkeleton::discarded_far)
       .def_readonly("seconds_separability", &VoronoiSkeleton::seconds_separability)
       .def_readonly("seconds_extraction", &VoronoiSkeleton::seconds_extraction);
 

@@ -15,6 +15,7 @@
 
 #include <Eigen/Geometry>
 #include <chrono>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <unordered_map>
@@ -302,7 +303,13 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
     ++out.bisectors;
     auto discard = [&] {
       ++out.discarded;
-      if (!adjacent(a, b)) ++out.discarded_nonlocal;
+      if (!adjacent(a, b)) {
+        ++out.discarded_nonlocal;
+        const auto &na = neighbours[a], &nb = neighbours[b];
+        std::vector<Index> common;
+        std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+        if (common.empty()) ++out.discarded_far;
+      }
     };
     // A mesh edge's own bisector holds the edge's midpoint, a point of the mesh,
     // when the edge is Gabriel: it is local (it crosses or touches the mesh

@@ -168,6 +168,7 @@ def voronoi_skeleton(
             "bisectors": int(raw.bisectors),
             "discarded": int(raw.discarded),
             "discarded_nonlocal": int(raw.discarded_nonlocal),
+            "discarded_far": int(raw.discarded_far),
             "seconds_separability": float(raw.seconds_separability),
             "seconds_extraction": float(raw.seconds_extraction),
         },

@@ -153,6 +153,7 @@ struct VoronoiSkeleton {
   Index bisectors = 0;           // bounded bisector polygons between mesh vertices
   Index discarded = 0;           // of which intersect the mesh
   Index discarded_nonlocal = 0;  // of which are not between mesh neighbours
+  Index discarded_far = 0;       // of which are not even two edges apart: where holes can be
   double seconds_separability = 0;
   double seconds_extraction = 0;
 };
