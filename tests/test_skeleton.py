@@ -273,6 +273,7 @@ def test_torus_skeleton_is_voronoi_and_does_not_intersect_the_mesh(shared_data):
     v, f = load(shared_data, "torus-800.off")
     sk = am.voronoi_skeleton(v, f, side="both")
     assert sk.separable and sk.stats["discarded_far"] == 0
+    assert len(np.unique(sk.faces)) == len(sk.vertices), "no unreferenced skeleton vertices"
     assert_voronoi_property(sk)
     hit = skel.faces_intersecting_mesh(sk.vertices, sk.faces, sk.refined_vertices, sk.refined_faces)
     clean = faces_without_on_mesh_vertices(sk)

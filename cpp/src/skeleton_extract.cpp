@@ -463,6 +463,7 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
       const bool flip = normal.dot(ab) < 0;
       for (size_t i = 1; i + 1 < ids.size(); ++i) {
         std::array<Index, 3> t = {ids[0], ids[i], ids[i + 1]};
+        if (t[0] == t[1] || t[0] == t[2]) continue;  // a degenerate ring revisiting a vertex
         if (flip) std::swap(t[1], t[2]);
         out_faces.push_back(t);
         out_side.push_back(inside ? 0 : 1);
@@ -668,6 +669,28 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
     const Index s0 = ring_start[k], s1 = ring_start[k + 1];
     handle(poly_a[k], poly_b[k], std::vector<Index>(ring_flat.begin() + s0, ring_flat.begin() + s1),
            std::vector<Index>(link_flat.begin() + s0, link_flat.begin() + s1));
+  }
+
+  // Drop corners of polygons that collapsed after welding (referenced by no face).
+  {
+    std::vector<char> used(out_vertices.size(), 0);
+    for (const auto& t : out_faces)
+      for (int k = 0; k < D; ++k) used[t[k]] = 1;
+    std::vector<Index> remap(out_vertices.size(), -1);
+    Index kept = 0;
+    for (size_t v = 0; v < used.size(); ++v)
+      if (used[v]) {
+        remap[v] = kept;
+        out_vertices[kept] = out_vertices[v];
+        out_on_mesh[kept] = out_on_mesh[v];
+        ++kept;
+      }
+    out_vertices.resize(static_cast<size_t>(kept));
+    out_on_mesh.resize(static_cast<size_t>(kept));
+    for (auto& t : out_faces)
+      for (int k = 0; k < D; ++k) t[k] = remap[t[k]];
+    for (auto& c : centre_out)
+      if (c >= 0) c = remap[c];
   }
 
   // Results.
