@@ -8,6 +8,7 @@ topology. ::
     m = am.stitch(frames, faces, times)      # keyframes with correspondence
     s = m.slice(0.5)                          # s.vertices, s.faces, s.normals
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
+    sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
