@@ -79,7 +79,7 @@ def jittered_sphere(subdivisions: int, jitter: float, centre=(0.0, 0.0, 0.0), se
 
 
 def nearest_distances(x: np.ndarray, sites: np.ndarray, chunk: int = 2048) -> np.ndarray:
-    out = []
+    out = [np.zeros(0)]
     for s in range(0, len(x), chunk):
         d = np.linalg.norm(x[s:s + chunk, None, :] - sites[None], axis=2)
         out.append(d.min(1))
@@ -236,6 +236,15 @@ def test_torus_internal_skeleton_lies_near_its_core_circle(shared_data):
     # The hole is external, inside the hull, around the axis.
     xe, fe = sk.select("external")
     assert len(fe) > 0 and np.hypot(xe[:, 0], xe[:, 2]).min() < 0.2 * R
+
+
+def test_cospherical_convex_input_has_an_empty_skeleton():
+    """All vertices on one sphere: every Delaunay cell shares one Voronoi vertex
+    (Qhull's triangulated pieces keep one centre), so there is no bisector polygon."""
+    v, f = icosphere(2)
+    sk = am.voronoi_skeleton(v, f)
+    assert sk.separable and len(sk.faces) == 0 and len(sk.vertices) == 0
+    assert_voronoi_property(sk)
 
 
 def test_two_spheres_external_skeleton_contains_their_bisecting_plane():
