@@ -23,6 +23,7 @@ PYBIND11_MODULE(_core, m) {
   bind_morph(m);
   bind_refine(m);
   bind_subdivide(m);
+  bind_skeleton(m);
 }
 
 }  // namespace animanifold::bindings

@@ -10,6 +10,7 @@ topology. ::
     m2 = m.subdivide(levels=1)                # smooth shape and motion (Schaefer et al.)
     s2 = m.slice(0.5, smooth_levels=2)        # Loop-smoothed frame (OpenSubdiv)
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
+    sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
@@ -19,14 +20,17 @@ from .meshio import read_mesh, write_mesh
 from .morph import morph
 from .refine import Refinement, refine
 from .smooth import SmoothFrame, subdivide, subdivide_frame
+from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 
 __version__ = "0.1.0"
 
 __all__ = [
     "AnimationManifold",
     "CacheError",
+    "SeparabilityWarning",
     "Slice",
     "SmoothFrame",
+    "VoronoiSkeleton",
     "axis_index",
     "load",
     "morph",
@@ -37,5 +41,6 @@ __all__ = [
     "stitch",
     "subdivide",
     "subdivide_frame",
+    "voronoi_skeleton",
     "write_mesh",
 ]

@@ -1,0 +1,155 @@
+#include "animanifold/skeleton.hpp"
+#include "bindings.hpp"
+
+namespace animanifold::bindings {
+
+namespace {
+
+py::dict dihedral_dict(const DihedralReport& r) {
+  py::dict d;
+  d["limit"] = r.limit;
+  d["sharpest"] = r.sharpest;
+  d["passes"] = r.passes;
+  d["sharp"] = r.sharp;
+  d["angles"] = r.angles;
+  return d;
+}
+
+}  // namespace
+
+void bind_skeleton(py::module_& m) {
+  py::class_<VoronoiSkeleton, std::shared_ptr<VoronoiSkeleton>>(m, "VoronoiSkeleton",
+                                                                 "Internal/external Voronoi skeleton (chapter 7).")
+      .def_readonly("vertices", &VoronoiSkeleton::vertices)
+      .def_readonly("faces", &VoronoiSkeleton::faces)
+      .def_readonly("side", &VoronoiSkeleton::side)
+      .def_readonly("sites", &VoronoiSkeleton::sites)
+      .def_readonly("polygon", &VoronoiSkeleton::polygon)
+      .def_readonly("on_mesh", &VoronoiSkeleton::on_mesh)
+      .def_readonly("refined_vertices", &VoronoiSkeleton::refined_vertices)
+      .def_readonly("refined_faces", &VoronoiSkeleton::refined_faces)
+      .def_readonly("separable", &VoronoiSkeleton::separable)
+      .def_readonly("iterations", &VoronoiSkeleton::iterations)
+      .def_readonly("splits", &VoronoiSkeleton::splits)
+      .def_property_readonly("dihedral", [](const VoronoiSkeleton& s) { return dihedral_dict(s.dihedral); })
+      .def_readonly("attachment", &VoronoiSkeleton::attachment)
+      .def_readonly("bisectors", &VoronoiSkeleton::bisectors)
+      .def_readonly("discarded", &VoronoiSkeleton::discarded)
+      .def_readonly("discarded_nonlocal", &VoronoiSkeleton::discarded_nonlocal)
+      .def_readonly("discarded_far", &VoronoiSkeleton::discarded_far)
+      .def_readonly("seconds_separability", &VoronoiSkeleton::seconds_separability)
+      .def_readonly("seconds_extraction", &VoronoiSkeleton::seconds_extraction);
+
+  m.def("voronoi_skeleton",
+        [](PointsRef V, SimplicesRef F, bool internal, bool external, int max_iterations, const std::string& wrap,
+           int wrap_density, double wrap_margin, double dihedral_limit, bool attach, int neighbourhood, double in_plane_angle) {
+          SkeletonOptions o;
+          o.internal = internal;
+          o.external = external;
+          o.max_iterations = max_iterations;
+          o.wrap = parse_wrap_shape(wrap);
+          o.wrap_density = wrap_density;
+          o.wrap_margin = wrap_margin;
+          o.dihedral_limit = dihedral_limit;
+          o.attach = attach;
+          o.rule = {neighbourhood, in_plane_angle};
+          const PointMatrix v = V;
+          const SimplexMatrix f = F;
+          py::gil_scoped_release release;
+          return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o));
+        },
+        py::arg("vertices"), py::arg("faces"), py::arg("internal") = true, py::arg("external") = true,
+        py::arg("max_iterations") = 4, py::arg("wrap") = "box", py::arg("wrap_density") = 4,
+        py::arg("wrap_margin") = 1.0, py::arg("dihedral_limit") = M_PI / 4, py::arg("attach") = false, py::arg("neighbourhood") = 2,
+        py::arg("in_plane_angle") = 0.3);
+
+  m.def("make_voronoi_separable",
+        [](PointsRef V, SimplicesRef F, int max_iterations, int neighbourhood, double in_plane_angle) {
+          const PointMatrix v = V;
+          const SimplexMatrix f = F;
+          SeparabilityResult r;
+          {
+            py::gil_scoped_release release;
+            r = make_voronoi_separable(v, f, max_iterations, {neighbourhood, in_plane_angle});
+          }
+          py::dict d;
+          d["vertices"] = r.vertices;
+          d["faces"] = r.faces;
+          d["separable"] = r.separable;
+          d["iterations"] = r.iterations;
+          d["splits"] = r.splits;
+          d["remaining"] = r.remaining;
+          return d;
+        },
+        py::arg("vertices"), py::arg("faces"), py::arg("max_iterations") = 4, py::arg("neighbourhood") = 2,
+        py::arg("in_plane_angle") = 0.3);
+
+  m.def("encroachments",
+        [](PointsRef V, SimplicesRef F, int neighbourhood, double in_plane_angle) {
+          const PointMatrix v = V;
+          const SimplexMatrix f = F;
+          std::vector<Encroachment> found;
+          {
+            py::gil_scoped_release release;
+            found = encroachments(v, f, {neighbourhood, in_plane_angle});
+          }
+          SimplexMatrix rows(static_cast<Index>(found.size()), 5);
+          Eigen::VectorXd distance(static_cast<Index>(found.size()));
+          for (size_t i = 0; i < found.size(); ++i) {
+            const auto& e = found[i];
+            rows.row(static_cast<Index>(i)) << e.vertex, e.a, e.b, e.c, e.type;
+            distance[static_cast<Index>(i)] = e.distance;
+          }
+          return py::make_tuple(rows, distance);
+        },
+        py::arg("vertices"), py::arg("faces"), py::arg("neighbourhood") = 2, py::arg("in_plane_angle") = 0.3,
+        "(rows, distance): rows (vertex, a, b, c or -1, type 2/3/4) per encroached simplex and its closest encroacher.");
+
+  m.def("dihedral_test",
+        [](PointsRef V, SimplicesRef F, double limit) {
+          const PointMatrix v = V;
+          const SimplexMatrix f = F;
+          DihedralReport r;
+          {
+            py::gil_scoped_release release;
+            r = dihedral_test(v, f, limit);
+          }
+          return dihedral_dict(r);
+        },
+        py::arg("vertices"), py::arg("faces"), py::arg("limit") = M_PI / 4);
+
+  m.def("wrap",
+        [](PointsRef V, SimplicesRef F, const std::string& shape, int density, double margin) {
+          const PointMatrix v = V;
+          const SimplexMatrix f = F;
+          WrapResult r;
+          {
+            py::gil_scoped_release release;
+            r = wrap(v, f, parse_wrap_shape(shape), density, margin);
+          }
+          return py::make_tuple(r.vertices, r.faces, r.input_vertices, r.input_faces);
+        },
+        py::arg("vertices"), py::arg("faces"), py::arg("shape") = "box", py::arg("density") = 4,
+        py::arg("margin") = 1.0);
+
+  m.def("faces_intersecting_mesh",
+        [](PointsRef QV, SimplicesRef QF, PointsRef V, SimplicesRef F) {
+          const PointMatrix qv = QV, v = V;
+          const SimplexMatrix qf = QF, f = F;
+          std::vector<bool> hit;
+          {
+            py::gil_scoped_release release;
+            hit = faces_intersecting_mesh(qv, qf, v, f);
+          }
+          Eigen::Matrix<bool, Eigen::Dynamic, 1> out(static_cast<Index>(hit.size()));
+          for (size_t i = 0; i < hit.size(); ++i) out[static_cast<Index>(i)] = hit[i];
+          return out;
+        },
+        py::arg("faces_vertices"), py::arg("faces"), py::arg("vertices"), py::arg("mesh_faces"),
+        "Per face (triangles in R^3, segments in R^2): does it intersect the mesh? CGAL exact predicates.");
+
+  m.def("check_closed_oriented", [](PointsRef V, SimplicesRef F) { check_closed_oriented(V, F); },
+        py::arg("vertices"), py::arg("faces"));
+}
+
+}  // namespace animanifold::bindings

@@ -1,0 +1,220 @@
+"""The Voronoi skeleton (chapter 7): internal/external medial skeletons of
+closed oriented polygons (R^2) and triangle meshes (R^3).
+
+::
+
+    import animanifold as am
+    sk = am.voronoi_skeleton(vertices, faces, side="both")
+    sk.vertices, sk.faces, sk.side, sk.sites          # the skeleton
+    sk.refined_vertices, sk.refined_faces             # the Voronoi-separable mesh
+    sk.separable, sk.iterations                       # how separation ended
+
+The mesh is first made Voronoi separable (§7.5-7.6): every simplex encroached
+by a vertex is split at the closest point to its closest encroacher, for at
+most ``max_iterations`` rounds. A skeleton face lies on the bisector b_ij of
+two vertices of the refined mesh (``sk.sites``); the bisectors that intersect
+the mesh are discarded and the rest is classified internal or external
+(external parts clipped to the convex hull, §7.4).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+
+__all__ = [
+    "SeparabilityWarning",
+    "VoronoiSkeleton",
+    "dihedral_test",
+    "encroachments",
+    "faces_intersecting_mesh",
+    "make_voronoi_separable",
+    "voronoi_skeleton",
+    "wrap",
+]
+
+INTERNAL = "internal"
+EXTERNAL = "external"
+_SIDES = {"internal": (True, False), "external": (False, True), "both": (True, True)}
+
+
+class SeparabilityWarning(RuntimeWarning):
+    """The iteration cap was hit before the mesh became Voronoi separable."""
+
+
+@dataclass(frozen=True)
+class VoronoiSkeleton:
+    """A Voronoi skeleton and the separable mesh it was extracted from.
+
+    ``faces`` are triangles (R^3) or segments (R^2, also as ``segments``) into
+    ``vertices``; ``side[k]`` is ``"internal"`` or ``"external"``; ``sites[k]``
+    are the two refined-mesh vertices whose bisector holds face k (triangles
+    are oriented with their normal from ``sites[k, 0]`` towards
+    ``sites[k, 1]``); ``polygon[k]`` says which bisector polygon face k
+    triangulates. ``on_mesh`` flags skeleton vertices lying on the mesh
+    (Figure 7.10). ``attachment`` (with ``attach=True``, §8.6.2) are simplices
+    over ``np.vstack([refined_vertices, vertices])`` connecting mesh vertices to
+    the skeleton.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    side: np.ndarray
+    sites: np.ndarray
+    polygon: np.ndarray
+    on_mesh: np.ndarray
+    refined_vertices: np.ndarray
+    refined_faces: np.ndarray
+    separable: bool
+    iterations: int
+    splits: int
+    dihedral: dict
+    attachment: np.ndarray
+    stats: dict = field(default_factory=dict)
+
+    @property
+    def dimension(self) -> int:
+        return int(self.refined_vertices.shape[1])
+
+    @property
+    def segments(self) -> np.ndarray | None:
+        """The skeleton's segments in R^2 (None in R^3)."""
+        return self.faces if self.dimension == 2 else None
+
+    def select(self, side: str) -> tuple[np.ndarray, np.ndarray]:
+        """(vertices, faces) of one side, re-indexed compactly."""
+        if side not in (INTERNAL, EXTERNAL):
+            raise ValueError(f"side must be 'internal' or 'external', got {side!r}")
+        faces = self.faces[self.side == side]
+        used, inverse = np.unique(faces, return_inverse=True)
+        return self.vertices[used], inverse.reshape(faces.shape).astype(np.int32)
+
+
+def _points(vertices, name: str = "vertices") -> np.ndarray:
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    if v.ndim != 2 or v.shape[1] not in (2, 3):
+        raise ValueError(f"{name} must be (k, 2) or (k, 3), got shape {v.shape}")
+    return v
+
+
+def _simplices(faces, name: str = "faces") -> np.ndarray:
+    f = np.asarray(faces)
+    if f.ndim != 2 or (f.size and not np.issubdtype(f.dtype, np.integer)):
+        raise ValueError(f"{name} must be a 2D integer array, got shape {f.shape} and dtype {f.dtype}")
+    return np.ascontiguousarray(f, dtype=np.int32)
+
+
+def voronoi_skeleton(
+    vertices,
+    faces,
+    side: str = "both",
+    max_iterations: int = 4,
+    wrap: str | None = "box",
+    *,
+    wrap_density: int = 4,
+    wrap_margin: float = 1.0,
+    dihedral_limit: float = math.pi / 4,
+    attach: bool = False,
+    neighbourhood: int = 2,
+    in_plane_angle: float = 0.3,
+    warn: bool = True,
+) -> VoronoiSkeleton:
+    """The Voronoi skeleton of a closed, oriented polygon (R^2) or triangle mesh (R^3).
+
+    ``side`` is ``"internal"``, ``"external"`` or ``"both"``. ``wrap``
+    (``"box"``, ``"sphere"`` or None) adds Voronoi sites around the input so
+    every mesh vertex has a bounded cell (§7.6.4); without it, bisectors that
+    reach infinity are dropped. ``neighbourhood`` and ``in_plane_angle`` set
+    which edge encroachments count in R^3 (see the core's
+    ``EncroachmentRule``; ``neighbourhood=1, in_plane_angle=0`` is the
+    dissertation's literal rule). Open, non-manifold or inward-oriented
+    input raises ValueError. When ``max_iterations`` rounds do not make the
+    mesh separable, the skeleton is still returned with ``separable=False``
+    and a :class:`SeparabilityWarning` is issued (``warn=False`` silences it).
+    """
+    if side not in _SIDES:
+        raise ValueError(f"side must be 'internal', 'external' or 'both', got {side!r}")
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 0:
+        raise ValueError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
+    internal, external = _SIDES[side]
+    v = _points(vertices)
+    f = _simplices(faces)
+    raw = _core.voronoi_skeleton(
+        v, f, internal=internal, external=external, max_iterations=int(max_iterations),
+        wrap="none" if wrap is None else str(wrap), wrap_density=int(wrap_density),
+        wrap_margin=float(wrap_margin), dihedral_limit=float(dihedral_limit), attach=bool(attach),
+        neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle))
+    sides = np.where(np.asarray(raw.side) == 0, INTERNAL, EXTERNAL)
+    sk = VoronoiSkeleton(
+        vertices=np.asarray(raw.vertices),
+        faces=np.asarray(raw.faces),
+        side=sides,
+        sites=np.asarray(raw.sites),
+        polygon=np.asarray(raw.polygon),
+        on_mesh=np.asarray(raw.on_mesh).astype(bool),
+        refined_vertices=np.asarray(raw.refined_vertices),
+        refined_faces=np.asarray(raw.refined_faces),
+        separable=bool(raw.separable),
+        iterations=int(raw.iterations),
+        splits=int(raw.splits),
+        dihedral=raw.dihedral,
+        attachment=np.asarray(raw.attachment),
+        stats={
+            "bisectors": int(raw.bisectors),
+            "discarded": int(raw.discarded),
+            "discarded_nonlocal": int(raw.discarded_nonlocal),
+            "discarded_far": int(raw.discarded_far),
+            "seconds_separability": float(raw.seconds_separability),
+            "seconds_extraction": float(raw.seconds_extraction),
+        },
+    )
+    if warn and not sk.separable:
+        warnings.warn(
+            f"the mesh is not Voronoi separable after {sk.iterations} splitting rounds (max_iterations="
+            f"{max_iterations}); the skeleton may miss faces where the shape is thin or sharp",
+            SeparabilityWarning, stacklevel=2)
+    return sk
+
+
+def make_voronoi_separable(vertices, faces, max_iterations: int = 4, *, neighbourhood: int = 2,
+                           in_plane_angle: float = 0.3) -> dict:
+    """Splits encroached simplices (§7.5-7.6). Returns a dict with ``vertices``,
+    ``faces`` (the refined mesh), ``separable``, ``iterations``, ``splits`` and
+    ``remaining`` (encroached simplices left when the cap was hit)."""
+    return _core.make_voronoi_separable(_points(vertices), _simplices(faces), int(max_iterations),
+                                        neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle))
+
+
+def encroachments(vertices, faces, *, neighbourhood: int = 2, in_plane_angle: float = 0.3):
+    """(rows, distance): per encroached simplex, rows (vertex, a, b, c or -1,
+    type) with the Figure 7.14 type (2 edge, 3 face, 4 both) of its closest
+    encroacher, and that vertex's distance to the simplex."""
+    return _core.encroachments(_points(vertices), _simplices(faces), neighbourhood=int(neighbourhood),
+                               in_plane_angle=float(in_plane_angle))
+
+
+def dihedral_test(vertices, faces, limit: float = math.pi / 4) -> dict:
+    """§7.6.6: ``passes`` (no surface angle sharper than ``limit`` radians),
+    ``sharpest``, and where: ``sharp`` (edges in R^3, corner vertices in R^2)
+    with their ``angles``."""
+    return _core.dihedral_test(_points(vertices), _simplices(faces), float(limit))
+
+
+def wrap(vertices, faces, shape: str = "box", density: int = 4, margin: float = 1.0):
+    """(vertices, faces, input_vertices, input_faces): the input followed by an
+    inward-oriented box or sphere (rectangle or circle in R^2) ``margin``
+    bounding-box diagonals away from it (§7.6.4)."""
+    return _core.wrap(_points(vertices), _simplices(faces), str(shape), int(density), float(margin))
+
+
+def faces_intersecting_mesh(face_vertices, face_simplices, vertices, faces) -> np.ndarray:
+    """Boolean per face (triangles in R^3, segments in R^2): does it intersect the
+    mesh? Decided with CGAL's exact predicates; touching counts."""
+    return np.asarray(_core.faces_intersecting_mesh(_points(face_vertices, "face_vertices"),
+                                                    _simplices(face_simplices, "face_simplices"),
+                                                    _points(vertices), _simplices(faces)))
