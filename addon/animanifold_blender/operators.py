@@ -16,10 +16,11 @@ import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 from bpy.types import Operator
+from mathutils import Matrix
 
 from . import bake, live, sampling
 from ._lib import am
-from .properties import EXPORT_ITEMS, SAMPLING_ITEMS
+from .properties import _BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 
 
 class OperatorError(Exception):
@@ -67,7 +68,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
     use_scene_range: BoolProperty(name="Scene Range", default=True)
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=250)
-    cache_directory: StringProperty(name="Cache Folder", subtype="DIR_PATH")
+    cache_directory: StringProperty(name="Cache Folder", subtype="DIR_PATH", options=_BLEND_RELATIVE)
 
     @classmethod
     def poll(cls, context):
@@ -185,7 +186,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             for slot in obj.material_slots:
                 mesh.materials.append(slot.material)
             new = bpy.data.objects.new(name, mesh)
-            new.matrix_world = [list(row) for row in keys.matrix_world]  # rows of the source's world matrix
+            new.matrix_world = Matrix(keys.matrix_world.tolist())  # the source's world matrix at the first sample
             collections = list(obj.users_collection) or [context.scene.collection]
             for coll in collections:
                 coll.objects.link(new)
@@ -233,7 +234,7 @@ class ANIMANIFOLD_OT_bake(Operator):
     alembic: BoolProperty(name="Alembic", default=True)
     use_mesh_cache: BoolProperty(name="Use Mesh Sequence Cache", default=False)
     export: EnumProperty(name="Sequence", items=EXPORT_ITEMS, default="NONE")
-    directory: StringProperty(name="Folder", subtype="DIR_PATH")
+    directory: StringProperty(name="Folder", subtype="DIR_PATH", options=_BLEND_RELATIVE)
 
     @classmethod
     def poll(cls, context):

@@ -108,50 +108,55 @@ def sample_frames(obj, frame_start: float, frame_end: float, mode: str = "KEYFRA
 @dataclass
 class MeshSample:
     positions: np.ndarray  # (n, 3) float64, local space
-    tri_vertices: np.ndarray  # (T, 3) int32
-    tri_loops: np.ndarray  # (T, 3) int32
-    material_index: np.ndarray  # (T,) int32
-    smooth: np.ndarray  # (T,) int32 (0 flat, 1 smooth)
-    corner_uv: np.ndarray | None  # (T*3, 2) float32 or None
+    loop_vertex: np.ndarray  # (L,) int32: the connectivity that must not change
+    poly_start: np.ndarray  # (P,) int32
+    loop_uv: np.ndarray | None  # (L, 2) float32 or None
     uv_name: str | None
     matrix_world: np.ndarray  # (4, 4)
+    # triangulation (first sample only: n-gon triangulation depends on the shape)
+    tri_vertices: np.ndarray | None = None  # (T, 3) int32
+    tri_loops: np.ndarray | None = None  # (T, 3) int32
+    material_index: np.ndarray | None = None  # (T,) int32
+    smooth: np.ndarray | None = None  # (T,) int32 (0 flat, 1 smooth)
 
 
-def read_mesh(mesh, matrix_world) -> MeshSample:
-    """Arrays of an (evaluated) mesh; triangles are its loop triangles."""
-    n = len(mesh.vertices)
+def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
+    """Arrays of an (evaluated) mesh; with `triangulate`, its loop triangles too."""
+    n, L, P = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
     co = np.empty(3 * n, dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
-    mesh.calc_loop_triangles()
-    tris = mesh.loop_triangles
-    T = len(tris)
-    tv = np.empty(3 * T, dtype=np.int32)
-    tl = np.empty(3 * T, dtype=np.int32)
-    mi = np.empty(T, dtype=np.int32)
-    poly = np.empty(T, dtype=np.int32)
-    tris.foreach_get("vertices", tv)
-    tris.foreach_get("loops", tl)
-    tris.foreach_get("material_index", mi)
-    tris.foreach_get("polygon_index", poly)
-    smooth_poly = np.empty(len(mesh.polygons), dtype=bool)
-    mesh.polygons.foreach_get("use_smooth", smooth_poly)
-    corner_uv, uv_name = None, None
+    loop_vertex = np.empty(L, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    poly_start = np.empty(P, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", poly_start)
+    loop_uv, uv_name = None, None
     layer = mesh.uv_layers.active
-    if layer is not None and T:
-        loop_uv = np.empty(2 * len(mesh.loops), dtype=np.float32)
+    if layer is not None:
+        loop_uv = np.empty(2 * L, dtype=np.float32)
         layer.data.foreach_get("uv", loop_uv)
-        corner_uv = loop_uv.reshape(-1, 2)[tl] + np.float32(0.0)  # + 0 turns -0.0 into 0.0
+        loop_uv = loop_uv.reshape(L, 2) + np.float32(0.0)  # + 0 turns -0.0 into 0.0
         uv_name = layer.name
-    return MeshSample(
-        positions=co.reshape(n, 3).astype(np.float64),
-        tri_vertices=tv.reshape(T, 3),
-        tri_loops=tl.reshape(T, 3),
-        material_index=mi,
-        smooth=smooth_poly[poly].astype(np.int32) if T else np.empty(0, np.int32),
-        corner_uv=corner_uv,
-        uv_name=uv_name,
-        matrix_world=np.array(matrix_world, dtype=np.float64),
-    )
+    sample = MeshSample(co.reshape(n, 3).astype(np.float64), loop_vertex, poly_start, loop_uv, uv_name,
+                        np.array(matrix_world, dtype=np.float64))
+    if triangulate:
+        mesh.calc_loop_triangles()
+        tris = mesh.loop_triangles
+        T = len(tris)
+        tv = np.empty(3 * T, dtype=np.int32)
+        tl = np.empty(3 * T, dtype=np.int32)
+        mi = np.empty(T, dtype=np.int32)
+        poly = np.empty(T, dtype=np.int32)
+        tris.foreach_get("vertices", tv)
+        tris.foreach_get("loops", tl)
+        tris.foreach_get("material_index", mi)
+        tris.foreach_get("polygon_index", poly)
+        smooth_poly = np.empty(P, dtype=bool)
+        mesh.polygons.foreach_get("use_smooth", smooth_poly)
+        sample.tri_vertices = tv.reshape(T, 3)
+        sample.tri_loops = tl.reshape(T, 3)
+        sample.material_index = mi
+        sample.smooth = smooth_poly[poly].astype(np.int32)
+    return sample
 
 
 @dataclass
@@ -212,7 +217,7 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
             ob_eval = obj.evaluated_get(depsgraph)
             mesh = ob_eval.to_mesh()
             try:
-                sample = read_mesh(mesh, ob_eval.matrix_world)
+                sample = read_mesh(mesh, ob_eval.matrix_world, triangulate=(i == 0))
             finally:
                 ob_eval.to_mesh_clear()
             if i == 0:
@@ -220,11 +225,12 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
                     raise SamplingError(f"'{obj.name}' has no faces at frame {frame:g}")
             else:
                 ref = samples[0]
-                if len(sample.positions) != len(ref.positions) or not np.array_equal(sample.tri_vertices, ref.tri_vertices):
+                if (len(sample.positions) != len(ref.positions) or not np.array_equal(sample.poly_start, ref.poly_start)
+                        or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
                     raise SamplingError(
                         f"the topology of '{obj.name}' changes at frame {frame:g} "
-                        f"({len(sample.positions)} vertices, {len(sample.tri_vertices)} triangles; frame "
-                        f"{frames[0]:g} has {len(ref.positions)} vertices, {len(ref.tri_vertices)} triangles): "
+                        f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
+                        f"{frames[0]:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
                         "a keyframed action must keep the mesh's connectivity"
                     )
             samples.append(sample)
@@ -234,9 +240,11 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
         scene.frame_set(frame0, subframe=subframe0)
 
     ref = samples[0]
-    uvs = [s.corner_uv for s in samples] if ref.corner_uv is not None else []
-    if uvs and any(u is None or u.shape != ref.corner_uv.shape for u in uvs):
-        uvs = [ref.corner_uv]
+    corners = ref.tri_loops.reshape(-1)
+    uvs = []
+    if ref.loop_uv is not None:
+        uvs = [s.loop_uv[corners] if s.loop_uv is not None and s.loop_uv.shape == ref.loop_uv.shape
+               else ref.loop_uv[corners] for s in samples]
     faces, source_vertex, first_corner = weld_corners(ref.tri_vertices, uvs)
 
     m0 = ref.matrix_world
