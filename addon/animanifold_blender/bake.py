@@ -41,6 +41,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
     settings = obj.animanifold
     materials = list(obj.data.materials)
     collection = bpy.data.collections.new(collection_name)
+    mesh = None
     try:
         for i, frame in enumerate(frames):
             s = manifold.slice(float(frame), "t")
@@ -54,9 +55,12 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)
+            mesh = None
             if progress is not None:
                 progress(i + 1)
     except BaseException:
+        if mesh is not None:  # made, not yet in an object
+            bpy.data.meshes.remove(mesh)
         remove_collection(collection)
         raise
     return collection
@@ -140,36 +144,79 @@ def build_node_group(name: str, collection, first_frame: int) -> bpy.types.NodeT
     return group
 
 
-def bake_node_group(obj, frames: list[int], progress=None) -> bpy.types.Collection:
-    """Frames collection + node-group modifier on `obj`; replaces an earlier bake
-    only once the new one is complete. Sets the object to 'BAKED' mode."""
-    old_collection = obj.animanifold.bake_collection
-    old_modifier = obj.modifiers.get(MODIFIER_NAME)
-    old_group = old_modifier.node_group if old_modifier is not None else None
+class NodeGroupBake:
+    """A node-group bake as a transaction: :meth:`apply` builds the frames and
+    puts the new modifier in place of the old one; :meth:`commit` then deletes
+    the previous bake, :meth:`rollback` restores it exactly (object mode,
+    modifiers, collection, node group) and removes everything new."""
 
-    base = f"{obj.name}_bake"
-    collection = build_frames(obj, frames, base + ".new", progress)
-    try:
-        group = build_node_group(base + ".new", collection, frames[0])
-    except BaseException:
-        remove_collection(collection)
-        raise
+    def __init__(self, obj):
+        self.obj = obj
+        settings = obj.animanifold
+        self.old_mode = settings.mode
+        self.old_collection = settings.bake_collection
+        self.old_modifiers = [(m.name, m.type, getattr(m, "node_group", None), getattr(m, "cache_file", None),
+                               getattr(m, "object_path", None), m.show_viewport, m.show_render)
+                              for m in obj.modifiers if m.name in (MODIFIER_NAME, CACHE_MODIFIER_NAME)]
+        self.old_order = [m.name for m in obj.modifiers]
+        self.collection = None
+        self.group = None
+        self.new_cache_files = []
 
-    # The new bake is complete: swap it in.
-    if old_modifier is not None:
-        obj.modifiers.remove(old_modifier)
-    if old_group is not None and old_group.users == 0:
-        bpy.data.node_groups.remove(old_group)
-    if old_collection is not None:
-        remove_collection(old_collection)
-    collection.name = base
-    group.name = base
-    modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
-    modifier.node_group = group
-    settings = obj.animanifold
-    settings.bake_collection = collection
-    settings.mode = "BAKED"
-    return collection
+    def apply(self, frames: list[int], progress=None):
+        obj = self.obj
+        base = f"{obj.name}_bake"
+        self.collection = build_frames(obj, frames, base + ".new", progress)
+        self.group = build_node_group(base + ".new", self.collection, frames[0])
+        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+            mod = obj.modifiers.get(name)
+            if mod is not None:
+                obj.modifiers.remove(mod)
+        modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
+        modifier.node_group = self.group
+        obj.animanifold.bake_collection = self.collection
+        obj.animanifold.mode = "BAKED"
+
+    def commit(self):
+        obj = self.obj
+        base = f"{obj.name}_bake"
+        for _, _, group, cache, _, _, _ in self.old_modifiers:
+            if group is not None and group.users == 0:
+                bpy.data.node_groups.remove(group)
+            if cache is not None and cache.users == 0:
+                bpy.data.batch_remove([cache])
+        if self.old_collection is not None and self.old_collection != self.collection:
+            remove_collection(self.old_collection)
+        self.collection.name = base
+        self.group.name = base
+
+    def rollback(self):
+        obj = self.obj
+        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+            mod = obj.modifiers.get(name)
+            if mod is not None:
+                obj.modifiers.remove(mod)
+        for cache in self.new_cache_files:
+            if cache.users == 0:
+                bpy.data.batch_remove([cache])
+        if self.group is not None:
+            bpy.data.node_groups.remove(self.group)
+        if self.collection is not None:
+            remove_collection(self.collection)
+        for name, kind, group, cache, path, show_viewport, show_render in self.old_modifiers:
+            mod = obj.modifiers.new(name, kind)
+            if kind == "NODES":
+                mod.node_group = group
+            else:
+                mod.cache_file = cache
+                mod.object_path = path
+            mod.show_viewport, mod.show_render = show_viewport, show_render
+        for index, name in enumerate(n for n in self.old_order if n in obj.modifiers):
+            current = [m.name for m in obj.modifiers].index(name)
+            if current != index:
+                obj.modifiers.move(current, index)
+        obj.animanifold.bake_collection = self.old_collection
+        obj.animanifold.mode = self.old_mode
 
 
 # -- Alembic ----------------------------------------------------------------------
@@ -205,29 +252,31 @@ def export_alembic(context, obj, filepath: str, frame_start: int, frame_end: int
         raise BakeError(f"Blender's Alembic exporter did not write {filepath}")
 
 
-def use_mesh_sequence_cache(obj, filepath: str) -> None:
+def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list) -> None:
     """Shows the Alembic file through a Mesh Sequence Cache modifier; the node-group
-    bake modifier stays on the object, disabled, to switch back."""
+    bake modifier stays on the object, disabled, to switch back. `stored_path` is the
+    path kept in the .blend (relative where possible); new cache files go to `created`."""
     existing = set(bpy.data.cache_files)
     result = bpy.ops.cachefile.open(filepath=filepath)
     new = [c for c in bpy.data.cache_files if c not in existing]
+    created.extend(new)
     if "FINISHED" not in result or not new:
         raise BakeError(f"cannot open the Alembic cache {filepath}")
     cache = new[0]
-    paths = [p.path for p in cache.object_paths]
-    name = obj.name
-    # The exporter writes /<object>/<mesh>; pick our object's mesh.
-    candidates = [p for p in paths if p.count("/") >= 2 and p.split("/")[1] in (name, bpy.path.clean_name(name))]
-    if not candidates:
-        candidates = [p for p in paths if p.count("/") >= 2]
-    if not candidates:
-        bpy.data.cache_files.remove(cache)
-        raise BakeError(f"the Alembic cache {filepath} holds no mesh of '{name}' (paths: {paths})")
+    cache.filepath = stored_path
     old = obj.modifiers.get(CACHE_MODIFIER_NAME)
     if old is not None:
         obj.modifiers.remove(old)
     modifier = obj.modifiers.new(CACHE_MODIFIER_NAME, "MESH_SEQUENCE_CACHE")
     modifier.cache_file = cache
+    # The archive's object paths are read when the modifier is first evaluated.
+    bpy.context.evaluated_depsgraph_get().update()
+    paths = [p.path for p in cache.object_paths]
+    name = obj.name
+    # The exporter writes /<object>/<mesh>; pick our object's mesh.
+    candidates = [p for p in paths if p.count("/") >= 2 and p.split("/")[1] in (name, bpy.path.clean_name(name))]
+    if not candidates:
+        raise BakeError(f"the Alembic cache {filepath} holds no mesh of '{name}' (paths: {paths})")
     modifier.object_path = candidates[0]
     nodes_modifier = obj.modifiers.get(MODIFIER_NAME)
     if nodes_modifier is not None:

@@ -87,6 +87,8 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             self.report({"ERROR"}, str(e))
         except (ValueError, RuntimeError, OSError) as e:  # from the core or the file system
             self.report({"ERROR"}, f"Convert failed: {e}")
+        except Exception as e:  # a bug: still report it, nothing was left behind
+            self.report({"ERROR"}, f"Convert failed unexpectedly: {type(e).__name__}: {e}")
         return {"CANCELLED"}
 
     # -- steps ------------------------------------------------------------------
@@ -254,6 +256,8 @@ class ANIMANIFOLD_OT_bake(Operator):
             self.report({"ERROR"}, str(e))
         except (ValueError, RuntimeError, OSError) as e:
             self.report({"ERROR"}, f"Bake failed: {e}")
+        except Exception as e:  # a bug: still report it, the transaction has rolled back
+            self.report({"ERROR"}, f"Bake failed unexpectedly: {type(e).__name__}: {e}")
         return {"CANCELLED"}
 
     def _execute(self, context):
@@ -286,24 +290,38 @@ class ANIMANIFOLD_OT_bake(Operator):
         stem = bpy.path.clean_name(obj.name)
 
         progress = _Progress(context, 2 * len(frames) + 2)
+        transaction = bake.NodeGroupBake(obj)
+        written = []
         try:
-            bake.bake_node_group(obj, frames, progress)
-            notes = [f"{len(frames)} frames {first}–{last} in collection '{obj.animanifold.bake_collection.name}'"]
+            transaction.apply(frames, progress)
+            notes = [f"{len(frames)} frames {first}–{last} (node group)"]
             if alembic:
                 path = os.path.join(folder, f"{stem}{chunk}.abc")
+                existed = os.path.exists(path)
                 bake.export_alembic(context, obj, path, first, last)
-                notes.append(f"Alembic {bpy.path.relpath(path) if bpy.data.filepath else path}")
+                if not existed:
+                    written.append(path)
+                stored = bpy.path.relpath(path) if bpy.data.filepath and _is_relative(directory) else path
+                notes.append(f"Alembic {stored}")
                 if use_cache:
-                    stored = bpy.path.relpath(path) if bpy.data.filepath and _is_relative(directory) else path
-                    bake.use_mesh_sequence_cache(obj, stored)
+                    bake.use_mesh_sequence_cache(obj, path, stored, transaction.new_cache_files)
                     notes.append("shown by a Mesh Sequence Cache modifier")
             progress(len(frames) + 1)
             if export != "NONE":
-                written = bake.export_sequence(obj, frames, folder, export,
-                                               lambda i: progress(len(frames) + 1 + i))
-                notes.append(f"{len(written)} {export} files in {folder}")
+                files = bake.export_sequence(obj, frames, folder, export, lambda i: progress(len(frames) + 1 + i))
+                notes.append(f"{len(files)} {export} files in {folder}")
+        except BaseException:
+            transaction.rollback()
+            for path in written:
+                try:
+                    os.unlink(path)
+                except OSError:
+                    pass
+            raise
         finally:
             progress.end()
+        transaction.commit()
+        notes[0] = f"{len(frames)} frames {first}–{last} in collection '{transaction.collection.name}' (node group)"
         if _option(self, settings, "alembic", "bake_alembic") and not bake.alembic_supported():
             notes.append("no Alembic: this Blender was built without it")
         self.report({"INFO"}, f"Baked '{obj.name}': " + "; ".join(notes))
