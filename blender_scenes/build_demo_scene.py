@@ -79,6 +79,14 @@ def build_demo_scene(segments: int = 24, rings: int = 12, name: str = DEMO_NAME)
             blocks[key_name].keyframe_insert("value", frame=frame)
     obj.data.shape_keys.animation_data.action.name = f"{name}Action"
 
+    if scene.world is None:
+        scene.world = bpy.data.worlds.new("DemoWorld")
+        scene.world.color = (0.55, 0.6, 0.65)
+        scene.world.use_nodes = True
+        background = scene.world.node_tree.nodes.get("Background")
+        if background is not None:
+            background.inputs["Color"].default_value = (0.55, 0.6, 0.65, 1.0)
+            background.inputs["Strength"].default_value = 0.6
     if not any(o.type == "CAMERA" for o in scene.objects):
         bpy.ops.object.camera_add(location=(0.0, -7.5, 2.6), rotation=(math.radians(82), 0.0, 0.0))
         scene.camera = bpy.context.active_object

@@ -52,6 +52,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             live.write_mesh(
                 mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                 material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
+                normals=live.slice_normals(s),
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)

@@ -65,12 +65,15 @@ def forget(path: str) -> None:
 
 
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
+_NEEDS_AUTO_SMOOTH = bpy.app.version < (4, 1, 0)
 
 
 def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | None = None,
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
-               smooth: np.ndarray | None = None) -> None:
-    """Replaces the geometry of `mesh` by triangles (in place, no new data blocks)."""
+               smooth: np.ndarray | None = None, normals: np.ndarray | None = None) -> None:
+    """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
+    `normals` (P, 3): the manifold's smooth normals, set as custom normals (slices
+    between keyframes have thin triangles that shade badly with computed normals)."""
     P, F = len(vertices), len(faces)
     mesh.clear_geometry()
     mesh.vertices.add(P)
@@ -91,6 +94,10 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
             corner = np.ascontiguousarray(uv, dtype=np.float32)[np.asarray(faces).reshape(-1)]
             layer.data.foreach_set("uv", corner.reshape(-1))
     mesh.update(calc_edges=True)
+    if normals is not None and F:
+        if _NEEDS_AUTO_SMOOTH:
+            mesh.use_auto_smooth = True
+        mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
 
 
 def slice_for(obj, frame: float):
@@ -133,7 +140,19 @@ def update_object(obj, frame: float) -> None:
         uv_name=settings.uv_name or "UVMap",
         material_index=s.face_attributes.get("material_index"),
         smooth=s.face_attributes.get("smooth"),
+        normals=slice_normals(s) if settings.axis == "t" else None,
     )
+
+
+def slice_normals(s) -> np.ndarray | None:
+    """Smooth normals of a time slice: the source's keyframe vertex normals (the
+    'normal' vertex attribute of smooth-shaded sources), interpolated along the
+    manifold edges and normalised; None for flat-shaded sources."""
+    n = s.vertex_attributes.get("normal")
+    if n is None or len(n) == 0:
+        return None
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    return n / np.where(length > 0, length, 1.0)
 
 
 def scene_frame(scene) -> float:

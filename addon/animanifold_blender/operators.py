@@ -144,6 +144,8 @@ class ANIMANIFOLD_OT_convert_action(Operator):
         try:
             keys = sampling.sample_object(context, obj, frames, progress)
             vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
+            if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
+                vertex_attributes["normal"] = keys.normals
             if keys.uv is not None:
                 vertex_attributes["uv"] = keys.uv
             manifold = am.stitch(

@@ -108,6 +108,7 @@ def sample_frames(obj, frame_start: float, frame_end: float, mode: str = "KEYFRA
 @dataclass
 class MeshSample:
     positions: np.ndarray  # (n, 3) float64, local space
+    normals: np.ndarray  # (n, 3) float32 vertex normals
     loop_vertex: np.ndarray  # (L,) int32: the connectivity that must not change
     poly_start: np.ndarray  # (P,) int32
     loop_uv: np.ndarray | None  # (L, 2) float32 or None
@@ -125,6 +126,8 @@ def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
     n, L, P = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
     co = np.empty(3 * n, dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
+    normals = np.empty(3 * n, dtype=np.float32)
+    mesh.vertices.foreach_get("normal", normals)
     loop_vertex = np.empty(L, dtype=np.int32)
     mesh.loops.foreach_get("vertex_index", loop_vertex)
     poly_start = np.empty(P, dtype=np.int32)
@@ -136,7 +139,7 @@ def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
         layer.data.foreach_get("uv", loop_uv)
         loop_uv = loop_uv.reshape(L, 2) + np.float32(0.0)  # + 0 turns -0.0 into 0.0
         uv_name = layer.name
-    sample = MeshSample(co.reshape(n, 3).astype(np.float64), loop_vertex, poly_start, loop_uv, uv_name,
+    sample = MeshSample(co.reshape(n, 3).astype(np.float64), normals.reshape(n, 3), loop_vertex, poly_start, loop_uv, uv_name,
                         np.array(matrix_world, dtype=np.float64))
     if triangulate:
         mesh.calc_loop_triangles()
@@ -165,6 +168,7 @@ class Keyframes:
 
     times: np.ndarray  # (m,)
     positions: np.ndarray  # (m, k, 3) in the local space of the object at the first sample
+    normals: np.ndarray  # (m, k, 3) vertex normals (same space)
     faces: np.ndarray  # (l, 3)
     uv: np.ndarray | None  # (k, 2) or (m, k, 2)
     uv_name: str | None
@@ -253,8 +257,10 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
         inv0 = np.linalg.inv(m0)
         rel = [inv0 @ s.matrix_world for s in samples]
         positions = np.stack([s.positions[source_vertex] @ r[:3, :3].T + r[:3, 3] for s, r in zip(samples, rel)])
+        normals = np.stack([s.normals[source_vertex] @ np.linalg.inv(r[:3, :3]) for s, r in zip(samples, rel)])
     else:
         positions = np.stack([s.positions[source_vertex] for s in samples])
+        normals = np.stack([s.normals[source_vertex] for s in samples]).astype(np.float64)
 
     if np.all(positions == positions[0]):
         raise SamplingError(
@@ -272,6 +278,7 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
     return Keyframes(
         times=np.asarray(frames, dtype=np.float64),
         positions=positions,
+        normals=normals,
         faces=faces,
         uv=uv,
         uv_name=ref.uv_name,
