@@ -66,33 +66,53 @@ def forget(path: str) -> None:
 
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
 _NEEDS_AUTO_SMOOTH = bpy.app.version < (4, 1, 0)
+# Blender 4.0+: positions, corner vertices, material indices, sharp faces and UV maps
+# are generic attributes with raw (memcpy) foreach access: ~10x faster than the
+# MeshVertex/MeshLoop/MeshPolygon RNA paths, which convert item by item.
+_ATTRIBUTES = bpy.app.version >= (4, 0, 0)
 
 
 def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | None = None,
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
                smooth: np.ndarray | None = None, normals: np.ndarray | None = None) -> None:
     """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
-    `normals` (P, 3): the manifold's smooth normals, set as custom normals (slices
-    between keyframes have thin triangles that shade badly with computed normals)."""
+    `normals` (P, 3): smooth normals set as custom normals (slices between
+    keyframes have thin triangles that shade unevenly with computed normals)."""
     P, F = len(vertices), len(faces)
+    corner_vertex = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1)
     mesh.clear_geometry()
     mesh.vertices.add(P)
-    mesh.vertices.foreach_set("co", np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1))
     mesh.loops.add(3 * F)
-    mesh.loops.foreach_set("vertex_index", np.ascontiguousarray(faces, dtype=np.int32).reshape(-1))
     mesh.polygons.add(F)
+    co = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1)
     mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * F, 3, dtype=np.int32))
-    if _NEEDS_LOOP_TOTAL:
-        mesh.polygons.foreach_set("loop_total", np.full(F, 3, dtype=np.int32))
-    if material_index is not None and F:
-        mesh.polygons.foreach_set("material_index", np.ascontiguousarray(material_index, dtype=np.int32))
-    if smooth is not None and F:
-        mesh.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth, dtype=bool))
-    if uv is not None:
-        layer = mesh.uv_layers.new(name=uv_name or "UVMap")
-        if layer is not None and F:
-            corner = np.ascontiguousarray(uv, dtype=np.float32)[np.asarray(faces).reshape(-1)]
-            layer.data.foreach_set("uv", corner.reshape(-1))
+    if _ATTRIBUTES:
+        attributes = mesh.attributes
+        attributes["position"].data.foreach_set("vector", co)
+        attributes[".corner_vert"].data.foreach_set("value", corner_vertex)
+        if material_index is not None and F:
+            attributes.new("material_index", "INT", "FACE").data.foreach_set(
+                "value", np.ascontiguousarray(material_index, dtype=np.int32))
+        if smooth is not None and F:
+            attributes.new("sharp_face", "BOOLEAN", "FACE").data.foreach_set(
+                "value", np.ascontiguousarray(smooth, dtype=np.int32) == 0)
+        if uv is not None:
+            corner = np.ascontiguousarray(uv, dtype=np.float32)[corner_vertex]
+            attributes.new(uv_name or "UVMap", "FLOAT2", "CORNER").data.foreach_set("vector", corner.reshape(-1))
+    else:
+        mesh.vertices.foreach_set("co", co)
+        mesh.loops.foreach_set("vertex_index", corner_vertex)
+        if _NEEDS_LOOP_TOTAL:
+            mesh.polygons.foreach_set("loop_total", np.full(F, 3, dtype=np.int32))
+        if material_index is not None and F:
+            mesh.polygons.foreach_set("material_index", np.ascontiguousarray(material_index, dtype=np.int32))
+        if smooth is not None and F:
+            mesh.polygons.foreach_set("use_smooth", np.ascontiguousarray(smooth, dtype=bool))
+        if uv is not None:
+            layer = mesh.uv_layers.new(name=uv_name or "UVMap")
+            if layer is not None and F:
+                corner = np.ascontiguousarray(uv, dtype=np.float32)[corner_vertex]
+                layer.data.foreach_set("uv", corner.reshape(-1))
     mesh.update(calc_edges=True)
     if normals is not None and F:
         if _NEEDS_AUTO_SMOOTH:
@@ -140,7 +160,7 @@ def update_object(obj, frame: float) -> None:
         uv_name=settings.uv_name or "UVMap",
         material_index=s.face_attributes.get("material_index"),
         smooth=s.face_attributes.get("smooth"),
-        normals=slice_normals(s) if settings.axis == "t" else None,
+        normals=slice_normals(s) if settings.axis == "t" and settings.live_normals else None,
     )
 
 

@@ -72,6 +72,10 @@ class AnimanifoldObjectSettings(PropertyGroup):
                                description="Where the sweep view cuts along its axis (object space)")
     time_scale: FloatProperty(name="Time Scale", default=0.05, min=1e-6, soft_max=10.0, update=_reslice,
                               description="Length per frame along the sliced axis in sweep views")
+    live_normals: BoolProperty(
+        name="Smooth Normals", default=False, update=_reslice,
+        description="Live slices get the keyframes' smooth normals as custom normals (nicer shading between "
+                    "keyframes, slower playback); baked frames always have them")
     uv_name: StringProperty(name="UV Map", default="UVMap", options={"HIDDEN"})
     frame_start: FloatProperty(name="Start", options={"HIDDEN"})
     frame_end: FloatProperty(name="End", options={"HIDDEN"})

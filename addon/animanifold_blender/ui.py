@@ -47,7 +47,9 @@ class VIEW3D_PT_animanifold(Panel):
         if settings.mode == "LIVE":
             row = box.row()
             row.prop(settings, "axis", expand=True)
-            if settings.axis != "t":
+            if settings.axis == "t":
+                box.prop(settings, "live_normals")
+            else:
                 box.prop(settings, "sweep_value")
                 box.prop(settings, "time_scale")
         else:
