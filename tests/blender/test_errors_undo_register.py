@@ -125,3 +125,12 @@ def test_register_unregister_register(addon):
     counts = np.array([len(bpy.data.meshes)])
     bpy.context.scene.frame_set(20)
     assert len(bpy.data.meshes) == counts[0]
+
+
+def test_bake_in_unsaved_file_needs_a_path(demo):
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}  # cache in the temp folder
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=r"bake folder '//animanifold_bake/' is relative to the \.blend, which is not saved"):
+        bpy.ops.animanifold.bake(alembic=False, export="OBJ")
+    assert scene_state() == before
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}  # the node group needs no path

@@ -111,3 +111,34 @@ def test_smoke_blender_binary_installs_zip_converts_and_bakes(tmp_path):
         capture_output=True, text=True, env=env, timeout=300,
     )
     assert proc.returncode == 0 and "SMOKE OK" in proc.stdout, proc.stdout[-4000:] + proc.stderr[-4000:]
+
+
+EXTENSION_PROBE = r"""
+import sys
+import bpy
+import addon_utils
+bpy.ops.wm.read_factory_settings(use_empty=True)
+assert bpy.ops.extensions.package_install_files(filepath=sys.argv[1], repo="user_default",
+                                                enable_on_install=True) == {"FINISHED"}
+name = [m for m in sys.modules if m.endswith(".animanifold_blender")][0]
+core = [m for m in sys.modules if m.endswith("animanifold._core")]
+assert core == [name + ".animanifold._core"], core  # the bundled compiled module
+sys.path.insert(0, sys.argv[2])
+from build_demo_scene import build_demo_scene
+build_demo_scene(segments=8, rings=4)
+assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+addon_utils.disable(name)  # bpy as a module hangs at exit with classes registered
+print("EXTENSION OK")
+"""
+
+
+@pytest.mark.slow
+def test_zip_installs_as_a_blender_42_extension(tmp_path):
+    zip_path = tmp_path / "animanifold_blender.zip"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
+                   check=True, capture_output=True, text=True)
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "resources"))
+    env.pop("PYTHONPATH", None)
+    proc = subprocess.run([sys.executable, "-c", EXTENSION_PROBE, str(zip_path), str(SCENES)], capture_output=True,
+                          text=True, env=env, timeout=240, cwd="/")
+    assert proc.returncode == 0 and "EXTENSION OK" in proc.stdout, proc.stdout[-3000:] + proc.stderr[-3000:]
