@@ -7,7 +7,7 @@ APT_PACKAGES=(
   build-essential cmake ninja-build
   pybind11-dev libeigen3-dev libsuitesparse-dev libcgal-dev
   libtet1.5-dev libqhull-dev libosd-dev libgtest-dev
-  blender
+  blender python3-numpy
 )
 PIP_PACKAGES=(
   "numpy<2" pytest hypothesis matplotlib scikit-build-core pybind11

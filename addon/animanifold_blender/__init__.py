@@ -1,0 +1,37 @@
+"""Animanifold for Blender: keyframed actions become animation manifolds
+(tetrahedra in x, y, z, t); frames come back sliced live on frame change and
+baked into data that plays and renders without the add-on.
+
+Modules: properties (settings), sampling (evaluated mesh → keyframes),
+live (slices → meshes), handlers (frame change, load), bake, operators, ui.
+"""
+
+bl_info = {
+    "name": "Animanifold",
+    "author": "animanifold developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "3D View > Sidebar > Animanifold",
+    "description": "Keyframed actions as animation manifolds: sliced live or baked to a cache",
+    "category": "Animation",
+}
+
+import bpy  # noqa: E402
+
+from . import handlers, operators, properties, ui  # noqa: E402
+
+classes = properties.classes + operators.classes + ui.classes
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    properties.register_properties()
+    handlers.register_handlers()
+
+
+def unregister():
+    handlers.unregister_handlers()
+    properties.unregister_properties()
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

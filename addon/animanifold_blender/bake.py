@@ -1,0 +1,303 @@
+"""Baking a manifold object's frames into data that needs no add-on.
+
+* a collection with one mesh object per frame, shown by a geometry-nodes
+  modifier (Collection Info → Delete Geometry on the instances whose index is
+  not frame − start → Realize Instances): plays and renders in any Blender
+  3.4+ (and on a farm) without animanifold;
+* an Alembic cache through Blender's own exporter, optionally read back by a
+  Mesh Sequence Cache modifier (Blender's native varying-topology cache);
+* an OBJ/PLY sequence (one file per frame).
+
+Nothing here deletes the user's data: a re-bake builds the new data first and
+only then removes the previous bake's collection, objects, meshes and node group.
+"""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+import numpy as np
+
+from . import live
+from ._lib import am
+
+MODIFIER_NAME = "Animanifold Bake"
+CACHE_MODIFIER_NAME = "Animanifold Alembic"
+
+
+class BakeError(Exception):
+    pass
+
+
+def frame_object_name(obj_name: str, frame: int) -> str:
+    return f"{obj_name}_f{frame:06d}" if frame >= 0 else f"{obj_name}_fm{-frame:06d}"
+
+
+def build_frames(obj, frames: list[int], collection_name: str, progress=None) -> bpy.types.Collection:
+    """One mesh object per frame (the slice at that frame), in frame order, in a new
+    collection that is not linked to any scene (the node group instances it)."""
+    manifold = live.manifold_for(obj)
+    settings = obj.animanifold
+    materials = list(obj.data.materials)
+    collection = bpy.data.collections.new(collection_name)
+    mesh = None
+    try:
+        for i, frame in enumerate(frames):
+            s = manifold.slice(float(frame), "t")
+            name = frame_object_name(obj.name, frame)
+            mesh = bpy.data.meshes.new(name)
+            for mat in materials:
+                mesh.materials.append(mat)
+            live.write_mesh(
+                mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
+                material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
+                normals=live.slice_normals(s),
+            )
+            frame_obj = bpy.data.objects.new(name, mesh)
+            collection.objects.link(frame_obj)
+            mesh = None
+            if progress is not None:
+                progress(i + 1)
+    except BaseException:
+        if mesh is not None:  # made, not yet in an object
+            bpy.data.meshes.remove(mesh)
+        remove_collection(collection)
+        raise
+    return collection
+
+
+def remove_collection(collection) -> None:
+    """Removes a bake collection with its frame objects and their meshes."""
+    objects = list(collection.objects)
+    meshes = [o.data for o in objects if o.type == "MESH"]
+    for o in objects:
+        bpy.data.objects.remove(o)
+    for me in meshes:
+        if me.users == 0:
+            bpy.data.meshes.remove(me)
+    bpy.data.collections.remove(collection)
+
+
+def _new_socket(group, name, in_out):
+    if hasattr(group, "interface"):  # 4.0+
+        group.interface.new_socket(name, in_out=in_out, socket_type="NodeSocketGeometry")
+    elif in_out == "INPUT":
+        group.inputs.new("NodeSocketGeometry", name)
+    else:
+        group.outputs.new("NodeSocketGeometry", name)
+
+
+def _math(nodes, operation, location):
+    node = nodes.new("ShaderNodeMath")
+    node.operation = operation
+    node.location = location
+    return node
+
+
+def build_node_group(name: str, collection, first_frame: int) -> bpy.types.NodeTree:
+    """Geometry nodes showing the instance of `collection` for the scene frame:
+    child i is shown at frame first_frame + i (floor of the frame, so subframes
+    hold the frame); nothing outside the baked range."""
+    group = bpy.data.node_groups.new(name, "GeometryNodeTree")
+    _new_socket(group, "Geometry", "INPUT")
+    _new_socket(group, "Geometry", "OUTPUT")
+    nodes, links = group.nodes, group.links
+    group_in = nodes.new("NodeGroupInput")
+    group_in.location = (-900, 200)
+    group_out = nodes.new("NodeGroupOutput")
+    group_out.location = (500, 0)
+
+    info = nodes.new("GeometryNodeCollectionInfo")
+    info.location = (-500, 150)
+    info.transform_space = "ORIGINAL"
+    info.inputs["Collection"].default_value = collection
+    info.inputs["Separate Children"].default_value = True
+    info.inputs["Reset Children"].default_value = True
+
+    time = nodes.new("GeometryNodeInputSceneTime")
+    time.location = (-900, -150)
+    offset = _math(nodes, "SUBTRACT", (-700, -150))
+    offset.inputs[1].default_value = float(first_frame)
+    links.new(time.outputs["Frame"], offset.inputs[0])
+    floor = _math(nodes, "FLOOR", (-500, -150))
+    links.new(offset.outputs[0], floor.inputs[0])
+    index = nodes.new("GeometryNodeInputIndex")
+    index.location = (-500, -300)
+    diff = _math(nodes, "SUBTRACT", (-300, -200))
+    links.new(index.outputs[0], diff.inputs[0])
+    links.new(floor.outputs[0], diff.inputs[1])
+    absolute = _math(nodes, "ABSOLUTE", (-150, -200))
+    links.new(diff.outputs[0], absolute.inputs[0])
+    other = _math(nodes, "GREATER_THAN", (0, -200))
+    links.new(absolute.outputs[0], other.inputs[0])
+    other.inputs[1].default_value = 0.5
+
+    delete = nodes.new("GeometryNodeDeleteGeometry")
+    delete.location = (100, 100)
+    delete.domain = "INSTANCE"
+    links.new(info.outputs[0], delete.inputs["Geometry"])
+    links.new(other.outputs[0], delete.inputs["Selection"])
+    realize = nodes.new("GeometryNodeRealizeInstances")
+    realize.location = (300, 100)
+    links.new(delete.outputs[0], realize.inputs[0])
+    links.new(realize.outputs[0], group_out.inputs[0])
+    return group
+
+
+class NodeGroupBake:
+    """A node-group bake as a transaction: :meth:`apply` builds the frames and
+    puts the new modifier in place of the old one; :meth:`commit` then deletes
+    the previous bake, :meth:`rollback` restores it exactly (object mode,
+    modifiers, collection, node group) and removes everything new."""
+
+    def __init__(self, obj):
+        self.obj = obj
+        settings = obj.animanifold
+        self.old_mode = settings.mode
+        self.old_collection = settings.bake_collection
+        self.old_modifiers = [(m.name, m.type, getattr(m, "node_group", None), getattr(m, "cache_file", None),
+                               getattr(m, "object_path", None), m.show_viewport, m.show_render)
+                              for m in obj.modifiers if m.name in (MODIFIER_NAME, CACHE_MODIFIER_NAME)]
+        self.old_order = [m.name for m in obj.modifiers]
+        self.collection = None
+        self.group = None
+        self.new_cache_files = []
+
+    def apply(self, frames: list[int], progress=None):
+        obj = self.obj
+        base = f"{obj.name}_bake"
+        self.collection = build_frames(obj, frames, base + ".new", progress)
+        self.group = build_node_group(base + ".new", self.collection, frames[0])
+        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+            mod = obj.modifiers.get(name)
+            if mod is not None:
+                obj.modifiers.remove(mod)
+        modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
+        modifier.node_group = self.group
+        obj.animanifold.bake_collection = self.collection
+        obj.animanifold.mode = "BAKED"
+
+    def commit(self):
+        obj = self.obj
+        base = f"{obj.name}_bake"
+        for _, _, group, cache, _, _, _ in self.old_modifiers:
+            if group is not None and group.users == 0:
+                bpy.data.node_groups.remove(group)
+            if cache is not None and cache.users == 0:
+                bpy.data.batch_remove([cache])
+        if self.old_collection is not None and self.old_collection != self.collection:
+            remove_collection(self.old_collection)
+        self.collection.name = base
+        self.group.name = base
+
+    def rollback(self):
+        obj = self.obj
+        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+            mod = obj.modifiers.get(name)
+            if mod is not None:
+                obj.modifiers.remove(mod)
+        for cache in self.new_cache_files:
+            if cache.users == 0:
+                bpy.data.batch_remove([cache])
+        if self.group is not None:
+            bpy.data.node_groups.remove(self.group)
+        if self.collection is not None:
+            remove_collection(self.collection)
+        for name, kind, group, cache, path, show_viewport, show_render in self.old_modifiers:
+            mod = obj.modifiers.new(name, kind)
+            if kind == "NODES":
+                mod.node_group = group
+            else:
+                mod.cache_file = cache
+                mod.object_path = path
+            mod.show_viewport, mod.show_render = show_viewport, show_render
+        for index, name in enumerate(n for n in self.old_order if n in obj.modifiers):
+            current = [m.name for m in obj.modifiers].index(name)
+            if current != index:
+                obj.modifiers.move(current, index)
+        obj.animanifold.bake_collection = self.old_collection
+        obj.animanifold.mode = self.old_mode
+
+
+# -- Alembic ----------------------------------------------------------------------
+
+def alembic_supported() -> bool:
+    return bool(getattr(bpy.app, "alembic", None) and bpy.app.alembic.supported)
+
+
+def export_alembic(context, obj, filepath: str, frame_start: int, frame_end: int) -> None:
+    """Exports the (baked, evaluated) object alone over the range with Blender's
+    exporter. Selection and active object are restored."""
+    if not alembic_supported():
+        raise BakeError("this Blender was built without Alembic support")
+    view_layer = context.view_layer
+    selected = [o for o in view_layer.objects if o.select_get()]
+    active = view_layer.objects.active
+    try:
+        for o in selected:
+            o.select_set(False)
+        obj.select_set(True)
+        view_layer.objects.active = obj
+        os.makedirs(os.path.dirname(filepath), exist_ok=True)
+        result = bpy.ops.wm.alembic_export(
+            filepath=filepath, start=frame_start, end=frame_end, selected=True, uvs=True, normals=True,
+            face_sets=True, as_background_job=False, evaluation_mode="RENDER", export_custom_properties=False,
+        )
+    finally:
+        obj.select_set(False)
+        for o in selected:
+            o.select_set(True)
+        view_layer.objects.active = active
+    if "FINISHED" not in result or not os.path.isfile(filepath):
+        raise BakeError(f"Blender's Alembic exporter did not write {filepath}")
+
+
+def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list) -> None:
+    """Shows the Alembic file through a Mesh Sequence Cache modifier; the node-group
+    bake modifier stays on the object, disabled, to switch back. `stored_path` is the
+    path kept in the .blend (relative where possible); new cache files go to `created`."""
+    existing = set(bpy.data.cache_files)
+    result = bpy.ops.cachefile.open(filepath=filepath)
+    new = [c for c in bpy.data.cache_files if c not in existing]
+    created.extend(new)
+    if "FINISHED" not in result or not new:
+        raise BakeError(f"cannot open the Alembic cache {filepath}")
+    cache = new[0]
+    cache.filepath = stored_path
+    old = obj.modifiers.get(CACHE_MODIFIER_NAME)
+    if old is not None:
+        obj.modifiers.remove(old)
+    modifier = obj.modifiers.new(CACHE_MODIFIER_NAME, "MESH_SEQUENCE_CACHE")
+    modifier.cache_file = cache
+    # The archive's object paths are read when the modifier is first evaluated.
+    bpy.context.evaluated_depsgraph_get().update()
+    paths = [p.path for p in cache.object_paths]
+    name = obj.name
+    # The exporter writes /<object>/<mesh>; pick our object's mesh.
+    candidates = [p for p in paths if p.count("/") >= 2 and p.split("/")[1] in (name, bpy.path.clean_name(name))]
+    if not candidates:
+        raise BakeError(f"the Alembic cache {filepath} holds no mesh of '{name}' (paths: {paths})")
+    modifier.object_path = candidates[0]
+    nodes_modifier = obj.modifiers.get(MODIFIER_NAME)
+    if nodes_modifier is not None:
+        nodes_modifier.show_viewport = False
+        nodes_modifier.show_render = False
+
+
+# -- file sequences -----------------------------------------------------------------
+
+def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=None) -> list[str]:
+    """One file per frame (the slice, object space) with animanifold's mesh writer."""
+    manifold = live.manifold_for(obj)
+    os.makedirs(directory, exist_ok=True)
+    ext = {"OBJ": ".obj", "PLY": ".ply"}[fmt]
+    written = []
+    for i, frame in enumerate(frames):
+        s = manifold.slice(float(frame), "t")
+        path = os.path.join(directory, f"{bpy.path.clean_name(obj.name)}_{frame:06d}{ext}")
+        am.write_mesh(path, np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.faces))
+        written.append(path)
+        if progress is not None:
+            progress(i + 1)
+    return written

@@ -1,0 +1,50 @@
+"""Application handlers: live slicing on frame change, re-attach after load.
+
+Both are @persistent so they stay registered across file loads, and are
+found by name on register so reloading the add-on never doubles them.
+"""
+
+from __future__ import annotations
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import live
+
+
+@persistent
+def animanifold_frame_change_post(scene, depsgraph=None):
+    live.update_scene(scene)
+
+
+@persistent
+def animanifold_load_post(*_args):
+    # A new file: forget caches and errors of the previous one, then show every
+    # live manifold at its scene's current frame (its cache may have changed).
+    live.clear()
+    for scene in bpy.data.scenes:
+        live.update_scene(scene)
+
+
+_HANDLERS = (
+    (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
+    (bpy.app.handlers.load_post, animanifold_load_post),
+)
+
+
+def _remove_by_name(handler_list, name):
+    for h in list(handler_list):
+        if getattr(h, "__name__", None) == name and getattr(h, "__module__", "").endswith("handlers"):
+            handler_list.remove(h)
+
+
+def register_handlers():
+    for handler_list, fn in _HANDLERS:
+        _remove_by_name(handler_list, fn.__name__)  # leftovers of an earlier load of the add-on
+        handler_list.append(fn)
+
+
+def unregister_handlers():
+    for handler_list, fn in _HANDLERS:
+        _remove_by_name(handler_list, fn.__name__)
+    live.clear()

@@ -1,0 +1,290 @@
+"""Sampling an object's evaluated mesh over a frame range into keyframes.
+
+Everything is numpy + foreach_get: no geometry in Python loops. The result is
+what :func:`animanifold.stitch` takes: positions (m, k, 3), triangles (l, 3),
+times (m,), per-vertex UVs and per-face material indices. The mesh is split at
+UV seams so every keyframe vertex carries one UV; the split is the same for
+every sample (corners are welded by (vertex, uv at every sample)).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import bpy
+import numpy as np
+
+
+class SamplingError(Exception):
+    """The object cannot be sampled into keyframes (the message says why and where)."""
+
+
+# -- which frames --------------------------------------------------------------
+
+def _fcurves(anim_data) -> list:
+    """F-curves of the action assigned to `anim_data` (legacy or slotted actions)."""
+    if anim_data is None or anim_data.action is None:
+        return []
+    action = anim_data.action
+    layers = getattr(action, "layers", None)
+    if layers is not None and len(layers) > 0:  # Blender 4.4+: layered (slotted) actions
+        slot = getattr(anim_data, "action_slot", None)
+        curves = []
+        for layer in layers:
+            for strip in layer.strips:
+                if slot is not None:
+                    bag = strip.channelbag(slot)
+                    if bag is not None:
+                        curves.extend(bag.fcurves)
+                else:
+                    for bag in strip.channelbags:
+                        curves.extend(bag.fcurves)
+        return curves
+    return list(getattr(action, "fcurves", []))
+
+
+def driving_animation(obj) -> list[tuple[str, object]]:
+    """(label, AnimData) of every action that can move `obj`'s evaluated mesh:
+    the object's own action (transforms, modifier settings), its mesh's and shape
+    keys' actions, and the actions of objects its modifiers (armature, lattice,
+    hook, ...) or an armature parent read."""
+    sources = [(f"object '{obj.name}'", obj.animation_data)]
+    mesh = obj.data
+    sources.append((f"mesh '{mesh.name}'", mesh.animation_data))
+    if mesh.shape_keys is not None:
+        sources.append((f"shape keys of '{mesh.name}'", mesh.shape_keys.animation_data))
+    others = []
+    for mod in obj.modifiers:
+        other = getattr(mod, "object", None)
+        if isinstance(other, bpy.types.Object) and other != obj:
+            others.append(other)
+    if obj.parent is not None and obj.parent_type == "ARMATURE":
+        others.append(obj.parent)
+    for other in others:
+        sources.append((f"object '{other.name}'", other.animation_data))
+        if other.data is not None and hasattr(other.data, "animation_data"):
+            sources.append((f"data of '{other.name}'", other.data.animation_data))
+    return [(label, ad) for label, ad in sources if ad is not None and ad.action is not None]
+
+
+def keyframe_frames(obj) -> np.ndarray:
+    """Sorted unique frames of every keyframe of every action driving `obj`."""
+    frames = [np.empty(0)]
+    for _, anim_data in driving_animation(obj):
+        for fc in _fcurves(anim_data):
+            n = len(fc.keyframe_points)
+            if n:
+                co = np.empty(2 * n, dtype=np.float32)
+                fc.keyframe_points.foreach_get("co", co)
+                frames.append(co[0::2].astype(np.float64))
+    return np.unique(np.concatenate(frames))
+
+
+def sample_frames(obj, frame_start: float, frame_end: float, mode: str = "KEYFRAMES", step: int = 1) -> np.ndarray:
+    """The sample frames in [frame_start, frame_end]: keyframes (mode 'KEYFRAMES')
+    or every `step` frames ('EVERY_N'); the first and last frame always."""
+    if not frame_end > frame_start:
+        raise SamplingError(f"the frame range {frame_start:g}–{frame_end:g} is empty: the end must be after the start")
+    if mode == "EVERY_N":
+        if step < 1:
+            raise SamplingError(f"'every N frames' needs N ≥ 1, got {step}")
+        inner = np.arange(frame_start, frame_end, step, dtype=np.float64)
+    elif mode == "KEYFRAMES":
+        if not driving_animation(obj):
+            raise SamplingError(
+                f"'{obj.name}' has no animation: no object, shape-key or armature action drives it "
+                "(for procedural animation use 'every N frames' sampling)"
+            )
+        keys = keyframe_frames(obj)
+        inner = keys[(keys > frame_start) & (keys < frame_end)]
+    else:
+        raise SamplingError(f"unknown sampling mode {mode!r}")
+    return np.unique(np.concatenate([[float(frame_start)], inner, [float(frame_end)]]))
+
+
+# -- the evaluated mesh ----------------------------------------------------------
+
+@dataclass
+class MeshSample:
+    positions: np.ndarray  # (n, 3) float64, local space
+    normals: np.ndarray  # (n, 3) float32 vertex normals
+    loop_vertex: np.ndarray  # (L,) int32: the connectivity that must not change
+    poly_start: np.ndarray  # (P,) int32
+    loop_uv: np.ndarray | None  # (L, 2) float32 or None
+    uv_name: str | None
+    matrix_world: np.ndarray  # (4, 4)
+    # triangulation (first sample only: n-gon triangulation depends on the shape)
+    tri_vertices: np.ndarray | None = None  # (T, 3) int32
+    tri_loops: np.ndarray | None = None  # (T, 3) int32
+    material_index: np.ndarray | None = None  # (T,) int32
+    smooth: np.ndarray | None = None  # (T,) int32 (0 flat, 1 smooth)
+
+
+def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
+    """Arrays of an (evaluated) mesh; with `triangulate`, its loop triangles too."""
+    n, L, P = len(mesh.vertices), len(mesh.loops), len(mesh.polygons)
+    co = np.empty(3 * n, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    normals = np.empty(3 * n, dtype=np.float32)
+    mesh.vertices.foreach_get("normal", normals)
+    loop_vertex = np.empty(L, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", loop_vertex)
+    poly_start = np.empty(P, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_start", poly_start)
+    loop_uv, uv_name = None, None
+    layer = mesh.uv_layers.active
+    if layer is not None:
+        loop_uv = np.empty(2 * L, dtype=np.float32)
+        layer.data.foreach_get("uv", loop_uv)
+        loop_uv = loop_uv.reshape(L, 2) + np.float32(0.0)  # + 0 turns -0.0 into 0.0
+        uv_name = layer.name
+    sample = MeshSample(co.reshape(n, 3).astype(np.float64), normals.reshape(n, 3), loop_vertex, poly_start, loop_uv, uv_name,
+                        np.array(matrix_world, dtype=np.float64))
+    if triangulate:
+        mesh.calc_loop_triangles()
+        tris = mesh.loop_triangles
+        T = len(tris)
+        tv = np.empty(3 * T, dtype=np.int32)
+        tl = np.empty(3 * T, dtype=np.int32)
+        mi = np.empty(T, dtype=np.int32)
+        poly = np.empty(T, dtype=np.int32)
+        tris.foreach_get("vertices", tv)
+        tris.foreach_get("loops", tl)
+        tris.foreach_get("material_index", mi)
+        tris.foreach_get("polygon_index", poly)
+        smooth_poly = np.empty(P, dtype=bool)
+        mesh.polygons.foreach_get("use_smooth", smooth_poly)
+        sample.tri_vertices = tv.reshape(T, 3)
+        sample.tri_loops = tl.reshape(T, 3)
+        sample.material_index = mi
+        sample.smooth = smooth_poly[poly].astype(np.int32)
+    return sample
+
+
+@dataclass
+class Keyframes:
+    """Keyframes ready for animanifold.stitch."""
+
+    times: np.ndarray  # (m,)
+    positions: np.ndarray  # (m, k, 3) in the local space of the object at the first sample
+    normals: np.ndarray  # (m, k, 3) vertex normals (same space)
+    faces: np.ndarray  # (l, 3)
+    uv: np.ndarray | None  # (k, 2) or (m, k, 2)
+    uv_name: str | None
+    material_index: np.ndarray  # (l,)
+    smooth: np.ndarray  # (l,)
+    source_vertex: np.ndarray  # (k,) index of the source mesh vertex
+    matrix_world: np.ndarray  # (4, 4) world matrix of the object at the first sample
+    moves: bool = False  # object-level motion was baked into the positions
+    notes: list = field(default_factory=list)
+
+
+def weld_corners(tri_vertices: np.ndarray, corner_uvs: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Splits vertices at UV seams, consistently for every sample.
+
+    tri_vertices (T, 3); corner_uvs: per sample (T*3, 2) float32 arrays. Corners
+    are grouped by vertex, then refined by their UV at each sample, so two
+    corners share a new vertex only if they share the vertex and the UV at every
+    sample. Returns faces (T, 3) over the new vertices, new → source vertex
+    (k,), and the first corner of each new vertex (k,).
+    """
+    key = tri_vertices.reshape(-1).astype(np.int64)
+    previous = None
+    for uv in corner_uvs:
+        if previous is not None and np.array_equal(uv, previous):
+            continue
+        previous = uv
+        bits = np.ascontiguousarray(uv).view(np.uint32).astype(np.int64)
+        rows = np.column_stack([key, bits[:, 0], bits[:, 1]])
+        _, key = np.unique(rows, axis=0, return_inverse=True)
+        key = key.reshape(-1)
+    _, first_corner, inverse = np.unique(key, return_index=True, return_inverse=True)
+    faces = inverse.reshape(-1, 3).astype(np.int32)
+    return faces, tri_vertices.reshape(-1)[first_corner].astype(np.int32), first_corner
+
+
+def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
+    """Evaluates `obj` at each frame and returns corresponding keyframes.
+
+    Restores the scene's current frame. Raises SamplingError when the mesh's
+    connectivity changes between samples (naming the frame) or nothing moves.
+    """
+    scene = context.scene
+    frame0, subframe0 = scene.frame_current, scene.frame_subframe
+    samples: list[MeshSample] = []
+    try:
+        for i, frame in enumerate(frames):
+            whole = math.floor(frame)
+            scene.frame_set(int(whole), subframe=float(frame - whole))
+            depsgraph = context.evaluated_depsgraph_get()
+            ob_eval = obj.evaluated_get(depsgraph)
+            mesh = ob_eval.to_mesh()
+            try:
+                sample = read_mesh(mesh, ob_eval.matrix_world, triangulate=(i == 0))
+            finally:
+                ob_eval.to_mesh_clear()
+            if i == 0:
+                if len(sample.tri_vertices) == 0:
+                    raise SamplingError(f"'{obj.name}' has no faces at frame {frame:g}")
+            else:
+                ref = samples[0]
+                if (len(sample.positions) != len(ref.positions) or not np.array_equal(sample.poly_start, ref.poly_start)
+                        or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
+                    raise SamplingError(
+                        f"the topology of '{obj.name}' changes at frame {frame:g} "
+                        f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
+                        f"{frames[0]:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
+                        "a keyframed action must keep the mesh's connectivity"
+                    )
+            samples.append(sample)
+            if progress is not None:
+                progress(i + 1)
+    finally:
+        scene.frame_set(frame0, subframe=subframe0)
+
+    ref = samples[0]
+    corners = ref.tri_loops.reshape(-1)
+    uvs = []
+    if ref.loop_uv is not None:
+        uvs = [s.loop_uv[corners] if s.loop_uv is not None and s.loop_uv.shape == ref.loop_uv.shape
+               else ref.loop_uv[corners] for s in samples]
+    faces, source_vertex, first_corner = weld_corners(ref.tri_vertices, uvs)
+
+    m0 = ref.matrix_world
+    moves = any(not np.array_equal(s.matrix_world, m0) for s in samples)
+    if moves:
+        inv0 = np.linalg.inv(m0)
+        rel = [inv0 @ s.matrix_world for s in samples]
+        positions = np.stack([s.positions[source_vertex] @ r[:3, :3].T + r[:3, 3] for s, r in zip(samples, rel)])
+        normals = np.stack([s.normals[source_vertex] @ np.linalg.inv(r[:3, :3]) for s, r in zip(samples, rel)])
+    else:
+        positions = np.stack([s.positions[source_vertex] for s in samples])
+        normals = np.stack([s.normals[source_vertex] for s in samples]).astype(np.float64)
+
+    if np.all(positions == positions[0]):
+        raise SamplingError(
+            f"'{obj.name}' does not move in frames {frames[0]:g}–{frames[-1]:g}: no animation in the range"
+        )
+
+    uv = None
+    if uvs:
+        distinct = [u for j, u in enumerate(uvs) if j == 0 or not np.array_equal(u, uvs[0])]
+        if len(distinct) == 1:
+            uv = uvs[0][first_corner].astype(np.float64)
+        else:
+            uv = np.stack([u[first_corner] for u in uvs]).astype(np.float64)
+
+    return Keyframes(
+        times=np.asarray(frames, dtype=np.float64),
+        positions=positions,
+        normals=normals,
+        faces=faces,
+        uv=uv,
+        uv_name=ref.uv_name,
+        material_index=ref.material_index,
+        smooth=ref.smooth,
+        source_vertex=source_vertex,
+        matrix_world=m0,
+        moves=moves,
+    )

@@ -1,0 +1,152 @@
+"""The main job, headless: build the demo scene, convert its shape-key action into
+an animation manifold, bake it (node group; Alembic where this Blender has it),
+save the .blend, and render a contact sheet of several frames with Cycles on the
+CPU. Everything lands in out/ (or the folder given).
+
+    python3 blender_scenes/run_main_job.py [--out out] [--frames 1,8,...]      # bpy 4.5
+    blender -b --factory-startup --python-exit-code 1 --python blender_scenes/run_main_job.py -- [--out out]
+
+The add-on is taken from the dev tree (addon/ and python/ beside this folder);
+run scripts/build.sh first so the compiled module exists.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+for p in (str(ROOT / "python"), str(ROOT / "addon"), str(HERE)):
+    if p not in sys.path:
+        sys.path.insert(0, p)
+
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+from build_demo_scene import DEMO_NAME, build_demo_scene  # noqa: E402
+
+CONTACT_FRAMES = (1, 7, 12, 18, 24, 30, 36, 42)
+
+
+def _args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else (
+        sys.argv[1:] if sys.argv and sys.argv[0].endswith(".py") else [])
+    parser = argparse.ArgumentParser(description="animanifold main job (Blender)")
+    parser.add_argument("--out", type=Path, default=ROOT / "out")
+    parser.add_argument("--frames", default=",".join(map(str, CONTACT_FRAMES)), help="frames of the contact sheet")
+    parser.add_argument("--resolution", default="192x144")
+    parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument("--sampling", choices=("KEYFRAMES", "EVERY_N"), default="EVERY_N",
+                        help="Convert's sampling: the action's keyframes, or every --step frames (smoother in-betweens)")
+    parser.add_argument("--step", type=int, default=3)
+    parser.add_argument("--segments", type=int, default=48, help="density of the demo sphere")
+    return parser.parse_args(argv)
+
+
+def _run(op, **kwargs):
+    result = op(**kwargs)
+    if "FINISHED" not in result:
+        raise SystemExit(f"main job: {op.idname_py()} returned {result}")
+
+
+def render_contact_sheet(scene, frames, out: Path, resolution, samples) -> Path:
+    """Renders each frame (Cycles, CPU) and tiles them into out/contact_sheet.png."""
+    w, h = resolution
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = samples
+    if hasattr(scene.cycles, "use_adaptive_sampling"):
+        scene.cycles.use_adaptive_sampling = False
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x, scene.render.resolution_y = w, h
+    scene.render.resolution_percentage = 100
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = 2
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.image_settings.color_mode = "RGBA"
+    frame_dir = out / "frames"
+    frame_dir.mkdir(parents=True, exist_ok=True)
+    tiles = []
+    for f in frames:
+        scene.frame_set(f)
+        path = frame_dir / f"frame_{f:04d}.png"
+        scene.render.filepath = str(path)
+        bpy.ops.render.render(write_still=True)
+        img = bpy.data.images.load(str(path))
+        px = np.empty(w * h * 4, dtype=np.float32)
+        img.pixels.foreach_get(px)
+        tiles.append(px.reshape(h, w, 4))
+        bpy.data.images.remove(img)
+    cols = 4
+    rows = (len(tiles) + cols - 1) // cols
+    sheet = np.ones((rows * h, cols * w, 4), dtype=np.float32)
+    for i, tile in enumerate(tiles):
+        r, c = divmod(i, cols)
+        # images are stored bottom-up: the first frame goes top-left
+        y0 = (rows - 1 - r) * h
+        sheet[y0:y0 + h, c * w:(c + 1) * w] = tile
+    image = bpy.data.images.new("contact_sheet", cols * w, rows * h, alpha=True)
+    image.pixels.foreach_set(sheet.reshape(-1))
+    target = out / "contact_sheet.png"
+    image.filepath_raw = str(target)
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+    return target
+
+
+def main() -> int:
+    args = _args()
+    out = args.out.resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    frames = [int(f) for f in args.frames.split(",") if f]
+    w, h = (int(v) for v in args.resolution.lower().split("x"))
+    import animanifold_blender
+
+    report = {"blender": bpy.app.version_string}
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    animanifold_blender.register()
+    try:
+        t = time.perf_counter()
+        src = build_demo_scene(segments=args.segments, rings=args.segments // 2)
+        blend = out / "animanifold_demo.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+        report["source"] = {"name": src.name, "vertices": len(src.data.vertices), "faces": len(src.data.polygons)}
+
+        t = time.perf_counter()
+        _run(bpy.ops.animanifold.convert_action, sampling=args.sampling, step=args.step)
+        man = bpy.data.objects[f"{DEMO_NAME}_manifold"]
+        manifold = animanifold_blender.live.manifold_for(man)
+        report["convert"] = {"seconds": round(time.perf_counter() - t, 3), "cache": man.animanifold.cache_path,
+                             "tets": int(len(manifold.simplices)),
+                             "keyframe_times": manifold.metadata["keyframe_times"]}
+
+        t = time.perf_counter()
+        scene = bpy.context.scene
+        bake_kwargs = {"alembic": bool(bpy.app.alembic.supported), "use_mesh_cache": False}
+        _run(bpy.ops.animanifold.bake, **bake_kwargs)
+        report["bake"] = {"seconds": round(time.perf_counter() - t, 3), "frames": [scene.frame_start, scene.frame_end],
+                          "collection": man.animanifold.bake_collection.name, "alembic": bake_kwargs["alembic"]}
+        bpy.ops.wm.save_mainfile()
+        report["blend"] = str(blend)
+
+        t = time.perf_counter()
+        sheet = render_contact_sheet(scene, frames, out, (w, h), args.samples)
+        report["render"] = {"seconds": round(time.perf_counter() - t, 3), "frames": frames, "contact_sheet": str(sheet),
+                            "engine": "CYCLES (CPU)", "samples": args.samples, "resolution": [w, h]}
+        (out / "main_job.json").write_text(json.dumps(report, indent=2))
+        print(json.dumps(report, indent=2))
+    finally:
+        # bpy as a module hangs at interpreter exit while Python classes or handlers
+        # are registered: always unregister.
+        animanifold_blender.unregister()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

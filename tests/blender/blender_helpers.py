@@ -1,0 +1,87 @@
+"""Helpers shared by the Blender tests (import after pytest.importorskip("bpy"))."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "blender_scenes"
+DATA = ROOT.parent / "shared" / "data"
+
+# -- helpers ---------------------------------------------------------------------
+
+def eval_corners(obj, frame=None) -> np.ndarray:
+    """(T, 3, 3) loop-triangle corner positions of the evaluated mesh, local space."""
+    if frame is not None:
+        bpy.context.scene.frame_set(frame)
+    ob_eval = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = ob_eval.to_mesh()
+    try:
+        return mesh_corners(mesh)
+    finally:
+        ob_eval.to_mesh_clear()
+
+
+def mesh_corners(mesh) -> np.ndarray:
+    mesh.calc_loop_triangles()
+    co = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", co)
+    tv = np.empty(3 * len(mesh.loop_triangles), np.int32)
+    mesh.loop_triangles.foreach_get("vertices", tv)
+    return co.reshape(-1, 3).astype(np.float64)[tv.reshape(-1, 3)]
+
+
+def mesh_vertices(mesh) -> np.ndarray:
+    co = np.empty(3 * len(mesh.vertices), np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def canonical(corners: np.ndarray, decimals: int | None = None) -> np.ndarray:
+    """Triangles (T, 3, 3) as a sorted (T, 9) table, each triangle rotated (keeping its
+    orientation) to start at its lexicographically smallest corner."""
+    c = np.asarray(corners, dtype=np.float64)
+    if decimals is not None:
+        c = np.round(c, decimals)
+    T = len(c)
+    keys = c.reshape(T * 3, 3)
+    order = np.lexsort(keys.T[::-1]).argsort().reshape(T, 3)  # rank of each corner
+    start = order.argmin(axis=1)
+    idx = (start[:, None] + np.arange(3)[None, :]) % 3
+    rotated = np.take_along_axis(c, idx[:, :, None], axis=1).reshape(T, 9)
+    return rotated[np.lexsort(rotated.T[::-1])]
+
+
+def scene_state() -> dict:
+    """What a failed operator must leave unchanged."""
+    scene = bpy.context.scene
+    vl = bpy.context.view_layer
+    return {
+        "objects": sorted(o.name for o in bpy.data.objects),
+        "meshes": sorted(m.name for m in bpy.data.meshes),
+        "collections": sorted(c.name for c in bpy.data.collections),
+        "node_groups": sorted(g.name for g in bpy.data.node_groups),
+        "hidden": sorted(o.name for o in vl.objects if o.hide_get()),
+        "hide_render": sorted(o.name for o in bpy.data.objects if o.hide_render),
+        "selected": sorted(o.name for o in vl.objects if o.select_get()),
+        "active": vl.objects.active.name if vl.objects.active else None,
+        "frame": (scene.frame_current, scene.frame_subframe),
+        "modifiers": {o.name: [m.name for m in o.modifiers] for o in bpy.data.objects},
+    }
+
+
+def run_fresh_blender(script: str, *args: str, timeout: int = 240) -> str:
+    """Runs `script` in a fresh python3 process with bpy, WITHOUT the add-on or the
+    animanifold package on sys.path; returns its stdout."""
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}
+    proc = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, env=env,
+                          timeout=timeout, cwd="/")
+    if proc.returncode != 0:
+        raise AssertionError(f"fresh Blender process failed ({proc.returncode}):\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+    return proc.stdout

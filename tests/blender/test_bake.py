@@ -1,0 +1,180 @@
+"""Bake: node-group frames collection, Alembic + Mesh Sequence Cache, OBJ/PLY
+sequence, frame-range chunks; the baked .blend is checked in a fresh process
+without the add-on."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
+
+import animanifold as am  # noqa: E402
+from blender_helpers import canonical, mesh_corners, run_fresh_blender, scene_state  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+FRAMES = (1, 6, 12, 19, 30, 41, 48)
+
+# Runs in a fresh python3 + bpy without animanifold: opens the .blend, prints per frame
+# the evaluated mesh of the manifold object as JSON (corners, material indices, UVs).
+PROBE = r"""
+import json, sys
+import bpy, numpy as np
+blend, name, frames = sys.argv[1], sys.argv[2], [int(f) for f in sys.argv[3].split(",")]
+assert "animanifold" not in sys.modules and "animanifold_blender" not in sys.modules
+bpy.ops.wm.open_mainfile(filepath=blend)
+handlers = [h.__name__ for h in bpy.app.handlers.frame_change_post]
+assert not any("animanifold" in h for h in handlers), handlers
+obj = bpy.data.objects[name]
+out = {}
+for f in frames:
+    bpy.context.scene.frame_set(f)
+    me = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    me.calc_loop_triangles()
+    co = np.empty(3 * len(me.vertices), np.float32); me.vertices.foreach_get("co", co)
+    tv = np.empty(3 * len(me.loop_triangles), np.int32); me.loop_triangles.foreach_get("vertices", tv)
+    mi = np.empty(len(me.loop_triangles), np.int32); me.loop_triangles.foreach_get("material_index", mi)
+    uv_names = [a.name for a in me.attributes if a.data_type == "FLOAT2" and a.domain == "CORNER"]
+    out[f] = {"corners": co.reshape(-1, 3)[tv.reshape(-1, 3)].tolist(), "materials": sorted(set(mi.tolist())),
+              "slots": [s.material.name if s.material else None for s in obj.material_slots],
+              "uv": uv_names, "modifiers": [m.type for m in obj.modifiers if m.show_render]}
+bpy.ops.wm.read_factory_settings(use_empty=True)
+print("PROBE" + json.dumps(out))
+"""
+
+
+def probe(blend, name, frames):
+    out = run_fresh_blender(PROBE, str(blend), name, ",".join(map(str, frames)))
+    line = [ln for ln in out.splitlines() if ln.startswith("PROBE")][-1]
+    return {int(k): v for k, v in json.loads(line[5:]).items()}
+
+
+@pytest.fixture()
+def converted(demo, tmp_path):
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "bake.blend"))
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    man = bpy.data.objects["Blob_manifold"]
+    return man, am.load(bpy.path.abspath(man.animanifold.cache_path)), tmp_path
+
+
+def expected_corners(cache, frame):
+    s = cache.slice(frame)
+    return s.vertices.astype(np.float32).astype(np.float64)[s.faces]  # as Blender stores them
+
+
+def test_node_group_bake_plays_without_the_addon(converted):
+    man, cache, tmp = converted
+    meshes_before = len(bpy.data.meshes)
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert man.animanifold.mode == "BAKED"
+    coll = man.animanifold.bake_collection
+    assert coll is not None and len(coll.objects) == 48
+    assert len(bpy.data.meshes) == meshes_before + 48
+    # In this process too (the handler leaves baked objects alone).
+    bpy.context.scene.frame_set(19)
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 19)), atol=1e-6)
+    bpy.ops.wm.save_mainfile()
+
+    result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
+    for f in FRAMES:
+        got = np.array(result[f]["corners"])
+        np.testing.assert_allclose(canonical(got), canonical(expected_corners(cache, f)), atol=1e-6, err_msg=f"frame {f}")
+        assert result[f]["materials"] == [0, 1] and result[f]["slots"] == ["BlobSkin", "BlobCap"]
+        assert "UVMap" in result[f]["uv"]
+        assert result[f]["modifiers"] == ["NODES"]
+
+    # Re-bake replaces the old bake (nothing left behind).
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert len(bpy.data.meshes) == meshes_before + 48
+    assert [c.name for c in bpy.data.collections] == ["Blob_manifold_bake"]
+    assert [m.name for m in man.modifiers] == ["Animanifold Bake"]
+
+
+@pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
+def test_alembic_mesh_sequence_cache_bake(converted):
+    man, cache, tmp = converted
+    assert bpy.ops.animanifold.bake(alembic=True, use_mesh_cache=True) == {"FINISHED"}
+    abc = tmp / "animanifold_bake" / "Blob_manifold.abc"
+    assert abc.is_file() and abc.stat().st_size > 0
+    mod = man.modifiers["Animanifold Alembic"]
+    assert mod.type == "MESH_SEQUENCE_CACHE" and mod.cache_file.filepath == "//animanifold_bake/Blob_manifold.abc"
+    assert not man.modifiers["Animanifold Bake"].show_render
+    bpy.ops.wm.save_mainfile()
+    result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
+    for f in FRAMES:
+        assert result[f]["modifiers"] == ["MESH_SEQUENCE_CACHE"]
+        got = np.array(result[f]["corners"])
+        np.testing.assert_allclose(canonical(got, 5), canonical(expected_corners(cache, f), 5), atol=2e-5,
+                                   err_msg=f"frame {f}")
+
+
+def test_obj_and_ply_sequences_and_farm_chunks(converted):
+    man, cache, tmp = converted
+    assert bpy.ops.animanifold.bake(alembic=False, export="OBJ", use_scene_range=False, frame_start=10,
+                                    frame_end=14, directory=str(tmp / "objs")) == {"FINISHED"}
+    files = sorted(p.name for p in (tmp / "objs").iterdir())
+    assert files == [f"Blob_manifold_{f:06d}.obj" for f in range(10, 15)]
+    for f in (10, 12, 14):
+        v, faces = am.read_mesh(tmp / "objs" / f"Blob_manifold_{f:06d}.obj")
+        np.testing.assert_allclose(canonical(v[faces], 5), canonical(expected_corners(cache, f), 5), atol=1e-5)
+    # The chunk's collection holds only its frames; the node group maps frame 10 to child 0.
+    assert len(man.animanifold.bake_collection.objects) == 5
+    bpy.context.scene.frame_set(12)
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 12)), atol=1e-6)
+    # PLY, another chunk into the same folder, as a second farm job would.
+    assert bpy.ops.animanifold.bake(alembic=False, export="PLY", use_scene_range=False, frame_start=15,
+                                    frame_end=16, directory=str(tmp / "objs")) == {"FINISHED"}
+    assert (tmp / "objs" / "Blob_manifold_000016.ply").is_file()
+
+
+def test_bake_failures_leave_the_scene_unchanged(converted, monkeypatch):
+    man, cache, tmp = converted
+    before = scene_state()
+    with pytest.raises(RuntimeError, match="outside the manifold's frames 1–48"):
+        bpy.ops.animanifold.bake(alembic=False, use_scene_range=False, frame_start=100, frame_end=120)
+    assert scene_state() == before
+    # A failure in the middle of building the frames removes what was built.
+    from animanifold_blender import live
+
+    real = live.write_mesh
+    calls = {"n": 0}
+
+    def failing(*args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 10:
+            raise RuntimeError("disk on fire")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(live, "write_mesh", failing)
+    with pytest.raises(RuntimeError, match="Bake failed: disk on fire"):
+        bpy.ops.animanifold.bake(alembic=False)
+    monkeypatch.undo()
+    assert scene_state() == before
+    assert man.animanifold.mode == "LIVE"
+
+
+def test_failed_rebake_restores_the_previous_bake(converted, monkeypatch):
+    man, cache, tmp = converted
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    before = scene_state()
+    group = man.modifiers["Animanifold Bake"].node_group
+    from animanifold_blender import bake
+
+    def failing_export(*args, **kwargs):
+        raise bake.BakeError("exporter exploded")
+
+    monkeypatch.setattr(bake, "export_alembic", failing_export)
+    monkeypatch.setattr(bake, "alembic_supported", lambda: True)
+    with pytest.raises(RuntimeError, match="exporter exploded"):
+        bpy.ops.animanifold.bake(alembic=True)
+    assert scene_state() == before
+    assert man.modifiers["Animanifold Bake"].node_group == group and man.animanifold.mode == "BAKED"
+    assert man.animanifold.bake_collection.name == "Blob_manifold_bake"
+    bpy.context.scene.frame_set(30)
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 30)), atol=1e-6)

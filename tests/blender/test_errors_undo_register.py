@@ -1,0 +1,136 @@
+"""Failures leave the scene unchanged; undo; register/unregister cycles."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
+
+from blender_helpers import scene_state  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+
+def fails(match, **kwargs):
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=match):
+        bpy.ops.animanifold.convert_action(**kwargs)
+    assert scene_state() == before, "a failed Convert changed the scene"
+
+
+def test_not_a_mesh(empty_scene):
+    bpy.ops.object.camera_add()
+    fails(r"'Camera' is a camera, not a mesh")
+    bpy.ops.object.empty_add()
+    fails(r"'Empty' is a empty, not a mesh|not a mesh")
+
+
+def test_no_animation(empty_scene):
+    bpy.ops.mesh.primitive_cube_add()
+    fails(r"'Cube' has no animation")
+    fails(r"'Cube' does not move in frames 1–250: no animation in the range", sampling="EVERY_N", step=50)
+
+
+def test_animation_outside_the_range(empty_scene):
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    for frame, z in ((300, 0.0), (320, 1.0)):
+        cube.location.z = z
+        cube.keyframe_insert("location", frame=frame)
+    empty_scene.frame_set(1)
+    fails(r"does not move in frames 1–250: no animation in the range")
+
+
+def test_empty_range(demo):
+    scene = bpy.context.scene
+    scene.frame_end = scene.frame_start
+    fails(r"frame range 1–1 is empty")
+    fails(r"frame range 20–10 is empty", use_scene_range=False, frame_start=20, frame_end=10)
+
+
+def test_topology_change_names_the_frame(demo):
+    # A Decimate modifier whose ratio is keyframed: connectivity changes mid-range.
+    mod = demo.modifiers.new("Decimate", "DECIMATE")
+    for frame, ratio in ((1, 1.0), (10, 1.0), (20, 0.4)):
+        mod.ratio = ratio
+        demo.keyframe_insert('modifiers["Decimate"].ratio', frame=frame)
+    bpy.context.scene.frame_set(1)
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=r"topology of 'Blob' changes at frame 12 "):
+        bpy.ops.animanifold.convert_action()
+    assert scene_state() == before
+
+
+def test_unsaved_file_with_relative_cache_folder(demo):
+    fails(r"relative to the \.blend, which is not saved yet", cache_directory="//caches/")
+
+
+def test_poll_needs_an_active_object(empty_scene):
+    assert not bpy.ops.animanifold.convert_action.poll()
+    assert not bpy.ops.animanifold.bake.poll()  # no manifold object
+
+
+def test_undo_after_convert_restores_the_scene(demo):
+    before = scene_state()
+    bpy.ops.ed.undo_push(message="before convert")
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    # Operators called from Python in background mode push no undo step of their own;
+    # push the one the UI pushes when the operator (bl_options UNDO) finishes.
+    bpy.ops.ed.undo_push(message="Convert to Manifold")
+    assert "Blob_manifold" in bpy.data.objects and bpy.data.objects["Blob"].hide_get()
+    bpy.ops.ed.undo()
+    assert "Blob_manifold" not in bpy.data.objects
+    assert scene_state() == before
+    # Undo reloads data blocks: the handler holds no stale references.
+    for frame in (5, 12, 30):
+        bpy.context.scene.frame_set(frame)
+    bpy.ops.ed.redo()
+    man = bpy.data.objects["Blob_manifold"]
+    bpy.context.scene.frame_set(12)
+    assert len(man.data.polygons) > 0 and bpy.data.objects["Blob"].hide_get()
+
+
+def _handler_count():
+    names = [getattr(h, "__name__", "") for lst in (bpy.app.handlers.frame_change_post, bpy.app.handlers.load_post)
+             for h in lst]
+    return sum(n.startswith("animanifold_") for n in names)
+
+
+def test_register_unregister_register(addon):
+    assert _handler_count() == 2
+    addon.unregister()
+    try:
+        assert _handler_count() == 0
+        assert not hasattr(bpy.types.Object, "animanifold") and not hasattr(bpy.types.Scene, "animanifold")
+        assert not hasattr(bpy.types, "ANIMANIFOLD_OT_convert_action")
+        assert not hasattr(bpy.types, "VIEW3D_PT_animanifold")
+        with pytest.raises((AttributeError, RuntimeError)):
+            bpy.ops.animanifold.convert_action()
+    finally:
+        addon.register()
+    addon.unregister()
+    addon.register()
+    assert _handler_count() == 2
+    assert hasattr(bpy.types, "ANIMANIFOLD_OT_convert_action") and hasattr(bpy.types.Object, "animanifold")
+    # A stale copy of the handler (an earlier load of the module) is replaced, not doubled.
+    addon.handlers.register_handlers()
+    assert _handler_count() == 2
+    # The add-on still works after the cycles.
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    from build_demo_scene import build_demo_scene
+
+    build_demo_scene(segments=8, rings=4)
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    counts = np.array([len(bpy.data.meshes)])
+    bpy.context.scene.frame_set(20)
+    assert len(bpy.data.meshes) == counts[0]
+
+
+def test_bake_in_unsaved_file_needs_a_path(demo):
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}  # cache in the temp folder
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=r"bake folder '//animanifold_bake/' is relative to the \.blend, which is not saved"):
+        bpy.ops.animanifold.bake(alembic=False, export="OBJ")
+    assert scene_state() == before
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}  # the node group needs no path

@@ -1,0 +1,144 @@
+"""Real files from ../shared/data (a .blend with a shape-key action, glTF morph
+targets), and the smoke test with Debian's `blender` 3.4 binary and the zip."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
+
+import animanifold as am  # noqa: E402
+from blender_helpers import DATA, ROOT, SCENES, canonical, eval_corners, mesh_corners  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+BLEND = DATA / "blend" / "01_morphed_cube.blend"
+GLTF = {name: DATA / "gltf" / f"{name}.gltf" for name in ("AnimatedMorphCube", "AnimatedMorphSphere")}
+
+
+def _check_keyframes(src, man, frames):
+    """Same vertex positions (1e-6) and face count at each keyframe. Blender
+    triangulates quads and n-gons by their current shape, while the manifold keeps
+    the first sample's triangulation, so triangles are compared as far as they agree."""
+    for frame in frames:
+        expected = eval_corners(src, frame)
+        got = mesh_corners(man.data)
+        assert len(got) == len(expected), f"frame {frame}"
+        np.testing.assert_allclose(np.unique(got.reshape(-1, 3), axis=0), np.unique(expected.reshape(-1, 3), axis=0),
+                                   atol=1e-6, rtol=0, err_msg=f"frame {frame}")
+
+
+@pytest.mark.data
+@pytest.mark.skipif(not BLEND.is_file(), reason=f"{BLEND} is absent (../shared/data holds the test data)")
+def test_khronos_morphed_cube_blend(addon, tmp_path):
+    shutil.copy(BLEND, tmp_path / "cube.blend")
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "cube.blend"))
+    meshes = [o for o in bpy.data.objects if o.type == "MESH" and o.data.shape_keys is not None]
+    assert meshes, "the .blend should hold a mesh with shape keys"
+    src = meshes[0]
+    bpy.context.view_layer.objects.active = src
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    man = bpy.data.objects[src.name + "_manifold"]
+    cache = am.load(bpy.path.abspath(man.animanifold.cache_path))
+    times = cache.metadata["keyframe_times"]
+    assert len(times) >= 3 and man.animanifold.cache_path.startswith("//")
+    _check_keyframes(src, man, [int(t) for t in times if float(t).is_integer()][:6])
+
+
+def _import_gltf(path):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    import addon_utils
+
+    addon_utils.enable("io_scene_gltf2", default_set=False)
+    assert bpy.ops.import_scene.gltf(filepath=str(path)) == {"FINISHED"}
+    return [o for o in bpy.data.objects if o.type == "MESH" and o.data.shape_keys is not None][0]
+
+
+@pytest.mark.data
+@pytest.mark.parametrize("name", sorted(GLTF))
+def test_gltf_morph_targets(addon, name):
+    path = GLTF[name]
+    if not path.is_file():
+        pytest.skip(f"{path} is absent (../shared/data holds the test data)")
+    src = _import_gltf(path)
+    scene = bpy.context.scene
+    action = src.data.shape_keys.animation_data.action
+    start, end = (int(np.floor(action.frame_range[0])), int(np.ceil(action.frame_range[1])))
+    scene.frame_start, scene.frame_end = start, end
+    bpy.context.view_layer.objects.active = src
+    # glTF keys come at fractional frames: sample every 2 frames (first and last always).
+    assert bpy.ops.animanifold.convert_action(sampling="EVERY_N", step=2) == {"FINISHED"}
+    man = bpy.data.objects[src.name + "_manifold"]
+    cache = am.load(bpy.path.abspath(man.animanifold.cache_path))
+    k = cache.metadata["keyframe_vertices"]
+    assert k >= len(src.data.vertices)  # split at UV seams, never merged
+    assert ("uv" in cache.vertex_attributes) == (len(src.data.uv_layers) > 0)
+    _check_keyframes(src, man, [start, start + 2, end])
+    # The keyframe mode also works on the fractional glTF keys.
+    bpy.ops.object.select_all(action="DESELECT")
+    bpy.context.view_layer.objects.active = src
+    src.hide_set(False)
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
+
+
+BLENDER = shutil.which("blender") or "/usr/bin/blender"
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.path.exists(BLENDER), reason="Debian's blender binary (/usr/bin/blender) is not installed")
+def test_smoke_blender_binary_installs_zip_converts_and_bakes(tmp_path):
+    zip_path = tmp_path / "animanifold_blender.zip"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
+                   check=True, capture_output=True, text=True)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
+    env.pop("PYTHONPATH", None)
+    # Blender's embedded Python derives its prefix from the python3 on PATH: keep a
+    # pyenv (or venv) interpreter that runs pytest from hiding Debian's dist-packages.
+    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
+                                  if ".pyenv" not in p and "/venv" not in p and "/.venv" not in p)
+    for key in [k for k in env if k.startswith("PYENV") or k == "VIRTUAL_ENV"]:
+        env.pop(key)
+    proc = subprocess.run(
+        [BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+         str(ROOT / "tests" / "blender" / "scripts" / "smoke_blender34.py"), "--", str(zip_path), str(SCENES),
+         str(tmp_path)],
+        capture_output=True, text=True, env=env, timeout=300,
+    )
+    assert proc.returncode == 0 and "SMOKE OK" in proc.stdout, proc.stdout[-4000:] + proc.stderr[-4000:]
+
+
+EXTENSION_PROBE = r"""
+import sys
+import bpy
+import addon_utils
+bpy.ops.wm.read_factory_settings(use_empty=True)
+assert bpy.ops.extensions.package_install_files(filepath=sys.argv[1], repo="user_default",
+                                                enable_on_install=True) == {"FINISHED"}
+name = [m for m in sys.modules if m.endswith(".animanifold_blender")][0]
+core = [m for m in sys.modules if m.endswith("animanifold._core")]
+assert core == [name + ".animanifold._core"], core  # the bundled compiled module
+sys.path.insert(0, sys.argv[2])
+from build_demo_scene import build_demo_scene
+build_demo_scene(segments=8, rings=4)
+assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+addon_utils.disable(name)  # bpy as a module hangs at exit with classes registered
+print("EXTENSION OK")
+"""
+
+
+@pytest.mark.slow
+def test_zip_installs_as_a_blender_42_extension(tmp_path):
+    zip_path = tmp_path / "animanifold_blender.zip"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
+                   check=True, capture_output=True, text=True)
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "resources"))
+    env.pop("PYTHONPATH", None)
+    proc = subprocess.run([sys.executable, "-c", EXTENSION_PROBE, str(zip_path), str(SCENES)], capture_output=True,
+                          text=True, env=env, timeout=240, cwd="/")
+    assert proc.returncode == 0 and "EXTENSION OK" in proc.stdout, proc.stdout[-3000:] + proc.stderr[-3000:]
