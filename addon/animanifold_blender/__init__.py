@@ -3,7 +3,8 @@
 baked into data that plays and renders without the add-on.
 
 Modules: properties (settings), sampling (evaluated mesh → keyframes),
-live (slices → meshes), handlers (frame change, load), bake, operators, ui.
+live (slices → meshes), handlers (frame change, load), bake, operators, ui;
+ops_skeleton and ui_tools for the Voronoi skeleton.
 """
 
 bl_info = {
@@ -18,9 +19,10 @@ bl_info = {
 
 import bpy  # noqa: E402
 
-from . import handlers, operators, properties, ui  # noqa: E402
+from . import handlers, operators, ops_skeleton, properties, ui, ui_tools  # noqa: E402
 
-classes = properties.classes + operators.classes + ui.classes
+# Parent panels before their sub-panels.
+classes = properties.classes + operators.classes + ops_skeleton.classes + ui.classes + ui_tools.classes
 
 
 def register():

@@ -1,0 +1,65 @@
+"""animanifold.skeleton adds the Voronoi skeleton of a mesh object (chapter 7)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
+
+from blender_helpers import scene_state  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+
+def world_vertices(obj) -> np.ndarray:
+    co = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    m = np.array(obj.matrix_world)
+    v = co.reshape(-1, 3).astype(np.float64)
+    return v @ m[:3, :3].T + m[:3, 3]
+
+
+def test_torus_internal_skeleton_lies_near_its_core_circle(empty_scene):
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3, major_segments=32, minor_segments=12,
+                                     location=(0.5, 0.0, 0.2))
+    torus = bpy.context.active_object
+    assert bpy.ops.animanifold.skeleton(side="INTERNAL") == {"FINISHED"}
+    skeleton = bpy.context.active_object
+    assert skeleton is not torus and skeleton.name == "Torus_skeleton"
+    v = world_vertices(skeleton) - [0.5, 0.0, 0.2]
+    # every skeleton vertex is inside the tube: within the minor radius of the core circle
+    distance_to_core = np.hypot(np.hypot(v[:, 0], v[:, 1]) - 1.0, v[:, 2])
+    assert len(v) > 0 and distance_to_core.max() < 0.3
+    side = np.empty(len(skeleton.data.polygons), np.int32)
+    skeleton.data.attributes["side"].data.foreach_get("value", side)
+    assert (side == 0).all()
+    assert len(torus.data.vertices) == 32 * 12, "the source mesh was changed"
+
+
+def test_external_skeleton_fills_the_hole(empty_scene):
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
+    assert bpy.ops.animanifold.skeleton(side="EXTERNAL") == {"FINISHED"}
+    v = world_vertices(bpy.context.active_object)
+    assert (np.hypot(v[:, 0], v[:, 1]) < 1.0 + 0.3 + 1e-6).all(), "the external skeleton stays in the convex hull"
+    assert (np.hypot(v[:, 0], v[:, 1]) < 0.7 + 1e-6).any(), "some of it spans the hole"
+
+
+def test_open_mesh_is_refused_and_nothing_is_added(empty_scene):
+    bpy.ops.mesh.primitive_grid_add()
+    before = scene_state()
+    with pytest.raises(RuntimeError, match=r"No skeleton for 'Grid': .*open|boundary"):
+        bpy.ops.animanifold.skeleton()
+    assert scene_state() == before
+
+
+def test_convex_shape_has_no_external_skeleton(empty_scene):
+    bpy.ops.mesh.primitive_ico_sphere_add()
+    before = scene_state()
+    assert bpy.ops.animanifold.skeleton(side="EXTERNAL") == {"CANCELLED"}
+    assert scene_state() == before
+
+
+def test_poll_needs_a_mesh(empty_scene):
+    bpy.ops.object.empty_add()
+    assert not bpy.ops.animanifold.skeleton.poll()
