@@ -21,5 +21,6 @@ void bind_complex(py::module_& m);
 void bind_stitch(py::module_& m);
 void bind_slice(py::module_& m);
 void bind_io(py::module_& m);
+void bind_laplacian(py::module_& m);
 
 }  // namespace animanifold::bindings

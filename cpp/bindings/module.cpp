@@ -19,6 +19,7 @@ PYBIND11_MODULE(_core, m) {
   bind_stitch(m);
   bind_slice(m);
   bind_io(m);
+  bind_laplacian(m);
 }
 
 }  // namespace animanifold::bindings
