@@ -109,6 +109,8 @@ void bind_laplacian(py::module_& m) {
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
         py::arg("zero_detail_vertices") = std::vector<Index>{}, "(L as CSR, delta): L V = Δ for the input.");
 
+  m.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
+        "T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
                        const std::string& method, const std::string& boundary, double lambda, double xi, double ridge,
@@ -127,17 +129,17 @@ void bind_laplacian(py::module_& m) {
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
            py::arg("zero_detail_vertices") = std::vector<Index>{})
       .def("deform",
-           [](Deformer& d, const Eigen::MatrixXd& T) {
+           [](Deformer& d, const Eigen::MatrixXd& T, int steps) {
              py::gil_scoped_release release;
-             return d.deform(T);
+             return d.deform(T, steps);
            },
-           py::arg("transform"))
+           py::arg("transform"), py::arg("steps") = 1)
       .def("deform_to",
-           [](Deformer& d, const PointMatrix& P) {
+           [](Deformer& d, const PointMatrix& P, int steps) {
              py::gil_scoped_release release;
-             return d.deform_to(P);
+             return d.deform_to(P, steps);
            },
-           py::arg("positions"))
+           py::arg("positions"), py::arg("steps") = 1)
       .def("restore",
            [](Deformer& d, int max_iterations, double tolerance) {
              RestoreStatus s;

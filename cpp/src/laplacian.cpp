@@ -7,9 +7,12 @@
 #include "sparse_cholesky.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <complex>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace animanifold {
@@ -414,6 +417,8 @@ struct Deformer::Impl {
   DeformerInfo info;
 
   Index build_and_factor();
+  void place_handles_by_transform(const Eigen::MatrixXd& transform);
+  void place_handles_at(const PointMatrix& positions, double s);
   void grow_constraints(const VertexAdjacency& adjacency);
   PointMatrix solve() const;
 };
@@ -627,46 +632,105 @@ Deformer::~Deformer() = default;
 Deformer::Deformer(Deformer&&) noexcept = default;
 Deformer& Deformer::operator=(Deformer&&) noexcept = default;
 
-PointMatrix Deformer::deform(const Eigen::MatrixXd& transform) {
-  Impl& d = *impl_;
-  if (transform.rows() != d.dim + 1 || transform.cols() != d.dim + 1)
-    fail<InputError>("the handle transform must be ", d.dim + 1, " by ", d.dim + 1, " (affine, homogeneous) for ",
-                     d.dim, "D points, got ", transform.rows(), " by ", transform.cols());
+namespace {
+
+void check_transform(const Eigen::MatrixXd& transform, int dim) {
+  if (transform.rows() != dim + 1 || transform.cols() != dim + 1)
+    fail<InputError>("the handle transform must be ", dim + 1, " by ", dim + 1, " (affine, homogeneous) for ", dim,
+                     "D points, got ", transform.rows(), " by ", transform.cols());
   if (!transform.allFinite()) fail<InputError>("the handle transform has non-finite entries");
-  const Eigen::RowVectorXd last = transform.row(d.dim);
-  Eigen::RowVectorXd expected = Eigen::RowVectorXd::Zero(d.dim + 1);
-  expected(d.dim) = 1;
-  if ((last - expected).cwiseAbs().maxCoeff() > 1e-12)
+  Eigen::RowVectorXd expected = Eigen::RowVectorXd::Zero(dim + 1);
+  expected(dim) = 1;
+  if ((transform.row(dim) - expected).cwiseAbs().maxCoeff() > 1e-12)
     fail<InputError>("the handle transform's last row must be [0 ... 0 1] (an affine map)");
-  const Eigen::MatrixXd linear = transform.topLeftCorner(d.dim, d.dim);
-  const Eigen::RowVectorXd translation = transform.topRightCorner(d.dim, 1).transpose();
-  const Index anchor_count = static_cast<Index>(d.anchors.size());
-  for (Index c = 0; c < anchor_count; ++c) d.constraint_positions.row(c) = d.V0.row(d.anchors(c));
-  for (Index h = 0; h < d.handles.size(); ++h)
-    d.constraint_positions.row(anchor_count + h) = d.V0.row(d.handles(h)) * linear.transpose() + translation;
+}
+
+}  // namespace
+
+Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s) {
+  const int dim = static_cast<int>(transform.rows()) - 1;
+  check_transform(transform, dim);
+  const Eigen::MatrixXd A = transform.topLeftCorner(dim, dim);
+  const Eigen::VectorXd t = transform.topRightCorner(dim, 1);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::MatrixXd R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) fail<InputError>("the handle transform reflects: it cannot be applied in steps");
+  const Eigen::VectorXd sigma = svd.singularValues();
+  if (sigma.minCoeff() <= 0) fail<InputError>("the handle transform is singular: it cannot be applied in steps");
+  const Eigen::MatrixXd S_s = svd.matrixV() * sigma.array().pow(s).matrix().asDiagonal() * svd.matrixV().transpose();
+  // R is orthogonal, hence diagonalisable: R^s = U Λ^s U⁻¹.
+  const Eigen::ComplexEigenSolver<Eigen::MatrixXd> eigen(R);
+  const Eigen::MatrixXcd U = eigen.eigenvectors();
+  Eigen::VectorXcd lambda = eigen.eigenvalues();
+  for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+    const double angle = std::arg(lambda(i));
+    if (std::abs(std::abs(angle) - M_PI) < 1e-9 && s != 0 && s != 1)
+      fail<InputError>("the handle transform rotates by π: its increments are ambiguous; apply it as two halves");
+    lambda(i) = std::polar(1.0, angle * s);
+  }
+  const Eigen::MatrixXcd R_c = U * lambda.asDiagonal() * U.inverse();
+  if (R_c.imag().cwiseAbs().maxCoeff() > 1e-8)
+    fail<InputError>("the handle transform's rotation has no real fractional power");
+  const Eigen::MatrixXd A_s = R_c.real() * S_s;
+  const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(dim, dim) - A;
+  const Eigen::VectorXd c = IA.completeOrthogonalDecomposition().solve(t);
+  const Eigen::VectorXd r = t - IA * c;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Identity(dim + 1, dim + 1);
+  out.topLeftCorner(dim, dim) = A_s;
+  out.topRightCorner(dim, 1) = c - A_s * c + s * r;
+  return out;
+}
+
+void Deformer::Impl::place_handles_by_transform(const Eigen::MatrixXd& transform) {
+  const Eigen::MatrixXd linear = transform.topLeftCorner(dim, dim);
+  const Eigen::RowVectorXd translation = transform.topRightCorner(dim, 1).transpose();
+  const Index anchor_count = static_cast<Index>(anchors.size());
+  for (Index c = 0; c < anchor_count; ++c) constraint_positions.row(c) = V0.row(anchors(c));
+  for (Index h = 0; h < handles.size(); ++h)
+    constraint_positions.row(anchor_count + h) = V0.row(handles(h)) * linear.transpose() + translation;
+}
+
+void Deformer::Impl::place_handles_at(const PointMatrix& positions, double s) {
+  const Index anchor_count = static_cast<Index>(anchors.size());
+  for (Index c = 0; c < anchor_count; ++c) constraint_positions.row(c) = V0.row(anchors(c));
+  for (Index h = 0; h < handles.size(); ++h) {
+    const Index source = handle_source[h];
+    const Eigen::RowVectorXd shift = positions.row(source) - V0.row(given_handles[source]);
+    constraint_positions.row(anchor_count + h) = V0.row(handles(h)) + s * shift;
+  }
+}
+
+PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
+  Impl& d = *impl_;
+  check_transform(transform, d.dim);
+  if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
+  if (d.system.method != LaplacianMethod::Dual) steps = 1;
   d.delta = d.system.delta;
-  d.V = d.solve();
-  d.deformed = true;
+  for (int k = 1; k <= steps; ++k) {
+    d.place_handles_by_transform(k == steps ? transform : affine_power(transform, double(k) / steps));
+    d.V = d.solve();
+    d.deformed = true;
+    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+  }
   return d.V;
 }
 
-PointMatrix Deformer::deform_to(const PointMatrix& positions) {
+PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
   Impl& d = *impl_;
   const Index given = static_cast<Index>(d.given_handles.size());
   if (positions.rows() != given || positions.cols() != d.dim)
     fail<InputError>("handle positions must be ", given, " by ", d.dim, " (one row per handle), got ",
                      positions.rows(), " by ", positions.cols());
   if (!positions.allFinite()) fail<InputError>("handle positions have non-finite entries");
-  const Index anchor_count = static_cast<Index>(d.anchors.size());
-  for (Index c = 0; c < anchor_count; ++c) d.constraint_positions.row(c) = d.V0.row(d.anchors(c));
-  for (Index h = 0; h < d.handles.size(); ++h) {
-    const Index s = d.handle_source[h];
-    const Eigen::RowVectorXd shift = positions.row(s) - d.V0.row(d.given_handles[s]);
-    d.constraint_positions.row(anchor_count + h) = d.V0.row(d.handles(h)) + shift;
-  }
+  if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
+  if (d.system.method != LaplacianMethod::Dual) steps = 1;
   d.delta = d.system.delta;
-  d.V = d.solve();
-  d.deformed = true;
+  for (int k = 1; k <= steps; ++k) {
+    d.place_handles_at(positions, double(k) / steps);
+    d.V = d.solve();
+    d.deformed = true;
+    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+  }
   return d.V;
 }
 
@@ -680,22 +744,65 @@ RestoreStatus Deformer::restore(int max_iterations, double tolerance) {
   if (!(tolerance > 0)) fail<InputError>("tolerance must be positive, got ", tolerance);
   RestoreStatus status;
   const Index simplex_count = d.system.dual.simplex_count();
-  for (int it = 0; it < max_iterations; ++it) {
-    const PointMatrix C = d.system.dual.D * d.V;
+  // One restore step G: rotate each δ'_s onto its neighbours' current normal, re-solve.
+  auto step = [&](const PointMatrix& X) {
+    const PointMatrix C = d.system.dual.D * X;
     const PointMatrix normals = dual_hyperplane_normals(C, d.system.dual.neighbours);
     for (Index s = 0; s < simplex_count; ++s) {
       if (d.system.degenerate[s] || normals.row(s).squaredNorm() == 0) continue;
       d.delta.row(s) = d.system.heights(s) * normals.row(s);
     }
-    const PointMatrix next = d.solve();
+    return d.solve();
+  };
+  // The plain iteration V ← G(V) is Au et al.'s non-linear Gauss-Seidel; on
+  // large rotations it converges slowly or oscillates with period two (an
+  // eigenvalue of G' near −1). Anderson acceleration (depth 5) on the fixed
+  // point removes both; the reported motion is always that of the plain
+  // step, |G(V) − V|, so convergence means a true fixed point.
+  constexpr int depth = 5;
+  const Eigen::Index size = d.V.size();
+  std::vector<Eigen::VectorXd> dF, dG;
+  Eigen::VectorXd f_prev, g_prev;
+  PointMatrix X = d.V;
+  double best = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < max_iterations; ++it) {
+    const PointMatrix G = step(X);
+    const Eigen::VectorXd g = Eigen::Map<const Eigen::VectorXd>(G.data(), size);
+    const Eigen::VectorXd f = g - Eigen::Map<const Eigen::VectorXd>(X.data(), size);
     status.iterations = it + 1;
-    status.motion = (next - d.V).rowwise().norm().maxCoeff() / d.diagonal;
-    d.V = next;
+    status.motion = (G - X).rowwise().norm().maxCoeff() / d.diagonal;
+    d.V = G;
     if (!std::isfinite(status.motion)) break;
     if (status.motion < tolerance) {
       status.converged = true;
       break;
     }
+    if (status.motion > 10 * best) {  // acceleration went astray: restart from the plain step
+      dF.clear();
+      dG.clear();
+      f_prev.resize(0);
+    }
+    best = std::min(best, status.motion);
+    if (f_prev.size()) {
+      dF.push_back(f - f_prev);
+      dG.push_back(g - g_prev);
+      if (static_cast<int>(dF.size()) > depth) {
+        dF.erase(dF.begin());
+        dG.erase(dG.begin());
+      }
+    }
+    f_prev = f;
+    g_prev = g;
+    Eigen::VectorXd next = g;
+    if (!dF.empty()) {
+      Eigen::MatrixXd M(size, static_cast<Eigen::Index>(dF.size()));
+      for (size_t j = 0; j < dF.size(); ++j) M.col(static_cast<Eigen::Index>(j)) = dF[j];
+      const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
+      const Eigen::VectorXd gamma = qr.solve(f);
+      if (gamma.allFinite())
+        for (size_t j = 0; j < dG.size(); ++j) next -= gamma(static_cast<Eigen::Index>(j)) * dG[j];
+    }
+    X = Eigen::Map<const PointMatrix>(next.data(), d.V.rows(), d.V.cols());
   }
   return status;
 }
@@ -710,9 +817,10 @@ int Deformer::dimension() const { return impl_->dim; }
 
 PointMatrix laplacian_deform(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
                              const IndexVector& handles, const Eigen::MatrixXd& transform,
-                             const DeformerOptions& options, int restore_iterations, double restore_tolerance) {
+                             const DeformerOptions& options, int restore_iterations, double restore_tolerance,
+                             int steps) {
   Deformer deformer(V, S, anchors, handles, options);
-  PointMatrix out = deformer.deform(transform);
+  PointMatrix out = deformer.deform(transform, options.laplacian.method == LaplacianMethod::Dual ? steps : 1);
   if (restore_iterations > 0 && options.laplacian.method == LaplacianMethod::Dual) {
     deformer.restore(restore_iterations, restore_tolerance);
     out = deformer.points();

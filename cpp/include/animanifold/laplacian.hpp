@@ -136,6 +136,9 @@ PointMatrix dual_hyperplane_normals(const PointMatrix& C, const SimplexMatrix& n
 struct DeformerOptions {
   LaplacianOptions laplacian;
   BoundaryRule boundary = BoundaryRule::Grow;
+  // Restore after each intermediate increment of deform(…, steps > 1).
+  int step_restore_iterations = 50;
+  double step_restore_tolerance = 1e-4;
   // 0: anchors and handles are hard constraints (eliminated from the
   // unknowns: anchors stay exactly, handles land exactly). > 0: soft rows
   // e_iᵀ·weight appended to L, as in the dissertation's L = [L̄; e_iᵀ].
@@ -158,6 +161,12 @@ struct DeformerInfo {
   double rcond = 0;            // CHOLMOD's reciprocal condition estimate of the factor
   std::int64_t factor_nonzeros = 0;
 };
+
+// The affine map T^s for s in [0, 1] (T is (D+1) by (D+1) affine): polar
+// factors R^s S^s about T's least-squares fixed point c, plus s times the
+// translation left along the rotation axis: x ↦ R^s S^s (x − c) + c + s·r.
+// T^0 = I, T^1 = T. InputError for reflections and rotations by exactly π.
+Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 
 // Laplacian editing with a kept factorisation.
 //
@@ -182,11 +191,19 @@ class Deformer {
 
   // Moves the handles by the affine map x ↦ T·[x; 1] (T is (D+1) by (D+1),
   // last row [0 … 0 1]) and solves. Returns the new #V by D points.
-  PointMatrix deform(const Eigen::MatrixXd& transform);
+  //
+  // steps > 1 (dual scheme) drags the handles there in `steps` equal
+  // increments, restoring features after each but the last (a large rotation
+  // applied at once can restore into a folded local minimum; Figure 4.11).
+  // Increments are fractional powers of T: its polar factors R^s S^s about
+  // T's fixed point (least-squares), plus s times the remaining translation;
+  // a rotation by exactly π has no unique real power and is refused.
+  // Primal schemes are linear, so they ignore `steps`.
+  PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1);
   // Moves handle i (in the order given to the constructor) to row i of
   // `positions` (H by D) and solves. Grown handles follow the displacement of
-  // the handle they grew from.
-  PointMatrix deform_to(const PointMatrix& positions);
+  // the handle they grew from. steps > 1 as above, interpolating linearly.
+  PointMatrix deform_to(const PointMatrix& positions, int steps = 1);
   // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
   // neighbours' deformed hyperplane (keeping its signed height) and re-solves,
   // until the largest vertex motion between iterations falls below
@@ -208,11 +225,12 @@ class Deformer {
   std::unique_ptr<Impl> impl_;
 };
 
-// One-off: builds a Deformer, moves the handles by `transform` and returns the
-// points, restored (dual scheme) when `restore_iterations` > 0.
+// One-off: builds a Deformer, moves the handles by `transform` (in `steps`
+// increments) and returns the points, restored (dual scheme) when
+// `restore_iterations` > 0.
 PointMatrix laplacian_deform(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
                              const IndexVector& handles, const Eigen::MatrixXd& transform,
                              const DeformerOptions& options = {}, int restore_iterations = 0,
-                             double restore_tolerance = 1e-6);
+                             double restore_tolerance = 1e-6, int steps = 1);
 
 }  // namespace animanifold
