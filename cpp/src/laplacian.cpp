@@ -607,7 +607,8 @@ Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVect
     const Index deficiency = d.build_and_factor();
     if (deficiency == 0) break;
     const std::string ghosts =
-        d.info.ghosts > 0 ? " (the dual Laplacian's " + std::to_string(d.info.ghosts) + " ghost vertices leave it free)"
+        d.info.ghosts > 0 ? " (the dual Laplacian has " + std::to_string(d.info.ghosts) +
+                                " ghost vertices at the boundary, which can leave directions free)"
                           : "";
     if (options.boundary == BoundaryRule::Grow) {
       if (adjacency.offsets.empty()) adjacency = vertex_adjacency(S, vertex_count);
