@@ -205,9 +205,11 @@ class Deformer {
   // the handle they grew from. steps > 1 as above, interpolating linearly.
   PointMatrix deform_to(const PointMatrix& positions, int steps = 1);
   // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
-  // neighbours' deformed hyperplane (keeping its signed height) and re-solves,
-  // until the largest vertex motion between iterations falls below
-  // `tolerance` times the input's bounding-box diagonal, or `max_iterations`.
+  // neighbours' deformed hyperplane (keeping its signed height) and re-solves
+  // (Au et al.'s iteration), until the largest vertex motion of one such step
+  // falls below `tolerance` times the input's bounding-box diagonal, or
+  // `max_iterations`. The fixed-point iteration is Anderson-accelerated
+  // (depth 5): plain, it oscillates with period two on large rotations.
   // Starts from the last deform; InputError for primal schemes or before any
   // deform. Returns the status; the points are `points()`.
   RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6);
