@@ -427,6 +427,26 @@ def test_figure_4_11_block_twist_has_no_inverted_faces_with_dual_restore(quarter
         assert ((face_normals(uniform, F) * expected).sum(1) < 0).sum() > 50
 
 
+def test_one_off_deformation_picks_steps_from_the_rotation():
+    V, F = block()
+    bottom, top = np.flatnonzero(V[:, 2] < 1e-9), np.flatnonzero(V[:, 2] > V[:, 2].max() - 1e-9)
+    angle = 3 * np.pi / 4
+    T = am.handle_transform(rotation=am.rotation_matrix([0, 0, 1], angle), center=[0, 0, V[:, 2].max()], dimension=3)
+    assert am.deform.steps_for_rotation(am.deform.rotation_angle(T[:3, :3])) == 3
+    out = am.laplacian_deform(V, F, bottom, top, T)  # dual, steps="auto", restored
+    assert ((face_normals(out, F) * twisted_normals(V, F, angle)).sum(1) > 0).all()
+    # Explicit positions: the best-fit rotation of the handles gives the same count.
+    d = am.Deformer(V, F, bottom, top)
+    P = V[top] @ T[:3, :3].T + T[:3, 3]
+    d.deform(handle_positions=P, steps="auto")
+    out = d.restore(max_iterations=100)
+    assert d.status.converged
+    np.testing.assert_allclose(out[top], P, atol=1e-12)
+    assert ((face_normals(out, F) * twisted_normals(V, F, angle)).sum(1) > 0).all()
+    with pytest.raises(ValueError, match="steps must be 'auto' or an integer >= 1"):
+        d.deform(T, steps=0)
+
+
 def test_affine_power_splits_a_transform_into_equal_steps():
     R = am.rotation_matrix([1, 2, 3], 2.0)
     T = am.handle_transform(rotation=R, translation=[1, 2, 3], scale=1.5, center=[0.5, 0, 0], dimension=3)

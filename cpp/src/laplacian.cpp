@@ -418,7 +418,7 @@ struct Deformer::Impl {
 
   Index build_and_factor();
   void place_handles_by_transform(const Eigen::MatrixXd& transform);
-  void place_handles_at(const PointMatrix& positions, double s);
+  void place_handles_at(const PointMatrix& positions, double s, const Eigen::MatrixXd* fit);
   void grow_constraints(const VertexAdjacency& adjacency);
   PointMatrix solve() const;
 };
@@ -691,15 +691,46 @@ void Deformer::Impl::place_handles_by_transform(const Eigen::MatrixXd& transform
     constraint_positions.row(anchor_count + h) = V0.row(handles(h)) * linear.transpose() + translation;
 }
 
-void Deformer::Impl::place_handles_at(const PointMatrix& positions, double s) {
+void Deformer::Impl::place_handles_at(const PointMatrix& positions, double s, const Eigen::MatrixXd* fit) {
   const Index anchor_count = static_cast<Index>(anchors.size());
   for (Index c = 0; c < anchor_count; ++c) constraint_positions.row(c) = V0.row(anchors(c));
+  Eigen::MatrixXd fit_s;
+  if (fit) fit_s = affine_power(*fit, s);
   for (Index h = 0; h < handles.size(); ++h) {
     const Index source = handle_source[h];
-    const Eigen::RowVectorXd shift = positions.row(source) - V0.row(given_handles[source]);
-    constraint_positions.row(anchor_count + h) = V0.row(handles(h)) + s * shift;
+    const Eigen::RowVectorXd rest = V0.row(handles(h));
+    const Eigen::RowVectorXd target = rest + positions.row(source) - V0.row(given_handles[source]);
+    if (!fit || s == 1) {
+      constraint_positions.row(anchor_count + h) = rest + s * (target - rest);
+      continue;
+    }
+    // Along the best-fit rigid motion, plus the fraction s of what it misses.
+    const auto apply = [&](const Eigen::MatrixXd& T) -> Eigen::RowVectorXd {
+      return rest * T.topLeftCorner(dim, dim).transpose() + T.topRightCorner(dim, 1).transpose();
+    };
+    constraint_positions.row(anchor_count + h) = apply(fit_s) + s * (target - apply(*fit));
   }
 }
+
+namespace {
+
+// The rigid motion (Kabsch) best mapping rows of `rest` onto rows of `moved`,
+// as a (D+1) by (D+1) matrix.
+Eigen::MatrixXd best_fit_rigid(const PointMatrix& rest, const PointMatrix& moved) {
+  const int dim = static_cast<int>(rest.cols());
+  const Eigen::RowVectorXd a0 = rest.colwise().mean(), b0 = moved.colwise().mean();
+  const Eigen::MatrixXd cross = (moved.rowwise() - b0).transpose() * (rest.rowwise() - a0);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::MatrixXd U = svd.matrixU();
+  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(dim - 1) *= -1;
+  const Eigen::MatrixXd R = U * svd.matrixV().transpose();
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(dim + 1, dim + 1);
+  T.topLeftCorner(dim, dim) = R;
+  T.topRightCorner(dim, 1) = (b0 - a0 * R.transpose()).transpose();
+  return T;
+}
+
+}  // namespace
 
 PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
   Impl& d = *impl_;
@@ -726,8 +757,23 @@ PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
   if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
   if (d.system.method != LaplacianMethod::Dual) steps = 1;
   d.delta = d.system.delta;
+  // Intermediate handle positions follow fractions of the handles' best-fit
+  // rigid motion (a linear blend would shrink a rotated cap on the way);
+  // a fit rotating by exactly π has no unique fraction: blend linearly then.
+  Eigen::MatrixXd fit;
+  bool use_fit = steps > 1;
+  if (use_fit) {
+    PointMatrix rest(given, d.dim);
+    for (Index h = 0; h < given; ++h) rest.row(h) = d.V0.row(d.given_handles[h]);
+    fit = best_fit_rigid(rest, positions);
+    try {
+      affine_power(fit, 0.5);
+    } catch (const InputError&) {
+      use_fit = false;
+    }
+  }
   for (int k = 1; k <= steps; ++k) {
-    d.place_handles_at(positions, double(k) / steps);
+    d.place_handles_at(positions, double(k) / steps, use_fit ? &fit : nullptr);
     d.V = d.solve();
     d.deformed = true;
     if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);

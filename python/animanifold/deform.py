@@ -115,6 +115,38 @@ def rotation_matrix(axis: Sequence[float], angle: float) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
 
 
+def rotation_angle(linear: np.ndarray) -> float:
+    """The largest rotation angle (radians) of the rotation factor of a linear map."""
+    U, _, Vt = np.linalg.svd(np.asarray(linear, dtype=float))
+    R = U @ Vt
+    if np.linalg.det(R) < 0:
+        raise ValueError("the handle motion reflects: a rotation angle is undefined")
+    return float(np.abs(np.angle(np.linalg.eigvals(R))).max())
+
+
+def best_fit_linear(rest: np.ndarray, moved: np.ndarray) -> np.ndarray:
+    """The rotation best mapping the centred rest handle positions onto the moved ones (Kabsch)."""
+    a = rest - rest.mean(0)
+    b = moved - moved.mean(0)
+    U, _, Vt = np.linalg.svd(b.T @ a)
+    R = U @ Vt
+    if np.linalg.det(R) < 0:
+        U[:, -1] *= -1
+        R = U @ Vt
+    return R
+
+
+def steps_for_rotation(angle: float, per_step: float = np.pi / 4) -> int:
+    """One increment per `per_step` radians of rotation (at least one)."""
+    return max(1, int(np.ceil(angle / per_step - 1e-9)))
+
+
+def _check_steps(steps) -> int:
+    if isinstance(steps, str) or int(steps) < 1:
+        raise ValueError(f"steps must be 'auto' or an integer >= 1, got {steps!r}")
+    return int(steps)
+
+
 class Deformer:
     """Laplacian editing of a mesh or animation manifold, factored once.
 
@@ -168,6 +200,7 @@ class Deformer:
         self.boundary = boundary
         self._dimension = points.shape[1]
         self._handle_count = handles.size
+        self._rest_handles = points[handles].copy()
         self._core = _core.Deformer(
             points,
             np.ascontiguousarray(simplices, dtype=np.int32),
@@ -189,7 +222,7 @@ class Deformer:
         handle_transform: np.ndarray | None = None,
         *,
         handle_positions: np.ndarray | None = None,
-        steps: int = 1,
+        steps: int | str = 1,
     ) -> np.ndarray:
         """Moves the handles — by a (D+1)x(D+1) affine matrix, or to explicit
         (H, D) positions in the order the handles were given — and returns the
@@ -198,22 +231,27 @@ class Deformer:
         ``steps > 1`` (dual method) drags the handles there in that many equal
         increments, restoring features after each but the last, like an artist
         dragging: large rotations (Figure 4.11's 3π/4) then restore without
-        folding. Call :meth:`restore` afterwards as usual."""
+        folding. ``steps="auto"`` uses one increment per π/4 of the handles'
+        rotation (the transform's, or the best-fit one of the positions).
+        Call :meth:`restore` afterwards as usual."""
         if (handle_transform is None) == (handle_positions is None):
             raise ValueError("give exactly one of handle_transform ((D+1)x(D+1)) or handle_positions ((H, D))")
-        if int(steps) < 1:
-            raise ValueError(f"steps must be at least 1, got {steps}")
         self.status = None
         D = self._dimension
         if handle_transform is not None:
             T = np.asarray(handle_transform, dtype=np.float64)
             if T.shape != (D + 1, D + 1):
                 raise ValueError(f"handle_transform must be ({D + 1}, {D + 1}) for {D}D points, got {T.shape}")
-            return self._core.deform(T, int(steps))
+            if steps == "auto":
+                steps = steps_for_rotation(rotation_angle(T[:D, :D])) if self.method == "dual" else 1
+            return self._core.deform(T, _check_steps(steps))
         P = np.ascontiguousarray(handle_positions, dtype=np.float64)
         if P.shape != (self._handle_count, D):
             raise ValueError(f"handle_positions must be ({self._handle_count}, {D}), one row per handle, got {P.shape}")
-        return self._core.deform_to(P, int(steps))
+        if steps == "auto":
+            rest = self._rest_handles
+            steps = steps_for_rotation(rotation_angle(best_fit_linear(rest, P))) if self.method == "dual" else 1
+        return self._core.deform_to(P, _check_steps(steps))
 
     def restore(self, max_iterations: int = 50, tolerance: float = 1e-6) -> np.ndarray:
         """Dual method: rotates the differential coordinates onto the deformed
@@ -260,11 +298,12 @@ def laplacian_deform(
     restore: bool = True,
     max_iterations: int = 50,
     tolerance: float = 1e-6,
-    steps: int = 1,
+    steps: int | str = "auto",
     **options,
 ) -> np.ndarray:
-    """One-off deformation: builds a :class:`Deformer`, moves the handles and
-    (dual method, ``restore=True``) restores features. Returns (N, D) points."""
+    """One-off deformation: builds a :class:`Deformer`, moves the handles (in
+    ``steps`` increments, by default one per π/4 of rotation) and (dual method,
+    ``restore=True``) restores features. Returns (N, D) points."""
     d = Deformer(points, simplices, anchors, handles, method, boundary, **options)
     out = d.deform(handle_transform, handle_positions=handle_positions, steps=steps)
     if restore and method == "dual":

@@ -177,12 +177,13 @@ class AnimationManifold:
         restore: bool = True,
         max_iterations: int = 50,
         tolerance: float = 1e-6,
-        steps: int = 1,
+        steps: int | str = "auto",
         **options,
     ) -> "AnimationManifold":
         """Laplacian deformation through space and time (chapter 4): anchors
         stay, handles move by `transform` ((D+1)x(D+1) affine) or to
-        `handle_positions` (H, D). Returns a new manifold with the same
+        `handle_positions` (H, D), in `steps` increments (default: one per
+        π/4 of rotation). Returns a new manifold with the same
         simplices and attributes; see :class:`animanifold.Deformer` for the
         methods, boundary rules and options."""
         from .deform import laplacian_deform

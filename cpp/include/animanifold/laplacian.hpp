@@ -202,7 +202,9 @@ class Deformer {
   PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1);
   // Moves handle i (in the order given to the constructor) to row i of
   // `positions` (H by D) and solves. Grown handles follow the displacement of
-  // the handle they grew from. steps > 1 as above, interpolating linearly.
+  // the handle they grew from. steps > 1 as above: increments follow
+  // fractions of the handles' best-fit rigid motion (Kabsch) plus the same
+  // fraction of what it leaves, so a rotated cap is not shrunk on the way.
   PointMatrix deform_to(const PointMatrix& positions, int steps = 1);
   // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
   // neighbours' deformed hyperplane (keeping its signed height) and re-solves
