@@ -5,6 +5,7 @@
     d = am.Deformer(points, simplices, anchors, handles, method="dual", boundary="grow")
     moved = d.deform(am.handle_transform(rotation=R, center=c, dimension=4))
     moved = d.deform(handle_positions=P)          # (H, D), one row per handle
+    moved = d.deform(T, steps="auto")              # large rotations: one increment per π/4
     restored = d.restore(max_iterations=50, tolerance=1e-6)
     d.status                                       # RestoreStatus(iterations, motion, converged)
 
