@@ -28,5 +28,6 @@ void bind_morph(py::module_& m);
 void bind_refine(py::module_& m);
 void bind_subdivide(py::module_& m);
 void bind_skeleton(py::module_& m);
+void bind_laplacian(py::module_& m);
 
 }  // namespace animanifold::bindings

@@ -24,6 +24,7 @@ PYBIND11_MODULE(_core, m) {
   bind_refine(m);
   bind_subdivide(m);
   bind_skeleton(m);
+  bind_laplacian(m);
 }
 
 }  // namespace animanifold::bindings

@@ -9,12 +9,14 @@ topology. ::
     s = m.slice(0.5)                          # s.vertices, s.faces, s.normals
     m2 = m.subdivide(levels=1)                # smooth shape and motion (Schaefer et al.)
     s2 = m.slice(0.5, smooth_levels=2)        # Loop-smoothed frame (OpenSubdiv)
+    m2 = m.deform(anchors, handles, am.handle_transform(translation=[0, 0, 1, 0]))
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
 from .cache import CacheError, load, save
+from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
 from .manifold import AnimationManifold, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
@@ -28,15 +30,20 @@ __all__ = [
     "AnimationManifold",
     "CacheError",
     "SeparabilityWarning",
+    "Deformer",
+    "RestoreStatus",
     "Slice",
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",
+    "handle_transform",
+    "laplacian_deform",
     "load",
     "morph",
     "read_mesh",
     "refine",
     "Refinement",
+    "rotation_matrix",
     "save",
     "stitch",
     "subdivide",

@@ -226,6 +226,37 @@ class AnimationManifold:
         return AnimationManifold.from_arrays(
             r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata
         ), r
+    def deform(
+        self,
+        anchors,
+        handles,
+        transform: np.ndarray | None = None,
+        *,
+        handle_positions: np.ndarray | None = None,
+        method: str = "dual",
+        boundary: str = "grow",
+        restore: bool = True,
+        max_iterations: int = 50,
+        tolerance: float = 1e-6,
+        steps: int | str = "auto",
+        **options,
+    ) -> "AnimationManifold":
+        """Laplacian deformation through space and time (chapter 4): anchors
+        stay, handles move by `transform` ((D+1)x(D+1) affine) or to
+        `handle_positions` (H, D), in `steps` increments (default: one per
+        π/4 of rotation). Returns a new manifold with the same
+        simplices and attributes; see :class:`animanifold.Deformer` for the
+        methods, boundary rules and options."""
+        from .deform import laplacian_deform
+
+        points = laplacian_deform(
+            self.points, self.simplices, anchors, handles, transform, handle_positions=handle_positions,
+            method=method, boundary=boundary, restore=restore, max_iterations=max_iterations,
+            tolerance=tolerance, steps=steps, **options,
+        )
+        return AnimationManifold.from_arrays(
+            points, self.simplices, dict(self.vertex_attributes), dict(self.simplex_attributes), self.metadata
+        )
 
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:

@@ -1,0 +1,240 @@
+// Laplacian deformation of animation manifolds and meshes (chapter 4).
+//
+// Inputs are n-manifolds of n-simplices in R^(n+1), n = 2 (triangles in R^3:
+// surfaces, or animated contours) or n = 3 (tets in R^4: animated surfaces),
+// with or without boundary: `V` is #V by D (D = n+1), `S` is #S by D.
+//
+// A Laplacian system L V = Δ encodes each vertex (primal) or each simplex
+// centroid (dual) relative to its neighbours; constraining anchor and handle
+// vertices and solving LᵀL V = LᵀΔ in the least-squares sense deforms the
+// rest (§4.2). Four schemes:
+//   uniform    w_ij = 1/|N_i| (Taubin 1995)
+//   cotangent  w_ij ∝ cot α + cot β, normalised (2-manifolds in R^3 only)
+//   graph      w_i from the per-vertex QP of eq. 4.2 (Zhou et al. 2005)
+//   dual       Au et al. 2006, generalised: L = L'·D over simplex centroids
+// Primal boundary vertices always use the eq. 4.3 weights (§4.4.1); the dual
+// scheme completes boundary simplices with ghost dual vertices (§4.4.2).
+//
+// Use `laplacian_deform` for a one-off deformation, or a `Deformer`, which
+// factors the normal matrix once with CHOLMOD (supernodal) and re-solves for
+// every handle move, then optionally restores features (dual scheme).
+#pragma once
+
+#include "animanifold/types.hpp"
+
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace animanifold {
+
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+enum class LaplacianMethod { Uniform, Cotangent, Graph, Dual };
+
+// What to do when the dual Laplacian's ghost vertices (or anything else, such
+// as a component without constraints) leave the constrained system
+// rank-deficient (§4.4.2). The system is never solved while rank-deficient.
+enum class BoundaryRule {
+  GhostAnchors,  // every ghost dual vertex is kept at its input position (extra rows)
+  Grow,          // grow anchors/handles to neighbouring vertices until full rank
+  Error,         // refuse, saying how many more constraints are needed
+};
+
+// "uniform", "cotangent", "graph", "dual" / "ghost_anchors", "grow", "error";
+// InputError listing the valid names otherwise.
+LaplacianMethod parse_laplacian_method(const std::string& name);
+BoundaryRule parse_boundary_rule(const std::string& name);
+std::string to_string(LaplacianMethod method);
+std::string to_string(BoundaryRule rule);
+
+// Parameters of the graph-Laplacian QP, eq. 4.2:
+//   min_w ‖Σ_j w_j (v_j − v_i)‖² + λ Σ_j w_j ‖v_j − v_i‖² + ρ·h̄²‖w‖²
+//   such that Σ_j w_j = 1 and w_j ≥ ξ,
+// where h̄² is the mean squared one-ring edge length. Both data terms scale
+// like h̄², so λ is dimensionless. ‖v_i − Σ w_j v_j‖ equals the first term
+// because the weights sum to one. The ridge ρ (tiny) makes each QP strictly
+// convex, so the weights are unique where the first term alone has a whole
+// face of minimisers (flat regions); it moves the objective by at most ρ·h̄².
+struct GraphWeightOptions {
+  double lambda = 0.1;
+  double xi = 1e-3;      // clamped to 0.5/valence for vertices of very high valence
+  double ridge = 1e-8;
+};
+
+struct LaplacianOptions {
+  LaplacianMethod method = LaplacianMethod::Dual;
+  GraphWeightOptions graph;
+  // Vertices whose detail is discarded, for the offline regularisation of
+  // §4.5.1 (new vertices of a refined complex): primal schemes give them
+  // uniform weights and δ = 0; the dual scheme sets δ' = 0 on every simplex
+  // incident to one of them. Empty by default.
+  std::vector<Index> zero_detail_vertices;
+};
+
+// Vertex adjacency (the 1-ring) in compressed form: neighbours of v are
+// `neighbours[offsets[v] .. offsets[v+1])`, sorted.
+struct VertexAdjacency {
+  std::vector<Index> offsets;
+  std::vector<Index> neighbours;
+};
+VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count);
+
+// Vertices on a boundary facet (facets in exactly one simplex). #V flags.
+std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count);
+
+// The eq. 4.2 weights of one vertex from its one-ring edge vectors
+// e_j = v_j − v_i (k by D rows); λ = 0 gives eq. 4.3. k weights summing to 1.
+Eigen::VectorXd graph_laplacian_weights(const PointMatrix& edges, const GraphWeightOptions& options);
+
+// Primal weight matrix W (#V by #V, row i holds w_ij, rows sum to one); the
+// Laplacian is I − W. `method` is Uniform, Cotangent or Graph; boundary
+// vertices use eq. 4.3 whatever the method (§4.4.1). An isolated vertex has an
+// empty row. Cotangent throws InputError unless S is triangles in R^3, or when
+// a vertex's cotangent weights sum to ≤ 0 (naming it).
+SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, LaplacianMethod method,
+                               const GraphWeightOptions& graph = {});
+
+// The dual operator of §4.2.1 with the ghost vertices of §4.4.2.
+// Dual vertex s < #S is the centroid of simplex s; dual vertex #S + g is the
+// ghost across boundary facet g: the centroid of the simplex obtained by
+// reflecting the facet's opposite vertex v_l through the facet centroid
+// (v_l' = (2/n)Σ_F v_k − v_l), i.e. ((n+2)/(n(n+1)))·Σ_F v_k − (1/(n+1))·v_l.
+// For triangles this is ⅔(B+C) − ⅓A (Figure 4.8, footnote 1); it keeps the
+// boundary facet and, being an affine combination, commutes with any motion.
+struct DualOperator {
+  SparseRowMatrix D;             // (#S + #G) by #V
+  SimplexMatrix neighbours;      // #S by (n+1): the dual vertex across facet i of simplex s
+  SimplexMatrix ghost_facets;    // #G by 2: (simplex, facet index) of each ghost
+  Index simplex_count() const { return static_cast<Index>(neighbours.rows()); }
+  Index ghost_count() const { return static_cast<Index>(ghost_facets.rows()); }
+};
+DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count);
+
+// L V = Δ for the input points: L is rows by #V (#V rows for primal schemes,
+// #S rows for the dual one), Δ = L·V exactly (so the input is reproduced
+// when nothing moves), except for rows zeroed by `zero_detail_vertices`.
+struct DifferentialSystem {
+  LaplacianMethod method = LaplacianMethod::Dual;
+  SparseRowMatrix L;
+  PointMatrix delta;
+  // Dual scheme only:
+  DualOperator dual;
+  SparseRowMatrix dual_weights;  // L' (#S by #S+#G): e_s − Σ β_sj e_j
+  Eigen::VectorXd heights;       // δ'_s · n_s: signed distance from the neighbours' hyperplane
+  std::vector<char> degenerate;  // neighbours affinely dependent: δ' is kept as is by restore
+};
+DifferentialSystem laplacian_system(const PointMatrix& V, const SimplexMatrix& S,
+                                    const LaplacianOptions& options = {});
+
+// Unit normals (#S by D) of the hyperplanes through each dual vertex's
+// neighbours, for dual points `C` ((#S+#G) by D, e.g. D·V), oriented by the
+// facet order; zero rows where the neighbours are affinely dependent.
+PointMatrix dual_hyperplane_normals(const PointMatrix& C, const SimplexMatrix& neighbours);
+
+struct DeformerOptions {
+  LaplacianOptions laplacian;
+  BoundaryRule boundary = BoundaryRule::Grow;
+  // Restore after each intermediate increment of deform(…, steps > 1).
+  int step_restore_iterations = 50;
+  double step_restore_tolerance = 1e-4;
+  // 0: anchors and handles are hard constraints (eliminated from the
+  // unknowns: anchors stay exactly, handles land exactly). > 0: soft rows
+  // e_iᵀ·weight appended to L, as in the dissertation's L = [L̄; e_iᵀ].
+  double constraint_weight = 0;
+};
+
+struct RestoreStatus {
+  int iterations = 0;
+  double motion = 0;       // last max vertex displacement / input bounding-box diagonal
+  bool converged = false;  // motion < tolerance within the iteration cap
+};
+
+// What a Deformer built, for reports and tests.
+struct DeformerInfo {
+  Index rows = 0;              // rows of the least-squares system
+  Index unknowns = 0;          // free vertices (hard) or all vertices (soft)
+  Index ghosts = 0;            // ghost dual vertices (dual scheme)
+  Index ghost_anchor_rows = 0; // rows added by BoundaryRule::GhostAnchors
+  Index grown = 0;             // constraints added by BoundaryRule::Grow
+  double rcond = 0;            // CHOLMOD's reciprocal condition estimate of the factor
+  std::int64_t factor_nonzeros = 0;
+};
+
+// The affine map T^s for s in [0, 1] (T is (D+1) by (D+1) affine): polar
+// factors R^s S^s about T's least-squares fixed point c, plus s times the
+// translation left along the rotation axis: x ↦ R^s S^s (x − c) + c + s·r.
+// T^0 = I, T^1 = T. InputError for reflections and rotations by exactly π.
+Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
+
+// Laplacian editing with a kept factorisation.
+//
+//   Deformer d(V, S, anchors, handles, options);   // build L, factor once
+//   PointMatrix W = d.deform(T);                   // (D+1) by (D+1) affine T
+//   PointMatrix W2 = d.deform_to(P);               // or handle positions, H by D
+//   RestoreStatus s = d.restore(50, 1e-6);          // dual: rotate δ' to new normals
+//
+// anchors and handles are vertex indices: disjoint, in range, without
+// repeats, not both empty (InputError naming the culprit otherwise). The
+// normal matrix AᵀA is factored once with CHOLMOD's supernodal Cholesky; a
+// rank-deficient system (detected from the factorisation and confirmed by
+// the inertia of AᵀA − τI) is treated by the boundary rule or refused with
+// an InputError saying how many more constraints are needed.
+class Deformer {
+ public:
+  Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors, const IndexVector& handles,
+           const DeformerOptions& options = {});
+  ~Deformer();
+  Deformer(Deformer&&) noexcept;
+  Deformer& operator=(Deformer&&) noexcept;
+
+  // Moves the handles by the affine map x ↦ T·[x; 1] (T is (D+1) by (D+1),
+  // last row [0 … 0 1]) and solves. Returns the new #V by D points.
+  //
+  // steps > 1 (dual scheme) drags the handles there in `steps` equal
+  // increments, restoring features after each but the last (a large rotation
+  // applied at once can restore into a folded local minimum; Figure 4.11).
+  // Increments are fractional powers of T: its polar factors R^s S^s about
+  // T's fixed point (least-squares), plus s times the remaining translation;
+  // a rotation by exactly π has no unique real power and is refused.
+  // Primal schemes are linear, so they ignore `steps`.
+  PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1);
+  // Moves handle i (in the order given to the constructor) to row i of
+  // `positions` (H by D) and solves. Grown handles follow the displacement of
+  // the handle they grew from. steps > 1 as above: increments follow
+  // fractions of the handles' best-fit rigid motion (Kabsch) plus the same
+  // fraction of what it leaves, so a rotated cap is not shrunk on the way.
+  PointMatrix deform_to(const PointMatrix& positions, int steps = 1);
+  // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
+  // neighbours' deformed hyperplane (keeping its signed height) and re-solves
+  // (Au et al.'s iteration), until the largest vertex motion of one such step
+  // falls below `tolerance` times the input's bounding-box diagonal, or
+  // `max_iterations`. The fixed-point iteration is Anderson-accelerated
+  // (depth 5): plain, it oscillates with period two on large rotations.
+  // Starts from the last deform; InputError for primal schemes or before any
+  // deform. Returns the status; the points are `points()`.
+  RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6);
+
+  const PointMatrix& points() const;        // the latest result (the input before any deform)
+  const PointMatrix& rest_points() const;   // the input
+  const IndexVector& anchors() const;       // after growth
+  const IndexVector& handles() const;       // after growth (given handles first)
+  const DifferentialSystem& system() const;
+  const DeformerInfo& info() const;
+  int dimension() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One-off: builds a Deformer, moves the handles by `transform` (in `steps`
+// increments) and returns the points, restored (dual scheme) when
+// `restore_iterations` > 0.
+PointMatrix laplacian_deform(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
+                             const IndexVector& handles, const Eigen::MatrixXd& transform,
+                             const DeformerOptions& options = {}, int restore_iterations = 0,
+                             double restore_tolerance = 1e-6, int steps = 1);
+
+}  // namespace animanifold

@@ -1,0 +1,878 @@
+#include "animanifold/laplacian.hpp"
+
+#include "animanifold/complex.hpp"
+#include "animanifold/errors.hpp"
+#include "animanifold/normals.hpp"
+#include "animanifold/simplex_qp.hpp"
+#include "sparse_cholesky.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <complex>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace animanifold {
+
+// ---------------------------------------------------------------------------
+// Names
+
+LaplacianMethod parse_laplacian_method(const std::string& name) {
+  if (name == "uniform") return LaplacianMethod::Uniform;
+  if (name == "cotangent") return LaplacianMethod::Cotangent;
+  if (name == "graph") return LaplacianMethod::Graph;
+  if (name == "dual") return LaplacianMethod::Dual;
+  fail<InputError>("unknown Laplacian method '", name, "': use 'dual', 'graph', 'uniform' or 'cotangent'");
+}
+
+BoundaryRule parse_boundary_rule(const std::string& name) {
+  if (name == "ghost_anchors") return BoundaryRule::GhostAnchors;
+  if (name == "grow") return BoundaryRule::Grow;
+  if (name == "error") return BoundaryRule::Error;
+  fail<InputError>("unknown boundary rule '", name, "': use 'grow', 'ghost_anchors' or 'error'");
+}
+
+std::string to_string(LaplacianMethod method) {
+  switch (method) {
+    case LaplacianMethod::Uniform: return "uniform";
+    case LaplacianMethod::Cotangent: return "cotangent";
+    case LaplacianMethod::Graph: return "graph";
+    case LaplacianMethod::Dual: return "dual";
+  }
+  return "?";
+}
+
+std::string to_string(BoundaryRule rule) {
+  switch (rule) {
+    case BoundaryRule::GhostAnchors: return "ghost_anchors";
+    case BoundaryRule::Grow: return "grow";
+    case BoundaryRule::Error: return "error";
+  }
+  return "?";
+}
+
+// ---------------------------------------------------------------------------
+// Combinatorics
+
+VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count) {
+  const int k = static_cast<int>(S.cols());
+  std::vector<std::pair<Index, Index>> edges;
+  edges.reserve(static_cast<size_t>(S.rows()) * k * (k - 1));
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int a = 0; a < k; ++a)
+      for (int b = 0; b < k; ++b)
+        if (a != b) edges.emplace_back(S(s, a), S(s, b));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  VertexAdjacency adjacency;
+  adjacency.offsets.assign(static_cast<size_t>(vertex_count) + 1, 0);
+  adjacency.neighbours.reserve(edges.size());
+  for (const auto& [a, b] : edges) {
+    ++adjacency.offsets[a + 1];
+    adjacency.neighbours.push_back(b);
+  }
+  for (Index v = 0; v < vertex_count; ++v) adjacency.offsets[v + 1] += adjacency.offsets[v];
+  return adjacency;
+}
+
+std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count) {
+  std::vector<char> on_boundary(vertex_count, 0);
+  const SimplexMatrix B = boundary_facets(S);
+  for (Index r = 0; r < B.rows(); ++r)
+    for (int c = 0; c < B.cols(); ++c) on_boundary[B(r, c)] = 1;
+  return on_boundary;
+}
+
+namespace {
+
+void check_mesh(const PointMatrix& V, const SimplexMatrix& S, const char* what) {
+  const int D = static_cast<int>(V.cols());
+  if (D != 3 && D != 4)
+    fail<InputError>(what, " needs points in R^3 (triangles) or R^4 (tets), got ", D, " columns");
+  if (S.cols() != D)
+    fail<InputError>(what, " needs n-simplices in R^(n+1): ", D, "D points need simplices of ", D,
+                     " vertices, got ", S.cols());
+  if (S.rows() == 0) fail<InputError>(what, " needs at least one simplex");
+  for (Index v = 0; v < V.rows(); ++v)
+    for (int c = 0; c < D; ++c)
+      if (!std::isfinite(V(v, c))) fail<InputError>("vertex ", v, " has a non-finite coordinate ", c);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < D; ++c) {
+      if (S(s, c) < 0 || S(s, c) >= V.rows())
+        fail<InputError>("simplex ", s, " refers to vertex ", S(s, c), ", outside 0..", V.rows() - 1);
+      for (int d = 0; d < c; ++d)
+        if (S(s, c) == S(s, d)) fail<InputError>("simplex ", s, " repeats vertex ", S(s, c));
+    }
+}
+
+double bounding_box_diagonal(const PointMatrix& V) {
+  if (V.rows() == 0) return 0;
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Primal weights
+
+Eigen::VectorXd graph_laplacian_weights(const PointMatrix& edges, const GraphWeightOptions& options) {
+  const Index k = static_cast<Index>(edges.rows());
+  if (k == 0) return Eigen::VectorXd();
+  if (!(options.lambda >= 0) || !(options.xi >= 0) || !(options.ridge > 0))
+    fail<InputError>("graph Laplacian needs lambda >= 0, xi >= 0 and ridge > 0 (got lambda = ", options.lambda,
+                     ", xi = ", options.xi, ", ridge = ", options.ridge, ")");
+  const Eigen::VectorXd lengths2 = edges.rowwise().squaredNorm();
+  const double mean2 = lengths2.mean();
+  if (!(mean2 > 0)) return Eigen::VectorXd::Constant(k, 1.0 / k);
+  Eigen::MatrixXd H = (2.0 / mean2) * (edges * edges.transpose());
+  H.diagonal().array() += 2.0 * options.ridge;
+  const Eigen::VectorXd g = (options.lambda / mean2) * lengths2;
+  const double xi = std::min(options.xi, 0.5 / k);
+  return solve_simplex_qp(H, g, xi).weights;
+}
+
+namespace {
+
+void cotangent_triplets(const PointMatrix& V, const SimplexMatrix& S, std::vector<Eigen::Triplet<double>>& out) {
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int c = 0; c < 3; ++c) {
+      const Index a = S(s, (c + 1) % 3), b = S(s, (c + 2) % 3), o = S(s, c);
+      const Eigen::Vector3d u = (V.row(a) - V.row(o)).transpose(), w = (V.row(b) - V.row(o)).transpose();
+      const double sine = u.cross(w).norm();
+      if (!(sine > 0)) fail<InputError>("simplex ", s, " is degenerate (zero area): no cotangent weight");
+      const double cot = u.dot(w) / sine;
+      out.emplace_back(a, b, cot);
+      out.emplace_back(b, a, cot);
+    }
+}
+
+}  // namespace
+
+SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, LaplacianMethod method,
+                               const GraphWeightOptions& graph) {
+  check_mesh(V, S, "a Laplacian");
+  if (method == LaplacianMethod::Dual) fail<InputError>("primal_weights: the dual Laplacian has no primal weights");
+  if (method == LaplacianMethod::Cotangent && (V.cols() != 3 || S.cols() != 3))
+    fail<InputError>("cotangent weights exist only for triangle meshes in R^3 (2-manifolds); this complex has ",
+                     S.cols() - 1, "-simplices in R^", V.cols(), ": use method 'dual', 'graph' or 'uniform'");
+  const Index n = static_cast<Index>(V.rows());
+  const VertexAdjacency adjacency = vertex_adjacency(S, n);
+  const std::vector<char> on_boundary = boundary_vertices(S, n);
+
+  SparseRowMatrix cot;
+  if (method == LaplacianMethod::Cotangent) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    cotangent_triplets(V, S, triplets);
+    cot.resize(n, n);
+    cot.setFromTriplets(triplets.begin(), triplets.end());
+  }
+  GraphWeightOptions boundary_options = graph;
+  boundary_options.lambda = 0;  // eq. 4.3
+
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(adjacency.neighbours.size());
+  PointMatrix edges;
+  for (Index i = 0; i < n; ++i) {
+    const Index begin = adjacency.offsets[i], end = adjacency.offsets[i + 1], k = end - begin;
+    if (k == 0) continue;
+    if (on_boundary[i] || method == LaplacianMethod::Graph) {
+      edges.resize(k, V.cols());
+      for (Index j = 0; j < k; ++j) edges.row(j) = V.row(adjacency.neighbours[begin + j]) - V.row(i);
+      const Eigen::VectorXd w = graph_laplacian_weights(edges, on_boundary[i] ? boundary_options : graph);
+      for (Index j = 0; j < k; ++j) triplets.emplace_back(i, adjacency.neighbours[begin + j], w(j));
+    } else if (method == LaplacianMethod::Uniform) {
+      for (Index j = begin; j < end; ++j) triplets.emplace_back(i, adjacency.neighbours[j], 1.0 / k);
+    } else {  // cotangent, interior vertex
+      double total = 0;
+      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) total += it.value();
+      if (!(total > 1e-12))
+        fail<InputError>("the cotangent weights of vertex ", i, " sum to ", total,
+                         " (degenerate or very obtuse triangles around it): use method 'graph' or 'dual'");
+      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) triplets.emplace_back(i, it.col(), it.value() / total);
+    }
+  }
+  SparseRowMatrix W(n, n);
+  W.setFromTriplets(triplets.begin(), triplets.end());
+  return W;
+}
+
+// ---------------------------------------------------------------------------
+// Dual operator
+
+DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count) {
+  const int k = static_cast<int>(S.cols());  // n + 1 vertices per simplex
+  const int n = k - 1;
+  const Index simplex_count = static_cast<Index>(S.rows());
+  const FacetAdjacency adjacency = facet_adjacency(S);
+  DualOperator dual;
+  dual.neighbours.resize(simplex_count, k);
+  std::vector<std::pair<Index, int>> ghosts;
+  for (Index s = 0; s < simplex_count; ++s)
+    for (int i = 0; i < k; ++i) {
+      const Index across = adjacency.neighbour(s, i);
+      if (across >= 0) {
+        dual.neighbours(s, i) = across;
+      } else {
+        dual.neighbours(s, i) = simplex_count + static_cast<Index>(ghosts.size());
+        ghosts.emplace_back(s, i);
+      }
+    }
+  dual.ghost_facets.resize(static_cast<Index>(ghosts.size()), 2);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<size_t>(simplex_count + ghosts.size()) * k);
+  for (Index s = 0; s < simplex_count; ++s)
+    for (int c = 0; c < k; ++c) triplets.emplace_back(s, S(s, c), 1.0 / k);
+  const double facet_weight = double(n + 2) / (double(n) * (n + 1));
+  const double opposite_weight = -1.0 / (n + 1);
+  for (size_t g = 0; g < ghosts.size(); ++g) {
+    const auto [s, i] = ghosts[g];
+    dual.ghost_facets(static_cast<Index>(g), 0) = s;
+    dual.ghost_facets(static_cast<Index>(g), 1) = i;
+    const Index row = simplex_count + static_cast<Index>(g);
+    for (int c = 0; c < k; ++c) triplets.emplace_back(row, S(s, c), c == i ? opposite_weight : facet_weight);
+  }
+  dual.D.resize(simplex_count + static_cast<Index>(ghosts.size()), vertex_count);
+  dual.D.setFromTriplets(triplets.begin(), triplets.end());
+  return dual;
+}
+
+PointMatrix dual_hyperplane_normals(const PointMatrix& C, const SimplexMatrix& neighbours) {
+  PointMatrix N = simplex_normals(C, neighbours);
+  for (Index s = 0; s < N.rows(); ++s) {
+    // Relative size of the wedge: zero when the neighbours are affinely dependent.
+    double product = 1;
+    for (int j = 1; j < neighbours.cols(); ++j) product *= (C.row(neighbours(s, j)) - C.row(neighbours(s, 0))).norm();
+    const double length = N.row(s).norm();
+    if (length > 1e-9 * product && length > 0) N.row(s) /= length;
+    else N.row(s).setZero();
+  }
+  return N;
+}
+
+// ---------------------------------------------------------------------------
+// The differential system
+
+namespace {
+
+std::vector<char> flags_of(const std::vector<Index>& vertices, Index vertex_count, const char* what) {
+  std::vector<char> flags(vertex_count, 0);
+  for (Index v : vertices) {
+    if (v < 0 || v >= vertex_count) fail<InputError>(what, " vertex ", v, " is outside 0..", vertex_count - 1);
+    flags[v] = 1;
+  }
+  return flags;
+}
+
+void primal_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOptions& options,
+                   DifferentialSystem& system) {
+  const Index n = static_cast<Index>(V.rows());
+  SparseRowMatrix W = primal_weights(V, S, options.method, options.graph);
+  const std::vector<char> zero = flags_of(options.zero_detail_vertices, n, "zero-detail");
+  if (!options.zero_detail_vertices.empty()) {
+    // §4.5.1: new vertices get uniform weights (and δ = 0 below).
+    const VertexAdjacency adjacency = vertex_adjacency(S, n);
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(W.nonZeros());
+    for (Index i = 0; i < n; ++i) {
+      if (zero[i]) {
+        const Index begin = adjacency.offsets[i], k = adjacency.offsets[i + 1] - begin;
+        for (Index j = 0; j < k; ++j) triplets.emplace_back(i, adjacency.neighbours[begin + j], 1.0 / k);
+      } else {
+        for (SparseRowMatrix::InnerIterator it(W, i); it; ++it) triplets.emplace_back(i, it.col(), it.value());
+      }
+    }
+    W.setZero();
+    W.setFromTriplets(triplets.begin(), triplets.end());
+  }
+  SparseRowMatrix I(n, n);
+  I.setIdentity();
+  system.L = I - W;
+  system.L.makeCompressed();
+  system.delta = system.L * V;
+  for (Index i = 0; i < n; ++i)
+    if (zero[i]) system.delta.row(i).setZero();
+}
+
+void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOptions& options,
+                 DifferentialSystem& system) {
+  const Index vertex_count = static_cast<Index>(V.rows());
+  const Index simplex_count = static_cast<Index>(S.rows());
+  const int k = static_cast<int>(S.cols());
+  const int n = k - 1;
+  system.dual = dual_operator(S, vertex_count);
+  const DualOperator& dual = system.dual;
+  const PointMatrix C = dual.D * V;
+  const Index dual_count = static_cast<Index>(C.rows());
+  system.degenerate.assign(simplex_count, 0);
+
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
+  Small B(k, n);
+  for (Index s = 0; s < simplex_count; ++s) {
+    // Barycentric coordinates of the projection of c_s onto the hyperplane of its n+1 neighbours.
+    const auto p0 = C.row(dual.neighbours(s, 0));
+    double product = 1;
+    for (int j = 1; j < k; ++j) {
+      B.col(j - 1) = (C.row(dual.neighbours(s, j)) - p0).transpose();
+      product *= B.col(j - 1).squaredNorm();
+    }
+    const SmallVector r = (C.row(s) - p0).transpose();
+    const Small gram = B.transpose() * B;
+    SmallVector a;
+    if (gram.determinant() > 1e-18 * product) {
+      a = gram.ldlt().solve(B.transpose() * r);
+    } else {
+      system.degenerate[s] = 1;
+      a = B.completeOrthogonalDecomposition().solve(r);
+    }
+    triplets.emplace_back(s, s, 1.0);
+    triplets.emplace_back(s, dual.neighbours(s, 0), -(1.0 - a.sum()));
+    for (int j = 1; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), -a(j - 1));
+  }
+  system.dual_weights.resize(simplex_count, dual_count);
+  system.dual_weights.setFromTriplets(triplets.begin(), triplets.end());
+  system.L = system.dual_weights * dual.D;
+  system.L.makeCompressed();
+  system.delta = system.L * V;
+
+  const PointMatrix normals = dual_hyperplane_normals(C, dual.neighbours);
+  system.heights.resize(simplex_count);
+  for (Index s = 0; s < simplex_count; ++s) {
+    system.heights(s) = system.delta.row(s).dot(normals.row(s));
+    if (normals.row(s).squaredNorm() == 0) system.degenerate[s] = 1;
+  }
+  if (!options.zero_detail_vertices.empty()) {
+    const std::vector<char> zero = flags_of(options.zero_detail_vertices, vertex_count, "zero-detail");
+    for (Index s = 0; s < simplex_count; ++s)
+      for (int c = 0; c < k; ++c)
+        if (zero[S(s, c)]) {
+          system.delta.row(s).setZero();
+          system.heights(s) = 0;
+        }
+  }
+}
+
+}  // namespace
+
+DifferentialSystem laplacian_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOptions& options) {
+  check_mesh(V, S, "a Laplacian");
+  DifferentialSystem system;
+  system.method = options.method;
+  if (options.method == LaplacianMethod::Dual) dual_system(V, S, options, system);
+  else primal_system(V, S, options, system);
+  return system;
+}
+
+// ---------------------------------------------------------------------------
+// Deformer
+
+namespace {
+
+using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+// Number of eigenvalues of the symmetric N (lower triangle given) below tau,
+// from the inertia of the LDLᵀ factorisation of N − τI (Sylvester's law).
+Index eigenvalues_below(const ColMatrix& N_lower, double tau) {
+  Eigen::SimplicialLDLT<ColMatrix, Eigen::Lower> ldlt;
+  ldlt.setShift(-tau);
+  ldlt.compute(N_lower);
+  if (ldlt.info() != Eigen::Success) return 1;  // a zero pivot: at least one
+  Index count = 0;
+  const auto& d = ldlt.vectorD();
+  for (Index i = 0; i < d.size(); ++i)
+    if (!(d(i) > 0)) ++count;
+  return count;
+}
+
+}  // namespace
+
+struct Deformer::Impl {
+  PointMatrix V0, V;
+  SimplexMatrix S;
+  DeformerOptions options;
+  DifferentialSystem system;
+  int dim = 0;
+  double diagonal = 1;
+
+  std::vector<Index> given_handles;
+  IndexVector anchors, handles;
+  std::vector<Index> handle_source;  // per entry of `handles`: position in given_handles
+
+  // The least-squares system: rows = [L ; ghost-anchor rows] (+ soft constraint rows).
+  Index laplacian_rows = 0;
+  PointMatrix extra_rhs;         // ghost-anchor rows' right-hand side
+  std::vector<Index> free_vertices;
+  std::vector<Index> constrained;  // anchors then handles
+  ColMatrix A_free_t;            // unknowns by rows (hard), or Aᵀ of all vertices (soft)
+  SparseRowMatrix A_constrained;  // rows by constraints (hard only)
+  SparseCholesky cholesky;
+  PointMatrix delta;             // current differential coordinates (restore rotates them)
+  PointMatrix constraint_positions;  // constraints by dim, in `constrained` order
+  bool deformed = false;
+  DeformerInfo info;
+
+  Index build_and_factor();
+  void place_handles_by_transform(const Eigen::MatrixXd& transform);
+  void place_handles_at(const PointMatrix& positions, double s, const Eigen::MatrixXd* fit);
+  void grow_constraints(const VertexAdjacency& adjacency);
+  PointMatrix solve() const;
+};
+
+Index Deformer::Impl::build_and_factor() {
+  const Index vertex_count = static_cast<Index>(V0.rows());
+  const bool soft = options.constraint_weight > 0;
+  const bool ghost_rows = system.method == LaplacianMethod::Dual && options.boundary == BoundaryRule::GhostAnchors &&
+                          system.dual.ghost_count() > 0;
+  const Index ghost_count = ghost_rows ? system.dual.ghost_count() : 0;
+  const Index simplex_count = system.dual.simplex_count();
+
+  // All rows over all vertices, row-major.
+  SparseRowMatrix A(laplacian_rows + ghost_count, vertex_count);
+  if (ghost_rows) {
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(system.L.nonZeros() + system.dual.D.nonZeros());
+    for (Index r = 0; r < laplacian_rows; ++r)
+      for (SparseRowMatrix::InnerIterator it(system.L, r); it; ++it) triplets.emplace_back(r, it.col(), it.value());
+    for (Index g = 0; g < ghost_count; ++g)
+      for (SparseRowMatrix::InnerIterator it(system.dual.D, simplex_count + g); it; ++it)
+        triplets.emplace_back(laplacian_rows + g, it.col(), it.value());
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    extra_rhs = system.dual.D.bottomRows(ghost_count) * V0;
+  } else {
+    A = system.L;
+    extra_rhs.resize(0, dim);
+  }
+  info.rows = static_cast<Index>(A.rows());
+  info.ghosts = system.method == LaplacianMethod::Dual ? system.dual.ghost_count() : 0;
+  info.ghost_anchor_rows = ghost_count;
+
+  constrained.assign(anchors.data(), anchors.data() + anchors.size());
+  constrained.insert(constrained.end(), handles.data(), handles.data() + handles.size());
+  std::vector<Index> column(vertex_count, -1);  // free index, or -(constraint index) - 2
+  for (size_t c = 0; c < constrained.size(); ++c) column[constrained[c]] = -static_cast<Index>(c) - 2;
+  free_vertices.clear();
+  for (Index v = 0; v < vertex_count; ++v)
+    if (column[v] == -1) {
+      column[v] = static_cast<Index>(free_vertices.size());
+      free_vertices.push_back(v);
+    }
+
+  ColMatrix N;
+  if (soft) {
+    A_free_t = A.transpose();
+    N = A_free_t * A_free_t.transpose();
+    const double w2 = options.constraint_weight * options.constraint_weight;
+    for (Index v : constrained) N.coeffRef(v, v) += w2;
+    info.unknowns = vertex_count;
+    info.rows += static_cast<Index>(constrained.size());
+  } else {
+    std::vector<Eigen::Triplet<double>> free_triplets, fixed_triplets;
+    free_triplets.reserve(A.nonZeros());
+    for (Index r = 0; r < A.rows(); ++r)
+      for (SparseRowMatrix::InnerIterator it(A, r); it; ++it) {
+        const Index c = column[it.col()];
+        if (c >= 0) free_triplets.emplace_back(c, r, it.value());
+        else fixed_triplets.emplace_back(r, -c - 2, it.value());
+      }
+    A_free_t.resize(static_cast<Index>(free_vertices.size()), A.rows());
+    A_free_t.setFromTriplets(free_triplets.begin(), free_triplets.end());
+    A_constrained.resize(A.rows(), static_cast<Index>(constrained.size()));
+    A_constrained.setFromTriplets(fixed_triplets.begin(), fixed_triplets.end());
+    info.unknowns = static_cast<Index>(free_vertices.size());
+    if (free_vertices.empty()) {
+      info.rcond = 1;
+      info.factor_nonzeros = 0;
+      return 0;
+    }
+    N = A_free_t * A_free_t.transpose();
+  }
+  ColMatrix N_lower = N.triangularView<Eigen::Lower>();
+  N_lower.makeCompressed();
+  const bool positive = cholesky.factor(N_lower);
+  info.rcond = positive ? cholesky.rcond() : 0;
+  info.factor_nonzeros = cholesky.factor_nonzeros();
+  if (positive && info.rcond > 1e-12) return 0;
+  // Possibly rank-deficient: count the (numerically) zero eigenvalues.
+  const double tau = 1e-10 * N_lower.diagonal().cwiseAbs().maxCoeff();
+  Index deficiency = eigenvalues_below(N_lower, tau);
+  if (!positive) deficiency = std::max<Index>(deficiency, 1);
+  return deficiency;
+}
+
+void Deformer::Impl::grow_constraints(const VertexAdjacency& adjacency) {
+  const Index vertex_count = static_cast<Index>(V0.rows());
+  std::vector<int> label(vertex_count, 0);  // 1 anchor, 2 handle
+  std::vector<Index> source(vertex_count, -1);
+  for (Index i = 0; i < anchors.size(); ++i) label[anchors(i)] = 1;
+  for (Index i = 0; i < handles.size(); ++i) {
+    label[handles(i)] = 2;
+    source[handles(i)] = handle_source[i];
+  }
+  std::vector<Index> new_anchors, new_handles;
+  std::vector<Index> new_sources;
+  for (Index v = 0; v < vertex_count; ++v) {
+    if (label[v] != 0) continue;
+    int chosen = 0;
+    Index from = -1;
+    for (Index j = adjacency.offsets[v]; j < adjacency.offsets[v + 1]; ++j) {
+      const Index u = adjacency.neighbours[j];
+      if (label[u] == 1) { chosen = 1; break; }  // anchors win ties
+      if (label[u] == 2 && chosen == 0) { chosen = 2; from = source[u]; }
+    }
+    if (chosen == 1) new_anchors.push_back(v);
+    else if (chosen == 2) { new_handles.push_back(v); new_sources.push_back(from); }
+  }
+  const Index grown = static_cast<Index>(new_anchors.size() + new_handles.size());
+  if (grown == 0) return;
+  IndexVector a(anchors.size() + new_anchors.size());
+  a << anchors, Eigen::Map<IndexVector>(new_anchors.data(), static_cast<Index>(new_anchors.size()));
+  IndexVector h(handles.size() + new_handles.size());
+  h << handles, Eigen::Map<IndexVector>(new_handles.data(), static_cast<Index>(new_handles.size()));
+  anchors = a;
+  handles = h;
+  handle_source.insert(handle_source.end(), new_sources.begin(), new_sources.end());
+  info.grown += grown;
+}
+
+PointMatrix Deformer::Impl::solve() const {
+  const Index vertex_count = static_cast<Index>(V0.rows());
+  // Right-hand side of the full rows: [Δ ; ghost-anchor positions].
+  PointMatrix rhs(laplacian_rows + extra_rhs.rows(), dim);
+  rhs.topRows(laplacian_rows) = delta;
+  if (extra_rhs.rows()) rhs.bottomRows(extra_rhs.rows()) = extra_rhs;
+  PointMatrix out(vertex_count, dim);
+  if (options.constraint_weight > 0) {
+    Eigen::MatrixXd b = A_free_t * rhs;
+    const double w2 = options.constraint_weight * options.constraint_weight;
+    for (size_t c = 0; c < constrained.size(); ++c) b.row(constrained[c]) += w2 * constraint_positions.row(c);
+    out = cholesky.solve(b);
+    return out;
+  }
+  for (size_t c = 0; c < constrained.size(); ++c) out.row(constrained[c]) = constraint_positions.row(c);
+  if (free_vertices.empty()) return out;
+  rhs -= A_constrained * constraint_positions;
+  const Eigen::MatrixXd b = A_free_t * rhs;
+  const Eigen::MatrixXd x = cholesky.solve(b);
+  for (size_t f = 0; f < free_vertices.size(); ++f) out.row(free_vertices[f]) = x.row(f);
+  return out;
+}
+
+Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
+                   const IndexVector& handles, const DeformerOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  check_mesh(V, S, "a Laplacian deformation");
+  if (!(options.constraint_weight >= 0) || !std::isfinite(options.constraint_weight))
+    fail<InputError>("constraint_weight must be >= 0 (0: hard constraints), got ", options.constraint_weight);
+  const Index vertex_count = static_cast<Index>(V.rows());
+  if (anchors.size() + handles.size() == 0)
+    fail<InputError>("no anchors and no handles: a Laplacian deformation needs at least one constrained vertex");
+  std::vector<int> seen(vertex_count, 0);  // 1 anchor, 2 handle
+  for (Index i = 0; i < anchors.size(); ++i) {
+    const Index v = anchors(i);
+    if (v < 0 || v >= vertex_count) fail<InputError>("anchor ", i, " is vertex ", v, ", outside 0..", vertex_count - 1);
+    if (seen[v]) fail<InputError>("vertex ", v, " is listed twice as an anchor");
+    seen[v] = 1;
+  }
+  for (Index i = 0; i < handles.size(); ++i) {
+    const Index v = handles(i);
+    if (v < 0 || v >= vertex_count) fail<InputError>("handle ", i, " is vertex ", v, ", outside 0..", vertex_count - 1);
+    if (seen[v] == 1) fail<InputError>("vertex ", v, " is both an anchor and a handle");
+    if (seen[v] == 2) fail<InputError>("vertex ", v, " is listed twice as a handle");
+    seen[v] = 2;
+  }
+  d.V0 = V;
+  d.V = V;
+  d.S = S;
+  d.options = options;
+  d.dim = static_cast<int>(V.cols());
+  d.diagonal = std::max(bounding_box_diagonal(V), 1e-300);
+  d.anchors = anchors;
+  d.handles = handles;
+  d.given_handles.assign(handles.data(), handles.data() + handles.size());
+  d.handle_source.resize(handles.size());
+  std::iota(d.handle_source.begin(), d.handle_source.end(), 0);
+
+  d.system = laplacian_system(V, S, options.laplacian);
+  d.laplacian_rows = static_cast<Index>(d.system.L.rows());
+  d.delta = d.system.delta;
+
+  VertexAdjacency adjacency;
+  for (;;) {
+    const Index deficiency = d.build_and_factor();
+    if (deficiency == 0) break;
+    const std::string ghosts =
+        d.info.ghosts > 0 ? " (the dual Laplacian has " + std::to_string(d.info.ghosts) +
+                                " ghost vertices at the boundary, which can leave directions free)"
+                          : "";
+    if (options.boundary == BoundaryRule::Grow) {
+      if (adjacency.offsets.empty()) adjacency = vertex_adjacency(S, vertex_count);
+      const Index before = d.info.grown;
+      d.grow_constraints(adjacency);
+      if (d.info.grown > before) continue;
+      fail<InputError>("the constrained system stays rank-deficient by ", deficiency,
+                       " after growing the constraints over every reachable vertex", ghosts,
+                       ": some part of the complex has no anchor or handle in its component");
+    }
+    fail<InputError>("the constrained system is rank-deficient: at least ", deficiency,
+                     " more independent constraint(s) (anchor or handle vertices) are needed", ghosts,
+                     "; ", d.anchors.size(), " anchors and ", d.handles.size(),
+                     " handles were given. Add constraints, or use boundary='grow'",
+                     options.boundary == BoundaryRule::GhostAnchors ? "" : " or 'ghost_anchors'");
+  }
+  d.constraint_positions.resize(static_cast<Index>(d.constrained.size()), d.dim);
+  for (size_t c = 0; c < d.constrained.size(); ++c) d.constraint_positions.row(c) = V.row(d.constrained[c]);
+}
+
+Deformer::~Deformer() = default;
+Deformer::Deformer(Deformer&&) noexcept = default;
+Deformer& Deformer::operator=(Deformer&&) noexcept = default;
+
+namespace {
+
+void check_transform(const Eigen::MatrixXd& transform, int dim) {
+  if (transform.rows() != dim + 1 || transform.cols() != dim + 1)
+    fail<InputError>("the handle transform must be ", dim + 1, " by ", dim + 1, " (affine, homogeneous) for ", dim,
+                     "D points, got ", transform.rows(), " by ", transform.cols());
+  if (!transform.allFinite()) fail<InputError>("the handle transform has non-finite entries");
+  Eigen::RowVectorXd expected = Eigen::RowVectorXd::Zero(dim + 1);
+  expected(dim) = 1;
+  if ((transform.row(dim) - expected).cwiseAbs().maxCoeff() > 1e-12)
+    fail<InputError>("the handle transform's last row must be [0 ... 0 1] (an affine map)");
+}
+
+}  // namespace
+
+Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s) {
+  const int dim = static_cast<int>(transform.rows()) - 1;
+  check_transform(transform, dim);
+  const Eigen::MatrixXd A = transform.topLeftCorner(dim, dim);
+  const Eigen::VectorXd t = transform.topRightCorner(dim, 1);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::MatrixXd R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) fail<InputError>("the handle transform reflects: it cannot be applied in steps");
+  const Eigen::VectorXd sigma = svd.singularValues();
+  if (sigma.minCoeff() <= 0) fail<InputError>("the handle transform is singular: it cannot be applied in steps");
+  const Eigen::MatrixXd S_s = svd.matrixV() * sigma.array().pow(s).matrix().asDiagonal() * svd.matrixV().transpose();
+  // R is orthogonal, hence diagonalisable: R^s = U Λ^s U⁻¹.
+  const Eigen::ComplexEigenSolver<Eigen::MatrixXd> eigen(R);
+  const Eigen::MatrixXcd U = eigen.eigenvectors();
+  Eigen::VectorXcd lambda = eigen.eigenvalues();
+  for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+    const double angle = std::arg(lambda(i));
+    if (std::abs(std::abs(angle) - M_PI) < 1e-9 && s != 0 && s != 1)
+      fail<InputError>("the handle transform rotates by π: its increments are ambiguous; apply it as two halves");
+    lambda(i) = std::polar(1.0, angle * s);
+  }
+  const Eigen::MatrixXcd R_c = U * lambda.asDiagonal() * U.inverse();
+  if (R_c.imag().cwiseAbs().maxCoeff() > 1e-8)
+    fail<InputError>("the handle transform's rotation has no real fractional power");
+  const Eigen::MatrixXd A_s = R_c.real() * S_s;
+  const Eigen::MatrixXd IA = Eigen::MatrixXd::Identity(dim, dim) - A;
+  const Eigen::VectorXd c = IA.completeOrthogonalDecomposition().solve(t);
+  const Eigen::VectorXd r = t - IA * c;
+  Eigen::MatrixXd out = Eigen::MatrixXd::Identity(dim + 1, dim + 1);
+  out.topLeftCorner(dim, dim) = A_s;
+  out.topRightCorner(dim, 1) = c - A_s * c + s * r;
+  return out;
+}
+
+void Deformer::Impl::place_handles_by_transform(const Eigen::MatrixXd& transform) {
+  const Eigen::MatrixXd linear = transform.topLeftCorner(dim, dim);
+  const Eigen::RowVectorXd translation = transform.topRightCorner(dim, 1).transpose();
+  const Index anchor_count = static_cast<Index>(anchors.size());
+  for (Index c = 0; c < anchor_count; ++c) constraint_positions.row(c) = V0.row(anchors(c));
+  for (Index h = 0; h < handles.size(); ++h)
+    constraint_positions.row(anchor_count + h) = V0.row(handles(h)) * linear.transpose() + translation;
+}
+
+void Deformer::Impl::place_handles_at(const PointMatrix& positions, double s, const Eigen::MatrixXd* fit) {
+  const Index anchor_count = static_cast<Index>(anchors.size());
+  for (Index c = 0; c < anchor_count; ++c) constraint_positions.row(c) = V0.row(anchors(c));
+  Eigen::MatrixXd fit_s;
+  if (fit) fit_s = affine_power(*fit, s);
+  for (Index h = 0; h < handles.size(); ++h) {
+    const Index source = handle_source[h];
+    const Eigen::RowVectorXd rest = V0.row(handles(h));
+    const Eigen::RowVectorXd target = rest + positions.row(source) - V0.row(given_handles[source]);
+    if (!fit || s == 1) {
+      constraint_positions.row(anchor_count + h) = rest + s * (target - rest);
+      continue;
+    }
+    // Along the best-fit rigid motion, plus the fraction s of what it misses.
+    const auto apply = [&](const Eigen::MatrixXd& T) -> Eigen::RowVectorXd {
+      return rest * T.topLeftCorner(dim, dim).transpose() + T.topRightCorner(dim, 1).transpose();
+    };
+    constraint_positions.row(anchor_count + h) = apply(fit_s) + s * (target - apply(*fit));
+  }
+}
+
+namespace {
+
+// The rigid motion (Kabsch) best mapping rows of `rest` onto rows of `moved`,
+// as a (D+1) by (D+1) matrix.
+Eigen::MatrixXd best_fit_rigid(const PointMatrix& rest, const PointMatrix& moved) {
+  const int dim = static_cast<int>(rest.cols());
+  const Eigen::RowVectorXd a0 = rest.colwise().mean(), b0 = moved.colwise().mean();
+  const Eigen::MatrixXd cross = (moved.rowwise() - b0).transpose() * (rest.rowwise() - a0);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::MatrixXd U = svd.matrixU();
+  if ((U * svd.matrixV().transpose()).determinant() < 0) U.col(dim - 1) *= -1;
+  const Eigen::MatrixXd R = U * svd.matrixV().transpose();
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(dim + 1, dim + 1);
+  T.topLeftCorner(dim, dim) = R;
+  T.topRightCorner(dim, 1) = (b0 - a0 * R.transpose()).transpose();
+  return T;
+}
+
+}  // namespace
+
+PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
+  Impl& d = *impl_;
+  check_transform(transform, d.dim);
+  if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
+  if (d.system.method != LaplacianMethod::Dual) steps = 1;
+  d.delta = d.system.delta;
+  for (int k = 1; k <= steps; ++k) {
+    d.place_handles_by_transform(k == steps ? transform : affine_power(transform, double(k) / steps));
+    d.V = d.solve();
+    d.deformed = true;
+    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+  }
+  return d.V;
+}
+
+PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
+  Impl& d = *impl_;
+  const Index given = static_cast<Index>(d.given_handles.size());
+  if (positions.rows() != given || positions.cols() != d.dim)
+    fail<InputError>("handle positions must be ", given, " by ", d.dim, " (one row per handle), got ",
+                     positions.rows(), " by ", positions.cols());
+  if (!positions.allFinite()) fail<InputError>("handle positions have non-finite entries");
+  if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
+  if (d.system.method != LaplacianMethod::Dual) steps = 1;
+  d.delta = d.system.delta;
+  // Intermediate handle positions follow fractions of the handles' best-fit
+  // rigid motion (a linear blend would shrink a rotated cap on the way);
+  // a fit rotating by exactly π has no unique fraction: blend linearly then.
+  Eigen::MatrixXd fit;
+  bool use_fit = steps > 1;
+  if (use_fit) {
+    PointMatrix rest(given, d.dim);
+    for (Index h = 0; h < given; ++h) rest.row(h) = d.V0.row(d.given_handles[h]);
+    fit = best_fit_rigid(rest, positions);
+    try {
+      affine_power(fit, 0.5);
+    } catch (const InputError&) {
+      use_fit = false;
+    }
+  }
+  for (int k = 1; k <= steps; ++k) {
+    d.place_handles_at(positions, double(k) / steps, use_fit ? &fit : nullptr);
+    d.V = d.solve();
+    d.deformed = true;
+    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+  }
+  return d.V;
+}
+
+RestoreStatus Deformer::restore(int max_iterations, double tolerance) {
+  Impl& d = *impl_;
+  if (d.system.method != LaplacianMethod::Dual)
+    fail<InputError>("restore applies to the dual Laplacian only (this Deformer uses '", to_string(d.system.method),
+                     "')");
+  if (!d.deformed) fail<InputError>("restore needs a deformation first: call deform or deform_to");
+  if (max_iterations < 1) fail<InputError>("max_iterations must be at least 1, got ", max_iterations);
+  if (!(tolerance > 0)) fail<InputError>("tolerance must be positive, got ", tolerance);
+  RestoreStatus status;
+  const Index simplex_count = d.system.dual.simplex_count();
+  // One restore step G: rotate each δ'_s onto its neighbours' current normal, re-solve.
+  auto step = [&](const PointMatrix& X) {
+    const PointMatrix C = d.system.dual.D * X;
+    const PointMatrix normals = dual_hyperplane_normals(C, d.system.dual.neighbours);
+    for (Index s = 0; s < simplex_count; ++s) {
+      if (d.system.degenerate[s] || normals.row(s).squaredNorm() == 0) continue;
+      d.delta.row(s) = d.system.heights(s) * normals.row(s);
+    }
+    return d.solve();
+  };
+  // The plain iteration V ← G(V) is Au et al.'s non-linear Gauss-Seidel; on
+  // large rotations it converges slowly or oscillates with period two (an
+  // eigenvalue of G' near −1). Anderson acceleration (depth 5) on the fixed
+  // point removes both; the reported motion is always that of the plain
+  // step, |G(V) − V|, so convergence means a true fixed point.
+  constexpr int depth = 5;
+  const Eigen::Index size = d.V.size();
+  std::vector<Eigen::VectorXd> dF, dG;
+  Eigen::VectorXd f_prev, g_prev;
+  PointMatrix X = d.V;
+  double best = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < max_iterations; ++it) {
+    const PointMatrix G = step(X);
+    const Eigen::VectorXd g = Eigen::Map<const Eigen::VectorXd>(G.data(), size);
+    const Eigen::VectorXd f = g - Eigen::Map<const Eigen::VectorXd>(X.data(), size);
+    status.iterations = it + 1;
+    status.motion = (G - X).rowwise().norm().maxCoeff() / d.diagonal;
+    d.V = G;
+    if (!std::isfinite(status.motion)) break;
+    if (status.motion < tolerance) {
+      status.converged = true;
+      break;
+    }
+    if (status.motion > 10 * best) {  // acceleration went astray: restart from the plain step
+      dF.clear();
+      dG.clear();
+      f_prev.resize(0);
+    }
+    best = std::min(best, status.motion);
+    if (f_prev.size()) {
+      dF.push_back(f - f_prev);
+      dG.push_back(g - g_prev);
+      if (static_cast<int>(dF.size()) > depth) {
+        dF.erase(dF.begin());
+        dG.erase(dG.begin());
+      }
+    }
+    f_prev = f;
+    g_prev = g;
+    Eigen::VectorXd next = g;
+    if (!dF.empty()) {
+      Eigen::MatrixXd M(size, static_cast<Eigen::Index>(dF.size()));
+      for (size_t j = 0; j < dF.size(); ++j) M.col(static_cast<Eigen::Index>(j)) = dF[j];
+      const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(M);
+      const Eigen::VectorXd gamma = qr.solve(f);
+      if (gamma.allFinite())
+        for (size_t j = 0; j < dG.size(); ++j) next -= gamma(static_cast<Eigen::Index>(j)) * dG[j];
+    }
+    X = Eigen::Map<const PointMatrix>(next.data(), d.V.rows(), d.V.cols());
+  }
+  return status;
+}
+
+const PointMatrix& Deformer::points() const { return impl_->V; }
+const PointMatrix& Deformer::rest_points() const { return impl_->V0; }
+const IndexVector& Deformer::anchors() const { return impl_->anchors; }
+const IndexVector& Deformer::handles() const { return impl_->handles; }
+const DifferentialSystem& Deformer::system() const { return impl_->system; }
+const DeformerInfo& Deformer::info() const { return impl_->info; }
+int Deformer::dimension() const { return impl_->dim; }
+
+PointMatrix laplacian_deform(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
+                             const IndexVector& handles, const Eigen::MatrixXd& transform,
+                             const DeformerOptions& options, int restore_iterations, double restore_tolerance,
+                             int steps) {
+  Deformer deformer(V, S, anchors, handles, options);
+  PointMatrix out = deformer.deform(transform, options.laplacian.method == LaplacianMethod::Dual ? steps : 1);
+  if (restore_iterations > 0 && options.laplacian.method == LaplacianMethod::Dual) {
+    deformer.restore(restore_iterations, restore_tolerance);
+    out = deformer.points();
+  }
+  return out;
+}
+
+}  // namespace animanifold

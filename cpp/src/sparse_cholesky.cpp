@@ -1,0 +1,89 @@
+#include "sparse_cholesky.hpp"
+
+#include "animanifold/errors.hpp"
+
+#include <cholmod.h>
+#include <cstring>
+
+namespace animanifold {
+
+struct SparseCholesky::Impl {
+  // cholmod_common is used by const solves too (workspace, status): mutable.
+  mutable cholmod_common common;
+  cholmod_factor* factor = nullptr;
+  Eigen::Index n = 0;
+
+  Impl() {
+    cholmod_start(&common);
+    common.supernodal = CHOLMOD_SUPERNODAL;
+    common.print = 0;  // failures are reported through our return values, not stderr
+  }
+  ~Impl() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    cholmod_finish(&common);
+  }
+};
+
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::~SparseCholesky() = default;
+SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
+SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
+
+bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& lower) {
+  Impl& d = *impl_;
+  if (!lower.isCompressed()) fail<InputError>("SparseCholesky: matrix must be compressed");
+  if (d.factor) cholmod_free_factor(&d.factor, &d.common);
+  cholmod_sparse A;
+  std::memset(&A, 0, sizeof A);
+  A.nrow = static_cast<size_t>(lower.rows());
+  A.ncol = static_cast<size_t>(lower.cols());
+  A.nzmax = static_cast<size_t>(lower.nonZeros());
+  A.p = const_cast<int*>(lower.outerIndexPtr());
+  A.i = const_cast<int*>(lower.innerIndexPtr());
+  A.x = const_cast<double*>(lower.valuePtr());
+  A.stype = -1;  // lower triangle of a symmetric matrix
+  A.itype = CHOLMOD_INT;
+  A.xtype = CHOLMOD_REAL;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
+  d.n = lower.rows();
+  d.factor = cholmod_analyze(&A, &d.common);
+  if (!d.factor) fail<std::runtime_error>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
+  cholmod_factorize(&A, d.factor, &d.common);
+  if (d.common.status == CHOLMOD_NOT_POSDEF || d.factor->minor < d.factor->n) return false;
+  if (d.common.status < CHOLMOD_OK)
+    fail<std::runtime_error>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
+  return true;
+}
+
+double SparseCholesky::rcond() const {
+  if (!impl_->factor) return 0;
+  return cholmod_rcond(impl_->factor, &impl_->common);
+}
+
+std::int64_t SparseCholesky::factor_nonzeros() const {
+  return impl_->factor ? static_cast<std::int64_t>(impl_->common.lnz) : 0;
+}
+
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
+  const Impl& d = *impl_;
+  if (!d.factor) fail<std::runtime_error>("SparseCholesky: solve before factor");
+  if (B.rows() != d.n) fail<InputError>("SparseCholesky: right-hand side has ", B.rows(), " rows for ", d.n);
+  cholmod_dense b;
+  std::memset(&b, 0, sizeof b);
+  b.nrow = static_cast<size_t>(B.rows());
+  b.ncol = static_cast<size_t>(B.cols());
+  b.nzmax = b.nrow * b.ncol;
+  b.d = b.nrow;
+  b.x = const_cast<double*>(B.data());
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* x = cholmod_solve(CHOLMOD_A, d.factor, &b, &d.common);
+  if (!x) fail<std::runtime_error>("CHOLMOD solve failed (status ", d.common.status, ")");
+  Eigen::MatrixXd X = Eigen::Map<const Eigen::MatrixXd>(static_cast<double*>(x->x), B.rows(), B.cols());
+  cholmod_free_dense(&x, &d.common);
+  return X;
+}
+
+}  // namespace animanifold

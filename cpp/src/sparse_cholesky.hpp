@@ -1,0 +1,35 @@
+// Private: a thin RAII wrapper over CHOLMOD's supernodal Cholesky, used by the
+// Deformer (factor LᵀL once, solve all coordinates as one multi-column
+// right-hand side). Kept out of the public headers so that nothing outside
+// cpp/src needs cholmod.h.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+#include <memory>
+
+namespace animanifold {
+
+class SparseCholesky {
+ public:
+  SparseCholesky();
+  ~SparseCholesky();
+  SparseCholesky(SparseCholesky&&) noexcept;
+  SparseCholesky& operator=(SparseCholesky&&) noexcept;
+
+  // Factors the symmetric matrix whose lower triangle is `lower` (compressed,
+  // column-major). Returns false when CHOLMOD finds it not positive definite.
+  bool factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& lower);
+  // CHOLMOD's cheap reciprocal condition estimate, (min diag L / max diag L)².
+  double rcond() const;
+  std::int64_t factor_nonzeros() const;
+  // Solves A X = B for all columns of B at once.
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace animanifold

@@ -1,0 +1,124 @@
+#include "animanifold/errors.hpp"
+#include "animanifold/laplacian.hpp"
+#include "animanifold/simplex_qp.hpp"
+#include "animanifold/stitch.hpp"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace animanifold;
+
+namespace {
+
+// An octahedron (closed, outward), the keyframe of the small manifolds below.
+void octahedron(PointMatrix& V, SimplexMatrix& F) {
+  V.resize(6, 3);
+  V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  F.resize(8, 3);
+  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+}
+
+Complex moving_octahedron(int keyframes) {
+  PointMatrix V;
+  SimplexMatrix F;
+  octahedron(V, F);
+  StitchInput in;
+  in.frames.resize(6 * keyframes, 3);
+  in.times.resize(keyframes);
+  for (int i = 0; i < keyframes; ++i) {
+    in.frames.middleRows(6 * i, 6) = V * (1.0 + 0.25 * i);
+    in.frames.middleRows(6 * i, 6).col(0).array() += 0.3 * i;
+    in.times(i) = i;
+  }
+  in.faces = F;
+  return stitch(in);
+}
+
+}  // namespace
+
+TEST(SimplexQP, SatisfiesKKTOnRandomProblems) {
+  std::mt19937 gen(7);
+  std::normal_distribution<double> normal;
+  for (int trial = 0; trial < 50; ++trial) {
+    const int k = 3 + trial % 20, D = 3 + trial % 2;
+    Eigen::MatrixXd E(k, D);
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < D; ++j) E(i, j) = normal(gen);
+    Eigen::MatrixXd H = 2 * E * E.transpose();
+    H.diagonal().array() += 1e-6;
+    const Eigen::VectorXd g = 0.3 * E.rowwise().squaredNorm();
+    const double lower = 0.01;
+    const SimplexQPResult r = solve_simplex_qp(H, g, lower);
+    ASSERT_TRUE(r.converged) << "trial " << trial;
+    EXPECT_NEAR(r.weights.sum(), 1.0, 1e-12);
+    EXPECT_GE(r.weights.minCoeff(), lower - 1e-14);
+    const Eigen::VectorXd gradient = H * r.weights + g;
+    double nu = 0;
+    int free = 0;
+    for (int j = 0; j < k; ++j)
+      if (r.weights(j) > lower + 1e-9) nu += gradient(j), ++free;
+    ASSERT_GT(free, 0);
+    nu /= free;
+    for (int j = 0; j < k; ++j) {
+      if (r.weights(j) > lower + 1e-9) EXPECT_NEAR(gradient(j), nu, 1e-7) << "trial " << trial;
+      else EXPECT_GE(gradient(j), nu - 1e-7) << "trial " << trial;
+    }
+  }
+}
+
+TEST(DualOperator, GhostRowsAreAffineAndKeepTheBoundaryFacet) {
+  const Complex m = moving_octahedron(2);
+  const DualOperator dual = dual_operator(m.S, static_cast<Index>(m.V.rows()));
+  EXPECT_EQ(dual.ghost_count(), 16);  // the first and last keyframe's triangles
+  for (Index g = 0; g < dual.ghost_count(); ++g) {
+    const Index row = dual.simplex_count() + g;
+    EXPECT_NEAR(dual.D.row(row).sum(), 1.0, 1e-14);
+    const Index s = dual.ghost_facets(g, 0), i = dual.ghost_facets(g, 1);
+    EXPECT_NEAR(dual.D.coeff(row, m.S(s, i)), -0.25, 1e-14);
+  }
+}
+
+TEST(Deformer, ZeroMotionReproducesTetManifoldsForEveryMethod) {
+  const Complex m = moving_octahedron(3);
+  IndexVector anchors(6), handles(6);
+  for (int i = 0; i < 6; ++i) anchors(i) = i, handles(i) = 12 + i;
+  for (const char* method : {"uniform", "graph", "dual"}) {
+    DeformerOptions o;
+    o.laplacian.method = parse_laplacian_method(method);
+    Deformer d(m.V, m.S, anchors, handles, o);
+    const PointMatrix out = d.deform(Eigen::MatrixXd::Identity(5, 5));
+    EXPECT_LT((out - m.V).cwiseAbs().maxCoeff(), 1e-10) << method;
+  }
+}
+
+TEST(Deformer, TranslationOfTheHandlesAloneTranslatesEverything) {
+  const Complex m = moving_octahedron(3);
+  IndexVector none(0), handles(3);
+  handles << 0, 7, 14;
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
+  T.topRightCorner(4, 1) << 0.5, -1, 2, 0.25;
+  for (const char* method : {"uniform", "graph", "dual"}) {
+    DeformerOptions o;
+    o.laplacian.method = parse_laplacian_method(method);
+    Deformer d(m.V, m.S, none, handles, o);
+    const PointMatrix out = d.deform(T);
+    const Eigen::RowVectorXd shift = T.topRightCorner(4, 1).transpose();
+    const PointMatrix expected = m.V.rowwise() + shift;
+    EXPECT_LT((out - expected).cwiseAbs().maxCoeff(), 1e-10) << method;
+  }
+}
+
+TEST(Deformer, RefusesCotangentOnTetsAndOverlappingConstraints) {
+  const Complex m = moving_octahedron(2);
+  IndexVector a(1), h(1);
+  a << 0;
+  h << 0;
+  EXPECT_THROW(Deformer(m.V, m.S, a, h), InputError);
+  h << 1;
+  DeformerOptions o;
+  o.laplacian.method = LaplacianMethod::Cotangent;
+  EXPECT_THROW(Deformer(m.V, m.S, a, h, o), InputError);
+}
