@@ -213,6 +213,9 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             if mesh is not None:
                 bpy.data.meshes.remove(mesh)
             raise
+        # Rendering an animation from the UI runs frame_change_post while the render
+        # thread reads meshes: Blender's "Lock Interface" makes the live update safe.
+        context.scene.render.use_lock_interface = True
         # Done: hide the source (never modify or delete it) and select the result.
         obj.hide_render = True
         if obj.name in context.view_layer.objects:

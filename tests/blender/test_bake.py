@@ -178,3 +178,16 @@ def test_failed_rebake_restores_the_previous_bake(converted, monkeypatch):
     bpy.context.scene.frame_set(30)
     ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 30)), atol=1e-6)
+
+
+def test_back_to_live_after_bake(converted):
+    man, cache, tmp = converted
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert bpy.ops.animanifold.make_live.poll()
+    assert bpy.ops.animanifold.make_live() == {"FINISHED"}
+    assert man.animanifold.mode == "LIVE" and not man.modifiers["Animanifold Bake"].show_viewport
+    bpy.context.scene.frame_set(33)
+    co = np.empty(3 * len(man.data.vertices), np.float32)
+    man.data.vertices.foreach_get("co", co)
+    np.testing.assert_allclose(co.reshape(-1, 3), cache.slice(33).vertices, atol=1e-6)
+    assert bpy.context.scene.render.use_lock_interface
