@@ -254,3 +254,11 @@ def test_damaged_cache_never_breaks_playback(demo, tmp_path, capfd):
 
     assert "damaged" in (live.last_error(man) or "")
     assert capfd.readouterr().out.count("cannot slice") == 1  # printed once, not per frame
+
+
+def test_shape_holds_outside_the_range(demo):
+    man = convert(demo)
+    cache = cache_of(man)
+    for frame, held in ((0, 1), (-5, 1), (60, 48)):
+        bpy.context.scene.frame_set(frame)
+        np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(held).vertices, atol=1e-6)
