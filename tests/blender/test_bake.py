@@ -193,3 +193,26 @@ def test_back_to_live_after_bake(converted):
     man.data.vertices.foreach_get("co", co)
     np.testing.assert_allclose(co.reshape(-1, 3), cache.slice(33).vertices, atol=1e-6)
     assert bpy.context.scene.render.use_lock_interface
+
+
+def test_farm_chunks_in_separate_processes(converted):
+    """Two processes bake two chunks from the same .blend and cache (add-on from the
+    repository, as a farm node would have it installed)."""
+    import subprocess
+    import sys
+
+    from blender_helpers import SCENES
+
+    man, cache, tmp = converted
+    bpy.ops.wm.save_mainfile()
+    procs = [subprocess.run([sys.executable, str(SCENES / "farm_bake_chunk.py"), str(tmp / "bake.blend"),
+                             "--start", str(a), "--end", str(b), "--export", "OBJ", "--directory", "//farm/"],
+                            capture_output=True, text=True, timeout=240, cwd="/")
+             for a, b in ((1, 24), (25, 48))]
+    for p in procs:
+        assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    files = sorted((tmp / "farm").iterdir())
+    assert [f.name for f in files] == [f"Blob_manifold_{f:06d}.obj" for f in range(1, 49)]
+    for f in (1, 24, 25, 37):
+        v, faces = am.read_mesh(tmp / "farm" / f"Blob_manifold_{f:06d}.obj")
+        np.testing.assert_allclose(canonical(v[faces], 5), canonical(expected_corners(cache, f), 5), atol=1e-5)
