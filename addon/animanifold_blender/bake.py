@@ -95,10 +95,10 @@ def _math(nodes, operation, location):
     return node
 
 
-def build_node_group(name: str, collection, first_frame: int) -> bpy.types.NodeTree:
+def build_node_group(name: str, collection, first_frame: int, count: int) -> bpy.types.NodeTree:
     """Geometry nodes showing the instance of `collection` for the scene frame:
     child i is shown at frame first_frame + i (floor of the frame, so subframes
-    hold the frame); nothing outside the baked range."""
+    hold the frame); before and after the baked range the first and last frame hold."""
     group = bpy.data.node_groups.new(name, "GeometryNodeTree")
     _new_socket(group, "Geometry", "INPUT")
     _new_socket(group, "Geometry", "OUTPUT")
@@ -120,13 +120,19 @@ def build_node_group(name: str, collection, first_frame: int) -> bpy.types.NodeT
     offset = _math(nodes, "SUBTRACT", (-700, -150))
     offset.inputs[1].default_value = float(first_frame)
     links.new(time.outputs["Frame"], offset.inputs[0])
-    floor = _math(nodes, "FLOOR", (-500, -150))
+    floor = _math(nodes, "FLOOR", (-550, -150))
     links.new(offset.outputs[0], floor.inputs[0])
+    low = _math(nodes, "MAXIMUM", (-450, -150))
+    links.new(floor.outputs[0], low.inputs[0])
+    low.inputs[1].default_value = 0.0
+    held = _math(nodes, "MINIMUM", (-350, -150))
+    links.new(low.outputs[0], held.inputs[0])
+    held.inputs[1].default_value = float(count - 1)
     index = nodes.new("GeometryNodeInputIndex")
     index.location = (-500, -300)
     diff = _math(nodes, "SUBTRACT", (-300, -200))
     links.new(index.outputs[0], diff.inputs[0])
-    links.new(floor.outputs[0], diff.inputs[1])
+    links.new(held.outputs[0], diff.inputs[1])
     absolute = _math(nodes, "ABSOLUTE", (-150, -200))
     links.new(diff.outputs[0], absolute.inputs[0])
     other = _math(nodes, "GREATER_THAN", (0, -200))
@@ -168,7 +174,7 @@ class NodeGroupBake:
         obj = self.obj
         base = f"{obj.name}_bake"
         self.collection = build_frames(obj, frames, base + ".new", progress)
-        self.group = build_node_group(base + ".new", self.collection, frames[0])
+        self.group = build_node_group(base + ".new", self.collection, frames[0], len(frames))
         for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
             mod = obj.modifiers.get(name)
             if mod is not None:

@@ -125,7 +125,10 @@ def slice_for(obj, frame: float):
     settings = obj.animanifold
     manifold = manifold_for(obj)
     if settings.axis == "t":
-        return manifold, manifold.slice(frame, "t")
+        # Before the first and after the last sample the shape holds, like an action's
+        # constant extrapolation (the baked node group does the same).
+        t0, t1 = manifold.time_range
+        return manifold, manifold.slice(min(max(frame, t0), t1), "t")
     return manifold, manifold.slice(settings.sweep_value, settings.axis)
 
 

@@ -52,6 +52,14 @@ def _blend_dir() -> str | None:
     return os.path.dirname(path) if path else None
 
 
+def _unique_object_name(base: str) -> str:
+    name, i = base, 0
+    while name in bpy.data.objects or name in bpy.data.meshes:
+        i += 1
+        name = f"{base}.{i:03d}"
+    return name
+
+
 def _is_relative(path: str) -> bool:
     return path.startswith("//")
 
@@ -137,7 +145,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
         step = _option(self, settings, "step")
         frames = sampling.sample_frames(obj, start, end, mode, step)
 
-        name = f"{obj.name}_manifold"
+        name = _unique_object_name(f"{obj.name}_manifold")  # its cache file is named after it
         stored, absolute, note = self._cache_path(settings, name)
 
         progress = _Progress(context, len(frames) + 2)
@@ -213,6 +221,9 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             if mesh is not None:
                 bpy.data.meshes.remove(mesh)
             raise
+        # Rendering an animation from the UI runs frame_change_post while the render
+        # thread reads meshes: Blender's "Lock Interface" makes the live update safe.
+        context.scene.render.use_lock_interface = True
         # Done: hide the source (never modify or delete it) and select the result.
         obj.hide_render = True
         if obj.name in context.view_layer.objects:

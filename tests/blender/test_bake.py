@@ -17,6 +17,7 @@ from blender_helpers import canonical, mesh_corners, run_fresh_blender, scene_st
 pytestmark = pytest.mark.blender
 
 FRAMES = (1, 6, 12, 19, 30, 41, 48)
+HELD = {0: 1, 60: 48}  # outside the baked range the first / last frame holds
 
 # Runs in a fresh python3 + bpy without animanifold: opens the .blend, prints per frame
 # the evaluated mesh of the manifold object as JSON (corners, material indices, UVs).
@@ -79,10 +80,11 @@ def test_node_group_bake_plays_without_the_addon(converted):
     np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 19)), atol=1e-6)
     bpy.ops.wm.save_mainfile()
 
-    result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
-    for f in FRAMES:
+    result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES + tuple(HELD))
+    for f in FRAMES + tuple(HELD):
         got = np.array(result[f]["corners"])
-        np.testing.assert_allclose(canonical(got), canonical(expected_corners(cache, f)), atol=1e-6, err_msg=f"frame {f}")
+        np.testing.assert_allclose(canonical(got), canonical(expected_corners(cache, HELD.get(f, f))), atol=1e-6,
+                                   err_msg=f"frame {f}")
         assert result[f]["materials"] == [0, 1] and result[f]["slots"] == ["BlobSkin", "BlobCap"]
         assert "UVMap" in result[f]["uv"]
         assert result[f]["modifiers"] == ["NODES"]
@@ -178,3 +180,39 @@ def test_failed_rebake_restores_the_previous_bake(converted, monkeypatch):
     bpy.context.scene.frame_set(30)
     ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     np.testing.assert_allclose(canonical(mesh_corners(ev)), canonical(expected_corners(cache, 30)), atol=1e-6)
+
+
+def test_back_to_live_after_bake(converted):
+    man, cache, tmp = converted
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert bpy.ops.animanifold.make_live.poll()
+    assert bpy.ops.animanifold.make_live() == {"FINISHED"}
+    assert man.animanifold.mode == "LIVE" and not man.modifiers["Animanifold Bake"].show_viewport
+    bpy.context.scene.frame_set(33)
+    co = np.empty(3 * len(man.data.vertices), np.float32)
+    man.data.vertices.foreach_get("co", co)
+    np.testing.assert_allclose(co.reshape(-1, 3), cache.slice(33).vertices, atol=1e-6)
+    assert bpy.context.scene.render.use_lock_interface
+
+
+def test_farm_chunks_in_separate_processes(converted):
+    """Two processes bake two chunks from the same .blend and cache (add-on from the
+    repository, as a farm node would have it installed)."""
+    import subprocess
+    import sys
+
+    from blender_helpers import SCENES
+
+    man, cache, tmp = converted
+    bpy.ops.wm.save_mainfile()
+    procs = [subprocess.run([sys.executable, str(SCENES / "farm_bake_chunk.py"), str(tmp / "bake.blend"),
+                             "--start", str(a), "--end", str(b), "--export", "OBJ", "--directory", "//farm/"],
+                            capture_output=True, text=True, timeout=240, cwd="/")
+             for a, b in ((1, 24), (25, 48))]
+    for p in procs:
+        assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
+    files = sorted((tmp / "farm").iterdir())
+    assert [f.name for f in files] == [f"Blob_manifold_{f:06d}.obj" for f in range(1, 49)]
+    for f in (1, 24, 25, 37):
+        v, faces = am.read_mesh(tmp / "farm" / f"Blob_manifold_{f:06d}.obj")
+        np.testing.assert_allclose(canonical(v[faces], 5), canonical(expected_corners(cache, f), 5), atol=1e-5)

@@ -254,3 +254,24 @@ def test_damaged_cache_never_breaks_playback(demo, tmp_path, capfd):
 
     assert "damaged" in (live.last_error(man) or "")
     assert capfd.readouterr().out.count("cannot slice") == 1  # printed once, not per frame
+
+
+def test_shape_holds_outside_the_range(demo):
+    man = convert(demo)
+    cache = cache_of(man)
+    for frame, held in ((0, 1), (-5, 1), (60, 48)):
+        bpy.context.scene.frame_set(frame)
+        np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(held).vertices, atol=1e-6)
+
+
+def test_converting_twice_keeps_both_caches(demo, tmp_path):
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "twice.blend"))
+    first = convert(demo)
+    demo.hide_set(False)
+    bpy.context.view_layer.objects.active = demo
+    assert bpy.ops.animanifold.convert_action(sampling="EVERY_N", step=4) == {"FINISHED"}
+    second = bpy.data.objects["Blob_manifold.001"]
+    assert first.animanifold.cache_path != second.animanifold.cache_path
+    assert len(cache_of(first).metadata["keyframe_times"]) == 5
+    assert len(cache_of(second).metadata["keyframe_times"]) == 13
+    assert second.data.name == "Blob_manifold.001"

@@ -134,3 +134,48 @@ def test_bake_in_unsaved_file_needs_a_path(demo):
         bpy.ops.animanifold.bake(alembic=False, export="OBJ")
     assert scene_state() == before
     assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}  # the node group needs no path
+
+
+class _FakeLayout:
+    """Records what a panel draws; checks every property and operator exists."""
+
+    def __init__(self, log):
+        self.log = log
+        self.enabled = True
+
+    def box(self):
+        return self
+
+    def row(self, **_kw):
+        return self
+
+    def label(self, text="", **_kw):
+        self.log.append(("label", text))
+
+    def prop(self, data, name, **_kw):
+        assert name in data.bl_rna.properties, f"panel draws a missing property {name!r}"
+        self.log.append(("prop", name))
+
+    def operator(self, idname, **_kw):
+        module, name = idname.split(".")
+        assert hasattr(getattr(bpy.ops, module), name) and getattr(getattr(bpy.ops, module), name).idname()
+        self.log.append(("operator", idname))
+        return None
+
+
+def test_panel_draws_for_plain_live_and_baked_objects(demo, addon):
+    from types import SimpleNamespace
+
+    def draw():
+        log = []
+        addon.ui.VIEW3D_PT_animanifold.draw(SimpleNamespace(layout=_FakeLayout(log)), bpy.context)
+        return log
+
+    assert ("operator", "animanifold.convert_action") in draw()
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    log = draw()
+    assert ("prop", "axis") in log and ("operator", "animanifold.bake") in log
+    bpy.context.active_object.animanifold.axis = "x"
+    assert ("prop", "sweep_value") in draw()
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert ("operator", "animanifold.make_live") in draw()
