@@ -206,3 +206,26 @@ def test_bad_axis_and_value_raise(animation):
     c = am.stitch(np.stack([polygon(5)[0]] * 2), polygon(5)[1], [0, 1])
     with pytest.raises(ValueError, match="no z axis"):
         c.slice(0.0, axis="z")
+
+
+def test_move_slice_equals_a_fresh_slice_inside_the_topology_interval(animation):
+    *_, m = animation
+    assert m.topology_interval(0.3, "t") is None  # a keyframe: the topology changes there
+    assert m.topology_interval(-1.0, "t") is None and m.topology_interval(2.6) is None
+    assert m.topology_interval(0.5) == (0.3, 1.0)
+    first = m.slice(0.4)
+    for t in (0.31, 0.55, 0.999):
+        moved, fresh = m.move_slice(first, t), m.slice(t)
+        np.testing.assert_array_equal(moved.faces, fresh.faces)
+        np.testing.assert_array_equal(moved.vertex_edges, fresh.vertex_edges)
+        np.testing.assert_allclose(moved.vertices, fresh.vertices, atol=1e-12)
+        np.testing.assert_allclose(moved.normals, fresh.normals, atol=1e-12)
+        np.testing.assert_allclose(moved.vertex_attributes["uv"], fresh.vertex_attributes["uv"], atol=1e-12)
+        np.testing.assert_array_equal(moved.face_attributes["material_index"], fresh.face_attributes["material_index"])
+    with pytest.raises(ValueError, match="not in the topology interval"):
+        m.move_slice(first, 1.2)
+    # sweep views too
+    sweep = m.slice(0.05, axis="x")
+    lo, hi = m.topology_interval(0.05, "x")
+    inside = 0.5 * (lo + hi)
+    np.testing.assert_allclose(m.move_slice(sweep, inside).vertices, m.slice(inside, axis="x").vertices, atol=1e-12)

@@ -10,6 +10,7 @@ data blocks.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 
 import bpy
 import numpy as np
@@ -24,6 +25,7 @@ _ERRORS: dict[str, str] = {}
 def clear():
     _CACHE.clear()
     _ERRORS.clear()
+    _SHOWN.clear()
 
 
 def last_error(obj) -> str | None:
@@ -122,14 +124,8 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
 
 def slice_for(obj, frame: float):
     """The Slice the object shows at scene frame `frame` (axis t), or at its sweep value."""
-    settings = obj.animanifold
     manifold = manifold_for(obj)
-    if settings.axis == "t":
-        # Before the first and after the last sample the shape holds, like an action's
-        # constant extrapolation (the baked node group does the same).
-        t0, t1 = manifold.time_range
-        return manifold, manifold.slice(min(max(frame, t0), t1), "t")
-    return manifold, manifold.slice(settings.sweep_value, settings.axis)
+    return manifold, manifold.slice(_slice_value(obj, manifold, frame), obj.animanifold.axis)
 
 
 def display_vertices(manifold, s, axis: str, time_scale: float) -> np.ndarray:
@@ -147,24 +143,96 @@ def display_vertices(manifold, s, axis: str, time_scale: float) -> np.ndarray:
     return out
 
 
-def update_object(obj, frame: float) -> None:
-    """Rewrites the object's mesh with its slice at `frame` (or its sweep value)."""
+@dataclass
+class _Shown:
+    """What an object's mesh holds after a full write, so that later frames in
+    the same topology interval only move its vertices."""
+
+    key: tuple
+    interval: tuple
+    mover: object  # am.SliceMover of the written cut
+    corner_vertex: np.ndarray  # the corners as written (for the UV layer)
+    counts: tuple  # (vertices, faces) of the mesh as written
+
+
+_SHOWN: dict[str, _Shown] = {}
+
+
+def _slice_value(obj, manifold, frame: float) -> float:
     settings = obj.animanifold
-    manifold, s = slice_for(obj, frame)
+    if settings.axis == "t":
+        # Before the first and after the last sample the shape holds, like an action's
+        # constant extrapolation (the baked node group does the same).
+        t0, t1 = manifold.time_range
+        return min(max(frame, t0), t1)
+    return settings.sweep_value
+
+
+def update_object(obj, frame: float) -> None:
+    """Rewrites the object's mesh with its slice at `frame` (or its sweep value).
+
+    Between two vertex times (two keyframes, for a converted action) every
+    frame has the same faces: the first frame there is cut and written in
+    full, the next ones only slide the vertices along their manifold edges
+    (AnimationManifold.move_slice) and rewrite positions, UVs and normals."""
+    settings = obj.animanifold
+    manifold = manifold_for(obj)
+    value = _slice_value(obj, manifold, frame)
+    mesh = obj.data
+    normals_wanted = settings.axis == "t" and settings.live_normals
+    key = (id(manifold), mesh.as_pointer(), settings.axis, settings.time_scale, normals_wanted, settings.uv_name)
+    interval = manifold.topology_interval(value, settings.axis)
+    shown = _SHOWN.get(obj.name_full)
+    if (shown is not None and interval is not None and shown.key == key and shown.interval == interval
+            and shown.counts == (len(mesh.vertices), len(mesh.polygons))):
+        s = shown.mover.at(value)
+        write_positions(mesh, display_vertices(manifold, s, settings.axis, settings.time_scale),
+                        shown.corner_vertex, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
+                        normals=slice_normals(s) if normals_wanted else None)
+        return
+
+    s = manifold.slice(value, settings.axis)
     uv = s.vertex_attributes.get("uv")
     faces = s.faces
     if settings.axis == "y":  # (x, z, t) shown as (x, t, z): an odd permutation, keep faces outward
         faces = faces[:, ::-1]
     write_mesh(
-        obj.data,
+        mesh,
         display_vertices(manifold, s, settings.axis, settings.time_scale),
         faces,
         uv=uv,
         uv_name=settings.uv_name or "UVMap",
         material_index=s.face_attributes.get("material_index"),
         smooth=s.face_attributes.get("smooth"),
-        normals=slice_normals(s) if settings.axis == "t" and settings.live_normals else None,
+        normals=slice_normals(s) if normals_wanted else None,
     )
+    if interval is None:
+        _SHOWN.pop(obj.name_full, None)
+    else:
+        carried = ["uv"] + (["normal"] if normals_wanted else [])
+        _SHOWN[obj.name_full] = _Shown(key, interval, am.SliceMover(manifold, s, attributes=carried, normals=False),
+                                       np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
+                                       (len(mesh.vertices), len(mesh.polygons)))
+
+
+def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: np.ndarray | None = None,
+                    uv_name: str = "UVMap", normals: np.ndarray | None = None) -> None:
+    """Moves the vertices of a mesh that write_mesh filled (same vertices and
+    faces): positions, the UV map and custom normals only."""
+    co = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1)
+    if _ATTRIBUTES:
+        mesh.attributes["position"].data.foreach_set("vector", co)
+    else:
+        mesh.vertices.foreach_set("co", co)
+    if uv is not None and len(corner_vertex):
+        corner = np.ascontiguousarray(np.asarray(uv, dtype=np.float32)[corner_vertex]).reshape(-1)
+        if _ATTRIBUTES and uv_name in mesh.attributes:
+            mesh.attributes[uv_name].data.foreach_set("vector", corner)
+        elif uv_name in mesh.uv_layers:
+            mesh.uv_layers[uv_name].data.foreach_set("uv", corner)
+    mesh.update()
+    if normals is not None and len(corner_vertex):
+        mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
 
 
 def slice_normals(s) -> np.ndarray | None:

@@ -17,7 +17,7 @@ topology. ::
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
 from .cache import CacheError, load, save
 from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
-from .manifold import AnimationManifold, Slice, axis_index, stitch
+from .manifold import AnimationManifold, Slice, SliceMover, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
 from .refine import Refinement, refine
@@ -33,6 +33,7 @@ __all__ = [
     "Deformer",
     "RestoreStatus",
     "Slice",
+    "SliceMover",
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",

@@ -84,6 +84,9 @@ class AnimationManifold:
     def __init__(self, complex_: "_core.Complex", metadata: Mapping[str, object] | None = None):
         self._complex = complex_
         self._slicer: _core.Slicer | None = None
+        self._axis_values: dict[int, np.ndarray] = {}  # sorted distinct vertex coordinates per axis
+        self._normals: np.ndarray | None = None
+        self._time_range: tuple[float, float] | None = None
         self.metadata: dict = dict(metadata or {})
 
     @classmethod
@@ -139,8 +142,10 @@ class AnimationManifold:
 
     @property
     def time_range(self) -> tuple[float, float]:
-        t = self.points[:, -1]
-        return (float(t.min()), float(t.max())) if len(t) else (0.0, 0.0)
+        if self._time_range is None:  # points never change: compute once
+            t = self.points[:, -1]
+            self._time_range = (float(t.min()), float(t.max())) if len(t) else (0.0, 0.0)
+        return self._time_range
 
     @property
     def bounding_box(self) -> tuple[np.ndarray, np.ndarray]:
@@ -179,6 +184,27 @@ class AnimationManifold:
             smooth = Slice._from_core(a, float(value), s)
             return dataclasses.replace(smooth, vertex_edges=None, edge_parameter=None)
         return Slice._from_core(a, float(value), s)
+
+    def topology_interval(self, value: float, axis: str | int = "t") -> tuple[float, float] | None:
+        """The open interval (lo, hi) around `value` in which every slice has the
+        same faces and cuts the same edges (no vertex lies between lo and hi
+        along the axis): within it, :meth:`move_slice` gives any frame from one
+        cut. None when `value` is a vertex coordinate or outside the manifold."""
+        a = axis_index(axis, self.dimension)
+        values = self._axis_values.get(a)
+        if values is None:
+            values = self._axis_values[a] = np.unique(self.points[:, a])
+        i = int(np.searchsorted(values, value))
+        if i == 0 or i == len(values) or values[i] == value:
+            return None
+        return float(values[i - 1]), float(values[i])
+
+    def move_slice(self, s: Slice, value: float) -> Slice:
+        """The slice at `value` from `s`, a slice in the same topology interval
+        (see :meth:`topology_interval`): same faces, vertices slid along the
+        same manifold edges, attributes and normals interpolated. For many
+        frames of one interval, keep a :class:`SliceMover` instead."""
+        return SliceMover(self, s).at(value)
 
     def subdivide(
         self,
@@ -257,6 +283,66 @@ class AnimationManifold:
         return AnimationManifold.from_arrays(
             points, self.simplices, dict(self.vertex_attributes), dict(self.simplex_attributes), self.metadata
         )
+
+
+class SliceMover:
+    """Every frame of one topology interval from a single cut.
+
+    Within :meth:`AnimationManifold.topology_interval` the frames share their
+    faces and cut edges; only where each vertex sits on its edge changes.
+    The mover gathers both ends of every cut edge once, so each frame is a
+    multiply-add over the slice's vertices (what live playback needs).
+    `attributes` names the vertex attributes to carry (default: all);
+    `normals=False` skips the smooth normals.
+    """
+
+    def __init__(self, manifold: AnimationManifold, s: Slice, attributes=None, normals: bool = True):
+        if s.vertex_edges is None:
+            raise ValueError("a smoothed slice cannot be moved: slice again")
+        interval = manifold.topology_interval(s.value, s.axis)
+        if interval is None:
+            raise ValueError(f"the slice at {s.value} lies on a vertex: its topology changes there")
+        self.slice, self.interval = s, interval
+        a, b = s.vertex_edges[:, 0], s.vertex_edges[:, 1]
+        P = manifold.points
+        others = [c for c in range(manifold.dimension) if c != s.axis]
+        self._start = P[a, s.axis]
+        self._inverse_span = 1.0 / (P[b, s.axis] - self._start)  # edges cross the interval: never zero
+
+        def ends(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            lo = table[a]
+            return lo, table[b] - lo
+
+        self._tables = {"vertices": ends(P[:, others])}
+        if normals:
+            if manifold._normals is None:
+                manifold._normals = _core.vertex_normals(manifold.points, manifold.simplices)
+            self._tables["normals"] = ends(manifold._normals[:, others])
+        names = manifold.vertex_attributes.keys() if attributes is None else attributes
+        self._attributes = {name: ends(manifold.vertex_attributes[name]) for name in names
+                            if name in manifold.vertex_attributes}
+
+    def at(self, value: float) -> Slice:
+        lo, hi = self.interval
+        if not lo < value < hi:
+            raise ValueError(f"value {value} is not in the topology interval {self.interval} of the slice at {self.slice.value}")
+        weight = ((value - self._start) * self._inverse_span)[:, None]
+
+        def lerp(ends):
+            start, span = ends
+            return start + weight * span
+
+        normals = None
+        if "normals" in self._tables:
+            normals = lerp(self._tables["normals"])
+            length = np.linalg.norm(normals, axis=1, keepdims=True)
+            normals /= np.where(length > 0, length, 1.0)
+        attributes = {}
+        for name, ends in self._attributes.items():
+            moved = lerp(ends)
+            attributes[name] = moved[:, 0] if moved.shape[1] == 1 else moved
+        return dataclasses.replace(self.slice, value=float(value), vertices=lerp(self._tables["vertices"]),
+                                   normals=normals, vertex_attributes=attributes, edge_parameter=weight[:, 0])
 
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:

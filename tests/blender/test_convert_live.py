@@ -275,3 +275,27 @@ def test_converting_twice_keeps_both_caches(demo, tmp_path):
     assert len(cache_of(first).metadata["keyframe_times"]) == 5
     assert len(cache_of(second).metadata["keyframe_times"]) == 13
     assert second.data.name == "Blob_manifold.001"
+
+
+def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
+    """Playback between two keyframes slides the vertices of one cut (live.move path): same result as a fresh cut."""
+    from animanifold_blender import live
+
+    man = convert(demo)
+    cache = cache_of(man)
+    times = np.array(cache.metadata["keyframe_times"])
+    lo, hi = times[0], times[1]
+    frames = [lo + 1, lo + 2, (lo + hi) / 2, hi - 1, hi, hi + 1, lo + 1]
+    for frame in frames:
+        bpy.context.scene.frame_set(int(frame), subframe=float(frame) - int(frame))
+        s = cache.slice(frame)
+        mesh = man.data
+        np.testing.assert_allclose(mesh_vertices(mesh), s.vertices, atol=1e-6, rtol=0, err_msg=f"frame {frame}")
+        assert len(mesh.polygons) == len(s.faces)
+        corner_uv = np.empty(2 * len(mesh.loops), np.float32)
+        mesh.uv_layers[man.animanifold.uv_name].data.foreach_get("uv", corner_uv)
+        corner_vertex = np.empty(len(mesh.loops), np.int32)
+        mesh.loops.foreach_get("vertex_index", corner_vertex)
+        np.testing.assert_allclose(corner_uv.reshape(-1, 2), s.vertex_attributes["uv"][corner_vertex], atol=1e-6)
+        inside = times[0] < frame < times[-1] and frame not in times
+        assert (man.name_full in live._SHOWN) == inside, f"frame {frame}: the topology cache is {'missing' if inside else 'stale'}"
