@@ -146,6 +146,9 @@ def run_slice(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.value) and low <= args.value <= high):
         raise UserError(f"{args.axis}={args.value:g} is outside the manifold's range along {args.axis}: [{low:g}, {high:g}]")
     frame = manifold.slice(args.value, axis=args.axis)
+    if len(frame.faces) == 0:
+        # Legitimate (the plane only touches the manifold, e.g. at the end of a sweep), but rarely wanted.
+        print(f"{PROG}: warning: the slice at {args.axis}={args.value:g} has no faces", file=sys.stderr)
     write_mesh(args.output, frame.vertices, frame.faces)
     others = "".join(a for a in "xyzt" if a != args.axis)
     print(
