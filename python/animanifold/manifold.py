@@ -226,6 +226,7 @@ class AnimationManifold:
         return AnimationManifold.from_arrays(
             r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata
         ), r
+
     def deform(
         self,
         anchors,
@@ -239,6 +240,10 @@ class AnimationManifold:
         max_iterations: int = 50,
         tolerance: float = 1e-6,
         steps: int | str = "auto",
+        regularise: bool = False,
+        epsilon: float | None = None,
+        axis_weights=None,
+        regularise_iterations: int = 10,
         **options,
     ) -> "AnimationManifold":
         """Laplacian deformation through space and time (chapter 4): anchors
@@ -246,7 +251,30 @@ class AnimationManifold:
         `handle_positions` (H, D), in `steps` increments (default: one per
         π/4 of rotation). Returns a new manifold with the same
         simplices and attributes; see :class:`animanifold.Deformer` for the
-        methods, boundary rules and options."""
+        methods, boundary rules and options (`max_iterations` and `tolerance`
+        are the restore's).
+
+        regularise=True applies the offline regularisation of §4.5.1 (see
+        :func:`animanifold.regularise`: `epsilon`, `axis_weights`, at most
+        `regularise_iterations` rounds): stretched edges are split, so the
+        result has more vertices (the input's first) and simplices, with
+        attributes interpolated / inherited; its metadata["regularisation"]
+        says how it ended (iterations, splits, converged, ...)."""
+        if regularise:
+            from .regularise import regularise as _regularise
+
+            points, simplices, maps = _regularise(
+                self.points, self.simplices, anchors, handles, transform, handle_positions=handle_positions,
+                epsilon=epsilon, axis_weights=axis_weights, method=method, boundary=boundary, restore=restore,
+                restore_iterations=max_iterations, tolerance=tolerance, steps=steps,
+                max_iterations=regularise_iterations, vertex_attributes=self.vertex_attributes,
+                simplex_attributes=self.simplex_attributes, **options,
+            )
+            metadata = dict(self.metadata)
+            metadata["regularisation"] = maps.summary()
+            return AnimationManifold.from_arrays(
+                points, simplices, maps.vertex_attributes, maps.simplex_attributes, metadata
+            )
         from .deform import laplacian_deform
 
         points = laplacian_deform(
