@@ -259,7 +259,12 @@ class AnimationManifold:
         `regularise_iterations` rounds): stretched edges are split, so the
         result has more vertices (the input's first) and simplices, with
         attributes interpolated / inherited; its metadata["regularisation"]
-        says how it ended (iterations, splits, converged, ...)."""
+        says how it ended (iterations, splits, converged, ...).
+
+        A vertex whose time the solve changed by round-off only (less than
+        1e-9 of the time range; a transform that keeps time leaves it
+        unchanged in exact arithmetic for the primal methods) keeps its exact
+        time, so slicing at a keyframe still returns the keyframe."""
         if regularise:
             from .regularise import regularise as _regularise
 
@@ -270,6 +275,8 @@ class AnimationManifold:
                 max_iterations=regularise_iterations, vertex_attributes=self.vertex_attributes,
                 simplex_attributes=self.simplex_attributes, **options,
             )
+            points = np.array(points)
+            points[: len(self.points)] = _keep_times(self.points, points[: len(self.points)])
             metadata = dict(self.metadata)
             metadata["regularisation"] = maps.summary()
             return AnimationManifold.from_arrays(
@@ -282,9 +289,20 @@ class AnimationManifold:
             method=method, boundary=boundary, restore=restore, max_iterations=max_iterations,
             tolerance=tolerance, steps=steps, **options,
         )
+        points = _keep_times(self.points, points)
         return AnimationManifold.from_arrays(
             points, self.simplices, dict(self.vertex_attributes), dict(self.simplex_attributes), self.metadata
         )
+
+
+def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """`after` with the time column reset to `before`'s where it moved by round-off only."""
+    after = np.array(after)
+    t0, t1 = before[:, -1], after[:, -1]
+    span = float(t0.max() - t0.min()) if len(t0) else 0.0
+    same = np.abs(t1 - t0) <= 1e-9 * max(span, 1.0)
+    after[same, -1] = t0[same]
+    return after
 
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
