@@ -565,6 +565,7 @@ class LiveState:
         self.restore = restore
         self.last = None  # the Empty's last matrix solved for
         self.current = None  # the latest solution, None before the Empty moves
+        self.preview = None  # a manifold's latest solution as a manifold (for slicing)
         self.error = None
 
 
@@ -642,45 +643,73 @@ def live_step(obj, state: LiveState, scene) -> bool:
     if state.manifold is None:
         write_points(obj.data, state.current)
     else:
-        moved = am.AnimationManifold.from_arrays(state.current, state.manifold.simplices)
-        t0, t1 = moved.time_range
-        frame = live.scene_frame(scene)
-        s = moved.slice(min(max(frame, t0), t1), "t")
-        live.write_mesh(obj.data, s.vertices, s.faces)
+        state.preview = am.AnimationManifold.from_arrays(state.current, state.manifold.simplices)
+        show_preview(obj, state, scene)
     return True
 
 
-@bpy.app.handlers.persistent
-def animanifold_deform_depsgraph_post(scene, depsgraph=None):
+def show_preview(obj, state: LiveState, scene) -> None:
+    """The live result of a manifold object at the scene's frame."""
+    t0, t1 = state.preview.time_range
+    s = state.preview.slice(min(max(live.scene_frame(scene), t0), t1), "t")
+    live.write_mesh(obj.data, s.vertices, s.faces)
+
+
+def _live_states():
+    """(object, state) of every running live deformation; drops the stale ones
+    (object deleted, Live switched off, another file's object of that name)."""
     for name, state in list(LIVE.items()):
         obj = bpy.data.objects.get(name)
         if (obj is None or getattr(obj, "session_uid", None) != state.uid
                 or not getattr(obj, "animanifold_deform", None) or not obj.animanifold_deform.live):
             LIVE.pop(name, None)
             continue
-        try:
-            live_step(obj, state, scene)
-            state.error = None
-        except Exception as e:  # a failed solve must not break the depsgraph
-            message = f"{type(e).__name__}: {e}"
-            if state.error != message:
-                print(f"animanifold: live deform of '{obj.name}': {message}")
-            state.error = message
-    if not LIVE:
-        _remove_handler()
+        yield obj, state
+
+
+def _guarded(obj, state, step) -> None:
+    try:
+        step()
+        state.error = None
+    except Exception as e:  # a failed solve must not break the depsgraph or playback
+        message = f"{type(e).__name__}: {e}"
+        if state.error != message:
+            print(f"animanifold: live deform of '{obj.name}': {message}")
+        state.error = message
+
+
+@bpy.app.handlers.persistent
+def animanifold_deform_depsgraph_post(scene, depsgraph=None):
+    for obj, state in _live_states():
+        _guarded(obj, state, lambda: live_step(obj, state, scene))
+
+
+@bpy.app.handlers.persistent
+def animanifold_deform_frame_post(scene, depsgraph=None):
+    # Runs after the live slicer (registered later): a manifold object keeps showing its live result.
+    for obj, state in _live_states():
+        if state.manifold is not None and state.preview is not None:
+            _guarded(obj, state, lambda: show_preview(obj, state, scene))
+
+
+_LIVE_HANDLERS = (
+    (bpy.app.handlers.depsgraph_update_post, animanifold_deform_depsgraph_post),
+    (bpy.app.handlers.frame_change_post, animanifold_deform_frame_post),
+)
 
 
 def _ensure_handler():
-    handlers = bpy.app.handlers.depsgraph_update_post
-    if not any(getattr(h, "__name__", "") == animanifold_deform_depsgraph_post.__name__ for h in handlers):
-        handlers.append(animanifold_deform_depsgraph_post)
+    for handlers, fn in _LIVE_HANDLERS:
+        if not any(getattr(h, "__name__", "") == fn.__name__ for h in handlers):
+            handlers.append(fn)
 
 
 def _remove_handler():
-    handlers = bpy.app.handlers.depsgraph_update_post
-    for h in list(handlers):
-        if getattr(h, "__name__", "") == animanifold_deform_depsgraph_post.__name__:
-            handlers.remove(h)
+    """Removes the live handlers (never from inside one: Blender is iterating the list)."""
+    for handlers, fn in _LIVE_HANDLERS:
+        for h in list(handlers):
+            if getattr(h, "__name__", "") == fn.__name__:
+                handlers.remove(h)
 
 
 # -- registration -------------------------------------------------------------------

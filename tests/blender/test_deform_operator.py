@@ -411,3 +411,46 @@ def test_smoke_blender_binary_deforms_a_stitched_manifold(tmp_path):
         capture_output=True, text=True, env=env, timeout=300,
     )
     assert proc.returncode == 0 and "DEFORM SMOKE OK" in proc.stdout, proc.stdout[-4000:] + proc.stderr[-4000:]
+
+
+def test_live_manifold_preview_follows_frames_and_unregister_removes_the_handlers(manifold_object, addon):
+    from animanifold_blender import ops_deform
+
+    man = manifold_object
+    scene = bpy.context.scene
+    scene.frame_set(36)
+    v = mesh_vertices(man.data)
+    add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], 0.8)))
+    add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
+    empty = add_empty()
+    man.animanifold_deform.empty = empty
+    man.animanifold_deform.method = "graph"
+    man.animanifold_deform.live = True
+    state = ops_deform.LIVE[man.name_full]
+    empty.location.x += 0.5
+    bpy.context.view_layer.update()
+    ops_deform.animanifold_deform_depsgraph_post(scene)
+    assert state.preview is not None
+    for frame in (40, 36):
+        scene.frame_set(frame)  # the slicer shows the cache, then the live handler the preview
+        expected = state.preview.slice(float(frame)).vertices
+        np.testing.assert_allclose(np.sort(mesh_vertices(man.data), axis=0), np.sort(expected, axis=0), atol=1e-5)
+    old_path = man.animanifold.cache_path
+    assert bpy.ops.animanifold.deform() == {"FINISHED"}  # applies the live result
+    assert man.animanifold.cache_path != old_path and not man.animanifold_deform.live
+    new = am.load(bpy.path.abspath(man.animanifold.cache_path))
+    np.testing.assert_allclose(new.points, state.current, atol=1e-12)
+    # Live again, then unregister: both live handlers are gone, nothing dangles.
+    add_group(man, "handle", [0])  # (applying re-sliced the object: its groups are gone)
+    add_group(man, "anchor", [1])
+    man.animanifold_deform.live = True
+    names = lambda lst: [getattr(h, "__name__", "") for h in lst]  # noqa: E731
+    assert "animanifold_deform_frame_post" in names(bpy.app.handlers.frame_change_post)
+    addon.unregister()
+    try:
+        assert not ops_deform.LIVE
+        assert "animanifold_deform_frame_post" not in names(bpy.app.handlers.frame_change_post)
+        assert "animanifold_deform_depsgraph_post" not in names(bpy.app.handlers.depsgraph_update_post)
+        assert not hasattr(bpy.types.Object, "animanifold_deform")
+    finally:
+        addon.register()
