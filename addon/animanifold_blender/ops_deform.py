@@ -12,9 +12,11 @@ Target: a manifold object (its live slice) or a plain mesh object.
   keyframe); the *Edge Endpoints* option says which of a, b it constrains:
   BOTH (default: the slice vertex then moves exactly with the constraint) or
   NEARER (the endpoint nearer by ``edge_parameter``, so a frame between two
-  keyframes constrains only the nearer keyframe). A selected face of the
-  slice selects the space-time simplex it was cut from (``face_simplex``):
-  all its vertices become handles. A manifold vertex claimed as both anchor
+  keyframes constrains only the nearer keyframe). With *Selected Faces as
+  Handles*, a selected face of the slice selects the space-time simplex it
+  was cut from (``face_simplex``): all its vertices become handles (slices
+  are written with every face selected, which counts as no selection).
+  A manifold vertex claimed as both anchor
   and handle (adjacent slice vertices of the two groups sharing an endpoint)
   is left free, and the report says how many.
   Slices are rewritten on every frame change, which drops their vertex
@@ -22,6 +24,10 @@ Target: a manifold object (its live slice) or a plain mesh object.
   (as manifold vertex indices, in custom properties of the object) so that
   anchors painted on one frame and handles on another constrain the manifold
   together; Deform uses the stored ones plus the current slice's.
+  Each Laplacian row ties a vertex to its neighbours (in time too), so one
+  anchored keyframe does not keep the frames before it exactly: anchor a band
+  of two consecutive keyframes (store them one after the other) and every
+  frame before the later one stays as it was.
   The deformed manifold is written to a NEW cache file beside the old one
   (never overwritten: undo restores the previous ``cache_path`` and with it
   the previous manifold) and the object re-sliced.
@@ -35,7 +41,11 @@ so moving the Empty and running again continues from the result.
 Live (optional): with *Live* on, a depsgraph_update_post handler re-solves
 with the kept factorisation whenever the Empty moves and shows the result
 (a plain mesh's vertices, a manifold's slice at the current frame);
-*Apply* (Deform again) makes it permanent, turning Live off discards it.
+a frame_change_post handler (after the live slicer) keeps a manifold's
+preview on frame changes. Both handlers exist only while something is live
+and go with unregister. Deform (the button reads "Apply Live") makes the
+result permanent as above (without regularisation); turning Live off
+discards it.
 
 Every failure is reported and leaves the scene as it was.
 """
