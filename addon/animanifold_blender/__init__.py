@@ -4,7 +4,8 @@ baked into data that plays and renders without the add-on.
 
 Modules: properties (settings), sampling (evaluated mesh → keyframes),
 live (slices → meshes), handlers (frame change, load), bake, operators, ui;
-ops_skeleton and ui_tools for the Voronoi skeleton.
+ops_skeleton and ui_tools for the Voronoi skeleton; ops_deform for Laplacian
+deformation (anchor/handle vertex groups and an Empty, also in ui_tools).
 """
 
 bl_info = {
@@ -19,21 +20,24 @@ bl_info = {
 
 import bpy  # noqa: E402
 
-from . import handlers, operators, ops_skeleton, properties, ui, ui_tools  # noqa: E402
+from . import handlers, operators, ops_deform, ops_skeleton, properties, ui, ui_tools  # noqa: E402
 
 # Parent panels before their sub-panels.
-classes = properties.classes + operators.classes + ops_skeleton.classes + ui.classes + ui_tools.classes
+classes = (properties.classes + operators.classes + ops_skeleton.classes + ops_deform.classes + ui.classes
+           + ui_tools.classes)
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_properties()
+    ops_deform.register_properties()
     handlers.register_handlers()
 
 
 def unregister():
     handlers.unregister_handlers()
+    ops_deform.unregister_properties()
     properties.unregister_properties()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -10,6 +10,7 @@ topology. ::
     m2 = m.subdivide(levels=1)                # smooth shape and motion (Schaefer et al.)
     s2 = m.slice(0.5, smooth_levels=2)        # Loop-smoothed frame (OpenSubdiv)
     m2 = m.deform(anchors, handles, am.handle_transform(translation=[0, 0, 1, 0]))
+    m3 = m.deform(anchors, handles, T, regularise=True)   # split stretched edges (§4.5.1)
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
 """
@@ -21,6 +22,7 @@ from .manifold import AnimationManifold, Slice, SliceMover, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
 from .refine import Refinement, refine
+from .regularise import Regularisation, RegularisationMaps, regularise
 from .smooth import SmoothFrame, subdivide, subdivide_frame
 from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 
@@ -44,6 +46,9 @@ __all__ = [
     "read_mesh",
     "refine",
     "Refinement",
+    "Regularisation",
+    "RegularisationMaps",
+    "regularise",
     "rotation_matrix",
     "save",
     "stitch",

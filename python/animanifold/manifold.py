@@ -252,6 +252,7 @@ class AnimationManifold:
         return AnimationManifold.from_arrays(
             r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata
         ), r
+
     def deform(
         self,
         anchors,
@@ -265,6 +266,10 @@ class AnimationManifold:
         max_iterations: int = 50,
         tolerance: float = 1e-6,
         steps: int | str = "auto",
+        regularise: bool = False,
+        epsilon: float | None = None,
+        axis_weights=None,
+        regularise_iterations: int = 10,
         **options,
     ) -> "AnimationManifold":
         """Laplacian deformation through space and time (chapter 4): anchors
@@ -272,7 +277,37 @@ class AnimationManifold:
         `handle_positions` (H, D), in `steps` increments (default: one per
         π/4 of rotation). Returns a new manifold with the same
         simplices and attributes; see :class:`animanifold.Deformer` for the
-        methods, boundary rules and options."""
+        methods, boundary rules and options (`max_iterations` and `tolerance`
+        are the restore's).
+
+        regularise=True applies the offline regularisation of §4.5.1 (see
+        :func:`animanifold.regularise`: `epsilon`, `axis_weights`, at most
+        `regularise_iterations` rounds): stretched edges are split, so the
+        result has more vertices (the input's first) and simplices, with
+        attributes interpolated / inherited; its metadata["regularisation"]
+        says how it ended (iterations, splits, converged, ...).
+
+        A vertex whose time the solve changed by round-off only (less than
+        1e-9 of the time range; a transform that keeps time leaves it
+        unchanged in exact arithmetic for the primal methods) keeps its exact
+        time, so slicing at a keyframe still returns the keyframe."""
+        if regularise:
+            from .regularise import regularise as _regularise
+
+            points, simplices, maps = _regularise(
+                self.points, self.simplices, anchors, handles, transform, handle_positions=handle_positions,
+                epsilon=epsilon, axis_weights=axis_weights, method=method, boundary=boundary, restore=restore,
+                restore_iterations=max_iterations, tolerance=tolerance, steps=steps,
+                max_iterations=regularise_iterations, vertex_attributes=self.vertex_attributes,
+                simplex_attributes=self.simplex_attributes, **options,
+            )
+            points = np.array(points)
+            points[: len(self.points)] = _keep_times(self.points, points[: len(self.points)])
+            metadata = dict(self.metadata)
+            metadata["regularisation"] = maps.summary()
+            return AnimationManifold.from_arrays(
+                points, simplices, maps.vertex_attributes, maps.simplex_attributes, metadata
+            )
         from .deform import laplacian_deform
 
         points = laplacian_deform(
@@ -280,6 +315,7 @@ class AnimationManifold:
             method=method, boundary=boundary, restore=restore, max_iterations=max_iterations,
             tolerance=tolerance, steps=steps, **options,
         )
+        points = _keep_times(self.points, points)
         return AnimationManifold.from_arrays(
             points, self.simplices, dict(self.vertex_attributes), dict(self.simplex_attributes), self.metadata
         )
@@ -343,6 +379,16 @@ class SliceMover:
             attributes[name] = moved[:, 0] if moved.shape[1] == 1 else moved
         return dataclasses.replace(self.slice, value=float(value), vertices=lerp(self._tables["vertices"]),
                                    normals=normals, vertex_attributes=attributes, edge_parameter=weight[:, 0])
+
+
+def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:
+    """`after` with the time column reset to `before`'s where it moved by round-off only."""
+    after = np.array(after)
+    t0, t1 = before[:, -1], after[:, -1]
+    span = float(t0.max() - t0.min()) if len(t0) else 0.0
+    same = np.abs(t1 - t0) <= 1e-9 * max(span, 1.0)
+    after[same, -1] = t0[same]
+    return after
 
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
