@@ -295,3 +295,31 @@ def test_python_dash_m_exit_codes(tmp_path, stitched):
     failed = module("info", tmp_path / "absent.amf")
     assert failed.returncode == 2
     assert failed.stderr.startswith("animanifold: error: ") and "Traceback" not in failed.stderr
+
+
+def test_morph_writes_a_manifold_that_starts_and_ends_as_the_inputs(capsys, tmp_path):
+    v, f = icosphere(2)
+    am.write_mesh(tmp_path / "s.obj", v, f)
+    am.write_mesh(tmp_path / "t.obj", v * [1.5, 1.0, 0.7] + [0.2, 0, 0], f)
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o",
+                         str(tmp_path / "m"), "--frames", "4")
+    assert code == 0, err
+    assert "ends reproduced: True" in out
+    m = am.load(tmp_path / "m" / "morph.amf")
+    assert m.validity["ends_reproduced"] and m.check()["is_oriented_manifold"]
+    assert sorted(p.name for p in (tmp_path / "m" / "frames").iterdir()) == [f"frame_000{i}.obj" for i in range(4)]
+    first, _ = am.read_mesh(tmp_path / "m" / "frames" / "frame_0000.obj")
+    assert np.abs(np.linalg.norm(first, axis=1) - 1).max() < 1e-9  # the source sphere's vertices
+    # an open target is refused with the reason
+    am.write_mesh(tmp_path / "open.obj", v, f[:-3])
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "open.obj"), "-o", str(tmp_path / "x"))
+    assert_user_error(code, err, "target is open")
+
+
+def test_skeleton_sub_command_is_wired_in(capsys, tmp_path):
+    v, f = icosphere(2)
+    am.write_mesh(tmp_path / "ball.obj", v * [2.0, 1.0, 1.0], f)
+    code, out, err = run(capsys, "skeleton", str(tmp_path / "ball.obj"), "-o", str(tmp_path / "skel.obj"), "--side", "internal")
+    assert code == 0, err
+    skeleton, faces = am.read_mesh(tmp_path / "skel.obj")
+    assert len(faces) > 0 and (np.abs(skeleton) <= [2.0, 1.0, 1.0]).all()
