@@ -67,6 +67,8 @@ void bind_complex(py::module_& m) {
         py::arg("simplices"));
   m.def("vertex_normals", [](PointsRef V, SimplicesRef S) { return vertex_normals(V, S); }, py::arg("points"),
         py::arg("simplices"));
+  m.def("frame_vertex_normals", [](PointsRef V, SimplicesRef F) { return frame_vertex_normals(V, F); },
+        py::arg("vertices"), py::arg("faces"), "Area-weighted unit vertex normals of a frame (triangles in R^3, segments in R^2).");
   m.def("drop_component", [](PointsRef N, int axis) { return drop_component(N, axis); }, py::arg("normals"),
         py::arg("axis"));
 }

@@ -14,7 +14,7 @@ void bind_slice(py::module_& m) {
       .def_readonly("edge_parameter", &Slice::edge_parameter)
       .def_readonly("face_simplex", &Slice::face_simplex);
 
-  py::class_<Slicer>(m, "Slicer", "A manifold with its cached interval indices and vertex normals.")
+  py::class_<Slicer>(m, "Slicer", "A manifold with its cached interval indices (one per slicing axis).")
       .def(py::init<std::shared_ptr<const Complex>>(), py::arg("manifold"), py::keep_alive<1, 2>())
       .def("slice",
            [](Slicer& s, int axis, double value, bool use_index) {

@@ -95,4 +95,28 @@ PointMatrix drop_component(const PointMatrix& normals, int axis) {
   return out;
 }
 
+PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
+  const int d = static_cast<int>(V.cols());
+  if (F.cols() != d) fail<InputError>("frame faces must have ", d, " corners in R^", d, ", got ", F.cols());
+  PointMatrix N = PointMatrix::Zero(V.rows(), d);
+  for (Index f = 0; f < F.rows(); ++f) {
+    Eigen::RowVectorXd n(d);
+    if (d == 3) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      n = (b - a).cross(c - a).transpose();  // twice the area
+    } else if (d == 2) {
+      const Eigen::Vector2d e = V.row(F(f, 1)) - V.row(F(f, 0));
+      n << e.y(), -e.x();  // the segment's length
+    } else {
+      fail<InputError>("frames are 2D or 3D, got ", d, "D");
+    }
+    for (int c = 0; c < d; ++c) N.row(F(f, c)) += n;
+  }
+  for (Index v = 0; v < N.rows(); ++v) {
+    const double length = N.row(v).norm();
+    if (length > 0) N.row(v) /= length;
+  }
+  return N;
+}
+
 }  // namespace animanifold

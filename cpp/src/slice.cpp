@@ -214,7 +214,7 @@ void cut_triangle(const Index* t, const bool* above, int above_count, Index sour
 
 }  // namespace
 
-Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index, const PointMatrix* normals) {
+Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
   const int D = m.ambient_dimension();
   const int k = m.vertices_per_simplex();
   if (k != D || (D != 3 && D != 4))
@@ -296,22 +296,12 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
     out.face_attributes[name] = std::move(values);
   }
 
-  PointMatrix computed;
-  if (!normals) {
-    computed = vertex_normals(m.V, m.S);
-    normals = &computed;
-  }
-  PointMatrix interpolated(P, D);
-  for (Index p = 0; p < P; ++p) {
-    const auto& c = cut[p];
-    interpolated.row(p) = (1.0 - c.s) * normals->row(c.a) + c.s * normals->row(c.b);
-  }
-  out.normals = drop_component(interpolated, axis);
   // Dropping coordinate `axis` instead of the last one permutes the remaining
-  // coordinates' orientation by (-1)^(D-1-axis): the table's faces then face
-  // against the (outward) projected normals, so they are turned over. Slices
-  // along time are never turned, so keyframes keep their orientation.
+  // coordinates' orientation by (-1)^(D-1-axis): the table's faces would then
+  // face inward, so they are turned over. Slices along time are never
+  // turned, so keyframes keep their orientation.
   if ((D - 1 - axis) % 2 == 1) out.faces.col(0).swap(out.faces.col(1));
+  out.normals = frame_vertex_normals(out.vertices, out.faces);
   return out;
 }
 
@@ -331,14 +321,8 @@ const IntervalIndex& Slicer::index(int axis) {
   return *indices_[axis];
 }
 
-const PointMatrix& Slicer::vertex_normals() {
-  if (!normals_) normals_ = std::make_unique<PointMatrix>(animanifold::vertex_normals(manifold_->V, manifold_->S));
-  return *normals_;
-}
-
 Slice Slicer::slice(int axis, double value, bool use_index) {
-  const PointMatrix& normals = vertex_normals();
-  return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr, &normals);
+  return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr);
 }
 
 }  // namespace animanifold

@@ -85,7 +85,6 @@ class AnimationManifold:
         self._complex = complex_
         self._slicer: _core.Slicer | None = None
         self._axis_values: dict[int, np.ndarray] = {}  # sorted distinct vertex coordinates per axis
-        self._normals: np.ndarray | None = None
         self._time_range: tuple[float, float] | None = None
         self.metadata: dict = dict(metadata or {})
 
@@ -350,10 +349,7 @@ class SliceMover:
             return lo, table[b] - lo
 
         self._tables = {"vertices": ends(P[:, others])}
-        if normals:
-            if manifold._normals is None:
-                manifold._normals = _core.vertex_normals(manifold.points, manifold.simplices)
-            self._tables["normals"] = ends(manifold._normals[:, others])
+        self._normals = normals
         names = manifold.vertex_attributes.keys() if attributes is None else attributes
         self._attributes = {name: ends(manifold.vertex_attributes[name]) for name in names
                             if name in manifold.vertex_attributes}
@@ -368,16 +364,13 @@ class SliceMover:
             start, span = ends
             return start + weight * span
 
-        normals = None
-        if "normals" in self._tables:
-            normals = lerp(self._tables["normals"])
-            length = np.linalg.norm(normals, axis=1, keepdims=True)
-            normals /= np.where(length > 0, length, 1.0)
+        vertices = lerp(self._tables["vertices"])
+        normals = _core.frame_vertex_normals(vertices, self.slice.faces) if self._normals else None
         attributes = {}
         for name, ends in self._attributes.items():
             moved = lerp(ends)
             attributes[name] = moved[:, 0] if moved.shape[1] == 1 else moved
-        return dataclasses.replace(self.slice, value=float(value), vertices=lerp(self._tables["vertices"]),
+        return dataclasses.replace(self.slice, value=float(value), vertices=vertices,
                                    normals=normals, vertex_attributes=attributes, edge_parameter=weight[:, 0])
 
 

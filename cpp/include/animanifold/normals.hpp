@@ -27,4 +27,13 @@ PointMatrix vertex_normals(const PointMatrix& V, const SimplexMatrix& S);
 // that become zero stay zero.
 PointMatrix drop_component(const PointMatrix& normals, int axis);
 
+// Area-weighted unit vertex normals of a frame: triangles in R^3 (right-hand
+// rule) or segments in R^2 (the right side of each segment, outward for a
+// counter-clockwise polygon). A frame face lies in the hyperplane of the
+// manifold simplex it was cut from, so its normal is that simplex's wedge
+// normal with the slicing axis dropped (§2.3.2); averaging over the frame's
+// own faces keeps normals smooth across the frame without blending in the
+// shape at other times. #P by d; zero for an unused vertex.
+PointMatrix frame_vertex_normals(const PointMatrix& vertices, const SimplexMatrix& faces);
+
 }  // namespace animanifold

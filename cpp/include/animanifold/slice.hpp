@@ -32,7 +32,7 @@ namespace animanifold {
 struct Slice {
   PointMatrix vertices;   // P by D-1: the coordinates other than `axis`, in order
   SimplexMatrix faces;    // F by n: triangles (tets in R^4) or segments (triangles in R^3)
-  PointMatrix normals;    // P by D-1: smooth normals from the manifold's (§2.3.2), unit length
+  PointMatrix normals;    // P by D-1: smooth unit normals (frame_vertex_normals: the cut simplices' own)
   VertexAttributes vertex_attributes;  // interpolated along the cut edges
   SimplexAttributes face_attributes;   // carried from the cut simplex
   // P by 2: the manifold edge (a, b), a < b, each slice vertex lies on; a == b
@@ -68,31 +68,33 @@ class IntervalIndex {
 
 // Slices `manifold` at `value` along `axis` (0..D-1; D-1 is time).
 // `index`, when given, must have been built on the same manifold and axis;
-// without it every simplex is tested. `vertex_normals` (#V by D, from
-// vertex_normals()) may be given to avoid recomputing them; without it they
-// are computed for the whole manifold (cache them for repeated slices).
-Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr,
-            const PointMatrix* vertex_normals = nullptr);
+// without it every simplex is tested.
+//
+// Normals: each frame face lies in the hyperplane of the simplex it was cut
+// from, so the simplex's wedge normal with the axis dropped (§2.3.2) is the
+// face's normal; vertex normals average them over the frame's faces,
+// weighted by area (frame_vertex_normals). Averaging the manifold's vertex
+// normals instead would blend in the tets of neighbouring time slabs, which
+// tilts frame normals wherever the shape changes quickly.
+Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr);
 
 }  // namespace animanifold
 
 namespace animanifold {
 
 // Keeps a manifold with what repeated slicing needs: one interval index per
-// axis and the smooth vertex normals, each built on first use. Slicing the
-// same manifold for every frame of a timeline then costs what each frame cuts.
+// axis, each built on first use. Slicing the same manifold for every frame
+// of a timeline then costs what each frame cuts.
 class Slicer {
  public:
   explicit Slicer(std::shared_ptr<const Complex> manifold);
   Slice slice(int axis, double value, bool use_index = true);
   const IntervalIndex& index(int axis);
-  const PointMatrix& vertex_normals();
   const Complex& manifold() const { return *manifold_; }
 
  private:
   std::shared_ptr<const Complex> manifold_;
   std::vector<std::unique_ptr<IntervalIndex>> indices_;
-  std::unique_ptr<PointMatrix> normals_;
 };
 
 }  // namespace animanifold
