@@ -20,7 +20,7 @@ def circumsphere(points: np.ndarray) -> tuple[np.ndarray, float]:
 @pytest.mark.parametrize("dimension", [2, 3, 4])
 def test_qhull_delaunay_is_delaunay_and_fills_the_hull(rng, dimension):
     points = rng.random((40, dimension))
-    simplices, flat = _core.delaunay(points)
+    simplices, flat, _ = _core.delaunay(points)
     assert flat == 0
     volumes = _core.signed_volumes(points, simplices)
     assert (volumes > 0).all()
@@ -63,7 +63,7 @@ def test_theorem_5_2_1_fill_between_two_conforming_sections_contains_both(rng):
     s, t = _core.conforming_delaunay_3d(v, f), _core.conforming_delaunay_3d(w, g)
     ps, pt = s["points"], t["points"]
     fill_points = np.concatenate([np.c_[ps, np.zeros(len(ps))], np.c_[pt, np.ones(len(pt))]])
-    fill, flat = _core.delaunay(fill_points)
+    fill, flat, _ = _core.delaunay(fill_points)
     assert flat == 0
     assert len(_core.missing_facets(fill, s["constraints"])) == 0
     assert len(_core.missing_facets(fill, t["constraints"] + len(ps))) == 0
@@ -75,7 +75,7 @@ def test_theorem_fails_visibly_without_conforming(rng):
     v = v * (1 + 0.02 * rng.random((len(v), 1)))
     v[:, 2] *= np.where(v[:, 0] > 0.3, 0.2, 1.0)  # a deep dent: non-Delaunay surface triangles
     fill_points = np.concatenate([np.c_[v, np.zeros(len(v))], np.c_[v * 1.2, np.ones(len(v))]])
-    fill, _ = _core.delaunay(fill_points)
+    fill, _, _ = _core.delaunay(fill_points)
     assert len(_core.missing_facets(fill, f)) > 0
 
 

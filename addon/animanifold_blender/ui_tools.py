@@ -22,6 +22,9 @@ class VIEW3D_PT_animanifold_tools(Panel):
         col.label(text="Voronoi Skeleton", icon="OUTLINER_DATA_ARMATURE")
         col.operator("animanifold.skeleton", text="Internal Skeleton").side = "INTERNAL"
         col.operator("animanifold.skeleton", text="External Skeleton").side = "EXTERNAL"
+        col = layout.column(align=True)
+        col.label(text="Morph (select source, then target)", icon="MOD_SIMPLEDEFORM")
+        col.operator("animanifold.morph_selected", icon="FORWARD")
 
         obj = context.active_object
         if obj is None or obj.type != "MESH" or not hasattr(obj, "animanifold_deform"):

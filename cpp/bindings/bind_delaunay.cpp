@@ -26,9 +26,9 @@ void bind_delaunay(py::module_& m) {
             py::gil_scoped_release release;
             dt = delaunay(points);
           }
-          return py::make_tuple(dt.simplices, dt.flat_simplices);
+          return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
         },
-        py::arg("points"), "(simplices, flat_count): Delaunay triangulation in any dimension (Qhull).");
+        py::arg("points"), "(simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).");
   m.def("conforming_delaunay_3d",
         [](PointsRef points, SimplicesRef faces) {
           ConformingDelaunay c;

@@ -29,6 +29,7 @@ void bind_morph(py::module_& m) {
         report["source_conforming"] = r.source_conforming;
         report["target_conforming"] = r.target_conforming;
         report["flat_fill_simplices"] = r.flat_fill_simplices;
+        report["perturbation"] = r.perturbation;
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
         report["min_volume"] = r.min_volume;

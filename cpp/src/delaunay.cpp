@@ -95,7 +95,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
   SimplexMatrix all = Eigen::Map<SimplexMatrix>(corners.data(), count, d + 1);
   const Eigen::VectorXd volumes = Eigen::Map<Eigen::VectorXd>(facet_volumes.data(), count);
   // A simplex is flat when its volume is negligible next to its edge lengths^d.
-  std::vector<Index> keep;
+  std::vector<Index> keep, flat;
   keep.reserve(count);
   for (Index s = 0; s < count; ++s) {
     double longest = 0;
@@ -109,6 +109,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
     // even when the simplex is a sliver of the original points.
     if (!joggle && std::abs(volumes(s)) <= 1e-12 * scale) {
       ++out.flat_simplices;
+      flat.push_back(s);
       continue;
     }
     if (volumes(s) < 0) std::swap(all(s, 0), all(s, 1));
@@ -116,6 +117,8 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
   }
   out.simplices.resize(static_cast<Index>(keep.size()), d + 1);
   for (size_t r = 0; r < keep.size(); ++r) out.simplices.row(static_cast<Index>(r)) = all.row(keep[r]);
+  out.flat.resize(static_cast<Index>(flat.size()), d + 1);
+  for (size_t r = 0; r < flat.size(); ++r) out.flat.row(static_cast<Index>(r)) = all.row(flat[r]);
   return out;
 }
 

@@ -111,8 +111,8 @@ PointMatrix restore_on_input(const ConformingDelaunay& c, const PointMatrix& per
 }
 
 // Is `apex` strictly on the outer side of the outward constraint face `face`
-// (n vertices), within the constraint plane (the first n coordinates)? Exact:
-// a flat cell (four coplanar corners of a planar quad) is not outside.
+// (n vertices), within the constraint plane (the first n coordinates)?
+// Decided with CGAL's exact predicate.
 bool on_outer_side(const PointMatrix& P, const Index* face, int n, Index apex) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   if (n == 3) {
@@ -127,7 +127,7 @@ bool on_outer_side(const PointMatrix& P, const Index* face, int n, Index apex) {
 }  // namespace
 
 std::vector<bool> outside_of_constraint(const PointMatrix& P, const SimplexMatrix& A, Index first, Index last,
-                                        const SimplexMatrix& constraint) {
+                                        const SimplexMatrix& constraint, const PointMatrix* exact) {
   const int D = static_cast<int>(P.cols());  // fill dimension, n + 1
   const int n = D - 1;
   auto in_plane = [&](Index v) { return v >= first && v < last; };
@@ -166,6 +166,22 @@ std::vector<bool> outside_of_constraint(const PointMatrix& P, const SimplexMatri
   // Grow the outside from the outer side of every constraint face (§8.5.2):
   // the front never crosses a constraint face, so it fills exactly the part
   // of the plane's triangulation outside the shape.
+  // Flat cells (coplanar corners, such as the two diagonals of a planar quad
+  // of the input) lie on the surface, neither inside nor outside; which side
+  // the perturbation tipped them to is noise. They are never stripped:
+  // stripping one would leave a crack of zero width in every frame.
+  std::vector<bool> flat(cells.size(), false);
+  if (exact) {
+    for (Index c = 0; c < static_cast<Index>(cells.size()); ++c) {
+      Eigen::MatrixXd edges(n, n);
+      double longest = 0;
+      for (int i = 0; i < n; ++i) {
+        edges.row(i) = exact->row(cells[c][i + 1]).head(n) - exact->row(cells[c][0]).head(n);
+        longest = std::max(longest, edges.row(i).norm());
+      }
+      flat[c] = std::abs(edges.determinant()) <= 1e-6 * std::pow(longest, n);
+    }
+  }
   std::vector<bool> cell_outside(cells.size(), false);
   std::deque<Index> front;
   for (Index f = 0; f < constraint.rows(); ++f) {
@@ -179,7 +195,7 @@ std::vector<bool> outside_of_constraint(const PointMatrix& P, const SimplexMatri
         if (std::find(constraint.row(f).data(), constraint.row(f).data() + n, cells[c][i]) ==
             constraint.row(f).data() + n)
           apex = cells[c][i];
-      if (on_outer_side(P, constraint.row(f).data(), n, apex)) cell_outside[c] = true, front.push_back(c);
+      if (!flat[c] && on_outer_side(P, constraint.row(f).data(), n, apex)) cell_outside[c] = true, front.push_back(c);
     }
   }
   while (!front.empty()) {
@@ -192,7 +208,7 @@ std::vector<bool> outside_of_constraint(const PointMatrix& P, const SimplexMatri
       const Key facet = make_key(ids, n);
       if (constraint_face.count(facet)) continue;
       for (const Index other : cells_of_facet.at(facet))
-        if (other >= 0 && !cell_outside[other]) cell_outside[other] = true, front.push_back(other);
+        if (other >= 0 && !cell_outside[other] && !flat[other]) cell_outside[other] = true, front.push_back(other);
     }
   }
 
@@ -246,55 +262,84 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   if (options.method != "strip") fail<InputError>("unknown morph method '", options.method, "'");
   const int d = static_cast<int>(VS.cols());
 
-  // Inputs in general position: cospherical points (a cube's square faces, a
-  // regular torus) make the Delaunay fill ambiguous, so the fill could pick
-  // another diagonal than the conforming surface. A perturbation of 1e-9 of
-  // the size settles every tie decisively (Qhull's own joggle is far
-  // smaller); the combinatorics are computed on the perturbed points and the
-  // result gets exact coordinates back (restore_on_input).
+  // Inputs in general position. Cospherical points (a cube's square faces, a
+  // regular torus) make the Delaunay fill ambiguous and Qhull merges such
+  // facets into flat simplices, so the fill could miss faces of the
+  // conforming surfaces. The combinatorics are therefore computed on points
+  // perturbed by a small fraction of the size (1e-7, then larger until the
+  // fill is proper and conforms); the result gets the exact coordinates back
+  // (restore_on_input), so the perturbation never shows. The planes t0 and t1
+  // stay exactly flat (Qhull's own joggle would tilt them, and the part of
+  // the fill in each plane would then no longer be one triangulation).
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
-  std::mt19937_64 rng(20261122);
-  std::uniform_real_distribution<double> jitter(-1e-9 * size, 1e-9 * size);
-  auto perturbed = [&](const PointMatrix& V) {
-    PointMatrix out = V;
-    for (Index r = 0; r < out.rows(); ++r)
-      for (int c = 0; c < d; ++c) out(r, c) += jitter(rng);
-    return out;
-  };
-
-  const PointMatrix VS_perturbed = perturbed(VS), VT_perturbed = perturbed(VT);
-  const ConformingDelaunay S = conform(VS_perturbed, FS);
-  const ConformingDelaunay T = conform(VT_perturbed, FT);
+  PointMatrix VS_perturbed, VT_perturbed, P;
+  ConformingDelaunay S, T;
+  DelaunayTriangulation fill;
+  SimplexMatrix target_constraints;
+  Index nS = 0, nT = 0;
+  double conform_seconds = 0;
+  for (double scale : {1e-7, 1e-6, 1e-5}) {
+    std::mt19937_64 rng(20261122);
+    std::uniform_real_distribution<double> jitter(-scale * size, scale * size);
+    auto perturbed = [&](const PointMatrix& V) {
+      PointMatrix out = V;
+      for (Index r = 0; r < out.rows(); ++r)
+        for (int c = 0; c < d; ++c) out(r, c) += jitter(rng);
+      return out;
+    };
+    const auto conform_start = Clock::now();
+    VS_perturbed = perturbed(VS);
+    VT_perturbed = perturbed(VT);
+    S = conform(VS_perturbed, FS);
+    T = conform(VT_perturbed, FT);
+    conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
+    if (scale == 1e-7 && options.progress && !options.progress("conforming", 0.3)) throw Cancelled();
+    nS = static_cast<Index>(S.points.rows()), nT = static_cast<Index>(T.points.rows());
+    P.resize(nS + nT, d + 1);
+    P.topLeftCorner(nS, d) = S.points;
+    P.topRightCorner(nS, 1).setConstant(options.t0);
+    P.bottomLeftCorner(nT, d) = T.points;
+    P.bottomRightCorner(nT, 1).setConstant(options.t1);
+    fill = delaunay(P);
+    target_constraints = T.constraints.array() + nS;
+    report.perturbation = scale;
+    // Flat simplices within one input's plane are harmless (stripping drops
+    // them anyway); flat ones across the planes would leave holes.
+    report.flat_fill_simplices = 0;
+    for (Index f = 0; f < fill.flat.rows(); ++f) {
+      int in_source = 0;
+      for (int c = 0; c < d + 2; ++c) in_source += fill.flat(f, c) < nS;
+      if (in_source != 0 && in_source != d + 2) ++report.flat_fill_simplices;
+    }
+    report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.constraints).size());
+    report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
+    if (report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0) break;
+  }
   report.source_conforming = S.is_delaunay;
   report.target_conforming = T.is_delaunay;
-  stage("conforming", 0.3);
-
-  const Index nS = static_cast<Index>(S.points.rows()), nT = static_cast<Index>(T.points.rows());
-  PointMatrix P(nS + nT, d + 1);
-  P.topLeftCorner(nS, d) = S.points;
-  P.topRightCorner(nS, 1).setConstant(options.t0);
-  P.bottomLeftCorner(nT, d) = T.points;
-  P.bottomRightCorner(nT, 1).setConstant(options.t1);
-  const DelaunayTriangulation fill = delaunay(P, /*joggle=*/true);
-  report.flat_fill_simplices = fill.flat_simplices;
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
-  SimplexMatrix target_constraints = T.constraints.array() + nS;
-  report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.constraints).size());
-  report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
   stage("fill", 0.6);
-  if (report.missing_source_faces || report.missing_target_faces)
+  // Report conforming and filling apart (they alternate in the retries above).
+  report.stage_seconds.back().second -= conform_seconds;
+  report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", conform_seconds});
+  if (report.missing_source_faces || report.missing_target_faces || report.flat_fill_simplices)
     fail<std::runtime_error>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
-                             " source and ", report.missing_target_faces, " target faces are missing",
+                             " source and ", report.missing_target_faces, " target faces are missing and ",
+                             report.flat_fill_simplices, " simplices are flat",
                              S.is_delaunay && T.is_delaunay ? "" : " (the mesher returned a constrained, not conforming, result)");
 
-  // From here on, exact coordinates: input vertices as given, added points
-  // on their input faces. The fill's combinatorics came from the perturbed
-  // points; sidedness below is decided exactly on the real geometry.
-  P.topLeftCorner(nS, d) = restore_on_input(S, VS_perturbed, VS, FS);
-  P.bottomLeftCorner(nT, d) = restore_on_input(T, VT_perturbed, VT, FT);
-  const std::vector<bool> out_s = outside_of_constraint(P, fill.simplices, 0, nS, S.constraints);
-  const std::vector<bool> out_t = outside_of_constraint(P, fill.simplices, nS, nS + nT, target_constraints);
+  // Sidedness is decided on the perturbed points, the geometry the fill was
+  // built on: on the exact input, nearly planar quads (rounded coordinates)
+  // would put apexes on either side at random, against the fill's own
+  // combinatorics. Then the exact coordinates come back: input vertices as
+  // given, added points on their input faces.
+  PointMatrix exact = P;
+  exact.topLeftCorner(nS, d) = restore_on_input(S, VS_perturbed, VS, FS);
+  exact.bottomLeftCorner(nT, d) = restore_on_input(T, VT_perturbed, VT, FT);
+  const std::vector<bool> out_s = outside_of_constraint(P, fill.simplices, 0, nS, S.constraints, &exact);
+  const std::vector<bool> out_t = outside_of_constraint(P, fill.simplices, nS, nS + nT, target_constraints, &exact);
+  P = exact;
   std::vector<Index> kept;
   for (Index s = 0; s < fill.simplices.rows(); ++s)
     if (!out_s[s] && !out_t[s]) kept.push_back(s);

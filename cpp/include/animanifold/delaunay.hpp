@@ -26,6 +26,7 @@ namespace animanifold {
 struct DelaunayTriangulation {
   SimplexMatrix simplices;       // #S by d+1, positive signed volume
   Index flat_simplices = 0;      // zero-volume simplices Qhull returned, left out
+  SimplexMatrix flat;            // ... and those simplices
 };
 
 // `points` is #P by d (d >= 2). With `joggle`, Qhull perturbs the input by a

@@ -36,7 +36,8 @@ struct MorphReport {
   // Theorem 5.2.1: refined constraint faces of S' and T' not found in the fill.
   Index missing_source_faces = 0, missing_target_faces = 0;
   bool source_conforming = false, target_conforming = false;  // the mesher's result was Delaunay
-  Index flat_fill_simplices = 0;  // zero-volume simplices Qhull returned (left out)
+  Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes (the fill is refused then)
+  double perturbation = 0.0;      // of the size, used for the combinatorics only (see morph.cpp)
   Index fill_simplices = 0, stripped_simplices = 0;
   // Validity 1: the smallest signed hypervolume of the kept simplices, how
   // many are inverted (below -tolerance) and how many are degenerate slivers
@@ -71,7 +72,9 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
 // its projection onto the constraint plane of the points in [first, last)
 // lies outside the closed constraint `constraint` (refined faces, outward,
 // indexing `points`) — the stripping test of §8.5 for one constraint.
+// With `exact` (the same points unperturbed), cells that are flat there are
+// kept whatever side the perturbation tipped them to.
 std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, Index first, Index last,
-                                        const SimplexMatrix& constraint);
+                                        const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
 
 }  // namespace animanifold
