@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 namespace animanifold {
 
@@ -72,12 +71,19 @@ size_t IntervalIndex::memory_bytes() const { return nodes_.size() * sizeof(Node)
 
 namespace {
 
-// Welds cut points: one slice vertex per manifold vertex or edge.
+// Welds cut points: one slice vertex per manifold vertex or edge. The
+// table is open addressing with linear probing over a power-of-two array:
+// a slice makes one lookup per cut edge per simplex, so this is the inner
+// loop of live playback.
 class CutPoints {
  public:
-  CutPoints(const Complex& m, int axis, double value, size_t expected)
-      : m_(m), axis_(axis), value_(value) {
-    ids_.reserve(expected);
+  CutPoints(const Complex& m, int axis, double value, size_t expected) : m_(m), axis_(axis), value_(value) {
+    size_t capacity = 16;
+    while (capacity < 2 * expected + 16) capacity <<= 1;
+    keys_.assign(capacity, kEmpty);
+    ids_.resize(capacity);
+    mask_ = capacity - 1;
+    edges_.reserve(expected);
   }
 
   // The slice vertex where the hyperplane crosses edge (a, b); a == b for a
@@ -94,9 +100,13 @@ class CutPoints {
     }
     const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
                               static_cast<std::uint32_t>(b);
-    auto [it, inserted] = ids_.try_emplace(key, static_cast<Index>(edges_.size()));
-    if (inserted) edges_.push_back({a, b, s});
-    return it->second;
+    size_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+    while (keys_[slot] != kEmpty) {
+      if (keys_[slot] == key) return ids_[slot];
+      slot = (slot + 1) & mask_;
+    }
+    if (edges_.size() * 2 + 2 > keys_.size()) grow();
+    return insert(key, {a, b, s});
   }
 
   struct Cut {
@@ -106,10 +116,34 @@ class CutPoints {
   const std::vector<Cut>& cuts() const { return edges_; }
 
  private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+
+  Index insert(std::uint64_t key, const Cut& cut) {
+    size_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
+    while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
+    keys_[slot] = key;
+    ids_[slot] = static_cast<Index>(edges_.size());
+    edges_.push_back(cut);
+    return ids_[slot];
+  }
+
+  void grow() {
+    std::vector<Cut> cuts = std::move(edges_);
+    edges_.clear();
+    keys_.assign(keys_.size() * 2, kEmpty);
+    ids_.resize(keys_.size());
+    mask_ = keys_.size() - 1;
+    edges_.reserve(cuts.size() * 2);
+    for (const Cut& c : cuts)
+      insert((static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.a)) << 32) | static_cast<std::uint32_t>(c.b), c);
+  }
+
   const Complex& m_;
   int axis_;
   double value_;
-  std::unordered_map<std::uint64_t, Index> ids_;
+  std::vector<std::uint64_t> keys_;
+  std::vector<Index> ids_;
+  size_t mask_ = 0;
   std::vector<Cut> edges_;
 };
 
@@ -133,32 +167,34 @@ struct FaceSink {
 void cancel_opposite_pairs(FaceSink& faces) {
   const int n = faces.n;
   const size_t count = faces.simplex.size();
-  std::unordered_map<std::uint64_t, std::vector<size_t>> by_vertices;
+  // Each face's sorted vertex set goes into an open-addressing table; a face
+  // meeting a live face with the same set and the opposite orientation
+  // cancels with it. One probe per face: this runs on every slice.
   std::vector<std::array<Index, 3>> sorted(count);
-  std::vector<int> parity(count);
-  for (size_t f = 0; f < count; ++f) {
-    std::array<Index, 3> key{-1, -1, -1};
-    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
-    parity[f] = n == 2 ? (key[0] < key[1] ? 1 : -1) : permutation_parity(key.data(), n);
-    std::sort(key.begin(), key.begin() + n);
-    sorted[f] = key;
-    std::uint64_t h = 1469598103934665603ull;
-    for (int c = 0; c < n; ++c) h = (h ^ static_cast<std::uint32_t>(key[c])) * 1099511628211ull;
-    by_vertices[h].push_back(f);
-  }
+  std::vector<signed char> parity(count);
+  size_t capacity = 16;
+  while (capacity < 2 * count + 16) capacity <<= 1;
+  std::vector<std::int64_t> table(capacity, -1);
   std::vector<bool> drop(count, false);
   bool any = false;
-  for (auto& [hash, group] : by_vertices) {
-    if (group.size() < 2) continue;
-    for (size_t i = 0; i < group.size(); ++i) {
-      if (drop[group[i]]) continue;
-      for (size_t j = i + 1; j < group.size(); ++j) {
-        const size_t a = group[i], b = group[j];
-        if (drop[b] || sorted[a] != sorted[b] || parity[a] == parity[b]) continue;
-        drop[a] = drop[b] = any = true;
+  for (size_t f = 0; f < count; ++f) {
+    std::array<Index, 3>& key = sorted[f];
+    key = {-1, -1, -1};
+    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
+    parity[f] = static_cast<signed char>(n == 2 ? (key[0] < key[1] ? 1 : -1) : permutation_parity(key.data(), n));
+    std::sort(key.begin(), key.begin() + n);
+    std::uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < n; ++c) h = (h ^ static_cast<std::uint32_t>(key[c])) * 1099511628211ull;
+    size_t slot = h & (capacity - 1);
+    bool cancelled = false;
+    for (; table[slot] >= 0; slot = (slot + 1) & (capacity - 1)) {
+      const size_t other = static_cast<size_t>(table[slot]);
+      if (!drop[other] && sorted[other] == key && parity[other] != parity[f]) {
+        drop[other] = drop[f] = any = cancelled = true;
         break;
       }
     }
+    if (!cancelled) table[slot] = static_cast<std::int64_t>(f);
   }
   if (!any) return;
   size_t kept = 0;
