@@ -9,14 +9,13 @@ data folder it falls back to three procedural icospheres (61,440 faces) and
 says so.
 
 Prints: stitch time and tets/s; the interval index's build time and size;
-the first slice (which also computes the manifold's vertex normals, cached
-for later frames); per-frame slice time with the index and without it (every
+the first slice (cold caches); per-frame slice time with the index and without it (every
 tet tested); and the bytes a slice touches per second against this machine's
 memory bandwidth (a numpy copy of a large array, measured in the same run).
 
 Bytes touched per slice, a lower bound: for each cut tet its 4 int32 indices
 and its 4 points of 4 doubles (144 B), plus the output arrays. It leaves out
-the index nodes visited, the vertex normals read, and the welding hash map.
+the index nodes visited and the welding hash table.
 """
 
 from __future__ import annotations
@@ -107,13 +106,13 @@ def main() -> int:
     print(f"stitch      {tets:,} tets, {len(manifold.points):,} points in {seconds:.3f} s = {tets / seconds / 1e6:.1f} M tets/s")
 
     # The core Slicer that AnimationManifold.slice uses, driven directly so the
-    # one-off costs (index, vertex normals) are timed apart from per-frame cost.
+    # one-off cost of the index is timed apart from per-frame cost.
     slicer = _core.Slicer(manifold._complex)
     index_bytes, seconds = timed(slicer.index_memory_bytes, TIME_AXIS)
     print(f"index       built in {seconds:.3f} s, {index_bytes / 2**20:.0f} MiB ({tets / seconds / 1e6:.1f} M tets/s)")
     first_t = 0.5 * (times[0] + times[1])
     _, seconds = timed(slicer.slice, TIME_AXIS, first_t, True)
-    print(f"first slice {seconds:.3f} s (includes the vertex normals of the whole manifold, computed once)")
+    print(f"first slice {seconds:.3f} s (cold caches)")
 
     frame_times = np.linspace(times[0], times[-1], args.frames)
     with_index, without_index, touched, faces_out = [], [], [], []
@@ -135,7 +134,7 @@ def main() -> int:
         f"{np.median(without_index) / np.median(with_index):.0f}x slower)"
     )
     _, seconds = timed(_core.slice, manifold._complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
-    print(f"            brute force {seconds:.3f} s (_core.slice: no index, normals recomputed)")
+    print(f"            brute force {seconds:.3f} s (_core.slice: no index)")
 
     rate = touched / with_index / 1e9
     print(

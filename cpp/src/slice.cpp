@@ -164,20 +164,35 @@ struct FaceSink {
 // the two sides of a zero-width slit (where a manifold that opens a hole or a
 // split right after this time is cut at that time). Cancel such pairs so the
 // slice is the limit surface, not the slit.
-void cancel_opposite_pairs(FaceSink& faces) {
+void cancel_opposite_pairs(FaceSink& faces, const CutPoints& cuts) {
   const int n = faces.n;
   const size_t count = faces.simplex.size();
+  // A slit closes up only where the plane passes through manifold vertices
+  // (a keyframe, the end of a morph); elsewhere its two sides are apart.
+  // Only faces whose corners are all manifold vertices can cancel.
+  const auto& cut = cuts.cuts();
+  auto on_vertices = [&](size_t f) {
+    for (int c = 0; c < n; ++c) {
+      const auto& p = cut[faces.corners[f * n + c]];
+      if (p.a != p.b) return false;
+    }
+    return true;
+  };
+  size_t eligible = 0;
+  for (size_t f = 0; f < count; ++f) eligible += on_vertices(f);
+  if (eligible < 2) return;
   // Each face's sorted vertex set goes into an open-addressing table; a face
   // meeting a live face with the same set and the opposite orientation
-  // cancels with it. One probe per face: this runs on every slice.
+  // cancels with it. One probe per face.
   std::vector<std::array<Index, 3>> sorted(count);
   std::vector<signed char> parity(count);
   size_t capacity = 16;
-  while (capacity < 2 * count + 16) capacity <<= 1;
+  while (capacity < 2 * eligible + 16) capacity <<= 1;
   std::vector<std::int64_t> table(capacity, -1);
   std::vector<bool> drop(count, false);
   bool any = false;
   for (size_t f = 0; f < count; ++f) {
+    if (!on_vertices(f)) continue;
     std::array<Index, 3>& key = sorted[f];
     key = {-1, -1, -1};
     std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
@@ -313,7 +328,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
       out.vertices(p, o++) = c.a == c.b ? m.V(c.a, d) : (1.0 - c.s) * m.V(c.a, d) + c.s * m.V(c.b, d);
     }
   }
-  cancel_opposite_pairs(faces);
+  cancel_opposite_pairs(faces, cuts);
   const Index F = static_cast<Index>(faces.simplex.size());
   out.faces = Eigen::Map<const SimplexMatrix>(faces.corners.data(), F, k - 1);
   out.face_simplex = Eigen::Map<const IndexVector>(faces.simplex.data(), F);
