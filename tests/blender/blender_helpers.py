@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -85,3 +86,31 @@ def run_fresh_blender(script: str, *args: str, timeout: int = 240) -> str:
     if proc.returncode != 0:
         raise AssertionError(f"fresh Blender process failed ({proc.returncode}):\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
     return proc.stdout
+
+
+# -- Debian's blender 3.4 binary -----------------------------------------------------
+
+BLENDER = shutil.which("blender") or "/usr/bin/blender"
+NO_BLENDER_BINARY = "Debian's blender binary (/usr/bin/blender) is not installed"
+
+
+def run_blender_binary_smoke(tmp_path: Path, script: str) -> subprocess.CompletedProcess:
+    """Packs the add-on zip and runs tests/blender/scripts/<script> under Debian's
+    `blender -b --factory-startup --python-exit-code 1` with arguments
+    (zip, blender_scenes/, tmp_path); returns the finished process."""
+    zip_path = tmp_path / "animanifold_blender.zip"
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
+                   check=True, capture_output=True, text=True)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
+    env.pop("PYTHONPATH", None)
+    # Blender's embedded Python derives its prefix from the python3 on PATH: keep a
+    # pyenv (or venv) interpreter that runs pytest from hiding Debian's dist-packages.
+    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
+                                  if ".pyenv" not in p and "/venv" not in p and "/.venv" not in p)
+    for key in [k for k in env if k.startswith("PYENV") or k == "VIRTUAL_ENV"]:
+        env.pop(key)
+    return subprocess.run(
+        [BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+         str(ROOT / "tests" / "blender" / "scripts" / script), "--", str(zip_path), str(SCENES), str(tmp_path)],
+        capture_output=True, text=True, env=env, timeout=300,
+    )

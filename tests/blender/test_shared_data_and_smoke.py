@@ -14,7 +14,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import DATA, ROOT, SCENES, canonical, eval_corners, mesh_corners  # noqa: E402
+from blender_helpers import DATA, ROOT, SCENES, eval_corners, mesh_corners, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -87,29 +87,10 @@ def test_gltf_morph_targets(addon, name):
     assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
 
 
-BLENDER = shutil.which("blender") or "/usr/bin/blender"
-
-
 @pytest.mark.slow
-@pytest.mark.skipif(not os.path.exists(BLENDER), reason="Debian's blender binary (/usr/bin/blender) is not installed")
+@pytest.mark.skipif(not os.path.exists(BLENDER), reason=NO_BLENDER_BINARY)
 def test_smoke_blender_binary_installs_zip_converts_and_bakes(tmp_path):
-    zip_path = tmp_path / "animanifold_blender.zip"
-    subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
-                   check=True, capture_output=True, text=True)
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=str(tmp_path / "scripts"), BLENDER_USER_CONFIG=str(tmp_path / "config"))
-    env.pop("PYTHONPATH", None)
-    # Blender's embedded Python derives its prefix from the python3 on PATH: keep a
-    # pyenv (or venv) interpreter that runs pytest from hiding Debian's dist-packages.
-    env["PATH"] = os.pathsep.join(p for p in env.get("PATH", "").split(os.pathsep)
-                                  if ".pyenv" not in p and "/venv" not in p and "/.venv" not in p)
-    for key in [k for k in env if k.startswith("PYENV") or k == "VIRTUAL_ENV"]:
-        env.pop(key)
-    proc = subprocess.run(
-        [BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
-         str(ROOT / "tests" / "blender" / "scripts" / "smoke_blender34.py"), "--", str(zip_path), str(SCENES),
-         str(tmp_path)],
-        capture_output=True, text=True, env=env, timeout=300,
-    )
+    proc = run_blender_binary_smoke(tmp_path, "smoke_blender34.py")
     assert proc.returncode == 0 and "SMOKE OK" in proc.stdout, proc.stdout[-4000:] + proc.stderr[-4000:]
 
 
