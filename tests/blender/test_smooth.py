@@ -186,11 +186,15 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     scene.frame_set(31)
     assert man.name_full in live._SHOWN
     np.testing.assert_allclose(mesh_vertices(man.data), shown.slice(31.0).vertices, atol=1e-6, rtol=0)
-    # Without keyframe times kept: another subdivision, kept beside the first.
+    # Without keyframe times kept: another subdivision; the first one, which no object
+    # asks for any more, is freed (so switching back computes it again, once).
     settings.keep_keyframe_times = False
     assert calls == [True, False]
+    assert list(live._SUBDIVIDED[live.cache_abspath(man)].manifolds) == [(1, False)]
     settings.keep_keyframe_times = True
-    assert calls == [True, False] or calls == [True, False, True]
+    scene.frame_set(2)
+    assert calls == [True, False, True]
+    shown = live.shown_manifold(man)
     scene.frame_set(1)
     np.testing.assert_allclose(mesh_vertices(man.data), shown.slice(1.0).vertices, atol=1e-6, rtol=0)
 
@@ -302,3 +306,55 @@ def test_smooth_panel_registers_and_draws(demo, addon):
     finally:
         addon.register()
     assert hasattr(bpy.types, "VIEW3D_PT_animanifold_smooth")
+
+
+class _Layout:
+    """Records what a panel draws (labels and properties), as a UILayout would take it."""
+
+    def __init__(self, log):
+        self.log = log
+        self.enabled = True
+
+    def column(self, **_):
+        return _Layout(self.log)
+
+    row = box = column
+
+    def label(self, text="", icon="NONE"):
+        self.log.append(("label", text, icon))
+
+    def prop(self, data, name, **_):
+        assert name in data.bl_rna.properties, name
+        self.log.append(("prop", name, self.enabled))
+
+    def operator(self, name, **_):
+        self.log.append(("operator", name))
+
+
+def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
+    from types import SimpleNamespace
+
+    from animanifold_blender import live, ui
+
+    man = convert(demo)
+    bpy.context.scene.frame_set(17)
+    context = SimpleNamespace(active_object=man, scene=bpy.context.scene)
+    assert ui.VIEW3D_PT_animanifold_smooth.poll(context)
+    assert not ui.VIEW3D_PT_animanifold_smooth.poll(SimpleNamespace(active_object=demo, scene=bpy.context.scene))
+
+    def draw():
+        log = []
+        ui.VIEW3D_PT_animanifold_smooth.draw(SimpleNamespace(layout=_Layout(log)), context)
+        return log
+
+    log = draw()
+    assert ("prop", "subdivision_levels", True) in log and ("prop", "keep_keyframe_times", False) in log
+    assert ("prop", "smooth_levels", True) in log and ("prop", "crease_angle", False) in log
+    man.animanifold.subdivision_levels = 1
+    man.animanifold.smooth_levels = 1
+    log = draw()
+    assert ("label", "21,504 tets", "INFO") in log
+    assert ("label", f"{len(man.data.polygons):,} faces this frame", "INFO") in log
+    assert ("prop", "keep_keyframe_times", True) in log and ("prop", "crease_angle", True) in log
+    monkeypatch.setattr(live, "LARGE_TETS", 10_000)
+    assert ("label", "21,504 tets: slow slicing, much memory", "ERROR") in draw()
