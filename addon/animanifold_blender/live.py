@@ -233,12 +233,12 @@ def frame_slice(obj, manifold, value: float, axis: str = "t"):
     if settings.smooth_levels <= 0:
         return s
     levels, angle = int(settings.smooth_levels), math.degrees(settings.crease_angle)
-    weld = _weld(s.vertices, s.faces) if len(s.faces) else None
-    if weld is None:
-        return manifold.slice(value, axis, smooth_levels=levels, crease_angle=angle)
+    if not len(s.faces):
+        return dataclasses.replace(s, vertex_edges=None, edge_parameter=None)
     # Split copies (UV seams) would be boundaries to OpenSubdiv: refine the welded frame
     # (attributes of the first copy, so UVs are smeared in the faces along a seam).
-    kept, faces = weld
+    weld = _weld(s.vertices, s.faces)
+    kept, faces = weld if weld is not None else (np.arange(len(s.vertices)), s.faces)
     r = am.smooth.subdivide_frame(
         s.vertices[kept], faces, levels, crease_angle=angle,
         vertex_attributes={k: np.asarray(v)[kept] for k, v in s.vertex_attributes.items()},
