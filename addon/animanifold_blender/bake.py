@@ -8,6 +8,10 @@
   Mesh Sequence Cache modifier (Blender's native varying-topology cache);
 * an OBJ/PLY sequence (one file per frame).
 
+Every frame is sliced as live playback slices it (live.shown_manifold and
+live.frame_slice): the object's Smooth settings (manifold subdivision, frame
+smoothing) are baked.
+
 Nothing here deletes the user's data: a re-bake builds the new data first and
 only then removes the previous bake's collection, objects, meshes and node group.
 """
@@ -37,14 +41,15 @@ def frame_object_name(obj_name: str, frame: int) -> str:
 def build_frames(obj, frames: list[int], collection_name: str, progress=None) -> bpy.types.Collection:
     """One mesh object per frame (the slice at that frame), in frame order, in a new
     collection that is not linked to any scene (the node group instances it)."""
-    manifold = live.manifold_for(obj)
+    manifold = live.shown_manifold(obj)  # subdivided as the object's Smooth settings say
     settings = obj.animanifold
+    smoothed = settings.smooth_levels > 0
     materials = list(obj.data.materials)
     collection = bpy.data.collections.new(collection_name)
     mesh = None
     try:
         for i, frame in enumerate(frames):
-            s = manifold.slice(float(frame), "t")
+            s = live.frame_slice(obj, manifold, float(frame), "t")
             name = frame_object_name(obj.name, frame)
             mesh = bpy.data.meshes.new(name)
             for mat in materials:
@@ -52,7 +57,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             live.write_mesh(
                 mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                 material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
-                normals=live.slice_normals(s),
+                normals=live.frame_normals(s, smoothed),
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)
@@ -294,13 +299,14 @@ def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list)
 # -- file sequences -----------------------------------------------------------------
 
 def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=None) -> list[str]:
-    """One file per frame (the slice, object space) with animanifold's mesh writer."""
-    manifold = live.manifold_for(obj)
+    """One file per frame (the slice as the object shows it, smoothing included; object
+    space) with animanifold's mesh writer."""
+    manifold = live.shown_manifold(obj)
     os.makedirs(directory, exist_ok=True)
     ext = {"OBJ": ".obj", "PLY": ".ply"}[fmt]
     written = []
     for i, frame in enumerate(frames):
-        s = manifold.slice(float(frame), "t")
+        s = live.frame_slice(obj, manifold, float(frame), "t")
         path = os.path.join(directory, f"{bpy.path.clean_name(obj.name)}_{frame:06d}{ext}")
         am.write_mesh(path, np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.faces))
         written.append(path)

@@ -5,10 +5,18 @@ manifolds are loaded once per file version (path, mtime, size) and their slicer
 kept, so a frame costs one slice plus one mesh rewrite (numpy + foreach_set).
 The mesh data block of the object is rewritten in place: scrubbing creates no
 data blocks.
+
+Smoothing (the object's Smooth settings): the shown manifold is the loaded one
+subdivided `subdivision_levels` times (Schaefer et al.), computed once per
+(loaded manifold, levels, keep_keyframe_times) and kept beside it; each frame
+is its slice refined `smooth_levels` times by OpenSubdiv. Bakes slice through
+the same functions (frame_slice, frame_normals), so they bake what plays live.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
 import os
 from dataclasses import dataclass
 
@@ -22,10 +30,34 @@ _CACHE: dict[str, tuple[tuple[int, int], object]] = {}
 _ERRORS: dict[str, str] = {}
 
 
+class SmoothingError(RuntimeError):
+    """Subdivision of a manifold object's manifold failed or would not fit in memory."""
+
+
+@dataclass
+class _Subdivided:
+    """The subdivisions of one loaded manifold (`base`), by (levels, keep_keyframe_times);
+    `failed` keeps the message of a subdivision that failed, so that playback does not
+    retry it on every frame (a settings change clears it)."""
+
+    base: object
+    manifolds: dict
+    failed: dict
+
+
+_SUBDIVIDED: dict[str, _Subdivided] = {}
+# Peak memory of one subdivision, per output tet (measured ~45 bytes: points, tets,
+# attributes, the intermediate level); with room for the slicer's index built later.
+BYTES_PER_TET = 100
+# The panel warns from this many shown tets on (slower slicing, more memory).
+LARGE_TETS = 2_000_000
+
+
 def clear():
     _CACHE.clear()
     _ERRORS.clear()
     _SHOWN.clear()
+    _SUBDIVIDED.clear()
 
 
 def last_error(obj) -> str | None:
@@ -60,10 +92,170 @@ def remember(path: str, manifold) -> None:
     path = os.path.normpath(path)
     st = os.stat(path)
     _CACHE[path] = ((st.st_mtime_ns, st.st_size), manifold)
+    _SUBDIVIDED.pop(path, None)
 
 
 def forget(path: str) -> None:
-    _CACHE.pop(os.path.normpath(path), None)
+    path = os.path.normpath(path)
+    _CACHE.pop(path, None)
+    _SUBDIVIDED.pop(path, None)
+
+
+def loaded_manifold(obj):
+    """The manifold of `obj` if it is loaded already (no file access; for the panel)."""
+    try:
+        hit = _CACHE.get(cache_abspath(obj))
+    except Exception:  # no path, bad path: the panel shows nothing
+        return None
+    return None if hit is None else hit[1]
+
+
+def subdivided_tets(manifold, levels: int) -> int:
+    """Simplices after `levels` of subdivision: each level splits a tet into 8
+    (a triangle of a 2D animation into 4)."""
+    return len(manifold.simplices) * (2 ** (manifold.dimension - 1)) ** int(levels)
+
+
+def _available_memory() -> int | None:
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):  # not Linux: no check
+        return None
+
+
+def _weld(points: np.ndarray, cells: np.ndarray):
+    """(kept, new_cells): rows of `points` that are exact copies of an earlier row
+    merged into it (kept: the first copies, in order; new_cells reindexed), or None
+    when nothing is merged or merging would make a cell degenerate."""
+    unique, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
+    if len(unique) == len(points):
+        return None
+    rank = np.empty(len(unique), dtype=np.int64)
+    rank[np.argsort(first)] = np.arange(len(unique))
+    new_cells = rank[np.asarray(inverse).reshape(-1)][np.asarray(cells, dtype=np.int64)]
+    ordered = np.sort(new_cells, axis=1)
+    if np.any(ordered[:, 1:] == ordered[:, :-1]):
+        return None
+    return np.sort(first), new_cells
+
+
+def welded_manifold(manifold):
+    """`manifold` with its seams closed: Convert splits the source's vertices along
+    UV seams (UVs are vertex attributes), which leaves the seams as boundary of the
+    manifold; subdivision would treat them as boundary and open cracks along them.
+    Copies (same x, y, z, t) are merged; their vertex attributes are the first copy's
+    (so UVs are smeared in the faces along a seam of a subdivided manifold)."""
+    weld = _weld(manifold.points, manifold.simplices)
+    if weld is None:
+        return manifold
+    kept, simplices = weld
+    vertex_attributes = {k: np.asarray(v)[kept] for k, v in manifold.vertex_attributes.items()}
+    metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
+    return am.AnimationManifold.from_arrays(manifold.points[kept], simplices, vertex_attributes,
+                                            dict(manifold.simplex_attributes), metadata)
+
+
+def shown_manifold(obj):
+    """The manifold whose slices `obj` shows: its cache's manifold, subdivided as its
+    Smooth settings say. Each subdivision is computed once per loaded manifold and
+    kept; a failure (or a result that would not fit in memory) raises SmoothingError
+    and is remembered until a setting changes."""
+    base = manifold_for(obj)
+    settings = obj.animanifold
+    levels = int(settings.subdivision_levels)
+    if levels <= 0:
+        return base
+    path = cache_abspath(obj)
+    entry = _SUBDIVIDED.get(path)
+    if entry is None or entry.base is not base:  # a new file version: older subdivisions are stale
+        entry = _SUBDIVIDED[path] = _Subdivided(base, {}, {})
+    key = (levels, bool(settings.keep_keyframe_times))
+    manifold = entry.manifolds.get(key)
+    if manifold is not None:
+        return manifold
+    if key in entry.failed:
+        raise SmoothingError(entry.failed[key])
+    tets = subdivided_tets(base, levels)
+    available = _available_memory()
+    try:
+        if available is not None and tets * BYTES_PER_TET > available // 2:
+            raise SmoothingError(
+                f"{levels} subdivision levels of '{obj.name}' would make {tets:,} tets "
+                f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
+        try:
+            manifold = welded_manifold(base).subdivide(levels=levels, scheme="schaefer",
+                                                       keep_keyframe_times=key[1])
+        except MemoryError:
+            raise SmoothingError(f"out of memory subdividing '{obj.name}' {levels} levels ({tets:,} tets): "
+                                 "use fewer levels") from None
+        except (ValueError, RuntimeError) as e:
+            raise SmoothingError(f"cannot subdivide '{obj.name}': {e}") from e
+    except SmoothingError as e:
+        entry.failed[key] = str(e)
+        raise
+    entry.manifolds[key] = manifold
+    return manifold
+
+
+def prune_subdivided() -> None:
+    """Drops the subdivisions no manifold object asks for any more (their memory) and
+    the remembered failures (a settings change may retry them)."""
+    wanted = set()
+    for obj in bpy.data.objects:
+        settings = getattr(obj, "animanifold", None)
+        if settings is None or not settings.is_manifold or settings.subdivision_levels <= 0:
+            continue
+        try:
+            path = cache_abspath(obj)
+        except Exception:
+            continue
+        wanted.add((path, int(settings.subdivision_levels), bool(settings.keep_keyframe_times)))
+    for path, entry in list(_SUBDIVIDED.items()):
+        entry.failed.clear()
+        for key in list(entry.manifolds):
+            if (path,) + key not in wanted:
+                del entry.manifolds[key]
+        if not entry.manifolds:
+            del _SUBDIVIDED[path]
+
+
+def smoothing(obj) -> bool:
+    """Whether `obj` shows a smoothed manifold or smoothed frames (not plain slices)."""
+    settings = obj.animanifold
+    return settings.subdivision_levels > 0 or settings.smooth_levels > 0
+
+
+def frame_slice(obj, manifold, value: float, axis: str = "t"):
+    """The slice `obj` shows of `manifold` (its shown_manifold) at `value` along `axis`:
+    refined by OpenSubdiv when its smooth_levels > 0."""
+    settings = obj.animanifold
+    s = manifold.slice(value, axis)
+    if settings.smooth_levels <= 0:
+        return s
+    levels, angle = int(settings.smooth_levels), math.degrees(settings.crease_angle)
+    if not len(s.faces):
+        return dataclasses.replace(s, vertex_edges=None, edge_parameter=None)
+    # Split copies (UV seams) would be boundaries to OpenSubdiv: refine the welded frame
+    # (attributes of the first copy, so UVs are smeared in the faces along a seam).
+    weld = _weld(s.vertices, s.faces)
+    kept, faces = weld if weld is not None else (np.arange(len(s.vertices)), s.faces)
+    r = am.smooth.subdivide_frame(
+        s.vertices[kept], faces, levels, crease_angle=angle,
+        vertex_attributes={k: np.asarray(v)[kept] for k, v in s.vertex_attributes.items()},
+        face_attributes=dict(s.face_attributes))
+    face_simplex = None if s.face_simplex is None else np.asarray(s.face_simplex)[r.face_parent]
+    return dataclasses.replace(s, vertices=r.vertices, faces=r.faces, normals=r.normals,
+                               vertex_attributes=dict(r.vertex_attributes), face_attributes=dict(r.face_attributes),
+                               vertex_edges=None, edge_parameter=None, face_simplex=face_simplex)
+
+
+def frame_normals(s, smoothed: bool) -> np.ndarray | None:
+    """Custom normals for a frame: None for flat-shaded sources; for smooth-shaded
+    ones the source's normals carried along the manifold (slice_normals) or, on a
+    frame refined by OpenSubdiv, the normals of its limit surface."""
+    if smoothed:
+        return s.normals if s.vertex_attributes.get("normal") is not None and len(s.normals) else None
+    return slice_normals(s)
 
 
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
@@ -174,14 +366,18 @@ def update_object(obj, frame: float) -> None:
     Between two vertex times (two keyframes, for a converted action) every
     frame has the same faces: the first frame there is cut and written in
     full, the next ones only slide the vertices along their manifold edges
-    (AnimationManifold.move_slice) and rewrite positions, UVs and normals."""
+    (AnimationManifold.move_slice) and rewrite positions, UVs and normals.
+    Frames refined by OpenSubdiv (smooth_levels > 0) are not on manifold
+    edges: each is cut, refined and written in full."""
     settings = obj.animanifold
-    manifold = manifold_for(obj)
+    manifold = shown_manifold(obj)
     value = _slice_value(obj, manifold, frame)
     mesh = obj.data
+    smoothed = settings.smooth_levels > 0
     normals_wanted = settings.axis == "t" and settings.live_normals
-    key = (id(manifold), mesh.as_pointer(), settings.axis, settings.time_scale, normals_wanted, settings.uv_name)
-    interval = manifold.topology_interval(value, settings.axis)
+    key = (id(manifold), mesh.as_pointer(), settings.axis, settings.time_scale, normals_wanted, settings.uv_name,
+           settings.subdivision_levels, settings.keep_keyframe_times)
+    interval = None if smoothed else manifold.topology_interval(value, settings.axis)
     shown = _SHOWN.get(obj.name_full)
     if (shown is not None and interval is not None and shown.key == key and shown.interval == interval
             and shown.counts == (len(mesh.vertices), len(mesh.polygons))):
@@ -191,7 +387,7 @@ def update_object(obj, frame: float) -> None:
                         normals=slice_normals(s) if normals_wanted else None)
         return
 
-    s = manifold.slice(value, settings.axis)
+    s = frame_slice(obj, manifold, value, settings.axis)
     uv = s.vertex_attributes.get("uv")
     faces = s.faces
     if settings.axis == "y":  # (x, z, t) shown as (x, t, z): an odd permutation, keep faces outward
@@ -204,7 +400,7 @@ def update_object(obj, frame: float) -> None:
         uv_name=settings.uv_name or "UVMap",
         material_index=s.face_attributes.get("material_index"),
         smooth=s.face_attributes.get("smooth"),
-        normals=slice_normals(s) if normals_wanted else None,
+        normals=frame_normals(s, smoothed) if normals_wanted else None,
     )
     if interval is None:
         _SHOWN.pop(obj.name_full, None)

@@ -265,7 +265,7 @@ class ANIMANIFOLD_OT_bake(Operator):
     def execute(self, context):
         try:
             return self._execute(context)
-        except (OperatorError, bake.BakeError, am.CacheError) as e:
+        except (OperatorError, bake.BakeError, am.CacheError, live.SmoothingError) as e:
             self.report({"ERROR"}, str(e))
         except (ValueError, RuntimeError, OSError) as e:
             self.report({"ERROR"}, f"Bake failed: {e}")
@@ -277,7 +277,8 @@ class ANIMANIFOLD_OT_bake(Operator):
         scene = context.scene
         settings = scene.animanifold
         obj = context.active_object
-        manifold = live.manifold_for(obj)  # validates the cache before anything changes
+        live.manifold_for(obj)  # validates the cache before anything changes
+        manifold = live.shown_manifold(obj)  # and subdivides it (Smooth settings) before anything changes
         if _option(self, settings, "use_scene_range", "bake_use_scene_range"):
             start, end = scene.frame_start, scene.frame_end
         else:

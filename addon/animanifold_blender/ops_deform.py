@@ -197,6 +197,9 @@ def slice_constraints(obj, frame: float, anchor_group: str, handle_group: str, e
     if obj.animanifold.axis != "t":
         raise OperatorError(f"'{obj.name}' shows a sweep view along {obj.animanifold.axis}: switch its axis to t "
                             "to deform it")
+    if live.smoothing(obj):
+        raise OperatorError(f"'{obj.name}' shows a smoothed manifold (Smooth panel): its mesh is not a slice of "
+                            "the manifold that Deform moves; set Manifold Levels and Frame Levels to 0 to deform it")
     manifold, s = live.slice_for(obj, frame)
     mesh = obj.data
     if len(mesh.vertices) != len(s.vertices) or len(mesh.polygons) != len(s.faces):

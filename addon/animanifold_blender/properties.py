@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import math
+
 import bpy
 from bpy.props import (
     BoolProperty,
@@ -43,8 +45,19 @@ def _reslice(self, context):
     if isinstance(obj, bpy.types.Object) and live.is_live(obj) and context is not None and context.scene is not None:
         try:
             live.update_object(obj, live.scene_frame(context.scene))
+            live._ERRORS.pop(obj.name_full, None)
         except Exception as e:  # shown in the panel; never raise from an update callback
             live._ERRORS[obj.name_full] = f"{type(e).__name__}: {e}"
+
+
+def _resmooth(self, context):
+    """A Smooth setting changed: free the subdivisions no object uses any more (and
+    forget failed ones, so they are tried again), then re-slice."""
+    try:
+        live.prune_subdivided()
+    except Exception as e:  # never raise from an update callback
+        print(f"animanifold: cannot prune subdivided manifolds: {type(e).__name__}: {e}")
+    _reslice(self, context)
 
 
 class AnimanifoldObjectSettings(PropertyGroup):
@@ -76,6 +89,24 @@ class AnimanifoldObjectSettings(PropertyGroup):
         name="Smooth Normals", default=False, update=_reslice,
         description="Live slices get the keyframes' smooth normals as custom normals (nicer shading between "
                     "keyframes, slower playback); baked frames always have them")
+    subdivision_levels: IntProperty(
+        name="Manifold Levels", default=0, min=0, max=2, update=_resmooth,
+        description="Tetrahedral subdivision of the animation manifold (Schaefer et al. 2004): smooths the shape "
+                    "and the motion between keyframes together; each level has 8x the tets (computed once, kept "
+                    "in memory)")
+    keep_keyframe_times: BoolProperty(
+        name="Keep Keyframe Times", default=True, update=_resmooth,
+        description="Keyframes stay at their times, so the subdivided animation passes through them; off: "
+                    "only the first and last frame stay at their times, the motion gets smoother")
+    smooth_levels: IntProperty(
+        name="Frame Levels", default=0, min=0, max=3, update=_resmooth,
+        description="Loop subdivision of every frame to its limit surface (OpenSubdiv): each level has 4x the "
+                    "faces; frames are refined anew on every frame change")
+    crease_angle: FloatProperty(
+        name="Crease Angle", default=math.radians(30.0), min=math.radians(1.0), max=math.pi, subtype="ANGLE",
+        update=_resmooth,
+        description="Edges of a frame whose faces meet at more than this angle stay sharp when it is smoothed "
+                    "(180°: none)")
     uv_name: StringProperty(name="UV Map", default="UVMap", options={"HIDDEN"})
     frame_start: FloatProperty(name="Start", options={"HIDDEN"})
     frame_end: FloatProperty(name="End", options={"HIDDEN"})

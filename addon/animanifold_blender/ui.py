@@ -74,4 +74,56 @@ class VIEW3D_PT_animanifold(Panel):
         box.operator("animanifold.bake", icon="EXPORT")
 
 
-classes = (VIEW3D_PT_animanifold,)
+class VIEW3D_PT_animanifold_smooth(Panel):
+    """Smoothing of a manifold object: subdivision of its manifold (shape and motion)
+    and OpenSubdiv refinement of its frames; live playback and Bake both use them."""
+
+    bl_label = "Smooth"
+    bl_idname = "VIEW3D_PT_animanifold_smooth"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Animanifold"
+    bl_parent_id = "VIEW3D_PT_animanifold"
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.active_object
+        settings = obj.animanifold
+
+        col = layout.column()
+        col.label(text="Manifold (shape and motion)", icon="MOD_SUBSURF")
+        col.prop(settings, "subdivision_levels")
+        row = col.row()
+        row.enabled = settings.subdivision_levels > 0
+        row.prop(settings, "keep_keyframe_times")
+        manifold = live.loaded_manifold(obj)  # never loads or subdivides while drawing
+        if manifold is not None:
+            tets = live.subdivided_tets(manifold, settings.subdivision_levels)
+            kind = "tets" if manifold.dimension == 4 else "triangles"
+            if tets >= live.LARGE_TETS:
+                col.label(text=f"{tets:,} {kind}: slow slicing, much memory", icon="ERROR")
+            elif settings.subdivision_levels > 0:
+                col.label(text=f"{tets:,} {kind}", icon="INFO")
+
+        col = layout.column()
+        col.label(text="Frames (OpenSubdiv)", icon="SURFACE_NSURFACE")
+        col.prop(settings, "smooth_levels")
+        row = col.row()
+        row.enabled = settings.smooth_levels > 0
+        row.prop(settings, "crease_angle")
+        if settings.mode == "LIVE" and obj.type == "MESH" and obj.data is not None and settings.smooth_levels > 0:
+            faces = len(obj.data.polygons)
+            col.label(text=f"{faces:,} faces this frame", icon="ERROR" if faces >= LARGE_FACES else "INFO")
+        if settings.mode == "BAKED":
+            layout.label(text="The bake keeps the settings it was made with: bake again", icon="INFO")
+
+
+# Frames with this many faces after smoothing play slowly: the panel warns.
+LARGE_FACES = 1_000_000
+
+classes = (VIEW3D_PT_animanifold, VIEW3D_PT_animanifold_smooth)
