@@ -3,6 +3,22 @@
 
 namespace animanifold::bindings {
 
+namespace {
+
+py::dict to_dict(FrameSubdivision&& r) {
+  py::dict out;
+  out["vertices"] = std::move(r.vertices);
+  out["faces"] = std::move(r.faces);
+  out["normals"] = std::move(r.normals);
+  out["vertex_attributes"] = std::move(r.vertex_attributes);
+  out["face_attributes"] = std::move(r.face_attributes);
+  out["face_parent"] = std::move(r.face_parent);
+  out["crease_count"] = r.crease_count;
+  return out;
+}
+
+}  // namespace
+
 void bind_subdivide(py::module_& m) {
   m.def("subdivide_manifold",
         [](const Complex& c, int levels, const std::string& scheme, bool keep_keyframe_times,
@@ -44,15 +60,7 @@ void bind_subdivide(py::module_& m) {
             py::gil_scoped_release release;
             r = subdivide_frame(V, F, options, vertex_attributes, face_attributes);
           }
-          py::dict out;
-          out["vertices"] = std::move(r.vertices);
-          out["faces"] = std::move(r.faces);
-          out["normals"] = std::move(r.normals);
-          out["vertex_attributes"] = std::move(r.vertex_attributes);
-          out["face_attributes"] = std::move(r.face_attributes);
-          out["face_parent"] = std::move(r.face_parent);
-          out["crease_count"] = r.crease_count;
-          return out;
+          return to_dict(std::move(r));
         },
         py::arg("vertices"), py::arg("faces"), py::arg("levels") = 1, py::arg("scheme") = "loop",
         py::arg("crease_angle") = 30.0, py::arg("crease_edges") = py::none(), py::arg("limit") = true,
@@ -71,15 +79,7 @@ void bind_subdivide(py::module_& m) {
             py::gil_scoped_release release;
             r = subdivide_polyline(V, E, options, vertex_attributes, segment_attributes);
           }
-          py::dict out;
-          out["vertices"] = std::move(r.vertices);
-          out["faces"] = std::move(r.faces);
-          out["normals"] = std::move(r.normals);
-          out["vertex_attributes"] = std::move(r.vertex_attributes);
-          out["face_attributes"] = std::move(r.face_attributes);
-          out["face_parent"] = std::move(r.face_parent);
-          out["crease_count"] = r.crease_count;
-          return out;
+          return to_dict(std::move(r));
         },
         py::arg("vertices"), py::arg("segments"), py::arg("levels") = 1, py::arg("crease_angle") = 30.0,
         py::arg("limit") = true, py::arg("vertex_attributes") = VertexAttributes{},
