@@ -15,7 +15,6 @@ the same functions (frame_slice, frame_normals), so they bake what plays live.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 from dataclasses import dataclass
@@ -123,38 +122,6 @@ def _available_memory() -> int | None:
         return None
 
 
-def _weld(points: np.ndarray, cells: np.ndarray):
-    """(kept, new_cells): rows of `points` that are exact copies of an earlier row
-    merged into it (kept: the first copies, in order; new_cells reindexed), or None
-    when nothing is merged or merging would make a cell degenerate."""
-    unique, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
-    if len(unique) == len(points):
-        return None
-    rank = np.empty(len(unique), dtype=np.int64)
-    rank[np.argsort(first)] = np.arange(len(unique))
-    new_cells = rank[np.asarray(inverse).reshape(-1)][np.asarray(cells, dtype=np.int64)]
-    ordered = np.sort(new_cells, axis=1)
-    if np.any(ordered[:, 1:] == ordered[:, :-1]):
-        return None
-    return np.sort(first), new_cells
-
-
-def welded_manifold(manifold):
-    """`manifold` with its seams closed: Convert splits the source's vertices along
-    UV seams (UVs are vertex attributes), which leaves the seams as boundary of the
-    manifold; subdivision would treat them as boundary and open cracks along them.
-    Copies (same x, y, z, t) are merged; their vertex attributes are the first copy's
-    (so UVs are smeared in the faces along a seam of a subdivided manifold)."""
-    weld = _weld(manifold.points, manifold.simplices)
-    if weld is None:
-        return manifold
-    kept, simplices = weld
-    vertex_attributes = {k: np.asarray(v)[kept] for k, v in manifold.vertex_attributes.items()}
-    metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
-    return am.AnimationManifold.from_arrays(manifold.points[kept], simplices, vertex_attributes,
-                                            dict(manifold.simplex_attributes), metadata)
-
-
 def shown_manifold(obj):
     """The manifold whose slices `obj` shows: its cache's manifold, subdivided as its
     Smooth settings say. Each subdivision is computed once per loaded manifold and
@@ -183,7 +150,7 @@ def shown_manifold(obj):
                 f"{levels} subdivision levels of '{obj.name}' would make {tets:,} tets "
                 f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
         try:
-            manifold = welded_manifold(base).subdivide(levels=levels, scheme="schaefer",
+            manifold = base.welded().subdivide(levels=levels, scheme="schaefer",
                                                        keep_keyframe_times=key[1])
         except MemoryError:
             raise SmoothingError(f"out of memory subdividing '{obj.name}' {levels} levels ({tets:,} tets): "
@@ -232,21 +199,7 @@ def frame_slice(obj, manifold, value: float, axis: str = "t"):
     s = manifold.slice(value, axis)
     if settings.smooth_levels <= 0:
         return s
-    levels, angle = int(settings.smooth_levels), math.degrees(settings.crease_angle)
-    if not len(s.faces):
-        return dataclasses.replace(s, vertex_edges=None, edge_parameter=None)
-    # Split copies (UV seams) would be boundaries to OpenSubdiv: refine the welded frame
-    # (attributes of the first copy, so UVs are smeared in the faces along a seam).
-    weld = _weld(s.vertices, s.faces)
-    kept, faces = weld if weld is not None else (np.arange(len(s.vertices)), s.faces)
-    r = am.smooth.subdivide_frame(
-        s.vertices[kept], faces, levels, crease_angle=angle,
-        vertex_attributes={k: np.asarray(v)[kept] for k, v in s.vertex_attributes.items()},
-        face_attributes=dict(s.face_attributes))
-    face_simplex = None if s.face_simplex is None else np.asarray(s.face_simplex)[r.face_parent]
-    return dataclasses.replace(s, vertices=r.vertices, faces=r.faces, normals=r.normals,
-                               vertex_attributes=dict(r.vertex_attributes), face_attributes=dict(r.face_attributes),
-                               vertex_edges=None, edge_parameter=None, face_simplex=face_simplex)
+    return am.smooth.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
 
 
 def frame_normals(s, smoothed: bool) -> np.ndarray | None:

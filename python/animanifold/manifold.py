@@ -217,6 +217,22 @@ class AnimationManifold:
 
         return subdivide(self, levels, scheme, keep_keyframe_times, keyframe_times)
 
+    def welded(self) -> "AnimationManifold":
+        """This manifold with exact copies of points merged (seams closed; see
+        :mod:`animanifold.weld`); merged points keep the first copy's vertex
+        attributes, so UVs are smeared in the cells along a seam. Returns self
+        when nothing merges."""
+        from .weld import weld_copies
+
+        weld = weld_copies(self.points, self.simplices)
+        if weld is None:
+            return self
+        kept, simplices = weld
+        vertex_attributes = {k: np.asarray(v)[kept] for k, v in self.vertex_attributes.items()}
+        metadata = {k: v for k, v in self.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
+        return AnimationManifold.from_arrays(self.points[kept], simplices, vertex_attributes,
+                                             dict(self.simplex_attributes), metadata)
+
     def check(self) -> dict:
         """Manifold validity: facet counts, non-manifold and misoriented facets."""
         return _core.check_manifold(self.simplices)

@@ -19,6 +19,7 @@ Two kinds of smoothness (§4.3, §10.2.2, §10.3.1):
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Mapping, Sequence
 
@@ -172,3 +173,24 @@ def _table(values: np.ndarray, dtype) -> np.ndarray:
 
 def _squeeze(table: np.ndarray) -> np.ndarray:
     return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
+
+
+def smooth_slice(s: "Slice", levels: int, crease_angle: float = 30.0) -> "Slice":
+    """A frame refined by OpenSubdiv (:func:`subdivide_frame`) after welding
+    its split copies (UV seams would otherwise be boundaries and open); the
+    result keeps `s`'s value and axis, with face_simplex mapped through the
+    refinement and no vertex_edges (its points are not on manifold edges)."""
+    from .weld import weld_copies
+
+    if not len(s.faces):
+        return dataclasses.replace(s, vertex_edges=None, edge_parameter=None)
+    weld = weld_copies(s.vertices, s.faces)
+    kept, faces = weld if weld is not None else (np.arange(len(s.vertices)), s.faces)
+    r = subdivide_frame(
+        s.vertices[kept], faces, levels, crease_angle=crease_angle,
+        vertex_attributes={k: np.asarray(v)[kept] for k, v in s.vertex_attributes.items()},
+        face_attributes=dict(s.face_attributes))
+    face_simplex = None if s.face_simplex is None else np.asarray(s.face_simplex)[r.face_parent]
+    return dataclasses.replace(s, vertices=r.vertices, faces=r.faces, normals=r.normals,
+                               vertex_attributes=dict(r.vertex_attributes), face_attributes=dict(r.face_attributes),
+                               vertex_edges=None, edge_parameter=None, face_simplex=face_simplex)
