@@ -6,13 +6,14 @@ namespace animanifold::bindings {
 void bind_stitch(py::module_& m) {
   m.def("stitch",
         [](PointsRef frames, SimplicesRef faces, const Eigen::VectorXd& times, VertexAttributes vertex_attributes,
-           SimplexAttributes face_attributes) {
-          StitchInput in{frames, faces, times, std::move(vertex_attributes), std::move(face_attributes)};
+           SimplexAttributes face_attributes, IndexVector vertex_order) {
+          StitchInput in{frames, faces, times, std::move(vertex_attributes), std::move(face_attributes),
+                         std::move(vertex_order)};
           py::gil_scoped_release release;
           return std::make_shared<Complex>(stitch(in));
         },
         py::arg("frames"), py::arg("faces"), py::arg("times"), py::arg("vertex_attributes") = VertexAttributes{},
-        py::arg("face_attributes") = SimplexAttributes{},
+        py::arg("face_attributes") = SimplexAttributes{}, py::arg("vertex_order") = IndexVector{},
         "Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex).");
 }
 

@@ -76,10 +76,12 @@ int tent_determinant_sign() {
 }
 
 template <int n>
-void split_prism(const Index* face, Index bottom, Index top, Index* out /* n*(n+1) */) {
+void split_prism(const Index* face, Index bottom, Index top, const IndexVector& rank, Index* out /* n*(n+1) */) {
   std::array<Index, n> sorted;
   std::copy(face, face + n, sorted.begin());
-  std::sort(sorted.begin(), sorted.end());
+  // The split follows a global order of the keyframe vertices (their rank):
+  // any order makes neighbouring prisms agree on their shared side quad.
+  std::sort(sorted.begin(), sorted.end(), [&](Index a, Index b) { return rank(a) < rank(b); });
   // Reference coordinates of each face vertex: its position in the face's own order.
   std::array<int, n> slot{};
   for (int i = 0; i < n; ++i)
@@ -121,13 +123,27 @@ Complex stitch(const StitchInput& in) {
     out.V.block(static_cast<Eigen::Index>(i) * k, d, k, 1).setConstant(in.times(i));
   }
 
+  IndexVector rank(k);
+  if (in.vertex_order.size() == 0) {
+    for (Index v = 0; v < k; ++v) rank(v) = v;
+  } else {
+    // vertex_order lists the vertices in order; rank is its inverse.
+    std::vector<bool> seen(k, false);
+    for (Index r = 0; r < k; ++r) {
+      const Index v = in.vertex_order(r);
+      if (v < 0 || v >= k || seen[v])
+        fail<InputError>("vertex_order must list every keyframe vertex 0..", k - 1, " once; entry ", r, " is ", v);
+      seen[v] = true;
+      rank(v) = r;
+    }
+  }
   const Eigen::Index prism_count = static_cast<Eigen::Index>(m - 1) * l;
   out.S.resize(prism_count * n, d + 1);
   for (Index i = 0; i + 1 < m; ++i)
     for (Index f = 0; f < l; ++f) {
       Index* dst = out.S.row(stitched_simplex(i, f, l, n)).data();
-      if (n == 3) split_prism<3>(in.faces.row(f).data(), i * k, (i + 1) * k, dst);
-      else split_prism<2>(in.faces.row(f).data(), i * k, (i + 1) * k, dst);
+      if (n == 3) split_prism<3>(in.faces.row(f).data(), i * k, (i + 1) * k, rank, dst);
+      else split_prism<2>(in.faces.row(f).data(), i * k, (i + 1) * k, rank, dst);
     }
 
   for (const auto& [name, table] : in.vertex_attributes) {

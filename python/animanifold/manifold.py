@@ -411,6 +411,19 @@ def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
     return np.ascontiguousarray(table, dtype=dtype)
 
 
+def _seam_order(stacked: np.ndarray) -> np.ndarray:
+    """The keyframe vertices ordered by index, except that copies of one point
+    (same position in every keyframe: a vertex split at a UV seam) follow the
+    first copy. Stitching in this order splits the prisms on both sides of a
+    seam alike, so AnimationManifold.welded() closes the seam completely."""
+    m, k, d = stacked.shape
+    tracks = np.ascontiguousarray(stacked.transpose(1, 0, 2).reshape(k, m * d))
+    _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)
+    if len(first) == k:
+        return np.arange(k, dtype=np.int32)
+    return np.lexsort((np.arange(k), first[np.asarray(group).reshape(-1)])).astype(np.int32)
+
+
 def stitch(
     frames: np.ndarray | Sequence[np.ndarray],
     faces: np.ndarray,
@@ -470,6 +483,6 @@ def stitch(
 
     flat = np.ascontiguousarray(stacked.reshape(m * k, d), dtype=np.float64)
     return AnimationManifold(
-        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa),
+        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa, _seam_order(stacked)),
         metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
     )

@@ -6,7 +6,8 @@
 // face sweeps a prism between consecutive keyframes, split into n simplices
 // (3 tets, or 2 triangles) by the global order of the face's vertex indices:
 // a side quad shared by two prisms is split along the same diagonal in both,
-// so the result is conforming. The manifold has exactly n·l·(m−1) simplices,
+// so the result is conforming (any global order works; `vertex_order`
+// chooses one). The manifold has exactly n·l·(m−1) simplices,
 // its boundary is the first keyframe (in its own orientation) and the last
 // keyframe (reversed), and slicing at times[i] gives keyframe i back.
 #pragma once
@@ -27,6 +28,11 @@ struct StitchInput {
   VertexAttributes vertex_attributes;
   // Per-face integer attributes: l by c, carried onto every simplex of the face's prisms.
   SimplexAttributes face_attributes;
+  // Optional: the keyframe vertices (k of them) in the order that splits the
+  // prisms (default: by index). Copies of one point (a vertex split at a UV
+  // seam) placed next to each other in it get matching splits on both sides
+  // of the seam, so welding the copies later closes the seam.
+  IndexVector vertex_order;
 };
 
 // Throws InputError naming the keyframe, vertex or face at fault: fewer than
