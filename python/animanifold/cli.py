@@ -387,6 +387,9 @@ def run_morph(args: argparse.Namespace) -> int:
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
           f"inverted simplices: {report['inverted_simplices']}; stripped {report['stripped_simplices']} "
           f"of {report['fill_simplices']}")
+    if not manifold.check()["is_oriented_manifold"]:
+        print(f"{PROG}: warning: some in-between frames pinch (not a clean surface): shapes of different topology "
+              "need the skeleton method of §8.6, which is not available yet", file=sys.stderr)
     if args.frames:
         frames = folder / "frames"
         frames.mkdir(exist_ok=True)
