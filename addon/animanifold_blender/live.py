@@ -174,7 +174,7 @@ def prune_subdivided() -> None:
             continue
         try:
             path = cache_abspath(obj)
-        except Exception:
+        except am.CacheError:  # no cache path yet: nothing of its to keep
             continue
         wanted.add((path, int(settings.subdivision_levels), bool(settings.keep_keyframe_times)))
     for path, entry in list(_SUBDIVIDED.items()):
