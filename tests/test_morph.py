@@ -109,9 +109,11 @@ def test_open_inside_out_and_non_manifold_inputs_are_refused():
 
 def test_progress_reports_stages_and_can_cancel():
     v, f = icosphere(1)
-    stages = []
-    _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: stages.append(stage) or True)
-    assert stages == ["conforming", "fill", "strip", "boundary", "validity"]
+    for method, expected in [("skeleton", ["skeleton", "conforming", "fill", "push", "boundary", "validity"]),
+                             ("strip", ["conforming", "fill", "strip", "boundary", "validity"])]:
+        stages = []
+        _core.morph(v, f, v * 1.2, f, method=method, progress=lambda stage, fraction: stages.append(stage) or True)
+        assert stages == expected
     with pytest.raises(_core.Cancelled):
         _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
 

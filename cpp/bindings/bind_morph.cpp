@@ -1,4 +1,5 @@
 #include "animanifold/morph.hpp"
+#include "animanifold/morph_skeleton.hpp"
 #include "bindings.hpp"
 
 namespace animanifold::bindings {
@@ -7,11 +8,14 @@ void bind_morph(py::module_& m) {
   m.def(
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
-         py::object progress) {
+         py::object progress, double max_push, double push_safety, int push_sweeps) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
         options.method = method;
+        options.max_push = max_push;
+        options.push_safety = push_safety;
+        options.push_sweeps = push_sweeps;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -32,6 +36,14 @@ void bind_morph(py::module_& m) {
         report["perturbation"] = r.perturbation;
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
+        report["source_skeleton_points"] = r.source_skeleton_points;
+        report["target_skeleton_points"] = r.target_skeleton_points;
+        report["source_free_vertices"] = r.source_free_vertices;
+        report["target_free_vertices"] = r.target_free_vertices;
+        report["split_faces"] = r.split_faces;
+        report["source_push"] = r.source_push;
+        report["target_push"] = r.target_push;
+        report["push_degenerate"] = r.push_degenerate;
         report["min_volume"] = r.min_volume;
         report["inverted_simplices"] = r.inverted_simplices;
         report["degenerate_simplices"] = r.degenerate_simplices;
@@ -42,9 +54,14 @@ void bind_morph(py::module_& m) {
         return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);
       },
       py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
-      py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "strip", py::arg("progress") = py::none(),
+      py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
+      py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
+      py::arg("push_sweeps") = MorphOptions{}.push_sweeps,
       "Morph between two closed shapes: (manifold Complex, validity report dict).");
   py::register_exception<Cancelled>(m, "Cancelled");
+  m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
+        py::call_guard<py::gil_scoped_release>(),
+        "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");
 }
 
 }  // namespace animanifold::bindings

@@ -94,17 +94,18 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
   const Index count = static_cast<Index>(corners.size() / (d + 1));
   SimplexMatrix all = Eigen::Map<SimplexMatrix>(corners.data(), count, d + 1);
   const Eigen::VectorXd volumes = Eigen::Map<Eigen::VectorXd>(facet_volumes.data(), count);
-  // A simplex is flat when its volume is negligible next to its edge lengths^d.
+  // A simplex is flat when its volume is negligible next to the product of
+  // the lengths of its edges from one corner (Hadamard's bound on the
+  // determinant, reached by a right-angled corner): a scale-free measure,
+  // also when one axis is much longer than the others (time in frames).
   std::vector<Index> keep, flat;
   keep.reserve(count);
+  double factorial = 1;
+  for (int i = 2; i <= d; ++i) factorial *= i;
   for (Index s = 0; s < count; ++s) {
-    double longest = 0;
-    for (int a = 0; a < d + 1; ++a)
-      for (int b = a + 1; b < d + 1; ++b)
-        longest = std::max(longest, (points.row(all(s, a)) - points.row(all(s, b))).squaredNorm());
-    double factorial = 1;
-    for (int i = 2; i <= d; ++i) factorial *= i;
-    const double scale = std::pow(std::sqrt(longest), d) * factorial;  // volumes here are D! times the simplex volume
+    double product = factorial;  // volumes here are d! times the simplex volume
+    for (int a = 1; a < d + 1; ++a) product *= (points.row(all(s, a)) - points.row(all(s, 0))).norm();
+    const double scale = product;
     // Joggled output is proper by construction: its orientation is trusted
     // even when the simplex is a sliver of the original points.
     if (!joggle && std::abs(volumes(s)) <= 1e-12 * scale) {

@@ -32,13 +32,12 @@ double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, cons
 
 }  // namespace
 
-double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
+Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
   const int d = static_cast<int>(vertices.cols());
-  if (points.rows() == 0) return 0.0;
-  if (faces.rows() == 0) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());
+  if (points.rows() == 0 || faces.rows() == 0) return out;
   if (points.cols() != d || faces.cols() != d)
     fail<InputError>("distance to a surface needs matching dimensions (points ", points.cols(), "D, surface ", d, "D)");
-  double worst = 0.0;
   if (d == 3) {
     std::vector<Triangle> triangles;
     triangles.reserve(faces.rows());
@@ -47,12 +46,12 @@ double max_distance_to_surface(const PointMatrix& points, const PointMatrix& ver
       const Triangle t(at(faces(f, 0)), at(faces(f, 1)), at(faces(f, 2)));
       if (!t.is_degenerate()) triangles.push_back(t);
     }
-    if (triangles.empty()) return std::numeric_limits<double>::infinity();
+    if (triangles.empty()) return out;
     Tree tree(triangles.begin(), triangles.end());
     tree.accelerate_distance_queries();
     for (Index p = 0; p < points.rows(); ++p)
-      worst = std::max(worst, std::sqrt(tree.squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2)))));
-    return worst;
+      out(p) = std::sqrt(tree.squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))));
+    return out;
   }
   if (d == 2) {
     for (Index p = 0; p < points.rows(); ++p) {
@@ -60,11 +59,16 @@ double max_distance_to_surface(const PointMatrix& points, const PointMatrix& ver
       for (Index f = 0; f < faces.rows(); ++f)
         best = std::min(best, segment_distance(points.row(p).transpose(), vertices.row(faces(f, 0)).transpose(),
                                                vertices.row(faces(f, 1)).transpose()));
-      worst = std::max(worst, best);
+      out(p) = best;
     }
-    return worst;
+    return out;
   }
   fail<InputError>("distance to a surface is defined in 2D and 3D, not ", d, "D");
+}
+
+double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
+  if (points.rows() == 0) return 0.0;
+  return distances_to_surface(points, vertices, faces).maxCoeff();
 }
 
 }  // namespace animanifold

@@ -9,7 +9,7 @@ import numpy as np
 from . import _core
 from .manifold import AnimationManifold
 
-METHODS = ("strip",)
+METHODS = ("skeleton", "strip")
 
 
 def morph(
@@ -17,8 +17,10 @@ def morph(
     target: tuple[np.ndarray, np.ndarray],
     t0: float = 0.0,
     t1: float = 1.0,
-    method: str = "strip",
+    method: str = "skeleton",
     progress: Callable[[str, float], bool] | None = None,
+    max_push: float = 0.45,
+    push_safety: float = 0.5,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -26,6 +28,14 @@ def morph(
     oriented meshes — or (vertices (k, 2), edges (l, 2)) closed
     counter-clockwise polygons. `progress(stage, fraction)` is called between
     stages; returning False cancels (raises animanifold._core.Cancelled).
+
+    method: "skeleton" (§8.6, the default) fills concavities and holes of the
+    source just after t0 and opens the target's just before t1, with every
+    frame a closed surface; "strip" (§8.5) removes what lies outside either
+    shape — ambiguous where the genus changes (frames can pinch). Skeleton
+    options: free points move up to `max_push` of the time span into the
+    morph, each as far as `push_safety` of the move that would flatten one of
+    its simplices.
 
     The result's `validity` (also kept in its metadata) is the report of §8.3:
     Theorem 5.2.1's missing faces, inverted/degenerate simplices, and how far
@@ -43,7 +53,9 @@ def morph(
         if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
             raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
         arrays += [v, np.ascontiguousarray(f, dtype=np.int32)]
-    complex_, report = _core.morph(*arrays, t0=float(t0), t1=float(t1), method=method, progress=progress)
-    report = {k: (list(map(list, v)) if k == "stage_seconds" else v) for k, v in report.items()}
+    complex_, report = _core.morph(*arrays, t0=float(t0), t1=float(t1), method=method, progress=progress,
+                                   max_push=float(max_push), push_safety=float(push_safety))
+    report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
+              for k, v in report.items()}
     return AnimationManifold(complex_, metadata={"morph": {"method": method, "t0": float(t0), "t1": float(t1)},
                                                  "validity": report})

@@ -3,10 +3,22 @@
 // The source S is embedded at t0 and the target T at t1; the space between
 // them is filled with a Delaunay triangulation A in R^(n+1), which conforms
 // with both thanks to Theorem 5.2.1 once S and T have been made conforming
-// Delaunay (S', T'). Simplices of A whose projection onto the plane of S or T
-// lies outside the shape are stripped (§8.5); the boundary of what remains,
-// less the flat caps at t0 and t1, is the animation manifold: its slice at t0
-// is S and at t1 is T.
+// Delaunay (S', T'). The boundary of A, less the flat caps at t0 and t1, is
+// the animation manifold: its slice at t0 is S and at t1 is T. Concave
+// inputs and inputs with holes need one of two methods so that A fills only
+// what the shapes enclose at the ends:
+//  - "strip" (§8.5): simplices of A whose projection onto the plane of S or
+//    T lies outside the shape are removed. Ambiguous (Figure 8.8): frames in
+//    between can pinch into non-manifold shapes when the genus changes.
+//  - "skeleton" (§8.6, the default): each conforming fill also holds free
+//    points outside the shape (its external Voronoi skeleton, plus a point in
+//    any outside cell left without one), and after the fill those points are
+//    pushed into time (§8.6.3) as far as every simplex keeps a positive
+//    hypervolume. Nothing is left outside the shapes at t0 and t1, A stays a
+//    proper triangulation of a ball, and every frame in between is a closed
+//    surface: concavities and holes of S close soon after t0, those of T
+//    open just before t1 (holes both share are the hole spaces' business,
+//    §8.6.5).
 //
 // Shapes are closed, outward-oriented triangle meshes in R^3 (manifold: tets
 // in R^4) or closed polygons in R^2 given as oriented edges (manifold:
@@ -15,6 +27,7 @@
 
 #include "animanifold/complex.hpp"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -23,9 +36,16 @@ namespace animanifold {
 
 struct MorphOptions {
   double t0 = 0.0, t1 = 1.0;
-  // "strip": fill and strip (§8.5). Convex inputs need no stripping (§8.4):
-  // the same call then strips nothing.
-  std::string method = "strip";
+  // "skeleton" (§8.6) or "strip" (§8.5). Convex inputs need neither (§8.4):
+  // both then reduce to the plain fill (no free points, nothing stripped).
+  std::string method = "skeleton";
+  // Skeleton method: how far free points may be pushed, as a fraction of
+  // t1 - t0, and which fraction of the largest safe push to take (below 1 so
+  // that no simplex is left nearly flat).
+  double max_push = 0.45;
+  double push_safety = 0.5;
+  // Passes of the vertex-by-vertex push (push_free_vertices).
+  int push_sweeps = 3;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -39,6 +59,17 @@ struct MorphReport {
   Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes (the fill is refused then)
   double perturbation = 0.0;      // of the size, used for the combinatorics only (see morph.cpp)
   Index fill_simplices = 0, stripped_simplices = 0;
+  // Skeleton method: skeleton points given per input, free vertices of the
+  // conforming fills (skeleton points and the mesher's Steiner points off the
+  // surface), faces outside an input without a free vertex split after the
+  // fill (split_faces), and how far the free vertices were pushed (fractions
+  // of t1 - t0: smallest, mean, largest) with the simplices that already had
+  // no volume to keep.
+  Index source_skeleton_points = 0, target_skeleton_points = 0;
+  Index source_free_vertices = 0, target_free_vertices = 0;
+  Index split_faces = 0;
+  std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
+  Index push_degenerate = 0;
   // Validity 1: the smallest signed hypervolume of the kept simplices, how
   // many are inverted (below -tolerance) and how many are degenerate slivers
   // (within tolerance of zero: four coplanar corners of a planar quad, say).
@@ -76,5 +107,19 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
 // kept whatever side the perturbation tipped them to.
 std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, Index first, Index last,
                                         const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
+
+// The same with the plane's points given by a mask over `points` (the
+// skeleton method leaves the free points out: they are pushed off the plane).
+std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, const std::vector<bool>& plane,
+                                        const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
+
+// For each cell (row of n+1 vertices: tets in R^3, triangles in R^2, over
+// the first n coordinates of `points`) of a triangulation whose faces include
+// the closed outward `constraint`: whether it lies outside the shape, found
+// by growing from the outer side of every constraint face without crossing
+// one (§8.5.2). Cells flagged in `flat` are never outside. Throws when a
+// constraint face is not a face of the triangulation.
+std::vector<bool> outside_cells(const PointMatrix& points, const SimplexMatrix& cells, const SimplexMatrix& constraint,
+                                const std::vector<bool>& flat = {});
 
 }  // namespace animanifold

@@ -11,4 +11,8 @@ namespace animanifold {
 // Returns +infinity when the surface is empty and there are points.
 double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces);
 
+// The distance from each of `points` to the surface (+infinity for all when
+// the surface has no proper face).
+Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces);
+
 }  // namespace animanifold

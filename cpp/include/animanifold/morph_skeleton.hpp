@@ -1,0 +1,111 @@
+// The skeleton method of morphing (§8.6): free points in each input's
+// conforming fill, and the push of those points into time.
+//
+// A fill of the convex hull of S' at t0 contains cells outside S (in its
+// concavities and holes). Were they left at t0, the animation manifold would
+// start as the convex hull, not as S; stripping them (§8.5) leaves frames
+// that can pinch. Instead every outside cell gets a vertex that is neither
+// on S nor inside it — a free vertex: the external Voronoi skeleton's
+// vertices (§8.6.1, chosen because they lie as far from the surface as the
+// concavity allows), plus the centroid of any outside cell still without one
+// (the attachment concern of §8.6.2, Figure 8.11). After the fill in R^(n+1)
+// the free vertices move off the plane, t0 + δ (§8.6.3): every outside cell
+// then tilts into time and the cap at t0 is exactly S's inside.
+#pragma once
+
+#include "animanifold/delaunay.hpp"
+
+#include <limits>
+#include <vector>
+
+namespace animanifold {
+
+// The vertices of the external Voronoi skeleton of the closed outward shape
+// (V, F) that lie off the surface, at least `gap` from it and from each
+// other (on symmetric shapes many Voronoi vertices lie within roundoff of one
+// place and would only make slivers). #K by d; empty for convex shapes.
+PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& F, double gap);
+
+struct ConformingInput {
+  ConformingDelaunay fill;  // of the shape and its free points K: the shape's vertices first, then K, then Steiner points
+  PointMatrix exact_points;  // fill.points with the exact coordinates back (restore_on_input); K as given
+};
+
+// Conforming Delaunay of the closed outward shape (V, F) with the points K
+// (#K by d, outside the shape) inserted. V is the shape perturbed into
+// general position, V_exact the shape itself (see morph.cpp). Throws
+// std::runtime_error when the mesher's result does not conform.
+ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
+                                    const PointMatrix& K);
+
+// The fill `c` was built on `perturbed` input: input vertices get their exact
+// coordinates `V` back, and every point the mesher added on an input face is
+// put on that face of `V` at the same barycentric coordinates, so the result
+// lies exactly on the input surface. Other points keep their place.
+PointMatrix restore_on_input(const ConformingDelaunay& c, const PointMatrix& perturbed, const PointMatrix& V,
+                             const SimplexMatrix& F);
+
+// One input's plane in the fill: its cells (the fill's facets whose corners
+// all lie in the plane: the triangulation of the plane that Theorem 5.2.1
+// speaks of, as the fill made it), which of them lie outside the input, and
+// its free vertices (vertices of outside cells on no constraint face: they
+// are pushed off the plane).
+struct PlaneCells {
+  SimplexMatrix cells;        // #C by n+1, fill vertex ids
+  std::vector<bool> outside;  // per cell
+  // Per cell: flat on the surface — zero volume at the exact coordinates and
+  // two constraint faces, such as the second diagonal of a planar quad of
+  // the input. Neither in nor out (as in stripping): the perturbation tipped
+  // it to a side at random. Other flat cells (in a flat facet of the convex
+  // hull across a hole, say) are outside or inside like any cell.
+  std::vector<bool> flat;
+  std::vector<bool> free;     // per fill vertex
+};
+
+// The cells of the plane of the points flagged `in_plane` in the fill `A`
+// (#A by n+2 over `P`, #P by n+1, the perturbed coordinates the fill was
+// built on), classified against the closed outward `constraint` (refined
+// faces, fill vertex ids); flatness is judged on `exact` (#P by n+1 or more
+// columns; the first n are read).
+PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const SimplexMatrix& A,
+                          const std::vector<bool>& in_plane, const SimplexMatrix& constraint);
+
+// The faces of a plane that lie outside the input (faces of outside cells
+// and of no inside or flat cell) and have no free vertex: edges first, then
+// triangles, then cells (2D: edges, then triangles), each left out when one
+// of its own faces is listed already (that split gives it a free vertex).
+std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& plane);
+
+// Splits each face (a list of 2 to n+2 vertices of the fill `A`, #A by n+2
+// over `P`, #P by n+1) at its centroid, one after the other: every simplex
+// holding the face becomes one simplex per face vertex, that vertex replaced
+// by the new one — all positive again. Used on faces outside an input that
+// have no free vertex (chords across a hole, triangles spanning it, cells):
+// the new vertex is free, and once pushed nothing outside stays in the plane
+// (a chord left in it would show as a thread through the hole in the frames
+// before t1). A stellar split keeps the fill a triangulation without another
+// run of the mesher (whose conforming result can fail once points are added
+// near the surface). Returns the new vertices, appended to `P`.
+IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std::vector<Index>>& faces);
+
+struct PushReport {
+  Index vertices = 0;    // free vertices
+  Index degenerate = 0;  // simplices of their stars already without positive volume (ignored)
+  double smallest = 0, mean = 0, largest = 0;  // how far they went, in units of the last axis
+};
+
+// The push of §8.6.3. The free vertices (`moved`) of the positively oriented
+// simplices `A` (#A by n+2 over `P`, #P by n+1) move along the last axis in
+// `direction` (+1 or -1) up to `max_move`, following a level that rises in
+// 4·sweeps steps; at each step every vertex goes towards the level, one at
+// a time, as far as `safety` (in (0, 1)) of the move at which a simplex of
+// its star would go flat. The volume of a simplex is affine in the move of
+// one of its corners along an axis, so that move is exact, no search needed;
+// one vertex at a time keeps every simplex positive whatever the others do.
+// Per vertex, not one ε for all (as in the dissertation): a free point in a
+// sliver next to the surface would otherwise hold every other back at the
+// plane; but together, so that free vertices end level (see the .cpp).
+PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
+                              double max_move, double safety, int sweeps = 3);
+
+}  // namespace animanifold
