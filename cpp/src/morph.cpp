@@ -104,11 +104,12 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     KS = external_skeleton_points(VS, FS, 1e-3 * size);
     KT = external_skeleton_points(VT, FT, 1e-3 * size);
     // Skeletons of symmetric shapes lie exactly in their symmetry planes,
-    // with surface vertices (a torus's equator): moved off by 1e-5 of the
-    // size — far more than the surface's perturbation below — cells joining
-    // them keep a clear volume at the exact coordinates too.
+    // with surface vertices (a torus's equator): moved off by 1e-4 of the
+    // size — far more than the surface's perturbation below, and a tenth of
+    // their least distance from the surface — cells joining them keep a
+    // clear volume at the exact coordinates too.
     std::mt19937_64 rng(1122);
-    std::uniform_real_distribution<double> jitter(-1e-5 * size, 1e-5 * size);
+    std::uniform_real_distribution<double> jitter(-1e-4 * size, 1e-4 * size);
     for (PointMatrix* K : {&KS, &KT})
       for (Index r = 0; r < K->rows(); ++r)
         for (int c = 0; c < d; ++c) (*K)(r, c) += jitter(rng);
@@ -226,10 +227,32 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     report.split_faces = static_cast<Index>(added.size());
     report.source_free_vertices = std::count(source_free.begin(), source_free.end(), true);
     report.target_free_vertices = std::count(target_free.begin(), target_free.end(), true);
-    const PushReport forward = push_free_vertices(P, A, source_free, +1.0, options.max_push * span, options.push_safety,
-                                                  options.push_sweeps);
-    const PushReport back = push_free_vertices(P, A, target_free, -1.0, options.max_push * span, options.push_safety,
-                                               options.push_sweeps);
+    // Targets go from 0 on the input to max_push on its convex hull's
+    // boundary, as d_S / (d_S + d_H) with d_S the distance from the input and
+    // d_H that from the hull's boundary. The region they sweep then fills
+    // from the input outwards and empties from the hull's boundary inwards:
+    // no point inside is the last of its neighbourhood to fill (a bubble
+    // enclosed in the frames) or the first (an island), and one height for
+    // all would fill big cells first wherever they are.
+    auto targets = [&](const std::vector<bool>& free, const PointMatrix& V, const SimplexMatrix& F) {
+      std::vector<Index> ids;
+      for (Index v = 0; v < P.rows(); ++v)
+        if (free[v]) ids.push_back(v);
+      PointMatrix where(static_cast<Index>(ids.size()), d);
+      for (size_t i = 0; i < ids.size(); ++i) where.row(static_cast<Index>(i)) = P.row(ids[i]).head(d);
+      const Eigen::VectorXd from_input = distances_to_surface(where, V, F);
+      const Eigen::VectorXd from_hull = depth_in_hull(where, V).cwiseMax(0.0);
+      Eigen::VectorXd target = Eigen::VectorXd::Zero(P.rows());
+      for (size_t i = 0; i < ids.size(); ++i) {
+        const double s = from_input(static_cast<Index>(i)), h = from_hull(static_cast<Index>(i));
+        target(ids[i]) = options.max_push * span * (s + h > 0 ? s / (s + h) : 1.0);
+      }
+      return target;
+    };
+    const Eigen::VectorXd source_target = targets(source_free, VS, FS), target_target = targets(target_free, VT, FT);
+    const PushReport forward =
+        push_free_vertices(P, A, source_free, +1.0, source_target, options.push_safety, options.push_sweeps);
+    const PushReport back = push_free_vertices(P, A, target_free, -1.0, target_target, options.push_safety, options.push_sweeps);
     report.source_push = {forward.smallest / span, forward.mean / span, forward.largest / span};
     report.target_push = {back.smallest / span, back.mean / span, back.largest / span};
     report.push_degenerate = forward.degenerate + back.degenerate;

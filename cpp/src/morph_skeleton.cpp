@@ -58,8 +58,8 @@ std::vector<Index> spread_out(const PointMatrix& points, double gap) {
   return kept;
 }
 
-// How far each point lies inside the convex hull of `V` (distance to the
-// nearest hull facet's line or plane; negative outside).
+}  // namespace
+
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   Eigen::VectorXd depth = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());
@@ -92,8 +92,6 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   }
   return depth;
 }
-
-}  // namespace
 
 // The conforming surface was built on perturbed input (`perturbed`); give
 // input vertices their exact coordinates back and put every added point on
@@ -309,12 +307,23 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
     else appended[s - A.rows()] = row;
   };
   std::vector<Eigen::RowVectorXd> new_points;
+  // Not the centroid itself but a point near it, at random weights between
+  // 1 and 2: on symmetric inputs (a shape and its mirror image) centroids of
+  // chords line up with the input's own faces, and the cells they make are
+  // slivers that hold the point at the plane when it is pushed.
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> weight(1.0, 2.0);
   for (size_t f = 0; f < faces.size(); ++f) {
     const std::vector<Index>& face = faces[f];
     const Index m = static_cast<Index>(P.rows() + new_points.size());
-    Eigen::RowVectorXd centroid = Eigen::RowVectorXd::Zero(D);
-    for (const Index v : face) centroid += P.row(v);
-    new_points.push_back(centroid / static_cast<double>(face.size()));
+    Eigen::RowVectorXd point = Eigen::RowVectorXd::Zero(D);
+    double total = 0;
+    for (const Index v : face) {
+      const double w = weight(rng);
+      point += w * P.row(v);
+      total += w;
+    }
+    new_points.push_back(point / total);
     at_vertex.emplace_back();
     added(static_cast<Index>(f)) = m;
     // The star of the face: simplices holding all its vertices.
@@ -360,7 +369,7 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
 }
 
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
-                              double max_move, double safety, int sweeps) {
+                              const Eigen::VectorXd& target, double safety, int sweeps) {
   const int D = static_cast<int>(P.cols());
   if (A.cols() != D + 1) fail<InputError>("pushing needs ", D, "-simplices in R^", D, ", got ", A.cols(), " corners");
   PushReport report;
@@ -389,15 +398,59 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
     }
     return limit;
   };
-  // A rising level, all free vertices together: they end at max_move except
-  // where a sliver holds one back. Vertices at different heights would make
-  // the region they sweep fill unevenly: a vertex left higher than its
-  // neighbours is the last point of its region to fill, an enclosed bubble
-  // in the frames around it.
+  // First all free vertices together: each moves by its share of one
+  // common parameter Δ (target(v)/largest·Δ). The volume of every simplex is
+  // then affine in Δ too (its moved corners' last coordinates are affine in
+  // Δ, all in one column), so the largest safe Δ is exact. Together, free
+  // vertices that share a sliver move as one and do not flatten it, which
+  // a vertex moved alone would at once (a chord's point and the faces it
+  // lines up with on symmetric inputs). Vertices of the simplices that stop
+  // the common move are frozen where they are, and the others go on.
+  const double largest = target.size() ? target.maxCoeff() : 0.0;
+  std::vector<bool> active(P.rows(), false);
+  for (Index v = 0; v < P.rows(); ++v) active[v] = moved[v] && target(v) > 0;
+  std::vector<Index> touching;
+  for (Index s = 0; s < A.rows(); ++s)
+    for (int c = 0; c <= D; ++c)
+      if (moved[A(s, c)]) {
+        touching.push_back(s);
+        break;
+      }
+  double done = 0;
+  for (int round = 0; round < 64 && largest > 0 && done < largest; ++round) {
+    std::vector<double> limit(touching.size(), std::numeric_limits<double>::infinity());
+    double smallest = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < touching.size(); ++i) {
+      const Index s = touching[i];
+      bool any = false;
+      for (int c = 0; c <= D; ++c) any = any || active[A(s, c)];
+      if (!any) continue;
+      for (int c = 0; c < D; ++c) edges.row(c) = P.row(A(s, c + 1)) - P.row(A(s, 0));
+      const double before = edges.determinant();
+      auto share = [&](Index v) { return active[v] ? direction * target(v) / largest : 0.0; };
+      for (int c = 0; c < D; ++c) edges(c, D - 1) = share(A(s, c + 1)) - share(A(s, 0));
+      const double rate = edges.determinant();
+      if (before > 0 && rate < 0) smallest = std::min(smallest, limit[i] = -before / rate);
+    }
+    const double remaining = largest - done;
+    const double step = std::min(remaining, safety * smallest);
+    for (Index v = 0; v < P.rows(); ++v)
+      if (active[v]) {
+        P(v, D - 1) += direction * target(v) / largest * step;
+        travelled[v] += target(v) / largest * step;
+      }
+    done += step;
+    if (step >= remaining) break;
+    // Freeze the corners of the simplices that would stop the next steps soon.
+    for (size_t i = 0; i < touching.size(); ++i)
+      if (limit[i] - step <= 2 * (smallest - step))
+        for (int c = 0; c <= D; ++c) active[A(touching[i], c)] = false;
+  }
+  // Then each frozen vertex alone, as far as its own simplices allow.
   const int levels = std::max(1, sweeps) * 4;
   for (int level = 1; level <= levels + 2; ++level) {
-    const double height = max_move * std::min(level, levels) / levels;
     for (Index v = 0; v < P.rows(); ++v) {
+      const double height = moved[v] ? target(v) * std::min(level, levels) / levels : 0.0;
       if (!moved[v] || travelled[v] >= height) continue;
       const double step = std::min(height - travelled[v], safety * limit_of(v, level == 1));
       if (!(step > 0)) continue;

@@ -26,6 +26,11 @@ namespace animanifold {
 // place and would only make slivers). #K by d; empty for convex shapes.
 PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& F, double gap);
 
+// How far each of `points` (#P by d) lies inside the convex hull of `V`:
+// the distance to the nearest hull facet's plane (line in 2D), negative
+// outside. CGAL's convex hull.
+Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
+
 struct ConformingInput {
   ConformingDelaunay fill;  // of the shape and its free points K: the shape's vertices first, then K, then Steiner points
   PointMatrix exact_points;  // fill.points with the exact coordinates back (restore_on_input); K as given
@@ -77,7 +82,8 @@ PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const 
 std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& plane);
 
 // Splits each face (a list of 2 to n+2 vertices of the fill `A`, #A by n+2
-// over `P`, #P by n+1) at its centroid, one after the other: every simplex
+// over `P`, #P by n+1) at a point near its centroid (random weights in
+// [1, 2], see the .cpp), one after the other: every simplex
 // holding the face becomes one simplex per face vertex, that vertex replaced
 // by the new one — all positive again. Used on faces outside an input that
 // have no free vertex (chords across a hole, triangles spanning it, cells):
@@ -96,16 +102,16 @@ struct PushReport {
 
 // The push of §8.6.3. The free vertices (`moved`) of the positively oriented
 // simplices `A` (#A by n+2 over `P`, #P by n+1) move along the last axis in
-// `direction` (+1 or -1) up to `max_move`, following a level that rises in
-// 4·sweeps steps; at each step every vertex goes towards the level, one at
-// a time, as far as `safety` (in (0, 1)) of the move at which a simplex of
+// `direction` (+1 or -1) up to their `target` (per point, in units of the
+// last axis), all rising together in 4·sweeps steps; at each step every
+// vertex goes towards its share of the target, one at a time, as far as `safety` (in (0, 1)) of the move at which a simplex of
 // its star would go flat. The volume of a simplex is affine in the move of
 // one of its corners along an axis, so that move is exact, no search needed;
 // one vertex at a time keeps every simplex positive whatever the others do.
 // Per vertex, not one ε for all (as in the dissertation): a free point in a
 // sliver next to the surface would otherwise hold every other back at the
-// plane; but together, so that free vertices end level (see the .cpp).
+// plane; but together (see the .cpp).
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
-                              double max_move, double safety, int sweeps = 3);
+                              const Eigen::VectorXd& target, double safety, int sweeps = 3);
 
 }  // namespace animanifold
