@@ -4,12 +4,17 @@ the evaluated mesh read after every frame) for (a) the original shape-key object
 collection), on the demo blob at ~50k triangles. Prints figures and ratios.
 
 (b) is the add-on's live playback: inside a topology interval the "Animanifold
-Live" geometry-nodes modifier moves the vertices and the frame_change_post
-handler writes nothing; it writes a cut when playback enters an interval or a
-keyframe. The first loop also slices and lets Blender compute edges (cold); later
-loops reuse the kept cuts (warm): (b) is the warm figure. For comparison,
-"b_live_handler_writes" is the previous path (the handler rewrites positions and
-UVs on every frame), measured in the same run unless --no-handler-path.
+Live" geometry-nodes modifier moves the vertices and UVs and the frame-change
+handlers write nothing; they write a cut when playback enters an interval or a
+keyframe (9 of the 48 frames of the demo). The first loop also slices and lets
+Blender compute edges (cold); later loops reuse the kept cuts (warm): (b) is the
+warm figure, and the medians of frames inside an interval and of frames that write
+a cut are printed too. For comparison, "b_live_handler_writes" is the previous
+path (the handler rewrites positions and UVs on every frame; with this branch's
+faster mesh writes), measured in the same run unless --no-handler-path.
+
+The machine's load matters: the modifier's work is multi-threaded, so figures
+from a busy machine are lower and noisier than from an idle one.
 
     python3 bench/bench_playback.py [--segments 180] [--rings 140] [--loops 3]
 """
