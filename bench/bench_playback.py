@@ -1,15 +1,29 @@
-"""Timeline playback speed (frames/s of a scene.frame_set loop, depsgraph evaluated)
-for (a) the original shape-key object, (b) the live manifold object (sliced by the
-add-on's frame_change_post handler) and (c) the baked object (node group over the
-frames collection), on the demo blob at ~50k triangles. Prints figures and ratios.
+"""Timeline playback speed (frames/s of a scene.frame_set loop, depsgraph evaluated,
+the evaluated mesh read after every frame) for (a) the original shape-key object,
+(b) the live manifold object and (c) the baked object (node group over the frames
+collection), on the demo blob at ~50k triangles. Prints figures and ratios.
 
-    python3 bench/bench_playback.py [--segments 180] [--rings 140] [--loops 2]
+(b) is the add-on's live playback: inside a topology interval the "Animanifold
+Live" geometry-nodes modifier moves the vertices and UVs and the frame-change
+handlers write nothing; they write a cut when playback enters an interval or a
+keyframe (9 of the 48 frames of the demo). The first loop also slices and lets
+Blender compute edges (cold); later loops reuse the kept cuts (warm): (b) is the
+warm figure, and the medians of frames inside an interval and of frames that write
+a cut are printed too. For comparison, "b_live_handler_writes" is the previous
+path (the handler rewrites positions and UVs on every frame; with this branch's
+faster mesh writes), measured in the same run unless --no-handler-path.
+
+The machine's load matters: the modifier's work is multi-threaded, so figures
+from a busy machine are lower and noisier than from an idle one.
+
+    python3 bench/bench_playback.py [--segments 180] [--rings 140] [--loops 3]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import statistics
 import sys
 import time
 from pathlib import Path
@@ -24,17 +38,41 @@ import bpy  # noqa: E402
 from build_demo_scene import build_demo_scene  # noqa: E402
 
 
-def playback_fps(scene, frames, loops, probe=None) -> float:
-    scene.frame_set(frames[0])  # warm up (loads caches)
-    start = time.perf_counter()
-    n = 0
-    for _ in range(loops):
+def playback_fps(scene, frames, loops, probe=None, per_frame=None) -> list[float]:
+    """Frames per second of each loop over `frames`; `per_frame` (a list) gets the
+    seconds of every frame of the later loops."""
+    scene.frame_set(frames[0])  # warm up (loads the manifold)
+    fps = []
+    for loop in range(loops):
+        start = time.perf_counter()
         for f in frames:
+            t = time.perf_counter()
             scene.frame_set(f)
             if probe is not None:
                 probe()
-            n += 1
-    return n / (time.perf_counter() - start)
+            if per_frame is not None and loop > 0:
+                per_frame.append(time.perf_counter() - t)
+        fps.append(len(frames) / (time.perf_counter() - start))
+    return fps
+
+
+def warm(fps: list[float]) -> float:
+    """The loops after the first (all of them when there is one)."""
+    later = fps[1:] or fps
+    return len(later) / sum(1.0 / f for f in later)
+
+
+def count_writes(live) -> dict:
+    """Counts the meshes the add-on writes (live.write_mesh calls)."""
+    counter = {"n": 0}
+    write_mesh = live.write_mesh
+
+    def counted(*args, **kwargs):
+        counter["n"] += 1
+        return write_mesh(*args, **kwargs)
+
+    live.write_mesh = counted
+    return counter
 
 
 def only_visible(obj, objects):
@@ -46,7 +84,8 @@ def main() -> int:
     parser = argparse.ArgumentParser()
     parser.add_argument("--segments", type=int, default=180)
     parser.add_argument("--rings", type=int, default=140)
-    parser.add_argument("--loops", type=int, default=2)
+    parser.add_argument("--loops", type=int, default=3)
+    parser.add_argument("--no-handler-path", action="store_true", help="skip the previous live path (b')")
     args = parser.parse_args()
     import animanifold_blender
 
@@ -59,10 +98,10 @@ def main() -> int:
         src.data.calc_loop_triangles()
         tris = len(src.data.loop_triangles)
 
-        def evaluated_faces(obj):
+        def evaluated_faces(obj):  # the evaluated mesh: what is shown and rendered
             return lambda: len(obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.polygons)
 
-        fps_source = playback_fps(scene, frames, args.loops, evaluated_faces(src))
+        fps_source = warm(playback_fps(scene, frames, args.loops, evaluated_faces(src)))
 
         t = time.perf_counter()
         assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
@@ -70,15 +109,36 @@ def main() -> int:
         man = bpy.data.objects[src.name + "_manifold"]
         src.hide_set(False)
         only_visible(man, [src, man])
-        fps_live = playback_fps(scene, frames, args.loops, evaluated_faces(man))
+        from animanifold_blender import live
+
+        writes = count_writes(live)
+        keyframes = set(live.manifold_for(man).metadata["keyframe_times"])
+        # Frames that write a cut: the keyframes and the first frame of each interval.
+        writing = {f for f in frames if f in keyframes or (f - 1) in keyframes}
+        seconds = []
+        live_loops = playback_fps(scene, frames, args.loops, evaluated_faces(man), seconds)
+        fps_live = warm(live_loops)
+        writes_per_loop = writes["n"] / args.loops
+        per_frame = dict(zip(frames * (args.loops - 1), seconds))  # the last loop's
+        inside_ms = 1000 * statistics.median(per_frame[f] for f in frames if f not in writing)
+        writing_ms = 1000 * statistics.median(per_frame[f] for f in writing)
+        assert man.modifiers.get("Animanifold Live") is not None, "the live modifier did not play the object"
+
+        fps_handler = None
+        if not args.no_handler_path:  # the previous path: the handler writes every frame
+            can_drive = live.can_drive
+            live.can_drive = lambda *a, **k: False
+            try:
+                fps_handler = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
+            finally:
+                live.can_drive = can_drive
+                live.forget_shown()
+                scene.frame_set(frames[0])
 
         t = time.perf_counter()
         assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
         bake_s = time.perf_counter() - t
-        fps_baked = playback_fps(scene, frames, args.loops, evaluated_faces(man))
-
-        # Where the time of a live frame goes: slicing vs writing the mesh.
-        from animanifold_blender import live
+        fps_baked = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
 
         manifold = live.manifold_for(man)
         t = time.perf_counter()
@@ -91,17 +151,25 @@ def main() -> int:
             "source_faces": len(src.data.polygons),
             "source_triangles": tris,
             "manifold_tets": int(len(manifold.simplices)),
-            "frames": len(frames) * args.loops,
+            "frames_per_loop": len(frames),
+            "loops": args.loops,
             "fps": {"a_source_shape_keys": round(fps_source, 1), "b_live_manifold": round(fps_live, 1),
                     "c_baked_node_group": round(fps_baked, 1)},
             "ratios": {"live/source": float(f"{fps_live / fps_source:.3g}"),
                        "baked/source": float(f"{fps_baked / fps_source:.3g}"),
                        "live/baked": float(f"{fps_live / fps_baked:.3g}")},
-            "live_ms_per_frame": round(1000 / fps_live, 1),
+            "live_fps_per_loop": [round(f, 1) for f in live_loops],
+            "live_ms_per_frame": round(1000 / fps_live, 2),
+            "live_cut_writes_per_loop": writes_per_loop,
+            "live_ms_frame_inside_interval_median": round(inside_ms, 2),
+            "live_ms_frame_writing_a_cut_median": round(writing_ms, 2),
             "slice_ms_per_frame": round(slice_ms, 2),
             "convert_s": round(convert_s, 2),
             "bake_s": round(bake_s, 2),
         }
+        if fps_handler is not None:
+            result["fps"]["b_live_handler_writes"] = round(fps_handler, 1)
+            result["ratios"]["live/handler_writes"] = float(f"{fps_live / fps_handler:.3g}")
         print(json.dumps(result, indent=2))
     finally:
         animanifold_blender.unregister()  # bpy as a module hangs at exit with classes registered

@@ -3,7 +3,9 @@
 baked into data that plays and renders without the add-on.
 
 Modules: properties (settings), sampling (evaluated mesh → keyframes),
-live (slices → meshes), handlers (frame change, load), bake, operators, ui;
+live (slices → meshes), live_nodes (the geometry-nodes modifier that plays a
+topology interval), live_cuts (cuts kept between frames), handlers (frame
+change, load, undo), bake, operators, ui;
 ops_skeleton and ui_tools for the Voronoi skeleton; ops_deform for Laplacian
 deformation (anchor/handle vertex groups and an Empty, also in ui_tools).
 """

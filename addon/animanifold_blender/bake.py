@@ -23,7 +23,7 @@ import os
 import bpy
 import numpy as np
 
-from . import live
+from . import live, live_nodes
 from ._lib import am
 
 MODIFIER_NAME = "Animanifold Bake"
@@ -186,6 +186,9 @@ class NodeGroupBake:
                 obj.modifiers.remove(mod)
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
         modifier.node_group = self.group
+        # The bake shows the frames: the live modifier below it passes its mesh through
+        # instead of moving it every frame for nothing (Back to Live turns it on again).
+        live_nodes.release(obj)
         obj.animanifold.bake_collection = self.collection
         obj.animanifold.mode = "BAKED"
 

@@ -1,6 +1,7 @@
-"""Application handlers: live slicing on frame change, re-attach after load.
+"""Application handlers: live slicing on frame change (before and after the
+frame is evaluated), re-attach after load, forget what was written after undo/redo.
 
-Both are @persistent so they stay registered across file loads, and are
+All are @persistent so they stay registered across file loads, and are
 found by name on register so reloading the add-on never doubles them.
 """
 
@@ -13,7 +14,16 @@ from . import live
 
 
 @persistent
+def animanifold_frame_change_pre(scene, *_args):
+    # Before the new frame is evaluated: a cut written here (playback entering a
+    # topology interval or a keyframe) is evaluated once, in the same pass.
+    live.update_scene(scene)
+
+
+@persistent
 def animanifold_frame_change_post(scene, depsgraph=None):
+    # After evaluation: animated settings (a keyframed sweep value, say) have their
+    # new values now; objects already shown at this frame cost an O(1) check.
     live.update_scene(scene)
 
 
@@ -23,12 +33,22 @@ def animanifold_load_post(*_args):
     # live manifold at its scene's current frame (its cache may have changed).
     live.clear()
     for scene in bpy.data.scenes:
-        live.update_scene(scene)
+        live.update_scene(scene, force=True)
+
+
+@persistent
+def animanifold_undo_post(*_args):
+    # Undo and redo restore meshes and modifiers together: what the add-on remembers
+    # having written may be stale, so the next frame change writes in full.
+    live.forget_shown()
 
 
 _HANDLERS = (
+    (bpy.app.handlers.frame_change_pre, animanifold_frame_change_pre),
     (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
     (bpy.app.handlers.load_post, animanifold_load_post),
+    (bpy.app.handlers.undo_post, animanifold_undo_post),
+    (bpy.app.handlers.redo_post, animanifold_undo_post),
 )
 
 

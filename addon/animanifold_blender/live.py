@@ -11,6 +11,14 @@ subdivided `subdivision_levels` times (Schaefer et al.), computed once per
 (loaded manifold, levels, keep_keyframe_times) and kept beside it; each frame
 is its slice refined `smooth_levels` times by OpenSubdiv. Bakes slice through
 the same functions (frame_slice, frame_normals), so they bake what plays live.
+
+Playback inside a topology interval (Blender 4.2+, time axis, no smoothing or
+custom normals): the interval's cut is written once with the rate of every
+vertex, and the "Animanifold Live" geometry-nodes modifier (live_nodes) moves
+the vertices with the scene frame; the handler only checks that the frame is
+still in the interval. The user, renders and exports see the evaluated mesh;
+obj.data holds the interval's middle frame. Cuts are kept between visits
+(live_cuts), so looping playback slices nothing and Blender computes no edges.
 """
 
 from __future__ import annotations
@@ -22,6 +30,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import live_cuts, live_nodes
 from ._lib import am
 
 AXES = ("t", "x", "y", "z")
@@ -57,6 +66,12 @@ def clear():
     _ERRORS.clear()
     _SHOWN.clear()
     _SUBDIVIDED.clear()
+    _CUTS.clear()
+
+
+def forget_shown():
+    """Next frame changes write every object in full (after undo/redo)."""
+    _SHOWN.clear()
 
 
 def last_error(obj) -> str | None:
@@ -221,10 +236,16 @@ _ATTRIBUTES = bpy.app.version >= (4, 0, 0)
 
 def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | None = None,
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
-               smooth: np.ndarray | None = None, normals: np.ndarray | None = None) -> None:
+               smooth: np.ndarray | None = None, normals: np.ndarray | None = None,
+               edges: tuple | None = None, vectors: dict | None = None,
+               corner_uv: np.ndarray | None = None) -> None:
     """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
     `normals` (P, 3): smooth normals set as custom normals (slices between
-    keyframes have thin triangles that shade unevenly with computed normals)."""
+    keyframes have thin triangles that shade unevenly with computed normals).
+    `edges`: (edge vertices (2E,), corner edges (3F,)) that Blender computed for
+    these faces before (mesh_edges), set instead of computing them again.
+    `vectors`: name -> (P, 3) float32 point attributes (float vectors) to add (4.0+).
+    `corner_uv` (2 * 3F,) float32: the UV map per corner, instead of `uv` per vertex."""
     P, F = len(vertices), len(faces)
     corner_vertex = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1)
     mesh.clear_geometry()
@@ -232,7 +253,9 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     mesh.loops.add(3 * F)
     mesh.polygons.add(F)
     co = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1)
-    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * F, 3, dtype=np.int32))
+    # loop_start is unsigned in 4.0+: an unsigned array is copied raw (~100x faster
+    # than the per-item path a signed one takes).
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * F, 3, dtype=np.uint32 if _ATTRIBUTES else np.int32))
     if _ATTRIBUTES:
         attributes = mesh.attributes
         attributes["position"].data.foreach_set("vector", co)
@@ -243,9 +266,18 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
         if smooth is not None and F:
             attributes.new("sharp_face", "BOOLEAN", "FACE").data.foreach_set(
                 "value", np.ascontiguousarray(smooth, dtype=np.int32) == 0)
-        if uv is not None:
-            corner = np.ascontiguousarray(uv, dtype=np.float32)[corner_vertex]
-            attributes.new(uv_name or "UVMap", "FLOAT2", "CORNER").data.foreach_set("vector", corner.reshape(-1))
+        if uv is not None and corner_uv is None:
+            corner_uv = live_cuts.corner_values(uv, corner_vertex)
+        if corner_uv is not None:
+            attributes.new(uv_name or "UVMap", "FLOAT2", "CORNER").data.foreach_set("vector", corner_uv)
+        for name, values in (vectors or {}).items():
+            attributes.new(name, "FLOAT_VECTOR", "POINT").data.foreach_set(
+                "vector", np.ascontiguousarray(values, dtype=np.float32).reshape(-1))
+        if edges is not None and F:
+            edge_verts, corner_edge = edges
+            mesh.edges.add(len(edge_verts) // 2)
+            attributes[".edge_verts"].data.foreach_set("value", edge_verts)
+            attributes[".corner_edge"].data.foreach_set("value", corner_edge)
     else:
         mesh.vertices.foreach_set("co", co)
         mesh.loops.foreach_set("vertex_index", corner_vertex)
@@ -260,11 +292,25 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
             if layer is not None and F:
                 corner = np.ascontiguousarray(uv, dtype=np.float32)[corner_vertex]
                 layer.data.foreach_set("uv", corner.reshape(-1))
-    mesh.update(calc_edges=True)
+    # With edges given (4.0+), the mesh has them: only tag it.
+    mesh.update(calc_edges=not (_ATTRIBUTES and edges is not None))
     if normals is not None and F:
         if _NEEDS_AUTO_SMOOTH:
             mesh.use_auto_smooth = True
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
+
+
+def mesh_edges(mesh) -> tuple[np.ndarray, np.ndarray] | None:
+    """The edges Blender computed for `mesh` (for write_mesh's `edges`); None before 4.0."""
+    if not _ATTRIBUTES:
+        return None
+    edge_verts = np.empty(2 * len(mesh.edges), dtype=np.int32)
+    corner_edge = np.empty(len(mesh.loops), dtype=np.int32)
+    if len(edge_verts):
+        mesh.attributes[".edge_verts"].data.foreach_get("value", edge_verts)
+    if len(corner_edge):
+        mesh.attributes[".corner_edge"].data.foreach_get("value", corner_edge)
+    return edge_verts, corner_edge
 
 
 def slice_for(obj, frame: float):
@@ -290,17 +336,22 @@ def display_vertices(manifold, s, axis: str, time_scale: float) -> np.ndarray:
 
 @dataclass
 class _Shown:
-    """What an object's mesh holds after a full write, so that later frames in
-    the same topology interval only move its vertices."""
+    """What an object's mesh holds after a full write: the frame `value`, and for
+    a cut of a topology interval either the mover that slides its vertices on
+    later frames (written by the handler) or, when `driven`, nothing to do: the
+    live modifier moves them."""
 
     key: tuple
-    interval: tuple
-    mover: object  # am.SliceMover of the written cut
-    corner_vertex: np.ndarray  # the corners as written (for the UV layer)
+    interval: tuple | None
+    mover: object  # am.SliceMover of the written cut (handler-moved intervals)
+    corner_vertex: np.ndarray | None  # the corners as written (for the UV layer)
     counts: tuple  # (vertices, faces) of the mesh as written
+    value: float = math.nan
+    driven: bool = False
 
 
 _SHOWN: dict[str, _Shown] = {}
+_CUTS = live_cuts.CutCache()
 
 
 def _slice_value(obj, manifold, frame: float) -> float:
@@ -313,15 +364,39 @@ def _slice_value(obj, manifold, frame: float) -> float:
     return settings.sweep_value
 
 
-def update_object(obj, frame: float) -> None:
-    """Rewrites the object's mesh with its slice at `frame` (or its sweep value).
+def _counts(mesh) -> tuple[int, int]:
+    return len(mesh.vertices), len(mesh.polygons)
+
+
+def can_drive(obj, scene=None) -> bool:
+    """Whether the live modifier can play `obj`: Blender 4.2+, the time axis, frames
+    that are plain slices (no frame smoothing, no custom normals to carry), the
+    modifier not switched off by the user, and a scene whose Scene Time is its
+    frame (no Time Stretching)."""
+    settings = obj.animanifold
+    if not (live_nodes.SUPPORTED and settings.axis == "t" and settings.smooth_levels <= 0
+            and not settings.live_normals and live_nodes.usable(obj)):
+        return False
+    scene = scene if scene is not None else bpy.context.scene
+    return scene is None or scene.render.frame_map_old == scene.render.frame_map_new
+
+
+def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
+    """Shows the object's slice at `frame` (or its sweep value).
 
     Between two vertex times (two keyframes, for a converted action) every
-    frame has the same faces: the first frame there is cut and written in
-    full, the next ones only slide the vertices along their manifold edges
-    (AnimationManifold.move_slice) and rewrite positions, UVs and normals.
+    frame has the same faces. Where the live modifier can play the object
+    (can_drive), the first frame there writes the interval's cut with the
+    rate of every vertex, and later frames write nothing: the modifier moves
+    the vertices with the scene frame. Elsewhere the first frame is cut and
+    written in full and the next ones slide the vertices along their manifold
+    edges (AnimationManifold.move_slice), rewriting positions, UVs and normals.
     Frames refined by OpenSubdiv (smooth_levels > 0) are not on manifold
-    edges: each is cut, refined and written in full."""
+    edges: each is cut, refined and written in full.
+
+    `force=False` (frame changes) skips the write when the mesh already shows
+    this frame; other callers (settings, operators) always rewrite, since they
+    may have changed the mesh or the manifold."""
     settings = obj.animanifold
     manifold = shown_manifold(obj)
     value = _slice_value(obj, manifold, frame)
@@ -329,17 +404,27 @@ def update_object(obj, frame: float) -> None:
     smoothed = settings.smooth_levels > 0
     normals_wanted = settings.axis == "t" and settings.live_normals
     key = (id(manifold), mesh.as_pointer(), settings.axis, settings.time_scale, normals_wanted, settings.uv_name,
-           settings.subdivision_levels, settings.keep_keyframe_times)
-    interval = None if smoothed else manifold.topology_interval(value, settings.axis)
+           settings.subdivision_levels, settings.keep_keyframe_times, settings.smooth_levels, settings.crease_angle)
     shown = _SHOWN.get(obj.name_full)
-    if (shown is not None and interval is not None and shown.key == key and shown.interval == interval
-            and shown.counts == (len(mesh.vertices), len(mesh.polygons))):
+    if shown is not None and (shown.key != key or shown.counts != _counts(mesh)):
+        shown = None  # another mesh, manifold or setting, or the mesh was edited
+    if can_drive(obj, scene):
+        _update_driven(obj, manifold, value, key, None if force else shown)
+        return
+
+    if not force and shown is not None and shown.value == value and not shown.driven:
+        return  # a sweep view (or a vertex time) on a frame change: nothing moved
+    live_nodes.release(obj)
+    interval = None if smoothed else manifold.topology_interval(value, settings.axis)
+    if shown is not None and interval is not None and shown.interval == interval and shown.mover is not None:
         s = shown.mover.at(value)
         write_positions(mesh, display_vertices(manifold, s, settings.axis, settings.time_scale),
                         shown.corner_vertex, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                         normals=slice_normals(s) if normals_wanted else None)
+        shown.value = value
         return
 
+    _SHOWN.pop(obj.name_full, None)  # until the write is done, the mesh shows nothing known
     s = frame_slice(obj, manifold, value, settings.axis)
     uv = s.vertex_attributes.get("uv")
     faces = s.faces
@@ -355,13 +440,56 @@ def update_object(obj, frame: float) -> None:
         smooth=s.face_attributes.get("smooth"),
         normals=frame_normals(s, smoothed) if normals_wanted else None,
     )
-    if interval is None:
-        _SHOWN.pop(obj.name_full, None)
-    else:
+    mover = None
+    if interval is not None:
         carried = ["uv"] + (["normal"] if normals_wanted else [])
-        _SHOWN[obj.name_full] = _Shown(key, interval, am.SliceMover(manifold, s, attributes=carried, normals=False),
-                                       np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
-                                       (len(mesh.vertices), len(mesh.polygons)))
+        mover = am.SliceMover(manifold, s, attributes=carried, normals=False)
+    _SHOWN[obj.name_full] = _Shown(key, interval, mover, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
+                                   _counts(mesh), value)
+
+
+def _update_driven(obj, manifold, value: float, key: tuple, shown: _Shown | None) -> None:
+    """update_object where the live modifier plays the intervals (see can_drive)."""
+    mesh = obj.data
+    interval = manifold.topology_interval(value, "t")
+    if shown is not None:
+        if interval is None:
+            if shown.interval is None and shown.value == value and live_nodes.RATE not in mesh.attributes:
+                return  # this vertex time is shown
+        elif (shown.driven and shown.interval == interval and live_nodes.RATE in mesh.attributes
+              and live_nodes.drives(obj, *interval)):
+            return  # the modifier moves the vertices: the O(1) path of playback
+    _SHOWN.pop(obj.name_full, None)  # until the write is done, the mesh shows nothing known
+    if interval is None:  # a vertex time (a keyframe): the frame as sliced, the modifier off
+        cut_key = ("at", value)
+        cut = _cut(manifold, cut_key, lambda: live_cuts.vertex_time_cut(manifold.slice(value, "t")))
+        vectors = None
+    else:
+        cut_key = interval
+        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold, manifold.slice(value, "t"), interval))
+        vectors = {live_nodes.RATE: cut.rate}
+        if cut.uv_rate is not None:
+            vectors[live_nodes.UV] = cut.uv
+            vectors[live_nodes.UV_RATE] = cut.uv_rate
+    uv_name = obj.animanifold.uv_name or "UVMap"
+    write_mesh(mesh, cut.vertices, cut.faces, uv_name=uv_name, corner_uv=cut.corner_uv,
+               material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors)
+    if cut.edges is None:
+        cut.edges = mesh_edges(mesh)
+        _CUTS.resized(manifold, cut_key)
+    if interval is None:
+        live_nodes.release(obj)
+    else:  # the mesh shows the interval's middle; the modifier moves it to the scene frame
+        live_nodes.drive(obj, cut.value, interval[0], interval[1], uv_name if cut.uv_rate is not None else None)
+    _SHOWN[obj.name_full] = _Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None)
+
+
+def _cut(manifold, key, make) -> live_cuts.Cut:
+    cut = _CUTS.get(manifold, key)
+    if cut is None:
+        cut = make()
+        _CUTS.put(manifold, key, cut)
+    return cut
 
 
 def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: np.ndarray | None = None,
@@ -374,7 +502,7 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
     else:
         mesh.vertices.foreach_set("co", co)
     if uv is not None and len(corner_vertex):
-        corner = np.ascontiguousarray(np.asarray(uv, dtype=np.float32)[corner_vertex]).reshape(-1)
+        corner = live_cuts.corner_values(uv, corner_vertex)
         if _ATTRIBUTES and uv_name in mesh.attributes:
             mesh.attributes[uv_name].data.foreach_set("vector", corner)
         elif uv_name in mesh.uv_layers:
@@ -405,16 +533,18 @@ def is_live(obj) -> bool:
             and obj.type == "MESH" and obj.data is not None and obj.library is None)
 
 
-def update_scene(scene) -> int:
-    """Re-slices every live manifold object of `scene`; never raises (errors are
-    kept per object, printed once, and shown in the panel). Returns the count."""
+def update_scene(scene, force: bool = False) -> int:
+    """Shows every live manifold object of `scene` at its frame (update_object; on
+    a frame change nothing is written for objects whose mesh shows it already);
+    never raises (errors are kept per object, printed once, and shown in the
+    panel). Returns the count."""
     frame = scene_frame(scene)
     count = 0
     for obj in scene.objects:
         if not is_live(obj):
             continue
         try:
-            update_object(obj, frame)
+            update_object(obj, frame, force=force, scene=scene)
             _ERRORS.pop(obj.name_full, None)
             count += 1
         except Exception as e:  # a broken cache must not break playback

@@ -18,7 +18,7 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 from bpy.types import Operator
 from mathutils import Matrix
 
-from . import bake, live, sampling
+from . import bake, live, live_nodes, sampling
 from ._lib import am
 from .properties import _BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 
@@ -220,6 +220,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
                 bpy.data.objects.remove(new)
             if mesh is not None:
                 bpy.data.meshes.remove(mesh)
+            live_nodes.remove_unused_group()  # made for the new object's first frame
             raise
         # Rendering an animation from the UI runs frame_change_post while the render
         # thread reads meshes: Blender's "Lock Interface" makes the live update safe.

@@ -61,7 +61,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, PointerProperty, StringProperty
 from bpy.types import Operator, PropertyGroup
 
-from . import live
+from . import live, live_nodes
 from ._lib import am
 from .operators import OperatorError, _Progress
 
@@ -666,6 +666,7 @@ def show_preview(obj, state: LiveState, scene) -> None:
     t0, t1 = state.preview.time_range
     s = state.preview.slice(min(max(live.scene_frame(scene), t0), t1), "t")
     live.write_mesh(obj.data, s.vertices, s.faces)
+    live_nodes.release(obj)  # the mesh holds the preview as it is
 
 
 def _live_states():

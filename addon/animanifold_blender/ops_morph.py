@@ -18,7 +18,7 @@ import numpy as np
 from bpy.props import BoolProperty, IntProperty
 from bpy.types import Operator
 
-from . import live
+from . import live, live_nodes
 from ._lib import am
 from .ops_skeleton import closed_triangle_mesh
 from .operators import _unique_object_name
@@ -149,6 +149,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         except BaseException:
             bpy.data.objects.remove(new)
             bpy.data.meshes.remove(mesh)
+            live_nodes.remove_unused_group()  # made for the new object's first frame
             raise
         context.scene.render.use_lock_interface = True  # live updates during renders (see operators.py)
         for obj in (source, target):

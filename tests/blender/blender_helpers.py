@@ -29,6 +29,13 @@ def eval_corners(obj, frame=None) -> np.ndarray:
         ob_eval.to_mesh_clear()
 
 
+def shown(obj):
+    """The mesh `obj` shows (and renders, exports) at the current frame: its evaluated
+    mesh. A live manifold object's own mesh holds its topology interval's middle frame;
+    its "Animanifold Live" modifier moves the vertices to the frame."""
+    return obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+
+
 def mesh_corners(mesh) -> np.ndarray:
     mesh.calc_loop_triangles()
     co = np.empty(3 * len(mesh.vertices), np.float32)

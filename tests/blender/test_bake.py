@@ -189,8 +189,9 @@ def test_back_to_live_after_bake(converted):
     assert bpy.ops.animanifold.make_live() == {"FINISHED"}
     assert man.animanifold.mode == "LIVE" and not man.modifiers["Animanifold Bake"].show_viewport
     bpy.context.scene.frame_set(33)
-    co = np.empty(3 * len(man.data.vertices), np.float32)
-    man.data.vertices.foreach_get("co", co)
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data  # what is shown and rendered
+    co = np.empty(3 * len(ev.vertices), np.float32)
+    ev.vertices.foreach_get("co", co)
     np.testing.assert_allclose(co.reshape(-1, 3), cache.slice(33).vertices, atol=1e-6)
     assert bpy.context.scene.render.use_lock_interface
 

@@ -11,7 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices  # noqa: E402
+from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, shown  # noqa: E402
 from build_demo_scene import KEYFRAMES  # noqa: E402
 
 pytestmark = pytest.mark.blender
@@ -33,8 +33,8 @@ def test_keyframes_come_back_exactly(demo):
     assert cache.metadata["keyframe_times"] == sorted(float(f) for f in KEYFRAMES)
     for frame in KEYFRAMES:
         expected = eval_corners(demo, frame)  # also sets the frame: the handler re-slices
-        got = mesh_corners(man.data)
-        assert len(man.data.polygons) == len(expected), f"frame {frame}: face count"
+        got = mesh_corners(shown(man))
+        assert len(shown(man).polygons) == len(expected), f"frame {frame}: face count"
         np.testing.assert_allclose(canonical(got), canonical(expected), atol=1e-6, rtol=0, err_msg=f"frame {frame}")
     # The manifold object sits where the source is; the source is hidden, not changed.
     assert demo.hide_get() and demo.hide_render
@@ -47,7 +47,7 @@ def test_uvs_and_materials_carried(demo):
     man = convert(demo)
     bpy.context.scene.frame_set(12)
     src = demo.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
-    me = man.data
+    me = shown(man)
     assert me.uv_layers.active is not None and me.uv_layers.active.name == src.uv_layers.active.name
 
     def per_face(mesh):
@@ -90,7 +90,7 @@ def test_between_keyframes_vertices_lie_on_manifold_edges(demo):
     for frame in (5, 17, 30, 45):
         bpy.context.scene.frame_set(frame)
         s = cache.slice(frame)
-        co = mesh_vertices(man.data)
+        co = mesh_vertices(shown(man))
         assert co.shape == s.vertices.shape, f"frame {frame}"
         np.testing.assert_allclose(co, s.vertices, atol=1e-6, rtol=0)
         a, b = s.vertex_edges[:, 0], s.vertex_edges[:, 1]
@@ -129,7 +129,7 @@ def test_every_n_frames_sampling(demo):
     man = convert(demo, sampling="EVERY_N", step=10)
     assert cache_of(man).metadata["keyframe_times"] == [1.0, 11.0, 21.0, 31.0, 41.0, 48.0]
     bpy.context.scene.frame_set(21)
-    np.testing.assert_allclose(canonical(mesh_corners(man.data)), canonical(eval_corners(demo, 21)), atol=1e-6)
+    np.testing.assert_allclose(canonical(mesh_corners(shown(man))), canonical(eval_corners(demo, 21)), atol=1e-6)
 
 
 def test_sweep_axes_and_back_to_t(demo):
@@ -137,22 +137,22 @@ def test_sweep_axes_and_back_to_t(demo):
     settings = man.animanifold
     cache = cache_of(man)
     bpy.context.scene.frame_set(20)
-    at_t = mesh_vertices(man.data)
+    at_t = mesh_vertices(shown(man))
     t0 = cache.time_range[0]
     for axis, column in (("x", 0), ("y", 1), ("z", 2)):
         settings.axis = axis
         settings.sweep_value = 0.1
         s = cache.slice(0.1, axis)
-        co = mesh_vertices(man.data)
+        co = mesh_vertices(shown(man))
         assert len(co) == len(s.vertices) > 0, axis
         others = [c for c in range(3) if c != column]
         np.testing.assert_allclose(co[:, others], s.vertices[:, :2], atol=1e-5)
         np.testing.assert_allclose(co[:, column], (s.vertices[:, 2] - t0) * settings.time_scale, atol=1e-5)
         bpy.context.scene.frame_set(30)  # frame changes do not move a sweep view
-        np.testing.assert_allclose(mesh_vertices(man.data), co, atol=1e-6)
+        np.testing.assert_allclose(mesh_vertices(shown(man)), co, atol=1e-6)
         bpy.context.scene.frame_set(20)
     settings.axis = "t"
-    np.testing.assert_allclose(mesh_vertices(man.data), at_t, atol=1e-6)
+    np.testing.assert_allclose(mesh_vertices(shown(man)), at_t, atol=1e-6)
 
 
 def test_object_level_keyframes_in_local_space(empty_scene):
@@ -174,7 +174,7 @@ def test_object_level_keyframes_in_local_space(empty_scene):
         src = eval_corners(cube)
         src_world = src @ mw[:3, :3].T + mw[:3, 3]
         mm = np.array(man.matrix_world)
-        got = mesh_corners(man.data) @ mm[:3, :3].T + mm[:3, 3]
+        got = mesh_corners(shown(man)) @ mm[:3, :3].T + mm[:3, 3]
         np.testing.assert_allclose(canonical(got, 5), canonical(src_world, 5), atol=1e-5, err_msg=f"frame {frame}")
 
 
@@ -206,7 +206,7 @@ def test_armature_action(empty_scene):
         # n-gon caps are triangulated by shape, so compare vertices and counts (the
         # manifold keeps the triangulation of the first sample)
         expected = eval_corners(body, frame)
-        got = mesh_corners(man.data)
+        got = mesh_corners(shown(man))
         assert len(got) == len(expected)
         np.testing.assert_allclose(np.unique(got.reshape(-1, 3), axis=0), np.unique(expected.reshape(-1, 3), axis=0),
                                    atol=1e-6, err_msg=f"frame {frame}")
@@ -228,7 +228,7 @@ def test_cache_beside_saved_blend_and_reload(demo, tmp_path):
     meshes = len(bpy.data.meshes)
     for frame in (7, 24, 40):
         bpy.context.scene.frame_set(frame)
-        np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(frame).vertices, atol=1e-6)
+        np.testing.assert_allclose(mesh_vertices(shown(man)), cache.slice(frame).vertices, atol=1e-6)
     assert len(bpy.data.meshes) == meshes
 
 
@@ -261,7 +261,7 @@ def test_shape_holds_outside_the_range(demo):
     cache = cache_of(man)
     for frame, held in ((0, 1), (-5, 1), (60, 48)):
         bpy.context.scene.frame_set(frame)
-        np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(held).vertices, atol=1e-6)
+        np.testing.assert_allclose(mesh_vertices(shown(man)), cache.slice(held).vertices, atol=1e-6)
 
 
 def test_converting_twice_keeps_both_caches(demo, tmp_path):
@@ -278,7 +278,8 @@ def test_converting_twice_keeps_both_caches(demo, tmp_path):
 
 
 def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
-    """Playback between two keyframes slides the vertices of one cut (live.move path): same result as a fresh cut."""
+    """Playback between two keyframes moves the vertices of one cut (the live modifier):
+    the shown mesh is the same as a fresh cut, UVs included."""
     from animanifold_blender import live
 
     man = convert(demo)
@@ -289,7 +290,7 @@ def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
     for frame in frames:
         bpy.context.scene.frame_set(int(frame), subframe=float(frame) - int(frame))
         s = cache.slice(frame)
-        mesh = man.data
+        mesh = shown(man)
         np.testing.assert_allclose(mesh_vertices(mesh), s.vertices, atol=1e-6, rtol=0, err_msg=f"frame {frame}")
         assert len(mesh.polygons) == len(s.faces)
         corner_uv = np.empty(2 * len(mesh.loops), np.float32)
@@ -298,4 +299,6 @@ def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
         mesh.loops.foreach_get("vertex_index", corner_vertex)
         np.testing.assert_allclose(corner_uv.reshape(-1, 2), s.vertex_attributes["uv"][corner_vertex], atol=1e-6)
         inside = times[0] < frame < times[-1] and frame not in times
-        assert (man.name_full in live._SHOWN) == inside, f"frame {frame}: the topology cache is {'missing' if inside else 'stale'}"
+        entry = live._SHOWN.get(man.name_full)
+        assert entry is not None and (entry.interval is not None) == inside, \
+            f"frame {frame}: the shown interval is {'missing' if inside else 'stale'}"

@@ -15,7 +15,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import mesh_vertices, scene_state, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
+from blender_helpers import mesh_vertices, scene_state, shown, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -211,7 +211,7 @@ def test_manifold_deform_keeps_frames_bounded_by_anchors_and_moves_the_handles(m
     # Frame 36 (a keyframe): the top of the blob is the handle (the groups of frame 24 are gone).
     scene.frame_set(36)
     assert man.vertex_groups.get("anchor") is None
-    v36 = mesh_vertices(man.data)
+    v36 = mesh_vertices(shown(man))
     top = np.flatnonzero(v36[:, 2] > np.quantile(v36[:, 2], 0.8))
     add_group(man, "handle", top)
     empty = add_empty((0.0, 0.0, 2.0))
@@ -244,7 +244,7 @@ def test_manifold_deform_keeps_frames_bounded_by_anchors_and_moves_the_handles(m
     h = np.unique(np.asarray(s36.vertex_edges)[top].reshape(-1))
     np.testing.assert_allclose(new.points[h], old.points[h] + [0.6, 0, 0, 0], atol=1e-6)
     # The object shows the new manifold's frame.
-    got = mesh_vertices(man.data)
+    got = mesh_vertices(shown(man))
     np.testing.assert_allclose(np.sort(got, axis=0), np.sort(new.slice(36.0).vertices, axis=0), atol=1e-5)
     # Undo goes back to the previous cache (the file was never overwritten).
     bpy.ops.ed.undo()
@@ -253,7 +253,7 @@ def test_manifold_deform_keeps_frames_bounded_by_anchors_and_moves_the_handles(m
     scene = bpy.context.scene
     scene.frame_set(30)
     scene.frame_set(36)
-    np.testing.assert_allclose(np.sort(mesh_vertices(man.data), axis=0), np.sort(s36.vertices, axis=0), atol=1e-5)
+    np.testing.assert_allclose(np.sort(mesh_vertices(shown(man)), axis=0), np.sort(s36.vertices, axis=0), atol=1e-5)
 
 
 def test_selected_slice_faces_make_their_space_time_simplices_handles(manifold_object):
@@ -267,7 +267,7 @@ def test_selected_slice_faces_make_their_space_time_simplices_handles(manifold_o
     select = np.zeros(len(man.data.polygons), dtype=bool)
     select[picked] = True
     man.data.polygons.foreach_set("select", select)
-    v = mesh_vertices(man.data)
+    v = mesh_vertices(shown(man))
     add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
     empty = add_empty()
     man.animanifold_deform.empty = empty
@@ -288,7 +288,7 @@ def test_manifold_regularise_adds_vertices_and_stays_a_manifold(manifold_object)
     man = manifold_object
     scene = bpy.context.scene
     scene.frame_set(48)
-    v = mesh_vertices(man.data)
+    v = mesh_vertices(shown(man))
     add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], 0.85)))
     add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
     empty = add_empty()
@@ -400,7 +400,7 @@ def test_live_manifold_preview_follows_frames_and_unregister_removes_the_handler
     man = manifold_object
     scene = bpy.context.scene
     scene.frame_set(36)
-    v = mesh_vertices(man.data)
+    v = mesh_vertices(shown(man))
     add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], 0.8)))
     add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
     empty = add_empty()
@@ -415,7 +415,7 @@ def test_live_manifold_preview_follows_frames_and_unregister_removes_the_handler
     for frame in (40, 36):
         scene.frame_set(frame)  # the slicer shows the cache, then the live handler the preview
         expected = state.preview.slice(float(frame)).vertices
-        np.testing.assert_allclose(np.sort(mesh_vertices(man.data), axis=0), np.sort(expected, axis=0), atol=1e-5)
+        np.testing.assert_allclose(np.sort(mesh_vertices(shown(man)), axis=0), np.sort(expected, axis=0), atol=1e-5)
     old_path = man.animanifold.cache_path
     assert bpy.ops.animanifold.deform() == {"FINISHED"}  # applies the live result
     assert man.animanifold.cache_path != old_path and not man.animanifold_deform.live

@@ -91,14 +91,16 @@ def test_undo_after_convert_restores_the_scene(demo):
     assert len(man.data.polygons) > 0 and bpy.data.objects["Blob"].hide_get()
 
 
+_LISTS = ("frame_change_pre", "frame_change_post", "load_post", "undo_post", "redo_post")
+
+
 def _handler_count():
-    names = [getattr(h, "__name__", "") for lst in (bpy.app.handlers.frame_change_post, bpy.app.handlers.load_post)
-             for h in lst]
+    names = [getattr(h, "__name__", "") for lst in _LISTS for h in getattr(bpy.app.handlers, lst)]
     return sum(n.startswith("animanifold_") for n in names)
 
 
 def test_register_unregister_register(addon):
-    assert _handler_count() == 2
+    assert _handler_count() == 5
     addon.unregister()
     try:
         assert _handler_count() == 0
@@ -111,11 +113,11 @@ def test_register_unregister_register(addon):
         addon.register()
     addon.unregister()
     addon.register()
-    assert _handler_count() == 2
+    assert _handler_count() == 5
     assert hasattr(bpy.types, "ANIMANIFOLD_OT_convert_action") and hasattr(bpy.types.Object, "animanifold")
     # A stale copy of the handler (an earlier load of the module) is replaced, not doubled.
     addon.handlers.register_handlers()
-    assert _handler_count() == 2
+    assert _handler_count() == 5
     # The add-on still works after the cycles.
     bpy.ops.wm.read_factory_settings(use_empty=True)
     from build_demo_scene import build_demo_scene

@@ -7,14 +7,14 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from blender_helpers import mesh_vertices, scene_state  # noqa: E402
+from blender_helpers import mesh_vertices, scene_state, shown  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
 
 def world_vertices(obj) -> np.ndarray:
     m = np.array(obj.matrix_world)
-    return mesh_vertices(obj.data) @ m[:3, :3].T + m[:3, 3]
+    return mesh_vertices(shown(obj)) @ m[:3, :3].T + m[:3, 3]
 
 
 def same_points(a, b, tol=1e-5):
@@ -53,7 +53,7 @@ def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
     corners = world_vertices(target)
     assert np.linalg.norm(last[:, None] - corners[None], axis=2).min(axis=0).max() < 1e-5
     scene.frame_set(12)
-    assert len(morph.data.polygons) > 0
+    assert len(shown(morph).polygons) > 0
 
 
 def test_open_input_is_refused_and_the_scene_is_unchanged(empty_scene):

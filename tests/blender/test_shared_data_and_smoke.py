@@ -14,7 +14,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import DATA, ROOT, SCENES, eval_corners, mesh_corners, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
+from blender_helpers import DATA, ROOT, SCENES, eval_corners, mesh_corners, shown, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -28,7 +28,7 @@ def _check_keyframes(src, man, frames):
     the first sample's triangulation, so triangles are compared as far as they agree."""
     for frame in frames:
         expected = eval_corners(src, frame)
-        got = mesh_corners(man.data)
+        got = mesh_corners(shown(man))
         assert len(got) == len(expected), f"frame {frame}"
         np.testing.assert_allclose(np.unique(got.reshape(-1, 3), axis=0), np.unique(expected.reshape(-1, 3), axis=0),
                                    atol=1e-6, rtol=0, err_msg=f"frame {frame}")

@@ -11,7 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, scene_state  # noqa: E402
+from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, scene_state, shown  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -90,18 +90,18 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
     settings = man.animanifold
     scene = bpy.context.scene
     scene.frame_set(17)
-    base_corners = mesh_corners(man.data)
-    F = len(man.data.polygons)
+    base_corners = mesh_corners(shown(man))
+    F = len(shown(man).polygons)
     # Welded by position (the slice splits vertices along UV seams): V points, E edges.
-    welded = np.unique(np.round(mesh_vertices(man.data), 6), axis=0, return_inverse=True)[1].reshape(-1)
-    tri = welded[corner_vertices(man.data)]
+    welded = np.unique(np.round(mesh_vertices(shown(man)), 6), axis=0, return_inverse=True)[1].reshape(-1)
+    tri = welded[corner_vertices(shown(man))]
     V = welded.max() + 1
     E = len(np.unique(np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1), axis=0))
-    assert V < len(man.data.vertices)  # the demo has seams
-    assert is_closed(man.data)
+    assert V < len(shown(man).vertices)  # the demo has seams
+    assert is_closed(shown(man))
 
     settings.smooth_levels = 1  # re-slices at once
-    mesh = man.data
+    mesh = shown(man)
     assert len(mesh.polygons) == 4 * F  # Loop: every triangle in four
     assert len(mesh.vertices) == V + E  # a point per vertex and per edge: seams are not boundaries
     assert is_closed(mesh)  # still closed: no cracks along the UV seams
@@ -116,26 +116,26 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
     assert mesh.uv_layers.active.name == settings.uv_name
     assert all(p.use_smooth for p in mesh.polygons[:10])
     # Playing inside a keyframe interval cuts and refines every frame (no vertex sliding).
-    assert man.name_full not in live._SHOWN
+    assert live._SHOWN[man.name_full].mover is None and not live._SHOWN[man.name_full].driven
     for frame in (18, 19.5, 23):
         scene.frame_set(int(frame), subframe=frame - int(frame))
         s = cache.slice(frame)
-        assert len(man.data.polygons) == 4 * len(s.faces)
-        assert is_closed(man.data), f"frame {frame}"
+        assert len(shown(man).polygons) == 4 * len(s.faces)
+        assert is_closed(shown(man)), f"frame {frame}"
         if frame == 19.5:
-            assert surface_distance(mesh_vertices(man.data), s.vertices[s.faces]).max() < SMOOTH_TOLERANCE
-        assert man.name_full not in live._SHOWN
+            assert surface_distance(mesh_vertices(shown(man)), s.vertices[s.faces]).max() < SMOOTH_TOLERANCE
+        assert live._SHOWN[man.name_full].mover is None and not live._SHOWN[man.name_full].driven
     # A crease angle change re-slices at once; two levels: 16x.
     scene.frame_set(17)
-    smooth = mesh_vertices(man.data)
+    smooth = mesh_vertices(shown(man))
     settings.crease_angle = math.radians(5.0)  # most edges sharp: the frame keeps to its faces
-    creased = mesh_vertices(man.data)
+    creased = mesh_vertices(shown(man))
     assert len(creased) == len(smooth) and not np.allclose(creased, smooth, atol=1e-4)
     assert (surface_distance(creased, base_corners, 6).mean()
             < 0.5 * surface_distance(smooth, base_corners, 6).mean())
     settings.smooth_levels = 2
-    assert len(man.data.polygons) == 16 * F
-    assert is_closed(man.data)
+    assert len(shown(man).polygons) == 16 * F
+    assert is_closed(shown(man))
 
 
 def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
@@ -148,7 +148,7 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     scene = bpy.context.scene
     sources = {f: eval_corners(demo, f) for f in (1, 12, 24, 36, 48)}
     scene.frame_set(24)
-    F = len(man.data.polygons)
+    F = len(shown(man).polygons)
     calls = []
     real = type(cache).subdivide
 
@@ -161,7 +161,7 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     assert calls == [True]
     for frame in (24, 1, 48):
         scene.frame_set(frame)
-        mesh = man.data
+        mesh = shown(man)
         assert len(mesh.polygons) == 4 * F, f"frame {frame}: the keyframe refined, nothing else"
         assert is_closed(mesh), f"frame {frame}: not closed"
         co = mesh_vertices(mesh)
@@ -175,17 +175,18 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     for frame in (5, 13, 30, 47):
         scene.frame_set(frame)
     assert calls == [True]
-    shown = live.shown_manifold(man)
-    assert len(shown.simplices) == 8 * len(cache.simplices)
-    assert shown.time_range == cache.time_range  # the first and last frame stay at their times
-    assert set(np.unique(shown.points[shown.boundary(), 3])) == {1.0, 48.0}
+    subdivided = live.shown_manifold(man)
+    assert len(subdivided.simplices) == 8 * len(cache.simplices)
+    assert subdivided.time_range == cache.time_range  # the first and last frame stay at their times
+    assert set(np.unique(subdivided.points[subdivided.boundary(), 3])) == {1.0, 48.0}
     for t in cache.metadata["keyframe_times"]:  # and, with the option, every keyframe
-        assert np.count_nonzero(shown.points[:, 3] == t) > 0
-    # Between keyframes the fast path (vertices sliding along manifold edges) works on it.
+        assert np.count_nonzero(subdivided.points[:, 3] == t) > 0
+    # Between keyframes the fast path (the live modifier sliding the vertices along
+    # manifold edges) works on it.
     scene.frame_set(30)
     scene.frame_set(31)
-    assert man.name_full in live._SHOWN
-    np.testing.assert_allclose(mesh_vertices(man.data), shown.slice(31.0).vertices, atol=1e-6, rtol=0)
+    assert live._SHOWN[man.name_full].driven
+    np.testing.assert_allclose(mesh_vertices(shown(man)), subdivided.slice(31.0).vertices, atol=1e-6, rtol=0)
     # Without keyframe times kept: another subdivision; the first one, which no object
     # asks for any more, is freed (so switching back computes it again, once).
     settings.keep_keyframe_times = False
@@ -194,9 +195,9 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     settings.keep_keyframe_times = True
     scene.frame_set(2)
     assert calls == [True, False, True]
-    shown = live.shown_manifold(man)
+    subdivided = live.shown_manifold(man)
     scene.frame_set(1)
-    np.testing.assert_allclose(mesh_vertices(man.data), shown.slice(1.0).vertices, atol=1e-6, rtol=0)
+    np.testing.assert_allclose(mesh_vertices(shown(man)), subdivided.slice(1.0).vertices, atol=1e-6, rtol=0)
 
 
 def test_back_to_zero_gives_exactly_the_old_mesh(demo):
@@ -206,15 +207,15 @@ def test_back_to_zero_gives_exactly_the_old_mesh(demo):
     settings = man.animanifold
     bpy.context.scene.frame_set(40)
     bpy.context.scene.frame_set(17)
-    before = mesh_state(man.data)
+    before = mesh_state(shown(man))
     settings.subdivision_levels = 2
     settings.smooth_levels = 1
-    smoothed = mesh_state(man.data)
+    smoothed = mesh_state(shown(man))
     assert len(smoothed["corners"]) > 4 * len(before["corners"])
     assert live._SUBDIVIDED
     settings.smooth_levels = 0
     settings.subdivision_levels = 0
-    after = mesh_state(man.data)
+    after = mesh_state(shown(man))
     for name in before:
         np.testing.assert_array_equal(after[name], before[name], err_msg=name)
     assert not live._SUBDIVIDED  # nobody asks for the subdivision: its memory is freed
@@ -232,7 +233,7 @@ def test_bake_with_smoothing_bakes_what_plays_live(demo, tmp_path):
     live_corners = {}
     for frame in frames:
         scene.frame_set(frame)
-        live_corners[frame] = mesh_corners(man.data)
+        live_corners[frame] = mesh_corners(shown(man))
     assert bpy.ops.animanifold.bake(alembic=False, export="OBJ", use_scene_range=False, frame_start=10,
                                     frame_end=20, directory=str(tmp_path / "objs")) == {"FINISHED"}
     coll = settings.bake_collection
@@ -242,8 +243,7 @@ def test_bake_with_smoothing_bakes_what_plays_live(demo, tmp_path):
         np.testing.assert_array_equal(canonical(mesh_corners(baked)), canonical(live_corners[frame]),
                                       err_msg=f"frame {frame}")
         scene.frame_set(frame)  # and the node group shows it
-        shown = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
-        np.testing.assert_allclose(canonical(mesh_corners(shown)), canonical(live_corners[frame]), atol=1e-6)
+        np.testing.assert_allclose(canonical(mesh_corners(shown(man))), canonical(live_corners[frame]), atol=1e-6)
         v, f = am.read_mesh(str(tmp_path / "objs" / f"Blob_manifold_{frame:06d}.obj"))
         assert len(f) == len(live_corners[frame])
         np.testing.assert_allclose(canonical(v[f]), canonical(live_corners[frame]), atol=1e-5)
@@ -257,7 +257,7 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
     settings = man.animanifold
     scene = bpy.context.scene
     scene.frame_set(17)
-    before = mesh_state(man.data)
+    before = mesh_state(shown(man))
     calls = []
 
     def out_of_memory(self, *args, **kwargs):
@@ -283,7 +283,7 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
     settings.subdivision_levels = 0
     scene.frame_set(17)
     assert live.last_error(man) is None
-    for name, value in mesh_state(man.data).items():
+    for name, value in mesh_state(shown(man)).items():
         np.testing.assert_array_equal(value, before[name])
     # Deform works on the manifold's own slices: a smoothed object says so.
     settings.smooth_levels = 1
@@ -354,7 +354,7 @@ def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
     man.animanifold.smooth_levels = 1
     log = draw()
     assert ("label", "21,504 tets", "INFO") in log
-    assert ("label", f"{len(man.data.polygons):,} faces this frame", "INFO") in log
+    assert ("label", f"{len(shown(man).polygons):,} faces this frame", "INFO") in log
     assert ("prop", "keep_keyframe_times", True) in log and ("prop", "crease_angle", True) in log
     monkeypatch.setattr(live, "LARGE_TETS", 10_000)
     assert ("label", "21,504 tets: slow slicing, much memory", "ERROR") in draw()

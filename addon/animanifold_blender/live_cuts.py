@@ -1,0 +1,172 @@
+"""Cuts of a manifold kept between frames, so that playback coming back to a
+topology interval (or a vertex time: a keyframe) neither slices again nor makes
+Blender compute the mesh's edges again.
+
+A cut is what one topology interval (lo, hi) of the time axis looks like: its
+faces, and its frame at the middle of the interval with, per vertex, the rate
+at which it slides along its manifold edge (position and UV are affine in the
+frame inside the interval): the arrays the mesh and the live modifier take,
+ready to copy. A vertex-time cut is the one frame at that time. Both remember
+the edges Blender computed the first time the cut was written (edge vertices,
+corner edges): later writes set them directly (the edge hash of a 200k-face
+frame is most of the cost of writing it).
+
+Kept least recently used first out, within BUDGET_BYTES, per loaded manifold
+(a reloaded or subdivided manifold is another object and gets its own cuts).
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import numpy as np
+
+# ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
+# keyframes fit, and scrubbing back and forth over them slices nothing.
+BUDGET_BYTES = 256 * 2**20
+
+
+@dataclass
+class Cut:
+    """One cut, as write_mesh takes it (float32, contiguous: nothing to convert
+    when it is written again)."""
+
+    value: float  # the frame the arrays show: the vertex time, or the interval's middle
+    faces: np.ndarray  # (F, 3) int32
+    material_index: np.ndarray | None
+    smooth: np.ndarray | None
+    vertices: np.ndarray  # (P, 3) float32 at `value`
+    corner_uv: np.ndarray | None  # (2 * 3F,) float32 at `value`: the UV map
+    # Interval cuts: d/dframe of position and UV, and the UV at `value` per vertex
+    # (u, v, 0), for the live modifier.
+    rate: np.ndarray | None = None
+    uv: np.ndarray | None = None
+    uv_rate: np.ndarray | None = None
+    edges: tuple | None = None  # (edge_verts (2E,), corner_edge (3F,)) int32, as Blender made them
+
+    def nbytes(self) -> int:
+        arrays = [self.faces, self.material_index, self.smooth, self.vertices, self.corner_uv, self.rate,
+                  self.uv, self.uv_rate] + list(self.edges or ())
+        return sum(a.nbytes for a in arrays if a is not None)
+
+
+def interval_cut(manifold, s, interval: tuple[float, float]) -> Cut:
+    """The cut of `interval` from time slice `s` in it (not smoothed: it has vertex_edges),
+    shown at the interval's middle: every vertex at its place on its edge there,
+    with the rate at which it slides along the edge."""
+    lo, hi = interval
+    middle = float(np.float32((lo + hi) / 2))  # as the modifier's float input holds it
+    if not lo < middle < hi:  # an interval too short for float32: any frame of it
+        middle = float(s.value)
+    a = np.asarray(s.vertex_edges[:, 0], dtype=np.int64)
+    b = np.asarray(s.vertex_edges[:, 1], dtype=np.int64)
+    points = manifold.points
+    start_time = points[a, -1]
+    inverse_span = (1.0 / (points[b, -1] - start_time))[:, None]  # edges cross the interval: never zero
+    dt = (middle - start_time)[:, None]
+    rate = (points[b, :3] - points[a, :3]) * inverse_span
+    faces = _faces(s)
+    cut = Cut(middle, faces, _own(s.face_attributes.get("material_index")), _own(s.face_attributes.get("smooth")),
+              _f32(points[a, :3] + dt * rate), None, rate=_f32(rate))
+    uv = manifold.vertex_attributes.get("uv")
+    if uv is not None and s.vertex_attributes.get("uv") is not None:
+        uv = np.asarray(uv)[:, :2]
+        uv_rate = (uv[b] - uv[a]) * inverse_span
+        now = uv[a] + dt * uv_rate
+        cut.corner_uv = corner_values(now, faces)
+        cut.uv = _padded(now)
+        cut.uv_rate = _padded(uv_rate)
+    return cut
+
+
+def vertex_time_cut(s) -> Cut:
+    """The cut at a vertex time: the slice itself."""
+    faces = _faces(s)
+    uv = s.vertex_attributes.get("uv")
+    return Cut(float(s.value), faces, _own(s.face_attributes.get("material_index")),
+               _own(s.face_attributes.get("smooth")), _f32(s.vertices), None if uv is None else corner_values(uv, faces))
+
+
+def corner_values(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(2C,) float32: the UV of every corner's vertex. Gathered as one 8-byte word per
+    corner (a row-wise fancy index of a (P, 2) table is ~5x slower)."""
+    table = np.ascontiguousarray(uv, dtype=np.float32).reshape(-1, 2)
+    return table.view(np.int64).reshape(-1)[np.asarray(faces).reshape(-1)].view(np.float32)
+
+
+def _faces(s) -> np.ndarray:
+    return _own(s.faces)
+
+
+def _own(a) -> np.ndarray | None:
+    """An int32 copy: the slice's arrays are views that keep the whole slice alive."""
+    return None if a is None else np.array(a, dtype=np.int32, copy=True, order="C")
+
+
+def _f32(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float32)
+
+
+def _padded(a) -> np.ndarray:
+    out = np.zeros((len(a), 3), dtype=np.float32)
+    out[:, :2] = a
+    return out
+
+
+class CutCache:
+    def __init__(self, budget: int = BUDGET_BYTES):
+        self.budget = budget
+        self._entries: OrderedDict = OrderedDict()  # (id(manifold), key) -> (weakref, Cut, nbytes)
+        self._bytes = 0
+
+    def get(self, manifold, key) -> Cut | None:
+        entry = self._entries.get((id(manifold), key))
+        if entry is None:
+            return None
+        if entry[0]() is not manifold:  # an id reused by another manifold
+            self._drop((id(manifold), key))
+            return None
+        self._entries.move_to_end((id(manifold), key))
+        return entry[1]
+
+    def put(self, manifold, key, cut: Cut) -> None:
+        self._drop((id(manifold), key))
+        size = cut.nbytes()
+        if size > self.budget:
+            return
+        self._entries[(id(manifold), key)] = (weakref.ref(manifold), cut, size)
+        self._bytes += size
+        self._shrink()
+
+    def resized(self, manifold, key) -> None:
+        """A kept cut grew (its edges were added): account for it."""
+        entry = self._entries.get((id(manifold), key))
+        if entry is not None:
+            ref, cut, size = entry
+            self._bytes += cut.nbytes() - size
+            self._entries[(id(manifold), key)] = (ref, cut, cut.nbytes())
+            self._shrink()
+
+    def _shrink(self) -> None:
+        while self._bytes > self.budget and len(self._entries) > 1:
+            self._drop(next(iter(self._entries)))
+        for k in [k for k, (ref, _, _) in self._entries.items() if ref() is None]:
+            self._drop(k)
+
+    def _drop(self, k) -> None:
+        entry = self._entries.pop(k, None)
+        if entry is not None:
+            self._bytes -= entry[2]
+
+    def clear(self) -> None:
+        self._entries.clear()
+        self._bytes = 0
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    @property
+    def nbytes(self) -> int:
+        return self._bytes

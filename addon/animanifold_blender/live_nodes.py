@@ -1,0 +1,246 @@
+"""The geometry-nodes modifier that plays a topology interval without the add-on's help.
+
+Between two vertex times of a manifold every frame has the same faces and each
+vertex slides along one manifold edge, so its position (and UV) is affine in
+the frame: p(t) = p(t0) + (t - t0) * rate. live.py writes the cut once per
+interval (its frame t0, the interval's middle) with `am_rate` (and `am_uv` /
+`am_uv_rate`) point attributes; the node group "Animanifold Live" reads the
+Scene Time and moves the vertices and UVs, so a frame change inside the
+interval costs the handler an O(1) check and the mesh data block is not touched.
+
+Modifier inputs (set by live.py only when a cut is written):
+  Active      off while the mesh holds a frame as it is (vertex times, sweeps,
+              smoothing, custom normals): the geometry passes through;
+  Frame       the frame the mesh's positions and UVs hold (t0);
+  Start, End  the interval: the scene frame is clamped to it, so without the
+              handler (add-on missing) the object holds the interval's ends
+              instead of extrapolating;
+  Animate UV  whether the UV map moves (the manifold has UVs);
+  UV Map      its name.
+
+Only live.py writes the inputs, and every other writer of a manifold object's
+mesh turns Active off (release): the UV map is rebuilt from `am_uv`, so Animate
+UV on a mesh without it would zero the UVs.
+
+Used from Blender 4.2 (the add-on's target; the group is built with the 4.0+
+interface API and tested with bpy 4.5); older Blenders (Debian's 3.4) keep
+writing every frame from the handler (live.py checks SUPPORTED).
+"""
+
+from __future__ import annotations
+
+import struct
+
+import bpy
+
+SUPPORTED = bpy.app.version >= (4, 2, 0)
+
+GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
+# Custom property marking the node group as ours (and its layout version), so a
+# user's group that happens to have the name is never used or changed.
+GROUP_TAG = "animanifold_live"
+GROUP_VERSION = 1
+
+RATE = "am_rate"  # point, float vector: d position / d frame
+UV = "am_uv"  # point, float vector (u, v, 0): the UV at Frame
+UV_RATE = "am_uv_rate"  # point, float vector: d UV / d frame
+_UV_NOW = "am_uv_now"  # point, inside the group only
+ATTRIBUTES = (RATE, UV, UV_RATE)
+
+_INPUTS = (  # name, socket type, default
+    ("Active", "NodeSocketBool", False),
+    ("Frame", "NodeSocketFloat", 0.0),
+    ("Start", "NodeSocketFloat", 0.0),
+    ("End", "NodeSocketFloat", 0.0),
+    ("Animate UV", "NodeSocketBool", False),
+    ("UV Map", "NodeSocketString", "UVMap"),
+)
+
+
+def _is_ours(group) -> bool:
+    return group is not None and group.get(GROUP_TAG) == GROUP_VERSION
+
+
+def node_group(create: bool = True):
+    """Our node group (shared by every manifold object), built on first use."""
+    for group in bpy.data.node_groups:
+        if _is_ours(group) and group.library is None:  # by its tag: the user may rename it
+            return group
+    return _build() if create else None
+
+
+_IDS: dict = {}
+
+
+def _identifiers(group) -> dict[str, str]:
+    """Input name -> the modifier's property key (walking the interface costs more
+    than the rest of a frame's check, so it is kept per group)."""
+    key = (group.as_pointer(), group.name_full)
+    ids = _IDS.get(key)
+    if ids is None:
+        ids = _IDS[key] = {item.name: item.identifier for item in group.interface.items_tree
+                           if getattr(item, "in_out", None) == "INPUT" and item.socket_type != "NodeSocketGeometry"}
+    return ids
+
+
+def _build():
+    group = bpy.data.node_groups.new(GROUP_NAME, "GeometryNodeTree")
+    group[GROUP_TAG] = GROUP_VERSION
+    iface = group.interface
+    iface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    for name, socket_type, default in _INPUTS:
+        socket = iface.new_socket(name, in_out="INPUT", socket_type=socket_type)
+        socket.default_value = default
+    iface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    nodes, links = group.nodes, group.links
+
+    def node(kind, x, y, **props):
+        n = nodes.new(kind)
+        n.location = (x, y)
+        for key, value in props.items():
+            setattr(n, key, value)
+        return n
+
+    def named(name, x, y):
+        n = node("GeometryNodeInputNamedAttribute", x, y, data_type="FLOAT_VECTOR")
+        n.inputs["Name"].default_value = name
+        return n
+
+    def scale(vector, factor, x, y):
+        n = node("ShaderNodeVectorMath", x, y, operation="SCALE")
+        links.new(vector, n.inputs[0])
+        links.new(factor, n.inputs["Scale"])
+        return n.outputs[0]
+
+    inp = node("NodeGroupInput", -1400, 0)
+    out = node("NodeGroupOutput", 900, 0)
+
+    # dt = clamp(scene frame, Start, End) - Frame
+    time = node("GeometryNodeInputSceneTime", -1400, -400)
+    clamp = node("ShaderNodeClamp", -1200, -400, clamp_type="MINMAX")
+    links.new(time.outputs["Frame"], clamp.inputs["Value"])
+    links.new(inp.outputs["Start"], clamp.inputs["Min"])
+    links.new(inp.outputs["End"], clamp.inputs["Max"])
+    dt = node("ShaderNodeMath", -1000, -400, operation="SUBTRACT")
+    links.new(clamp.outputs[0], dt.inputs[0])
+    links.new(inp.outputs["Frame"], dt.inputs[1])
+    dt = dt.outputs[0]
+
+    # UV: evaluated on the points (a sixth of the corners), then copied to the
+    # corners of the UV map. The old UV map is removed first: storing over it would
+    # copy its values before overwriting them (a third of the frame's cost).
+    uv_now = node("ShaderNodeVectorMath", -600, 300, operation="ADD")
+    links.new(named(UV, -1000, 450).outputs["Attribute"], uv_now.inputs[0])
+    links.new(scale(named(UV_RATE, -1000, 300).outputs["Attribute"], dt, -800, 250), uv_now.inputs[1])
+    on_points = node("GeometryNodeStoreNamedAttribute", -400, 200, data_type="FLOAT_VECTOR", domain="POINT")
+    on_points.inputs["Name"].default_value = _UV_NOW
+    links.new(inp.outputs["Geometry"], on_points.inputs["Geometry"])
+    links.new(uv_now.outputs[0], on_points.inputs["Value"])
+    old_uv = node("GeometryNodeRemoveAttribute", -250, 200)
+    links.new(on_points.outputs[0], old_uv.inputs["Geometry"])
+    links.new(inp.outputs["UV Map"], old_uv.inputs["Name"])
+    on_corners = node("GeometryNodeStoreNamedAttribute", -100, 200, data_type="FLOAT2", domain="CORNER")
+    links.new(old_uv.outputs[0], on_corners.inputs["Geometry"])
+    links.new(inp.outputs["UV Map"], on_corners.inputs["Name"])
+    links.new(named(_UV_NOW, -400, 0).outputs["Attribute"], on_corners.inputs["Value"])
+    uv_switch = node("GeometryNodeSwitch", 50, 100, input_type="GEOMETRY")
+    links.new(inp.outputs["Animate UV"], uv_switch.inputs["Switch"])
+    links.new(inp.outputs["Geometry"], uv_switch.inputs["False"])
+    links.new(on_corners.outputs[0], uv_switch.inputs["True"])
+
+    # Positions: offset by rate * dt (a mesh without the rate reads zero: no offset).
+    move = node("GeometryNodeSetPosition", 200, 0)
+    links.new(uv_switch.outputs[0], move.inputs["Geometry"])
+    links.new(scale(named(RATE, -400, -250).outputs["Attribute"], dt, -200, -300), move.inputs["Offset"])
+
+    # The evaluated mesh (render, export, Apply) carries none of our attributes.
+    geometry = move.outputs[0]
+    for i, name in enumerate(ATTRIBUTES + (_UV_NOW,)):
+        remove = node("GeometryNodeRemoveAttribute", 350 + 100 * i, -150)
+        remove.inputs["Name"].default_value = name
+        links.new(geometry, remove.inputs["Geometry"])
+        geometry = remove.outputs[0]
+
+    active = node("GeometryNodeSwitch", 750, 0, input_type="GEOMETRY")
+    links.new(inp.outputs["Active"], active.inputs["Switch"])
+    links.new(inp.outputs["Geometry"], active.inputs["False"])
+    links.new(geometry, active.inputs["True"])
+    links.new(active.outputs[0], out.inputs[0])
+    return group
+
+
+def usable(obj) -> bool:
+    """False when the user switched the object's live modifier off (viewport or
+    render) or gave the name to another modifier: the handler then writes every
+    frame itself."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    return mod is None or (mod.type == "NODES" and mod.show_viewport and mod.show_render)
+
+
+def ensure_modifier(obj):
+    """The object's live modifier, added first in the stack (before anything the user
+    stacks on the slice) and pointed at our node group if it lost it."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None or mod.type != "NODES":
+        if mod is not None:  # a modifier of another kind with our name: not ours to change
+            raise RuntimeError(f"'{obj.name}' has a {mod.type.lower()} modifier named '{MODIFIER_NAME}'")
+        mod = obj.modifiers.new(MODIFIER_NAME, "NODES")
+        if len(obj.modifiers) > 1:
+            obj.modifiers.move(len(obj.modifiers) - 1, 0)
+        mod.show_expanded = False
+        # Edit Mode draws the cage where the frame is (the mesh holds the interval's middle).
+        mod.show_in_editmode = mod.show_on_cage = True
+    if not _is_ours(mod.node_group):
+        mod.node_group = node_group()
+    return mod
+
+
+def _same(stored, value) -> bool:
+    # Float sockets keep single precision: compare as the modifier stores them.
+    if isinstance(value, float):
+        return isinstance(stored, float) and struct.pack("f", stored) == struct.pack("f", value)
+    return stored == value
+
+
+def _set(obj, mod, values: dict) -> None:
+    """Writes the inputs that differ (an unchanged modifier is not re-evaluated)."""
+    ids = _identifiers(mod.node_group)
+    changed = False
+    for name, value in values.items():
+        key = ids[name]
+        if not _same(mod.get(key), value):
+            mod[key] = value
+            changed = True
+    if changed:
+        obj.update_tag()
+
+
+def drive(obj, frame: float, start: float, end: float, uv_name: str | None) -> None:
+    """Turns the modifier on for the cut just written at `frame` of the interval (start, end)."""
+    mod = ensure_modifier(obj)
+    _set(obj, mod, {"Active": True, "Frame": float(frame), "Start": float(start), "End": float(end),
+                    "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+
+
+def release(obj) -> None:
+    """The mesh holds its frame as written: the modifier (if any) passes it through."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is not None and _is_ours(mod.node_group):
+        _set(obj, mod, {"Active": False})
+
+
+def drives(obj, start: float, end: float) -> bool:
+    """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None or not mod.show_viewport or not _is_ours(mod.node_group):
+        return False
+    ids = _identifiers(mod.node_group)
+    return (bool(mod.get(ids["Active"])) and _same(mod.get(ids["Start"]), float(start))
+            and _same(mod.get(ids["End"]), float(end)))
+
+
+def remove_unused_group() -> None:
+    """Drops our node group when nothing uses it (after a failed Convert made it)."""
+    group = node_group(create=False)
+    if group is not None and group.users == 0:
+        bpy.data.node_groups.remove(group)

@@ -1,0 +1,375 @@
+"""Live playback through the "Animanifold Live" geometry-nodes modifier, in-process with bpy 4.5.
+
+Inside a topology interval the handler writes nothing: the mesh holds the
+interval's cut (its middle frame and every vertex's rate) and the modifier moves
+the vertices (and UVs) with the scene frame. What is checked is what the user
+sees: the evaluated mesh, against a direct slice of the cache.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
+
+import animanifold as am  # noqa: E402
+from blender_helpers import mesh_vertices, run_fresh_blender, shown  # noqa: E402
+
+pytestmark = pytest.mark.blender
+
+MODIFIER = "Animanifold Live"
+
+
+def convert(obj):
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    man = bpy.data.objects[obj.name + "_manifold"]
+    return man, am.load(bpy.path.abspath(man.animanifold.cache_path))
+
+
+def goto(frame: float) -> None:
+    bpy.context.scene.frame_set(int(np.floor(frame)), subframe=float(frame - np.floor(frame)))
+
+
+def corner_uv(mesh, name) -> np.ndarray:
+    uv = np.empty(2 * len(mesh.loops), np.float32)
+    mesh.uv_layers[name].data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2).astype(np.float64)
+
+
+def corner_vertex(mesh) -> np.ndarray:
+    cv = np.empty(len(mesh.loops), np.int32)
+    mesh.loops.foreach_get("vertex_index", cv)
+    return cv
+
+
+def assert_shows(man, cache, frame):
+    """The evaluated mesh is the cache's slice at `frame`: positions, faces, UVs, materials."""
+    s = cache.slice(frame)
+    mesh = shown(man)
+    assert len(mesh.polygons) == len(s.faces), f"frame {frame}: face count"
+    np.testing.assert_allclose(mesh_vertices(mesh), s.vertices, atol=1e-6, rtol=0, err_msg=f"frame {frame}")
+    cv = corner_vertex(mesh)
+    np.testing.assert_array_equal(cv.reshape(-1, 3), s.faces, err_msg=f"frame {frame}: faces")
+    np.testing.assert_allclose(corner_uv(mesh, man.animanifold.uv_name), s.vertex_attributes["uv"][cv], atol=1e-6,
+                               err_msg=f"frame {frame}: UVs")
+    mi = np.empty(len(mesh.polygons), np.int32)
+    mesh.polygons.foreach_get("material_index", mi)
+    np.testing.assert_array_equal(mi, s.face_attributes["material_index"], err_msg=f"frame {frame}: materials")
+    # The evaluated mesh carries none of the modifier's attributes (renders, exports).
+    assert not [a.name for a in mesh.attributes if a.name.startswith("am_")]
+    assert mesh.uv_layers.active is not None and mesh.uv_layers.active.name == man.animanifold.uv_name
+
+
+def snapshot(mesh) -> dict:
+    """The data of the object's own mesh (what a write would change)."""
+    out = {"counts": (len(mesh.vertices), len(mesh.edges), len(mesh.loops), len(mesh.polygons))}
+    for attr in mesh.attributes:
+        if attr.data_type in ("FLOAT_VECTOR", "FLOAT2", "INT", "INT32_2D", "BOOLEAN"):
+            width = {"FLOAT_VECTOR": 3, "FLOAT2": 2, "INT32_2D": 2}.get(attr.data_type, 1)
+            key = "value" if attr.data_type in ("INT", "INT32_2D", "BOOLEAN") else "vector"
+            dtype = np.float32 if key == "vector" else (bool if attr.data_type == "BOOLEAN" else np.int32)
+            values = np.empty(width * len(attr.data), dtype)
+            attr.data.foreach_get(key, values)
+            out[attr.name] = values
+    return out
+
+
+def assert_same(a: dict, b: dict, what: str) -> None:
+    assert a.keys() == b.keys(), what
+    for key in a:
+        assert np.array_equal(a[key], b[key]), f"{what}: {key} changed"
+
+
+@pytest.fixture()
+def writes(monkeypatch):
+    """Counts the meshes the add-on writes."""
+    from animanifold_blender import live
+
+    count = {"n": 0}
+    write_mesh = live.write_mesh
+
+    def counted(*args, **kwargs):
+        count["n"] += 1
+        return write_mesh(*args, **kwargs)
+
+    monkeypatch.setattr(live, "write_mesh", counted)
+    return count
+
+
+def modifier_inputs(man) -> dict:
+    mod = man.modifiers[MODIFIER]
+    return {item.name: mod[item.identifier] for item in mod.node_group.interface.items_tree
+            if item.in_out == "INPUT" and item.socket_type != "NodeSocketGeometry"}
+
+
+def test_inside_an_interval_the_handler_writes_nothing(demo, writes):
+    man, cache = convert(demo)  # at frame 1: the first keyframe, written by Convert
+    times = cache.metadata["keyframe_times"]  # [1, 12, 24, 36, 48]
+    writes["n"] = 0
+    goto(2)  # enters the interval (1, 12): one cut written
+    assert writes["n"] == 1
+    assert man.modifiers[0].name == MODIFIER and man.modifiers[MODIFIER].type == "NODES"
+    inputs = modifier_inputs(man)
+    assert inputs["Active"] and (inputs["Start"], inputs["End"]) == (times[0], times[1])
+    assert inputs["Frame"] == 6.5 and inputs["Animate UV"] and inputs["UV Map"] == man.animanifold.uv_name
+    before = snapshot(man.data)
+    for name in ("am_rate", "am_uv", "am_uv_rate"):
+        assert name in before, name
+    for frame in (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125):
+        goto(frame)
+        assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
+        assert_same(snapshot(man.data), before, f"frame {frame}")
+        assert_shows(man, cache, frame)
+
+
+def test_crossing_keyframes_and_intervals_writes_once_each(demo, writes):
+    man, cache = convert(demo)
+    meshes, groups = len(bpy.data.meshes), len(bpy.data.node_groups)
+    mesh = man.data
+    expected_writes = writes["n"]
+    last = ("at", 1.0)  # Convert wrote the first keyframe
+    for frame in (3, 4.5, 11, 12, 12.5, 13, 23.5, 24, 24, 30, 12, 11.5, 1, 0, 60, 47.25, 47.5):
+        goto(frame)
+        interval = cache.topology_interval(min(max(frame, 1), 48))
+        key = interval if interval is not None else ("at", min(max(frame, 1), 48))
+        if key != last:
+            expected_writes += 1
+        last = key
+        assert writes["n"] == expected_writes, f"frame {frame}"
+        assert_shows(man, cache, min(max(frame, 1), 48))
+        inputs = modifier_inputs(man)
+        assert inputs["Active"] == (interval is not None), f"frame {frame}"
+        if interval is not None:
+            assert (inputs["Start"], inputs["End"]) == interval
+    assert man.data == mesh
+    assert (len(bpy.data.meshes), len(bpy.data.node_groups)) == (meshes, groups + 1)  # one shared group
+
+
+def test_kept_cuts_are_reused_and_match_fresh_ones(demo):
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    goto(5.5)
+    first = snapshot(man.data)
+    goto(12)
+    goto(30)
+    live._CUTS.clear()  # the next visit slices again and lets Blender compute the edges
+    goto(5.5)
+    fresh = snapshot(man.data)
+    goto(30)
+    goto(5.5)  # from the kept cut, with the kept edges
+    assert_same(snapshot(man.data), fresh, "kept cut")
+    assert_same(fresh, first, "fresh cut")
+    assert man.data.validate(verbose=True) is False  # nothing to fix in a mesh written with kept edges
+    assert_shows(man, cache, 5.5)
+
+
+def test_two_objects_share_the_node_group(demo):
+    man, cache = convert(demo)
+    demo.hide_set(False)
+    bpy.context.view_layer.objects.active = demo
+    assert bpy.ops.animanifold.convert_action(sampling="EVERY_N", step=10) == {"FINISHED"}
+    other = bpy.data.objects["Blob_manifold.001"]
+    other_cache = am.load(bpy.path.abspath(other.animanifold.cache_path))
+    goto(17.5)
+    assert man.modifiers[MODIFIER].node_group == other.modifiers[MODIFIER].node_group
+    assert_shows(man, cache, 17.5)
+    assert_shows(other, other_cache, 17.5)
+    assert modifier_inputs(man)["Start"] == 12 and modifier_inputs(other)["Start"] == 11
+
+
+def test_settings_that_need_every_frame_written_release_the_modifier(demo, writes):
+    man, cache = convert(demo)
+    settings = man.animanifold
+    goto(5.5)
+    # Sweep views: the modifier passes the mesh through; frames do not move the view.
+    settings.axis = "x"
+    assert not modifier_inputs(man)["Active"]
+    sweep = mesh_vertices(shown(man))
+    n = writes["n"]
+    goto(7)
+    assert writes["n"] == n, "a frame change rewrote an unchanged sweep view"
+    np.testing.assert_allclose(mesh_vertices(shown(man)), sweep, atol=0)
+    settings.axis = "t"
+    assert_shows(man, cache, 7)
+    # Custom normals and frame smoothing: written by the handler every frame.
+    settings.live_normals = True
+    goto(8.5)
+    assert not modifier_inputs(man)["Active"]
+    assert_shows(man, cache, 8.5)
+    settings.live_normals = False
+    settings.smooth_levels = 1
+    goto(9.5)
+    assert not modifier_inputs(man)["Active"]
+    assert len(shown(man).polygons) == 4 * len(cache.slice(9.5).faces)
+    settings.smooth_levels = 0
+    goto(10.5)
+    assert modifier_inputs(man)["Active"]
+    assert_shows(man, cache, 10.5)
+    # The user switches the modifier off: the handler writes every frame again.
+    man.modifiers[MODIFIER].show_viewport = False
+    for frame in (3.5, 4.5):
+        goto(frame)
+        np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(frame).vertices, atol=1e-6)
+        assert_shows(man, cache, frame)
+    man.modifiers[MODIFIER].show_viewport = True
+    goto(5.25)
+    assert modifier_inputs(man)["Active"]
+    assert_shows(man, cache, 5.25)
+    # Time Stretching: the Scene Time is no longer the frame the handler slices at.
+    scene = bpy.context.scene
+    scene.render.frame_map_new = 50
+    goto(6.5)
+    assert not modifier_inputs(man)["Active"]
+    assert_shows(man, cache, 6.5)
+    scene.render.frame_map_new = scene.render.frame_map_old
+    goto(7.5)
+    assert modifier_inputs(man)["Active"]
+    assert_shows(man, cache, 7.5)
+
+
+def test_bake_releases_and_back_to_live_drives_again(demo):
+    man, cache = convert(demo)
+    goto(30)
+    assert modifier_inputs(man)["Active"]
+    assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
+    assert not modifier_inputs(man)["Active"]  # the bake shows the frames alone
+    goto(31)
+    np.testing.assert_allclose(mesh_vertices(shown(man)), cache.slice(31).vertices, atol=1e-6)
+    bpy.context.view_layer.objects.active = man
+    assert bpy.ops.animanifold.make_live() == {"FINISHED"}
+    assert modifier_inputs(man)["Active"]
+    goto(32.5)
+    assert_shows(man, cache, 32.5)
+
+
+def test_undo_and_redo(demo):
+    man, cache = convert(demo)
+    goto(5)
+    bpy.ops.ed.undo_push(message="at 5")
+    goto(30)
+    bpy.ops.ed.undo_push(message="at 30")
+    bpy.ops.ed.undo()
+    man = bpy.data.objects["Blob_manifold"]
+    frame = bpy.context.scene.frame_current
+    assert_shows(man, cache, frame)
+    for f in (6, 30.5, 7):
+        goto(f)
+        assert_shows(man, cache, f)
+    bpy.ops.ed.redo()
+    man = bpy.data.objects["Blob_manifold"]
+    goto(29)
+    assert_shows(man, cache, 29)
+
+
+# Fresh python3 + bpy without animanifold: the saved modifier still plays the interval
+# it holds (clamped to it outside: no handler writes the next cut).
+PROBE = r"""
+import json, sys
+import bpy, numpy as np
+blend, frames = sys.argv[1], [float(f) for f in sys.argv[2].split(",")]
+assert "animanifold_blender" not in sys.modules
+bpy.ops.wm.open_mainfile(filepath=blend)
+obj = bpy.data.objects["Blob_manifold"]
+out = {}
+for f in frames:
+    bpy.context.scene.frame_set(int(f), subframe=f - int(f))
+    me = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+    co = np.empty(3 * len(me.vertices), np.float32); me.vertices.foreach_get("co", co)
+    out[f] = co.tolist()
+bpy.ops.wm.read_factory_settings(use_empty=True)
+print("PROBE" + json.dumps(out))
+"""
+
+
+def test_save_and_reload(demo, tmp_path):
+    blend = tmp_path / "live.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend))
+    man, cache = convert(demo)
+    goto(20)
+    bpy.ops.wm.save_mainfile()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    man = bpy.data.objects["Blob_manifold"]
+    assert man.modifiers[MODIFIER].type == "NODES" and modifier_inputs(man)["Active"]
+    groups = len(bpy.data.node_groups)
+    for frame in (20, 21.5, 24, 26.75, 13.5):
+        goto(frame)
+        assert_shows(man, cache, frame)
+    assert len(bpy.data.node_groups) == groups
+    goto(18)
+    bpy.ops.wm.save_mainfile()
+
+    out = run_fresh_blender(PROBE, str(blend), "14.5,18,23.25")
+    line = [ln for ln in out.splitlines() if ln.startswith("PROBE")][-1]
+    probed = {float(k): np.array(v).reshape(-1, 3) for k, v in json.loads(line[5:]).items()}
+    for frame in (14.5, 18.0, 23.25):  # inside the saved interval (12, 24)
+        np.testing.assert_allclose(probed[frame], cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
+
+
+def _render(scene, path) -> np.ndarray:
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(str(path))
+    try:
+        px = np.empty(len(image.pixels), np.float32)
+        image.pixels.foreach_get(px)
+    finally:
+        bpy.data.images.remove(image)
+    return px.reshape(scene.render.resolution_y, scene.render.resolution_x, 4)
+
+
+@pytest.mark.slow
+def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
+    """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
+    written by the handler; with the UVs left as cut, it would not."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    scene = bpy.context.scene
+    for mat in man.data.materials:  # colour = UV: any UV error shows
+        mat.use_nodes = True
+        nodes, links = mat.node_tree.nodes, mat.node_tree.links
+        nodes.clear()
+        coords, emit, out = (nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeEmission"),
+                             nodes.new("ShaderNodeOutputMaterial"))
+        links.new(coords.outputs["UV"], emit.inputs["Color"])
+        links.new(emit.outputs[0], out.inputs["Surface"])
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 2
+    scene.cycles.use_denoising = False
+    if hasattr(scene.cycles, "use_adaptive_sampling"):
+        scene.cycles.use_adaptive_sampling = False
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 64, 48, 100
+    scene.render.threads_mode, scene.render.threads = "FIXED", 2
+    scene.render.film_transparent = True
+    scene.view_settings.view_transform = "Standard"
+    scene.render.image_settings.file_format = "OPEN_EXR"  # floats: small UV differences show
+    scene.render.image_settings.color_depth = "32"
+    frame = 34.5  # inside (24, 36), away from the cut's middle (30)
+    goto(frame)
+    assert modifier_inputs(man)["Active"] and modifier_inputs(man)["Frame"] == 30.0
+    driven = _render(scene, tmp_path / "driven.exr")
+
+    monkeypatch.setattr(live, "can_drive", lambda *a, **k: False)  # the handler writes the frame
+    live.forget_shown()
+    goto(frame)
+    assert not modifier_inputs(man)["Active"]
+    np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(frame).vertices, atol=1e-6)
+    written = _render(scene, tmp_path / "written.exr")
+    assert written[..., 3].max() > 0.5 and (written[..., 3] > 0.5).mean() > 0.1  # the blob is in view
+    assert np.abs(driven - written).max() < 1e-4  # measured 5e-7
+
+    monkeypatch.undo()  # the modifier again, its UV map left as cut (frame 30)
+    live.forget_shown()
+    goto(frame)
+    mod = man.modifiers[MODIFIER]
+    mod[{i.name: i.identifier for i in mod.node_group.interface.items_tree}["Animate UV"]] = False
+    man.update_tag()
+    stale = _render(scene, tmp_path / "stale.exr")
+    assert np.abs(stale - written).max() > 1e-2  # measured 0.04
