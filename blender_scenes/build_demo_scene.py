@@ -1,6 +1,8 @@
 """Builds the demo scene procedurally: a UV sphere with a shape-key animation
 (several keyframes: squash, stretch, twist) and a two-material look, a camera and
-a light. Works with bpy 4.5 (python3) and under `blender -b` (3.4+).
+a light; with morph=True (the script's default) also the pair the main job morphs
+(a UV sphere and a torus beside it, Morph Selected's source and target). Works
+with bpy 4.5 (python3) and under `blender -b` (3.4+).
 
     python3 blender_scenes/build_demo_scene.py [out.blend]
     blender -b --factory-startup --python blender_scenes/build_demo_scene.py -- [out.blend]
@@ -16,6 +18,12 @@ import numpy as np
 
 DEMO_NAME = "Blob"
 FRAME_START, FRAME_END = 1, 48
+MORPH_SOURCE, MORPH_TARGET = "MorphSphere", "MorphTorus"
+MORPH_LOCATION = (3.1, 0.0, 1.0)
+# Morph pair resolution: UV sphere (segments, rings), torus (major, minor segments).
+# The main job's morph and bake take about a second at this size (measured).
+MORPH_SPHERE = (32, 16)
+MORPH_TORUS = (24, 12)
 KEYFRAMES = {  # frame: (squash, stretch, twist) shape key values
     1: (0.0, 0.0, 0.0),
     12: (1.0, 0.0, 0.0),
@@ -36,9 +44,32 @@ def _material(name, color):
     return mat
 
 
-def build_demo_scene(segments: int = 24, rings: int = 12, name: str = DEMO_NAME) -> bpy.types.Object:
+def build_morph_pair(sphere=MORPH_SPHERE, torus=MORPH_TORUS, location=MORPH_LOCATION):
+    """Adds the morph's source and target: a UV sphere of radius 1 and a torus that fits
+    inside it (major radius 0.75, minor 0.25), both closed Blender primitives (quads;
+    Morph Selected triangulates them), turned by their object transforms to show the
+    torus's hole to the camera (the morph aligns inputs by their transforms); returns
+    (sphere, torus)."""
+    material = _material("MorphSkin", (0.2, 0.6, 0.3, 1.0))
+    turn = (math.radians(65), 0.0, math.radians(20))
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=sphere[0], ring_count=sphere[1], radius=1.0,
+                                         location=location, rotation=turn)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add(major_segments=torus[0], minor_segments=torus[1], major_radius=0.75,
+                                     minor_radius=0.25, location=location, rotation=turn)
+    target = bpy.context.active_object
+    for obj, name in ((source, MORPH_SOURCE), (target, MORPH_TARGET)):
+        obj.name = name
+        obj.data.name = name
+        obj.data.materials.append(material)
+    return source, target
+
+
+def build_demo_scene(segments: int = 24, rings: int = 12, name: str = DEMO_NAME, morph: bool = False) -> bpy.types.Object:
     """Adds the animated object to the current scene (and a camera and light when
-    the scene has none); returns the object. segments/rings set its density."""
+    the scene has none); returns the object, selected and active. segments/rings set
+    its density; morph adds the morph pair beside it (build_morph_pair) and frames
+    the camera on both."""
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = FRAME_START, FRAME_END
     scene.frame_set(FRAME_START)
@@ -87,8 +118,13 @@ def build_demo_scene(segments: int = 24, rings: int = 12, name: str = DEMO_NAME)
         if background is not None:
             background.inputs["Color"].default_value = (0.55, 0.6, 0.65, 1.0)
             background.inputs["Strength"].default_value = 0.6
+    if morph:
+        build_morph_pair()
     if not any(o.type == "CAMERA" for o in scene.objects):
-        bpy.ops.object.camera_add(location=(0.0, -7.5, 2.6), rotation=(math.radians(82), 0.0, 0.0))
+        if morph:  # both objects: from further back, centred between them
+            bpy.ops.object.camera_add(location=(MORPH_LOCATION[0] / 2, -10.0, 2.4), rotation=(math.radians(84), 0.0, 0.0))
+        else:
+            bpy.ops.object.camera_add(location=(0.0, -7.5, 2.6), rotation=(math.radians(82), 0.0, 0.0))
         scene.camera = bpy.context.active_object
     if not any(o.type == "LIGHT" for o in scene.objects):
         bpy.ops.object.light_add(type="SUN", location=(3, -3, 6), rotation=(math.radians(40), math.radians(20), 0))
@@ -105,7 +141,7 @@ if __name__ == "__main__":
     else:  # python3 script.py [out.blend]; under blender without "--": no arguments
         argv = sys.argv[1:] if sys.argv and sys.argv[0].endswith(".py") else []
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    build_demo_scene()
+    build_demo_scene(morph=True)
     if argv:
         bpy.ops.wm.save_as_mainfile(filepath=argv[0])
         print(f"demo scene saved to {argv[0]}")

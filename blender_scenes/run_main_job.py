@@ -1,7 +1,9 @@
 """The main job, headless: build the demo scene, convert its shape-key action into
-an animation manifold, bake it (node group; Alembic where this Blender has it),
-save the .blend, and render a contact sheet of several frames with Cycles on the
-CPU. Everything lands in out/ (or the folder given).
+an animation manifold, morph the scene's sphere into its torus (Morph Selected,
+over the scene's frame range), bake both manifolds (node group; Alembic where
+this Blender has it), save the .blend, and render a contact sheet of several
+frames with Cycles on the CPU (the keyframe demo and the morph side by side in
+each frame). Everything lands in out/ (or the folder given).
 
     python3 blender_scenes/run_main_job.py [--out out] [--frames 1,8,...]      # bpy 4.5
     blender -b --factory-startup --python-exit-code 1 --python blender_scenes/run_main_job.py -- [--out out]
@@ -28,9 +30,9 @@ for p in (str(ROOT / "python"), str(ROOT / "addon"), str(HERE)):
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-from build_demo_scene import DEMO_NAME, build_demo_scene  # noqa: E402
+from build_demo_scene import DEMO_NAME, MORPH_SOURCE, MORPH_TARGET, build_demo_scene  # noqa: E402
 
-CONTACT_FRAMES = (1, 7, 12, 18, 24, 30, 36, 42)
+CONTACT_FRAMES = (1, 7, 12, 18, 24, 30, 36, 48)  # the keyframes, and both ends of the morph
 
 
 def _args():
@@ -45,6 +47,7 @@ def _args():
                         help="Convert's sampling: the action's keyframes, or every --step frames (smoother in-betweens)")
     parser.add_argument("--step", type=int, default=3)
     parser.add_argument("--segments", type=int, default=48, help="density of the demo sphere")
+    parser.add_argument("--no-morph", dest="morph", action="store_false", help="leave out the sphere → torus morph")
     return parser.parse_args(argv)
 
 
@@ -52,6 +55,44 @@ def _run(op, **kwargs):
     result = op(**kwargs)
     if "FINISHED" not in result:
         raise SystemExit(f"main job: {op.idname_py()} returned {result}")
+
+
+def _activate(*objects):
+    """Selects `objects`, the last one active (Morph Selected's target, Bake's object)."""
+    view_layer = bpy.context.view_layer
+    for obj in view_layer.objects:
+        obj.select_set(False)
+    for obj in objects:
+        obj.select_set(True)
+    view_layer.objects.active = objects[-1]
+
+
+def morph_demo(bake_kwargs) -> dict:
+    """Morph Selected from the sphere to the torus over the scene range, then Bake; the report."""
+    import animanifold_blender
+    from animanifold_blender import ops_morph
+
+    source, target = bpy.data.objects[MORPH_SOURCE], bpy.data.objects[MORPH_TARGET]
+    t = time.perf_counter()
+    _activate(source, target)
+    _run(bpy.ops.animanifold.morph_selected, method=ops_morph.BEST_METHOD.upper())
+    morph = bpy.context.active_object
+    manifold = animanifold_blender.live.manifold_for(morph)
+    validity = manifold.validity
+    report = {"seconds": round(time.perf_counter() - t, 3), "object": morph.name, "method": ops_morph.BEST_METHOD,
+              "cache": morph.animanifold.cache_path, "tets": int(len(manifold.simplices)),
+              "inputs": {o.name: {"vertices": len(o.data.vertices), "faces": len(o.data.polygons)} for o in (source, target)},
+              "stage_seconds": dict(validity.get("stage_seconds", [])),
+              "ends_reproduced": bool(validity["ends_reproduced"]),
+              "end_distances": [validity["source_distance"], validity["target_distance"]],
+              "inverted_simplices": int(validity["inverted_simplices"]),
+              "oriented_manifold": bool(manifold.check()["is_oriented_manifold"])}
+    t = time.perf_counter()
+    _activate(morph)
+    _run(bpy.ops.animanifold.bake, **bake_kwargs)
+    report["bake_seconds"] = round(time.perf_counter() - t, 3)
+    report["bake_collection"] = morph.animanifold.bake_collection.name
+    return report
 
 
 def render_contact_sheet(scene, frames, out: Path, resolution, samples) -> Path:
@@ -109,11 +150,12 @@ def main() -> int:
     import animanifold_blender
 
     report = {"blender": bpy.app.version_string}
+    began = time.perf_counter()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     animanifold_blender.register()
     try:
         t = time.perf_counter()
-        src = build_demo_scene(segments=args.segments, rings=args.segments // 2)
+        src = build_demo_scene(segments=args.segments, rings=args.segments // 2, morph=args.morph)
         blend = out / "animanifold_demo.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(blend))
         report["source"] = {"name": src.name, "vertices": len(src.data.vertices), "faces": len(src.data.polygons)}
@@ -132,6 +174,9 @@ def main() -> int:
         _run(bpy.ops.animanifold.bake, **bake_kwargs)
         report["bake"] = {"seconds": round(time.perf_counter() - t, 3), "frames": [scene.frame_start, scene.frame_end],
                           "collection": man.animanifold.bake_collection.name, "alembic": bake_kwargs["alembic"]}
+
+        if args.morph:
+            report["morph"] = morph_demo(bake_kwargs)
         bpy.ops.wm.save_mainfile()
         report["blend"] = str(blend)
 
@@ -139,6 +184,7 @@ def main() -> int:
         sheet = render_contact_sheet(scene, frames, out, (w, h), args.samples)
         report["render"] = {"seconds": round(time.perf_counter() - t, 3), "frames": frames, "contact_sheet": str(sheet),
                             "engine": "CYCLES (CPU)", "samples": args.samples, "resolution": [w, h]}
+        report["seconds"] = round(time.perf_counter() - began, 3)
         (out / "main_job.json").write_text(json.dumps(report, indent=2))
         print(json.dumps(report, indent=2))
     finally:

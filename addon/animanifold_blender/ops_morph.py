@@ -5,17 +5,28 @@ object that is the source at the start frame and the target at the end
 frame, in world space (the objects' transforms align them), played live and
 baked like a converted action. Validity (§8.3) is checked and reported; the
 sources are hidden, never changed; on failure nothing is added.
+
+The core morphs over a time span proportional to the shapes' size
+(TIME_SPAN × the bounding-box diagonal), not over the frame numbers: its
+flatness tolerances are relative to the longest edge of a simplex, time
+included, so a span of tens of frames next to a shape a few units across
+made every simplex across the two inputs "flat". The Delaunay fill of two
+parallel layers does not depend on their distance, so the result is the
+same combinatorial morph; its time axis is then mapped linearly (a positive
+scale: orientations are kept) onto the frame range, ends exact.
 """
 
 from __future__ import annotations
 
+import importlib
 import os
 import tempfile
+import time
 import uuid
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, IntProperty
+from bpy.props import BoolProperty, EnumProperty, IntProperty
 from bpy.types import Operator
 
 from . import live, live_nodes
@@ -23,7 +34,44 @@ from ._lib import am
 from .ops_skeleton import closed_triangle_mesh
 from .operators import _unique_object_name
 
-STAGES = ("conforming", "fill", "strip", "boundary", "validity")
+TIME_SPAN = 0.1  # the core's time span, as a fraction of the inputs' bounding-box diagonal (see above)
+
+# The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
+# the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not.
+METHODS = tuple(getattr(importlib.import_module(am.morph.__module__), "METHODS", ("strip",)))
+BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
+_METHOD_TEXT = {
+    "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
+                             "handles shapes of different genus"),
+    "strip": ("Strip", "Conforming fill and stripping only (§8.5): exact for shapes of the same topology, "
+                       "in-between frames may pinch when the genus changes"),
+}
+METHOD_ITEMS = tuple((m.upper(), *_METHOD_TEXT.get(m, (m.title(), f"The core's '{m}' method")))
+                     for m in sorted(METHODS, key=lambda m: m != BEST_METHOD))
+
+
+class _Stages:
+    """The progress bar (0–100) through reading the inputs (0–5), the core's stages
+    (5–85: it reports each one as it finishes, with the fraction of the whole
+    done), saving the cache and making the object; `where` names the stage
+    running, for the failure report."""
+
+    def __init__(self, wm):
+        self.wm = wm
+        self.where = "reading the inputs"
+        wm.progress_begin(0, 100)
+
+    def __call__(self, finished: str, fraction: float) -> bool:
+        self.where = f"after the core's {finished} stage"
+        self.wm.progress_update(5.0 + 80.0 * min(max(float(fraction), 0.0), 1.0))
+        return True  # never cancels
+
+    def at(self, where: str, value: float) -> None:
+        self.where = where
+        self.wm.progress_update(value)
+
+    def end(self) -> None:
+        self.wm.progress_end()
 
 
 def world_mesh(context, obj) -> tuple[np.ndarray, np.ndarray]:
@@ -33,6 +81,27 @@ def world_mesh(context, obj) -> tuple[np.ndarray, np.ndarray]:
     if np.linalg.det(m[:3, :3]) < 0:  # a mirroring transform turns the faces inside out
         faces = faces[:, [1, 0, 2]]
     return world, np.ascontiguousarray(faces, dtype=np.int32)
+
+
+def euler_characteristic(faces: np.ndarray) -> int:
+    """V - E + F of a closed triangle mesh (2 - 2·genus per component)."""
+    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    return int(len(np.unique(faces)) - len(np.unique(edges, axis=0)) + len(faces))
+
+
+def retime(manifold, span: float, start: float, end: float):
+    """`manifold` (time 0…span) with its time axis mapped linearly onto start…end, the
+    end planes exactly on start and end (a positive scale keeps every orientation)."""
+    points = np.array(manifold.points, dtype=np.float64)
+    t = points[:, -1]
+    mapped = start + (end - start) * (t / span)
+    mapped[t <= 0.0] = start
+    mapped[t >= span] = end
+    points[:, -1] = mapped
+    metadata = dict(manifold.metadata)
+    metadata["morph"] = dict(metadata.get("morph", {}), t0=float(start), t1=float(end), solved_time_span=float(span))
+    return am.AnimationManifold.from_arrays(points, manifold.simplices, manifold.vertex_attributes,
+                                           manifold.simplex_attributes, metadata)
 
 
 def cache_path_for(name: str) -> tuple[str, str, str | None]:
@@ -56,9 +125,12 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
     bl_label = "Morph Selected"
     bl_options = {"REGISTER", "UNDO"}
 
-    use_scene_range: BoolProperty(name="Scene Range", default=True)
-    frame_start: IntProperty(name="Start", default=1)
-    frame_end: IntProperty(name="End", default=48)
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default=BEST_METHOD.upper(),
+                         description="How the core builds the morph (the best available is the default)")
+    use_scene_range: BoolProperty(name="Scene Range", default=True,
+                                  description="Morph over the scene's frame range (else Start–End)")
+    frame_start: IntProperty(name="Start", default=1, description="Frame where the morph is the source")
+    frame_end: IntProperty(name="End", default=48, description="Frame where the morph is the target")
 
     @classmethod
     def poll(cls, context):
@@ -71,28 +143,45 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return False
         return True
 
+    def draw(self, context):
+        layout = self.layout
+        layout.prop(self, "method")
+        layout.prop(self, "use_scene_range")
+        row = layout.row(align=True)
+        row.enabled = not self.use_scene_range
+        row.prop(self, "frame_start")
+        row.prop(self, "frame_end")
+
     def execute(self, context):
         target = context.active_object
-        source = next(o for o in context.selected_objects if o is not target)
+        # the other selected mesh (other selected objects, a camera or an empty, play no part)
+        source = next(o for o in context.selected_objects if o.type == "MESH" and o is not target)
         scene = context.scene
         start, end = (scene.frame_start, scene.frame_end) if self.use_scene_range else (self.frame_start, self.frame_end)
         if end <= start:
-            self.report({"ERROR"}, f"the frame range {start}–{end} is empty: the end frame must be after the start")
+            self.report({"ERROR"}, f"Morph failed: the frame range {start}–{end} is empty: "
+                                   "the end frame must be after the start")
             return {"CANCELLED"}
+        method = self.method.lower()
         name = _unique_object_name(f"{source.name}_to_{target.name}")
         stored, absolute, note = cache_path_for(name)
-        wm = context.window_manager
-        wm.progress_begin(0, len(STAGES) + 1)
+        progress = _Stages(context.window_manager)
         created = []
+        began = time.perf_counter()
         try:
             vs, fs = world_mesh(context, source)
             vt, ft = world_mesh(context, target)
-            manifold = am.morph((vs, fs), (vt, ft), t0=float(start), t1=float(end),
-                                progress=lambda stage, fraction: wm.progress_update(int(fraction * len(STAGES))) or True)
+            both = np.vstack([vs, vt])
+            span = TIME_SPAN * (float(np.linalg.norm(both.max(axis=0) - both.min(axis=0))) or 1.0)
+            progress.at("in the core's conforming and fill stages", 5.0)
+            solved = am.morph((vs, fs), (vt, ft), t0=0.0, t1=span, method=method, progress=progress)
+            progress.at("saving the cache", 88.0)
+            manifold = retime(solved, span, float(start), float(end))
             manifold.metadata.update({"source_object": source.name, "target_object": target.name,
                                       "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
             am.save(manifold, absolute)
             created.append(absolute)
+            progress.at("making the object", 94.0)
             new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end)
         except ValueError as e:  # the core names the input and what is wrong with it
             self._undo(created)
@@ -101,22 +190,31 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return {"CANCELLED"}
         except Exception as e:  # the mesher or Qhull failed, or a bug: report, nothing left behind
             self._undo(created)
-            self.report({"ERROR"}, f"Morph failed: {type(e).__name__}: {e}")
+            self.report({"ERROR"}, f"Morph failed {progress.where}: {type(e).__name__}: {e}")
             return {"CANCELLED"}
         finally:
-            wm.progress_end()
+            progress.end()
 
         validity = manifold.validity
         if note:
             self.report({"WARNING"}, note)
+        chi_s, chi_t = euler_characteristic(fs), euler_characteristic(ft)
+        topology = "" if chi_s == chi_t else (f"'{source.name}' (Euler characteristic {chi_s}) and '{target.name}' "
+                                              f"({chi_t}) differ in topology")
+        skeleton_hint = ("the skeleton method of §8.6 handles that: choose Method: Skeleton" if "skeleton" in METHODS
+                         else "that needs the skeleton method of §8.6, which this build does not have yet")
         if not validity["ends_reproduced"] or validity["inverted_simplices"]:
+            hint = f" ({topology}: {skeleton_hint})" if topology and method == "strip" else ""
             self.report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
                                      f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
-                                     f"{validity['inverted_simplices']} inverted simplices")
+                                     f"{validity['inverted_simplices']} inverted simplices{hint}")
         if not manifold.check()["is_oriented_manifold"]:
-            self.report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface): shapes of "
-                                     "different topology need the skeleton method of §8.6, which is not available yet")
-        self.report({"INFO"}, f"'{new.name}': {len(manifold.simplices)} tets, frames {start}–{end}, cache {stored}")
+            hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
+                    else f" (the {method} method did not give a clean manifold for these shapes)")
+            self.report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface){hint}")
+        stages = ", ".join(f"{stage} {seconds:.2f}" for stage, seconds in validity.get("stage_seconds", []))
+        self.report({"INFO"}, f"'{new.name}': {method} morph, {len(manifold.simplices)} tets, frames {start}–{end}, "
+                              f"{time.perf_counter() - began:.2f} s ({stages}), cache {stored}")
         return {"FINISHED"}
 
     @staticmethod
