@@ -52,3 +52,54 @@ def polygon(n: int, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     v = radius * np.stack([np.cos(a), np.sin(a)], 1)
     e = np.stack([np.arange(n), (np.arange(n) + 1) % n], 1).astype(np.int32)
     return v, e
+
+
+def torus(major: float = 1.0, minor: float = 0.4, n: int = 24, m: int = 12) -> tuple[np.ndarray, np.ndarray]:
+    """Torus of revolution about z (genus 1, Euler characteristic 0), outward faces."""
+    u = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    w = np.linspace(0, 2 * np.pi, m, endpoint=False)
+    uu, ww = np.meshgrid(u, w, indexing="ij")
+    v = np.stack([(major + minor * np.cos(ww)) * np.cos(uu), (major + minor * np.cos(ww)) * np.sin(uu),
+                  minor * np.sin(ww)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
+    a, b = i * m + j, ((i + 1) % n) * m + j
+    c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
+    f = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return v, f.astype(np.int32)
+
+
+def voxel_surface(filled: np.ndarray, size: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Boundary of a union of unit voxels (`filled`: a 3D bool array) as outward triangles.
+
+    The caller keeps voxels from touching along an edge or a corner only (the
+    surface would not be a manifold there)."""
+    filled = np.pad(np.asarray(filled, bool), 1)
+    ids: dict[tuple[int, int, int], int] = {}
+    faces = []
+
+    def vertex(p):
+        return ids.setdefault(tuple(int(x) for x in p), len(ids))
+
+    for axis in range(3):
+        step = np.eye(3, dtype=int)[axis]
+        u, w = np.eye(3, dtype=int)[(axis + 1) % 3], np.eye(3, dtype=int)[(axis + 2) % 3]
+        for cell in np.argwhere(filled):
+            for sign in (1, -1):
+                if filled[tuple(cell + sign * step)]:
+                    continue
+                base = cell + (step if sign > 0 else 0)
+                quad = [base, base + u, base + u + w, base + w]  # counter-clockwise seen from +axis
+                if sign < 0:
+                    quad = quad[::-1]
+                q = [vertex(p) for p in quad]
+                faces += [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
+    v = np.array(sorted(ids, key=ids.get), float) * size
+    return v, np.array(faces, np.int32)
+
+
+def genus3_plate() -> tuple[np.ndarray, np.ndarray]:
+    """A 7 x 3 x 1 voxel plate with three square holes: genus 3 (Euler characteristic -4)."""
+    filled = np.ones((7, 3, 1), bool)
+    filled[[1, 3, 5], 1, 0] = False
+    v, f = voxel_surface(filled, 0.5)
+    return v - v.mean(0), f
