@@ -316,6 +316,26 @@ def test_morph_writes_a_manifold_that_starts_and_ends_as_the_inputs(capsys, tmp_
     assert_user_error(code, err, "target is open")
 
 
+def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
+    from shapes import torus
+
+    v, f = icosphere(2)
+    am.write_mesh(tmp_path / "s.obj", 1.5 * v, f)
+    am.write_mesh(tmp_path / "t.obj", *torus(n=16, m=8))
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o",
+                         str(tmp_path / "m"), "--frames", "3", "--max-push", "0.3")
+    assert code == 0, err
+    assert "ends reproduced: True" in out and "free vertices pushed" in out and "warning" not in err
+    m = am.load(tmp_path / "m" / "morph.amf")
+    assert m.metadata["morph"]["method"] == "skeleton" and m.validity["target_push"][2] <= 0.3
+    last, faces = am.read_mesh(tmp_path / "m" / "frames" / "frame_0002.obj")
+    assert len(np.unique(faces)) - len(np.unique(np.sort(np.concatenate([faces[:, :2], faces[:, 1:], faces[:, ::2]]), 1),
+                                                 axis=0)) + len(faces) == 0  # a torus
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "x"),
+                         "--max-push", "2")
+    assert_user_error(code, err, "--max-push must lie between 0 and 1")
+
+
 def test_skeleton_sub_command_is_wired_in(capsys, tmp_path):
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "ball.obj", v * [2.0, 1.0, 1.0], f)

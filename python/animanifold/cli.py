@@ -26,7 +26,7 @@ from .cache import load, save
 from .manifold import AXES, AnimationManifold, axis_index, stitch
 from . import cli_skeleton
 from .meshio import read_mesh, write_mesh
-from .morph import morph
+from .morph import METHODS, morph
 
 PROG = "animanifold"
 EXIT_USER_ERROR = 2
@@ -357,8 +357,10 @@ def build_parser() -> argparse.ArgumentParser:
         run_morph,
         "two closed meshes -> a morph manifold (and frames)",
         "Builds an animation manifold that is SOURCE at t0 and TARGET at t1 by filling the space between "
-        "them with a Delaunay triangulation and stripping it (chapters 5 and 8), saves it, and with "
-        "--frames writes N frames. Prints the validity report of §8.3.",
+        "them with a Delaunay triangulation (chapters 5 and 8): with the skeleton method (default) the "
+        "shapes' external skeletons are pushed into time, so shapes of any genus morph through closed "
+        "surfaces; 'strip' only removes what lies outside them. Saves it, and with --frames writes N "
+        "frames. Prints the validity report of §8.3.",
     )
     p.add_argument("source", help="closed, outward-oriented triangle mesh at t0")
     p.add_argument("target", help="closed, outward-oriented triangle mesh at t1")
@@ -367,6 +369,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--t0", type=float, default=0.0, help="time of the source (default 0)")
     p.add_argument("--t1", type=float, default=1.0, help="time of the target (default 1)")
     p.add_argument("--format", choices=FRAME_FORMATS, default="obj", help="frame format (default obj)")
+    p.add_argument("--method", choices=METHODS, default=METHODS[0], help=f"morph method (default {METHODS[0]})")
+    p.add_argument("--max-push", type=float, default=0.45,
+                   help="skeleton method: how far into the morph holes close and open, as a fraction of t1 - t0 "
+                        "(default 0.45)")
 
     sub = cli_skeleton.add_parser(commands)
     sub.set_defaults(run=cli_skeleton.run)
@@ -377,7 +383,9 @@ def run_morph(args: argparse.Namespace) -> int:
     if args.frames < 0:
         raise UserError(f"--frames must be >= 0, got {args.frames}")
     source, target = read_mesh(args.source), read_mesh(args.target)
-    manifold = morph(source, target, t0=args.t0, t1=args.t1,
+    if not 0 < args.max_push < 1:
+        raise UserError(f"--max-push must lie between 0 and 1, got {args.max_push}")
+    manifold = morph(source, target, t0=args.t0, t1=args.t1, method=args.method, max_push=args.max_push,
                      progress=lambda stage, fraction: print(f"  {stage} done ({fraction:.0%})", file=sys.stderr) or True)
     folder = Path(args.output)
     folder.mkdir(parents=True, exist_ok=True)
@@ -385,11 +393,16 @@ def run_morph(args: argparse.Namespace) -> int:
     report = manifold.validity
     print(f"morph: {len(manifold.simplices)} tets; ends reproduced: {report['ends_reproduced']} "
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
-          f"inverted simplices: {report['inverted_simplices']}; stripped {report['stripped_simplices']} "
-          f"of {report['fill_simplices']}")
+          f"inverted simplices: {report['inverted_simplices']}; " + (
+              f"stripped {report['stripped_simplices']} of {report['fill_simplices']}" if args.method == "strip" else
+              f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
+              f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)"))
+    if not report["ends_reproduced"]:
+        print(f"{PROG}: warning: the end frames are not the inputs (see the distances above)", file=sys.stderr)
     if not manifold.check()["is_oriented_manifold"]:
-        print(f"{PROG}: warning: some in-between frames pinch (not a clean surface): shapes of different topology "
-              "need the skeleton method of §8.6, which is not available yet", file=sys.stderr)
+        print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
+              ("; the skeleton method (--method skeleton) avoids that" if args.method == "strip" else ""),
+              file=sys.stderr)
     if args.frames:
         frames = folder / "frames"
         frames.mkdir(exist_ok=True)
