@@ -103,3 +103,29 @@ def test_bad_input_is_refused(rng):
         _core.conforming_delaunay_3d(rng.random((10, 3)), np.array([[0, 1, 99]], np.int32))
     with pytest.raises(ValueError, match="point 2 coincides with point 0"):
         _core.conforming_delaunay_2d(np.array([[0.0, 0], [1, 0], [0, 0], [0, 1]]), np.array([[0, 1]], np.int32))
+
+
+def test_exact_delaunay_agrees_with_qhull_on_points_in_general_position():
+    rng = np.random.default_rng(7)
+    for d in (3, 4):
+        points = rng.normal(size=(300, d))
+        exact, flat, _ = _core.delaunay_exact(points)
+        qhull, _, _ = _core.delaunay(points)
+        assert flat == 0
+        assert {tuple(sorted(s)) for s in exact} == {tuple(sorted(s)) for s in qhull}
+        edges = points[exact[:, 1:]] - points[exact[:, :1]]
+        assert (np.linalg.det(edges) > 0).all()  # positively oriented
+    with pytest.raises(ValueError, match="points 0 and 5 coincide"):
+        _core.delaunay_exact(np.vstack([points[:5], points[:1]]))
+
+
+def test_exact_delaunay_of_two_parallel_planes_keeps_both_triangulations():
+    """A morph's fill: every cell of each plane's own Delaunay triangulation is a facet (Theorem 5.2.1)."""
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(60, 3)), rng.normal(size=(50, 3)) * 0.7
+    points = np.vstack([np.c_[a, np.zeros(60)], np.c_[b, np.ones(50)]])
+    simplices, flat, _ = _core.delaunay_exact(points)
+    assert flat == 0
+    for offset, plane in ((0, a), (60, b)):
+        cells, _, _ = _core.delaunay_exact(plane)
+        assert len(_core.missing_facets(simplices, (cells + offset).astype(np.int32))) == 0

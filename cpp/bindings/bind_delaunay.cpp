@@ -29,6 +29,17 @@ void bind_delaunay(py::module_& m) {
           return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
         },
         py::arg("points"), "(simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).");
+  m.def(
+      "delaunay_exact",
+      [](PointsRef points) {
+        DelaunayTriangulation dt;
+        {
+          py::gil_scoped_release release;
+          dt = delaunay_exact(points);
+        }
+        return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
+      },
+      py::arg("points"), "(simplices, flat_count, flat_simplices): Delaunay triangulation in R^3 or R^4 (CGAL).");
   m.def("conforming_delaunay_3d",
         [](PointsRef points, SimplicesRef faces) {
           ConformingDelaunay c;

@@ -8,7 +8,7 @@ void bind_morph(py::module_& m) {
   m.def(
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
-         py::object progress, double max_push, double push_safety, int push_sweeps) {
+         py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -16,6 +16,7 @@ void bind_morph(py::module_& m) {
         options.max_push = max_push;
         options.push_safety = push_safety;
         options.push_sweeps = push_sweeps;
+        options.fill = fill;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -56,7 +57,7 @@ void bind_morph(py::module_& m) {
       py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
       py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
       py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
-      py::arg("push_sweeps") = MorphOptions{}.push_sweeps,
+      py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
       "Morph between two closed shapes: (manifold Complex, validity report dict).");
   py::register_exception<Cancelled>(m, "Cancelled");
   m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),

@@ -81,6 +81,8 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   const bool skeleton_method = options.method == "skeleton";
   if (!skeleton_method && options.method != "strip")
     fail<InputError>("unknown morph method '", options.method, "': use 'skeleton' or 'strip'");
+  if (options.fill != "cgal" && options.fill != "qhull")
+    fail<InputError>("unknown fill triangulation '", options.fill, "': use 'cgal' or 'qhull'");
   if (!(options.max_push > 0 && options.max_push < 1)) fail<InputError>("max_push must lie in (0, 1), got ", options.max_push);
   if (!(options.push_safety > 0 && options.push_safety < 1))
     fail<InputError>("push_safety must lie in (0, 1), got ", options.push_safety);
@@ -159,7 +161,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
       for (int c = 0; c < d; ++c) P(v, c) += nudge(rng);
     for (Index v = nS + VT.rows() + KT.rows(); v < nS + nT; ++v)
       for (int c = 0; c < d; ++c) P(v, c) += nudge(rng);
-    fill = delaunay(P);
+    fill = options.fill == "qhull" ? delaunay(P) : delaunay_exact(P);
     target_constraints = T.fill.constraints.array() + nS;
     report.perturbation = scale;
     // Flat simplices within one input's plane are harmless (they add

@@ -21,6 +21,7 @@ def morph(
     progress: Callable[[str, float], bool] | None = None,
     max_push: float = 0.45,
     push_safety: float = 0.5,
+    fill: str = "cgal",
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -35,7 +36,8 @@ def morph(
     shape — ambiguous where the genus changes (frames can pinch). Skeleton
     options: free points move up to `max_push` of the time span into the
     morph, each as far as `push_safety` of the move that would flatten one of
-    its simplices.
+    its simplices. fill: the Delaunay triangulation of the fill, "cgal" (fast)
+    or "qhull".
 
     The result's `validity` (also kept in its metadata) is the report of §8.3:
     Theorem 5.2.1's missing faces, inverted/degenerate simplices, and how far
@@ -54,8 +56,9 @@ def morph(
             raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
         arrays += [v, np.ascontiguousarray(f, dtype=np.int32)]
     complex_, report = _core.morph(*arrays, t0=float(t0), t1=float(t1), method=method, progress=progress,
-                                   max_push=float(max_push), push_safety=float(push_safety))
+                                   max_push=float(max_push), push_safety=float(push_safety), fill=fill)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
-    return AnimationManifold(complex_, metadata={"morph": {"method": method, "t0": float(t0), "t1": float(t1)},
+    return AnimationManifold(complex_, metadata={"morph": {"method": method, "fill": fill, "t0": float(t0),
+                                                           "t1": float(t1)},
                                                  "validity": report})
