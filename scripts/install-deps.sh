@@ -8,6 +8,7 @@ APT_PACKAGES=(
   pybind11-dev libeigen3-dev libsuitesparse-dev libcgal-dev
   libtet1.5-dev libqhull-dev libosd-dev libgtest-dev
   blender python3-numpy
+  libopenvdb-dev  # only for the opt-in peer of bench/bench_morph.py (~5 MB with its -dev deps)
 )
 PIP_PACKAGES=(
   "numpy<2" pytest hypothesis matplotlib scikit-build-core pybind11

@@ -1,0 +1,97 @@
+"""The measuring helpers of bench/bench_morph.py (not its timings): exact
+point-to-mesh distances, Hausdorff distances and topology on tiny meshes."""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from shapes import icosphere
+
+_spec = importlib.util.spec_from_file_location(
+    "bench_morph", Path(__file__).resolve().parents[1] / "bench" / "bench_morph.py")
+bench = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(bench)
+
+
+def torus(n_major=12, n_minor=8, R=2.0, r=0.6):
+    u, v = np.meshgrid(np.arange(n_major) * 2 * np.pi / n_major, np.arange(n_minor) * 2 * np.pi / n_minor, indexing="ij")
+    x = np.stack([(R + r * np.cos(v)) * np.cos(u), (R + r * np.cos(v)) * np.sin(u), r * np.sin(v)], -1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(n_major), np.arange(n_minor), indexing="ij")
+    a, b = i * n_minor + j, (i + 1) % n_major * n_minor + j
+    c, d = (i + 1) % n_major * n_minor + (j + 1) % n_minor, i * n_minor + (j + 1) % n_minor
+    return x, np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
+def brute_force_distance(points, vertices, faces):
+    tri = vertices[faces]
+    rows = np.repeat(np.arange(len(points)), len(faces))
+    cols = np.tile(np.arange(len(faces)), len(points))
+    p = points[rows]
+    q = bench.closest_points_on_triangles(p, tri[cols, 0], tri[cols, 1], tri[cols, 2])
+    return np.linalg.norm(q - p, axis=1).reshape(len(points), len(faces)).min(1)
+
+
+def with_a_large_face(shape):
+    """The mesh plus one triangle far larger than its faces (measured apart)."""
+    v, f = shape
+    return np.concatenate([v, [[-3.0, -3, 1.5], [3, -3, 1.5], [0, 4, 1.5]]]), np.concatenate([f, [len(v) + np.arange(3)]])
+
+
+@pytest.mark.parametrize("shape", [icosphere(2), torus(), with_a_large_face(icosphere(2))])
+def test_pruned_distance_is_the_exact_distance_to_the_mesh(shape, rng):
+    v, f = shape
+    points = np.concatenate([rng.uniform(v.min(0) - 1, v.max(0) + 1, (300, 3)), bench.surface_samples(v, f)])
+    d = bench.distance_to_mesh(points, v, f, chunk=97)
+    np.testing.assert_allclose(d, brute_force_distance(points, v, f), rtol=0, atol=1e-12)
+    # the closest point of a face to its own corners, edges and centre is itself
+    assert d[300:].max() < 1e-12
+
+
+def test_closest_point_regions():
+    a, b, c = np.array([[0.0, 0, 0]]), np.array([[1.0, 0, 0]]), np.array([[0.0, 1, 0]])
+    cases = {(0.2, 0.2, 3.0): (0.2, 0.2, 0), (-1, -1, 0): (0, 0, 0), (2, -1, 0): (1, 0, 0), (-1, 2, 0): (0, 1, 0),
+             (0.5, -1, 1): (0.5, 0, 0), (-1, 0.5, 0): (0, 0.5, 0), (1, 1, -2): (0.5, 0.5, 0)}
+    for p, q in cases.items():
+        np.testing.assert_allclose(bench.closest_points_on_triangles(np.array([p], float), a, b, c)[0], q, atol=1e-15)
+
+
+def test_hausdorff_of_a_sphere_and_a_larger_copy():
+    v, f = icosphere(2)
+    assert max(bench.hausdorff(v, f, v, f)) < 1e-15
+    a, b = bench.hausdorff(1.1 * v, f, v, f)
+    # The polytope is inscribed in its sphere, so an outer vertex's nearest
+    # point is the inner vertex on its ray, 0.1 away; edge midpoints and face
+    # centres are nearer.
+    assert a == pytest.approx(0.1, abs=1e-12)
+    # Inner samples lie inside the outer (convex) polytope: their distance to
+    # it is the smallest distance to its face planes.
+    tri = 1.1 * v[f]
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    offsets = np.einsum("ij,ij->i", n, tri[:, 0])
+    inner = bench.surface_samples(v, f)
+    assert b == pytest.approx((offsets[None, :] - inner @ n.T).min(1).max(), abs=1e-12)
+    assert 0.09 < b < 0.1
+
+
+def test_topology_of_closed_open_and_higher_genus_meshes():
+    v, f = icosphere(1)
+    t = bench.topology(v, f)
+    assert t["closed"] and t["oriented"] and (t["chi"], t["components"], t["genus"]) == (2, 1, 0)
+    t = bench.topology(v, f[1:])
+    assert not t["closed"] and t["boundary_edges"] == 3 and t["genus"] is None
+    tv, tf = torus()
+    t = bench.topology(np.concatenate([v, tv]), np.concatenate([f, tf + len(v)]))
+    assert t["closed"] and (t["chi"], t["components"], t["genus"]) == (2, 2, 1)
+
+
+def test_stage_rows_merge_the_seeds_stages_in_place():
+    assert bench.stage_rows(["conforming", "fill", "strip", "boundary", "validity"]) == [
+        "conforming", "find", "fill", "push", "strip", "boundary", "validity"]
+    assert bench.stage_rows([]) == list(bench.SEED_ORDER)
+    assert bench.stage_rows(["skeleton", "conforming", "fill", "push", "strip"])[:4] == [
+        "skeleton", "conforming", "find", "fill"]
