@@ -107,6 +107,21 @@ def test_open_inside_out_and_non_manifold_inputs_are_refused():
         _core.morph(np.array([[0.0, 0], [1, 0], [0, 1]]), np.array([[0, 1], [1, 2]], np.int32), v[:, :2], f[:, :2])
 
 
+def test_self_intersecting_inputs_are_refused_naming_two_crossing_faces():
+    v, f = icosphere(1)
+    overlapping = np.vstack([v, v + [0.5, 0, 0]]), np.vstack([f, f + len(v)]).astype(np.int32)
+    with pytest.raises(ValueError, match=r"target intersects itself \(faces \d+ and \d+ cross\)"):
+        _core.morph(v, f, *overlapping)
+    a = np.linspace(0, 2 * np.pi, 5, endpoint=False)
+    pentagram = np.stack([np.cos(a), np.sin(a)], 1)[[0, 2, 4, 1, 3]]
+    edges = np.stack([np.arange(5), (np.arange(5) + 1) % 5], 1).astype(np.int32)
+    with pytest.raises(ValueError, match="source intersects itself"):
+        _core.morph(pentagram, edges, *polygons(blob(12, 1.0, (0, 0))))
+    # touching neighbours are not crossings
+    m, report = morph(polygons(blob(12, 1.0, (0, 0))), polygons(blob(10, 0.8, (0.1, 0))))
+    assert report["ends_reproduced"]
+
+
 def test_progress_reports_stages_and_can_cancel():
     v, f = icosphere(1)
     for method, expected in [("skeleton", ["skeleton", "conforming", "fill", "push", "boundary", "validity"]),

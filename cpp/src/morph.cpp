@@ -3,6 +3,7 @@
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/morph_skeleton.hpp"
+#include "animanifold/self_intersection.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
 
@@ -57,6 +58,10 @@ void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char
   }
   if (volume <= 0)
     fail<InputError>("the ", name, " is inside out (its faces point inward): flip its normals");
+  const auto crossing = self_intersections(V, F, 1);
+  if (!crossing.empty())
+    fail<InputError>("the ", name, " intersects itself (faces ", crossing[0].first, " and ", crossing[0].second,
+                     " cross): a morph needs shapes that do not overlap themselves");
 }
 
 }  // namespace
