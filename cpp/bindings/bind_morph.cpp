@@ -45,6 +45,7 @@ void bind_morph(py::module_& m) {
         report["source_push"] = r.source_push;
         report["target_push"] = r.target_push;
         report["push_degenerate"] = r.push_degenerate;
+        report["held_back_vertices"] = r.held_back_vertices;
         report["min_volume"] = r.min_volume;
         report["inverted_simplices"] = r.inverted_simplices;
         report["degenerate_simplices"] = r.degenerate_simplices;

@@ -263,6 +263,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     report.source_push = {forward.smallest / span, forward.mean / span, forward.largest / span};
     report.target_push = {back.smallest / span, back.mean / span, back.largest / span};
     report.push_degenerate = forward.degenerate + back.degenerate;
+    report.held_back_vertices = forward.held_back + back.held_back;
     for (Index v = 0; v < nS + nT; ++v) {
       if (source_free[v] || target_free[v]) in_source[v] = in_target[v] = false;  // off the planes now
       else P.row(v).head(d) = exact.row(v).head(d);

@@ -463,6 +463,7 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   for (Index v = 0; v < P.rows(); ++v) {
     if (!moved[v]) continue;
     ++report.vertices;
+    report.held_back += travelled[v] < 0.1 * target(v);
     sum += travelled[v];
     report.smallest = std::min(report.smallest, travelled[v]);
     report.largest = std::max(report.largest, travelled[v]);

@@ -73,6 +73,7 @@ struct MorphReport {
   Index split_faces = 0;
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
   Index push_degenerate = 0;
+  Index held_back_vertices = 0;  // free vertices held below a tenth of their target (PushReport::held_back)
   // Validity 1: the smallest signed hypervolume of the kept simplices, how
   // many are inverted (below -tolerance) and how many are degenerate slivers
   // (within tolerance of zero: four coplanar corners of a planar quad, say).

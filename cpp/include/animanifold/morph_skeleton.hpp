@@ -98,6 +98,10 @@ struct PushReport {
   Index vertices = 0;    // free vertices
   Index degenerate = 0;  // simplices of their stars already without positive volume (ignored)
   double smallest = 0, mean = 0, largest = 0;  // how far they went, in units of the last axis
+  // Vertices that went less than a tenth of their target: a sliver of the
+  // fill held them near the plane, and the frames next to it show a thin
+  // strand or bubble there that lasts until the plane.
+  Index held_back = 0;
 };
 
 // The push of §8.6.3. The free vertices (`moved`) of the positively oriented
