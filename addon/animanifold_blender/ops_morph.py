@@ -113,6 +113,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             self.report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
                                      f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
                                      f"{validity['inverted_simplices']} inverted simplices")
+        if not validity.get("holes_preserved", True):
+            self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
+                                     f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
         if not manifold.check()["is_oriented_manifold"]:
             self.report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface): shapes of "
                                      "different topology need the skeleton method of §8.6, which is not available yet")

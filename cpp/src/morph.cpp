@@ -2,6 +2,7 @@
 
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/hole_space.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
 
@@ -258,6 +259,9 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   check_closed_shape(VS, FS, "source");
   check_closed_shape(VT, FT, "target");
   if (VS.cols() != VT.cols()) fail<InputError>("source and target must both be 2D or both 3D");
+  // TetGen is not told, and may crash on, a surface that intersects itself.
+  if (VS.cols() == 3 && intersects_itself(VS, FS)) fail<InputError>("the source intersects itself");
+  if (VT.cols() == 3 && intersects_itself(VT, FT)) fail<InputError>("the target intersects itself");
   if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
   if (options.method != "strip") fail<InputError>("unknown morph method '", options.method, "'");
   const int d = static_cast<int>(VS.cols());

@@ -387,6 +387,12 @@ def run_morph(args: argparse.Namespace) -> int:
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
           f"inverted simplices: {report['inverted_simplices']}; stripped {report['stripped_simplices']} "
           f"of {report['fill_simplices']}")
+    if manifold.hole_space is not None:
+        print(f"shared holes (§8.6.5): volume {report['shared_hole_volume']:.6g}; raw frames fill up to "
+              f"{report['hole_overlap_volume']:.3g} of it, cut away; kept in the checked frames: "
+              f"{report['holes_preserved']}")
+        for error in report["hole_errors"]:
+            print(f"{PROG}: warning: {error}", file=sys.stderr)
     if not manifold.check()["is_oriented_manifold"]:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface): shapes of different topology "
               "need the skeleton method of §8.6, which is not available yet", file=sys.stderr)
