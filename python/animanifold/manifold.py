@@ -90,6 +90,8 @@ class AnimationManifold:
     source and target share, as a solid in R^n ((vertices, faces) like a
     frame). Time slices strictly between the first and last time are then
     returned as frame \\ H (validity 3 of §8.3); see :meth:`slice`.
+    :meth:`welded` and :meth:`refine` keep it (the shape does not change);
+    :meth:`deform` and :meth:`subdivide` return manifolds without it.
     """
 
     def __init__(
