@@ -54,17 +54,37 @@ def polygon(n: int, radius: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     return v, e
 
 
-def torus(major: float = 1.0, minor: float = 0.4, n: int = 24, m: int = 12) -> tuple[np.ndarray, np.ndarray]:
-    """Torus of revolution about z (genus 1, Euler characteristic 0), outward faces."""
-    u = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    w = np.linspace(0, 2 * np.pi, m, endpoint=False)
-    uu, ww = np.meshgrid(u, w, indexing="ij")
-    v = np.stack([(major + minor * np.cos(ww)) * np.cos(uu), (major + minor * np.cos(ww)) * np.sin(uu),
-                  minor * np.sin(ww)], -1).reshape(-1, 3)
-    i, j = np.meshgrid(np.arange(n), np.arange(m), indexing="ij")
-    a, b = i * m + j, ((i + 1) % n) * m + j
-    c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
-    f = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+def torus(major_radius: float = 1.0, minor_radius: float = 0.3, major: int = 24, minor: int = 12,
+          centre=(0.0, 0.0, 0.0), wobble: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Torus around the z axis with outward faces (2·major·minor triangles).
+
+    Vertex (i, j) sits at angle 2πi/major around the axis and 2πj/minor
+    around the tube. With wobble = 0 each grid quad is an isosceles trapezoid
+    (planar, its corners cocircular) and, with `minor` a multiple of 4, rings
+    lie at the top and bottom of the tube, where the flat caps of the convex
+    hull meet it. wobble > 0 breaks those symmetries smoothly (the tube's
+    radius and the rings' phase vary around the axis), keeping the outer half
+    convex. Each quad is split along its convex diagonal, so that where the
+    torus lies on its hull, its faces are the hull's facets.
+    """
+    u = 2 * np.pi * np.arange(major) / major
+    w = 2 * np.pi * np.arange(minor) / minor
+    U, W = np.meshgrid(u, w, indexing="ij")
+    r = minor_radius * (1 + wobble * np.sin(3 * U + 0.5))
+    W = W + wobble * (np.sin(2 * U) + 0.5 * np.cos(5 * U + 1.0))
+    rho = major_radius + r * np.cos(W)
+    v = np.stack([rho * np.cos(U), rho * np.sin(U), r * np.sin(W)], -1).reshape(-1, 3) + np.asarray(centre, float)
+    i, j = np.meshgrid(np.arange(major), np.arange(minor), indexing="ij")
+    a = (i * minor + j).reshape(-1)
+    b = (((i + 1) % major) * minor + j).reshape(-1)
+    c = (((i + 1) % major) * minor + (j + 1) % minor).reshape(-1)
+    d = (i * minor + (j + 1) % minor).reshape(-1)
+    # Diagonal ac is convex when d lies below the plane of (a, b, c).
+    convex_ac = np.einsum("ij,ij->i", np.cross(v[b] - v[a], v[c] - v[a]), v[d] - v[a]) <= 0
+    f = np.concatenate([
+        np.where(convex_ac[:, None], np.stack([a, b, c], 1), np.stack([a, b, d], 1)),
+        np.where(convex_ac[:, None], np.stack([a, c, d], 1), np.stack([b, c, d], 1)),
+    ])
     return v, f.astype(np.int32)
 
 

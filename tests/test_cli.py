@@ -321,7 +321,7 @@ def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
 
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "s.obj", 1.5 * v, f)
-    am.write_mesh(tmp_path / "t.obj", *torus(n=16, m=8))
+    am.write_mesh(tmp_path / "t.obj", *torus(minor_radius=0.4, major=16, minor=8))
     code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o",
                          str(tmp_path / "m"), "--frames", "3", "--max-push", "0.3")
     assert code == 0, err

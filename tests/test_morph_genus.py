@@ -47,6 +47,7 @@ def two_spheres():
 
 
 def check_topology_changing_morph(source, target, source_euler, target_euler):
+    """The manifold's own frames (raw: before the shared holes are cut out, §8.6.5)."""
     m = am.morph(source, target)
     report = m.validity
     assert report["ends_reproduced"], report
@@ -55,12 +56,12 @@ def check_topology_changing_morph(source, target, source_euler, target_euler):
     assert m.check()["is_oriented_manifold"]
     eulers = []
     for t in TIMES:
-        frame = m.slice(t)
+        frame = m.slice(t, honour_holes=False)
         assert_closed_oriented_surface(frame.faces)
         assert enclosed_volume(frame.vertices, frame.faces) > 0
         eulers.append(euler_characteristic(frame.faces))
     assert eulers[0] == source_euler and eulers[-1] == target_euler, eulers
-    middle = m.slice(0.5)
+    middle = m.slice(0.5, honour_holes=False)
     assert eulers[len(TIMES) // 2] == 2 and components(len(middle.vertices), middle.faces) == 1, eulers
     # the ends are the inputs as solids too
     for t, (v, f) in ((0.0, source), (1.0, target)):
@@ -71,12 +72,21 @@ def check_topology_changing_morph(source, target, source_euler, target_euler):
 
 def test_sphere_to_torus():
     v, f = icosphere(3)
-    m = check_topology_changing_morph((1.5 * v, f), torus(), 2, 0)
+    m = check_topology_changing_morph((1.5 * v, f), torus(minor_radius=0.4), 2, 0)
     assert m.validity["target_skeleton_points"] > 0 and m.validity["source_skeleton_points"] == 0
 
 
 def test_torus_to_two_spheres():
-    check_topology_changing_morph(torus(), two_spheres(), 0, 4)
+    m = check_topology_changing_morph(torus(minor_radius=0.4), two_spheres(), 0, 4)
+    # The torus's tunnel and the gap between the spheres overlap: that shared hole is cut out of
+    # every frame in between (validity 3), which stay closed surfaces.
+    report = m.validity
+    assert m.hole_space is not None and report["shared_hole_volume"] > 0
+    assert report["holes_preserved"] and report["hole_overlap_volume"] > 0, report["hole_errors"]
+    frame = m.slice(0.5)
+    assert_closed_oriented_surface(frame.faces)
+    raw = m.slice(0.5, honour_holes=False)
+    assert enclosed_volume(frame.vertices, frame.faces) < enclosed_volume(raw.vertices, raw.faces)
 
 
 def test_sphere_to_genus_3():
@@ -87,7 +97,7 @@ def test_sphere_to_genus_3():
 
 def test_the_push_keeps_every_simplex_positive_and_within_the_span():
     v, f = icosphere(3)
-    m = am.morph((1.5 * v, f), torus(), t0=2.0, t1=5.0, max_push=0.3)
+    m = am.morph((1.5 * v, f), torus(minor_radius=0.4), t0=2.0, t1=5.0, max_push=0.3)
     report = m.validity
     # nothing inverted; flat cells of the inputs' planes (planar quads) may sit at roundoff below zero
     size = np.linalg.norm(np.ptp(1.5 * v, axis=0))
@@ -117,10 +127,14 @@ def test_2d_lizard_to_blobs_passes_through_one_shape():
     assert m.check()["is_oriented_manifold"]
     counts = []
     for t in TIMES:
-        frame = m.slice(t)
+        frame = m.slice(t, honour_holes=False)
         counts.append(frame_loops(frame))
         assert polygon_area(frame) > 0
+        cut = m.slice(t)  # with the concavities both shapes share cut out (§8.6.5): closed loops too
+        frame_loops(cut)
+        assert 0 < polygon_area(cut) <= polygon_area(frame) + 1e-12
     assert counts[0] == 1 and counts[-1] == 3 and counts[len(TIMES) // 2] == 1, counts
+    assert m.validity["holes_preserved"], m.validity["hole_errors"]
 
 
 def test_2d_ring_to_disc_closes_the_hole():
@@ -142,7 +156,7 @@ def test_strip_method_stays_available_for_comparison():
     convex = am.morph((v, f), (v * [1.4, 1.0, 0.8], f), method="strip")
     assert convex.metadata["morph"]["method"] == "strip" and convex.validity["ends_reproduced"]
     assert "push" not in dict(convex.validity["stage_seconds"])
-    stripped = am.morph((1.5 * v, f), torus(n=16, m=8), method="strip")
-    pushed = am.morph((1.5 * v, f), torus(n=16, m=8), method="skeleton")
+    stripped = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), method="strip")
+    pushed = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), method="skeleton")
     assert pushed.validity["ends_reproduced"] and not stripped.validity["ends_reproduced"]
     assert stripped.validity["target_distance"] > 1e-3

@@ -201,6 +201,9 @@ def slice_constraints(obj, frame: float, anchor_group: str, handle_group: str, e
         raise OperatorError(f"'{obj.name}' shows a smoothed manifold (Smooth panel): its mesh is not a slice of "
                             "the manifold that Deform moves; set Manifold Levels and Frame Levels to 0 to deform it")
     manifold, s = live.slice_for(obj, frame)
+    if s.vertex_edges is None:
+        raise OperatorError(f"the frame of '{obj.name}' at {frame:g} is cut by the holes its morph's inputs share "
+                            "(its points are not on manifold edges): deform it at the first or last frame")
     mesh = obj.data
     if len(mesh.vertices) != len(s.vertices) or len(mesh.polygons) != len(s.faces):
         raise OperatorError(

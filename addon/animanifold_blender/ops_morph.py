@@ -208,6 +208,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             self.report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
                                      f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
                                      f"{validity['inverted_simplices']} inverted simplices{hint}")
+        if not validity.get("holes_preserved", True):
+            self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
+                                     f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
         if not manifold.check()["is_oriented_manifold"]:
             hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
                     else f" (the {method} method did not give a clean manifold for these shapes)")

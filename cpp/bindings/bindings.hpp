@@ -29,5 +29,6 @@ void bind_refine(py::module_& m);
 void bind_subdivide(py::module_& m);
 void bind_skeleton(py::module_& m);
 void bind_laplacian(py::module_& m);
+void bind_hole_space(py::module_& m);
 
 }  // namespace animanifold::bindings

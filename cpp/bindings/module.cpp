@@ -25,6 +25,7 @@ PYBIND11_MODULE(_core, m) {
   bind_subdivide(m);
   bind_skeleton(m);
   bind_laplacian(m);
+  bind_hole_space(m);
 }
 
 }  // namespace animanifold::bindings

@@ -13,12 +13,15 @@ topology. ::
     m3 = m.deform(anchors, handles, T, regularise=True)   # split stretched edges (§4.5.1)
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
+    m = am.morph((VS, FS), (VT, FT))          # chapters 5, 8; m.slice(t) honours shared holes
+    H = am.hole_space(vertices, faces)        # CH(C) \\ C (§8.6.5), with intersect_/subtract_solid
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
 from .cache import CacheError, load, save
 from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
-from .manifold import AnimationManifold, Slice, SliceMover, axis_index, stitch
+from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
+from .manifold import AnimationManifold, HoleSpaceWarning, Slice, SliceMover, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
 from .refine import Refinement, refine
@@ -30,9 +33,11 @@ __version__ = "0.1.0"
 
 __all__ = [
     "AnimationManifold",
+    "BooleanError",
     "CacheError",
     "SeparabilityWarning",
     "Deformer",
+    "HoleSpaceWarning",
     "RestoreStatus",
     "Slice",
     "SliceMover",
@@ -40,6 +45,8 @@ __all__ = [
     "VoronoiSkeleton",
     "axis_index",
     "handle_transform",
+    "hole_space",
+    "intersect_solids",
     "laplacian_deform",
     "load",
     "morph",
@@ -51,9 +58,11 @@ __all__ = [
     "regularise",
     "rotation_matrix",
     "save",
+    "solid_measure",
     "stitch",
     "subdivide",
     "subdivide_frame",
+    "subtract_solid",
     "voronoi_skeleton",
     "write_mesh",
 ]

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'dihedral_test', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'dihedral_test', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -207,6 +207,8 @@ class Deformer:
     @property
     def points(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+class BooleanError(RuntimeError):
+    pass
 def affine_power(transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], s: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """
     T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).
@@ -267,6 +269,14 @@ def graph_laplacian_weights(edges: typing.Annotated[numpy.typing.NDArray[numpy.f
     """
     Eq. 4.2 weights of one vertex from its one-ring edges v_j − v_i (k by D).
     """
+def hole_space(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+    """
+    (vertices, faces) of CH(C) \\ C for a closed outward mesh (triangles in R^3) or counter-clockwise polygons (edges in R^2); empty arrays when C is convex.
+    """
+def intersect_solids(vertices_a: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_a: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertices_b: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_b: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+    """
+    (vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons).
+    """
 def laplacian_system(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], method: str = 'dual', lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> tuple[tuple, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
     """
     (L as CSR, delta): L V = Δ for the input.
@@ -311,7 +321,11 @@ def smooth_slice(slice: Slice, levels: typing.SupportsInt | typing.SupportsIndex
     """
     A frame refined with Loop subdivision (OpenSubdiv), or B-spline curves for 2D animations; face_simplex inherited.
     """
-def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> Complex:
+def solid_measure(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> float:
+    """
+    Volume (3D) or area (2D) enclosed by a closed outward boundary.
+    """
+def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> Complex:
     """
     Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex).
     """
@@ -326,6 +340,10 @@ def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.Su
 def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
     """
     Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations).
+    """
+def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], hole_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], hole_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], bool]:
+    """
+    (vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame (the arrays are then a copy of the frame's).
     """
 def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     ...

@@ -399,6 +399,12 @@ def run_morph(args: argparse.Namespace) -> int:
               f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)"))
     if not report["ends_reproduced"]:
         print(f"{PROG}: warning: the end frames are not the inputs (see the distances above)", file=sys.stderr)
+    if manifold.hole_space is not None:
+        print(f"shared holes (§8.6.5): volume {report['shared_hole_volume']:.6g}; raw frames fill up to "
+              f"{report['hole_overlap_volume']:.3g} of it, cut away; kept in the checked frames: "
+              f"{report['holes_preserved']}")
+        for error in report["hole_errors"]:
+            print(f"{PROG}: warning: {error}", file=sys.stderr)
     if not manifold.check()["is_oriented_manifold"]:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
               ("; the skeleton method (--method skeleton) avoids that" if args.method == "strip" else ""),

@@ -10,6 +10,7 @@ costs what it cuts.
 from __future__ import annotations
 
 import dataclasses
+import warnings
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
@@ -18,6 +19,10 @@ import numpy as np
 from . import _core
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
+
+
+class HoleSpaceWarning(UserWarning):
+    """A frame could not be cut by its manifold's hole space and is shown uncut."""
 
 
 def axis_index(axis: str | int, dimension: int) -> int:
@@ -79,14 +84,28 @@ class Slice:
 
 
 class AnimationManifold:
-    """An n-manifold of n-simplices in R^(n+1) whose last coordinate is time."""
+    """An n-manifold of n-simplices in R^(n+1) whose last coordinate is time.
 
-    def __init__(self, complex_: "_core.Complex", metadata: Mapping[str, object] | None = None):
+    A morph's manifold also carries a hole space H (§8.6.5): the holes its
+    source and target share, as a solid in R^n ((vertices, faces) like a
+    frame). Time slices strictly between the first and last time are then
+    returned as frame \\ H (validity 3 of §8.3); see :meth:`slice`.
+    :meth:`welded` and :meth:`refine` keep it (the shape does not change);
+    :meth:`deform` and :meth:`subdivide` return manifolds without it.
+    """
+
+    def __init__(
+        self,
+        complex_: "_core.Complex",
+        metadata: Mapping[str, object] | None = None,
+        hole_space: tuple[np.ndarray, np.ndarray] | None = None,
+    ):
         self._complex = complex_
         self._slicer: _core.Slicer | None = None
         self._axis_values: dict[int, np.ndarray] = {}  # sorted distinct vertex coordinates per axis
         self._time_range: tuple[float, float] | None = None
         self.metadata: dict = dict(metadata or {})
+        self._hole_space = _checked_hole_space(hole_space, self.dimension)
 
     @classmethod
     def from_arrays(
@@ -96,8 +115,10 @@ class AnimationManifold:
         vertex_attributes: Mapping[str, np.ndarray] | None = None,
         simplex_attributes: Mapping[str, np.ndarray] | None = None,
         metadata: Mapping[str, object] | None = None,
+        hole_space: tuple[np.ndarray, np.ndarray] | None = None,
     ) -> "AnimationManifold":
-        """Builds a manifold from raw arrays (validated: indices in range, finite points)."""
+        """Builds a manifold from raw arrays (validated: indices in range, finite
+        points); `hole_space` (vertices (k, D-1), faces (l, D-1)) as in the class doc."""
         points = np.ascontiguousarray(points, dtype=np.float64)
         simplices = np.ascontiguousarray(simplices, dtype=np.int32)
         if points.ndim != 2 or points.shape[1] not in (3, 4):
@@ -108,7 +129,7 @@ class AnimationManifold:
             )
         va = {k: _as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
         sa = {k: _as_table(v, np.int32, f"simplex attribute {k!r}") for k, v in (simplex_attributes or {}).items()}
-        return cls(_core.Complex(points, simplices, va, sa), metadata)
+        return cls(_core.Complex(points, simplices, va, sa), metadata, hole_space)
 
     # -- data ---------------------------------------------------------------
     @property
@@ -133,6 +154,24 @@ class AnimationManifold:
     def validity(self) -> dict | None:
         """For a morph, the validity report of §8.3 (None for other manifolds)."""
         return self.metadata.get("validity")
+
+    @property
+    def hole_space(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The solid subtracted from in-between time slices, (vertices (k, D-1),
+        faces (l, D-1)) read-only; None when there is none (every manifold but
+        a morph whose inputs share a hole)."""
+        return self._hole_space
+
+    @property
+    def has_holes(self) -> bool:
+        return self._hole_space is not None
+
+    def _honours_holes(self, axis: int, value: float) -> bool:
+        """Whether the slice at `value` along `axis` is cut by the hole space."""
+        if self._hole_space is None or axis != self.dimension - 1:
+            return False
+        t0, t1 = self.time_range
+        return t0 < value < t1
 
     @property
     def dimension(self) -> int:
@@ -163,6 +202,7 @@ class AnimationManifold:
         use_index: bool = True,
         smooth_levels: int = 0,
         crease_angle: float = 30.0,
+        honour_holes: bool | str = True,
     ) -> Slice:
         """The frame at `value` along `axis` ('t' by default; 'x', 'y', 'z' for sweep views).
 
@@ -171,25 +211,56 @@ class AnimationManifold:
         more than `crease_angle` degrees (frames of 2D animations: cubic
         B-spline curves with corners); the smoothed slice has no
         vertex_edges / edge_parameter (its points are not on manifold edges).
+
+        For a manifold with a hole space H (a morph whose inputs share holes),
+        time slices strictly between the first and last time are frame \\ H
+        (validity 3 of §8.3); `honour_holes=False` gives the raw slice. Where
+        H cuts the frame, the result's new points are not on manifold edges:
+        it has no vertex_edges / edge_parameter / face_simplex and no
+        attributes (normals are recomputed); where H does not touch the frame,
+        the raw slice comes back as it is. A frame that cannot be cut (it
+        pinches or intersects itself: the morph is not valid there) comes back
+        raw with a :class:`HoleSpaceWarning`; `honour_holes="strict"` raises
+        the animanifold.BooleanError instead.
         """
+        if honour_holes not in (True, False, "strict"):
+            raise ValueError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
         a = axis_index(axis, self.dimension)
         if self._slicer is None:
             self._slicer = _core.Slicer(self._complex)
         s = self._slicer.slice(a, float(value), use_index)
+        if honour_holes and self._honours_holes(a, float(value)):
+            try:
+                s = _subtract_holes(s, self._hole_space, a, float(value))
+            except _core.BooleanError as e:
+                if honour_holes == "strict":
+                    raise
+                warnings.warn(f"the frame at {float(value):g} cannot be cut by the hole space, shown uncut: {e}",
+                              HoleSpaceWarning, stacklevel=2)
         if smooth_levels:
             if isinstance(smooth_levels, bool) or int(smooth_levels) != smooth_levels or smooth_levels < 0:
                 raise ValueError(f"smooth_levels must be a non-negative integer, got {smooth_levels!r}")
+            if isinstance(s, Slice):  # cut by the hole space
+                from .smooth import smooth_slice
+
+                return smooth_slice(s, int(smooth_levels), float(crease_angle))
             s = _core.smooth_slice(s, int(smooth_levels), float(crease_angle), True)
             smooth = Slice._from_core(a, float(value), s)
             return dataclasses.replace(smooth, vertex_edges=None, edge_parameter=None)
-        return Slice._from_core(a, float(value), s)
+        return s if isinstance(s, Slice) else Slice._from_core(a, float(value), s)
 
     def topology_interval(self, value: float, axis: str | int = "t") -> tuple[float, float] | None:
         """The open interval (lo, hi) around `value` in which every slice has the
         same faces and cuts the same edges (no vertex lies between lo and hi
         along the axis): within it, :meth:`move_slice` gives any frame from one
-        cut. None when `value` is a vertex coordinate or outside the manifold."""
+        cut. None when `value` is a vertex coordinate or outside the manifold,
+        and for time slices of a manifold with a hole space strictly inside its
+        time range: the hole space cuts those frames (:meth:`slice`), which
+        changes their faces from frame to frame, so callers fall back to
+        slicing every frame (as live playback in Blender does)."""
         a = axis_index(axis, self.dimension)
+        if self._honours_holes(a, float(value)):
+            return None
         values = self._axis_values.get(a)
         if values is None:
             values = self._axis_values[a] = np.unique(self.points[:, a])
@@ -231,7 +302,7 @@ class AnimationManifold:
         vertex_attributes = {k: np.asarray(v)[kept] for k, v in self.vertex_attributes.items()}
         metadata = {k: v for k, v in self.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
         return AnimationManifold.from_arrays(self.points[kept], simplices, vertex_attributes,
-                                             dict(self.simplex_attributes), metadata)
+                                             dict(self.simplex_attributes), metadata, self._hole_space)
 
     def check(self) -> dict:
         """Manifold validity: facet counts, non-manifold and misoriented facets."""
@@ -265,7 +336,7 @@ class AnimationManifold:
             simplex_attributes=self.simplex_attributes,
         )
         return AnimationManifold.from_arrays(
-            r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata
+            r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata, self._hole_space
         ), r
 
     def deform(
@@ -348,8 +419,12 @@ class SliceMover:
     """
 
     def __init__(self, manifold: AnimationManifold, s: Slice, attributes=None, normals: bool = True):
+        if manifold._honours_holes(s.axis, s.value):
+            raise ValueError(
+                f"the frame at {s.value} of a manifold with a hole space is cut by it, and the cut changes from "
+                "frame to frame: slice every frame (AnimationManifold.slice) instead of moving one")
         if s.vertex_edges is None:
-            raise ValueError("a smoothed slice cannot be moved: slice again")
+            raise ValueError("a smoothed slice (or one cut by a hole space) cannot be moved: slice again")
         interval = manifold.topology_interval(s.value, s.axis)
         if interval is None:
             raise ValueError(f"the slice at {s.value} lies on a vertex: its topology changes there")
@@ -388,6 +463,44 @@ class SliceMover:
             attributes[name] = moved[:, 0] if moved.shape[1] == 1 else moved
         return dataclasses.replace(self.slice, value=float(value), vertices=vertices,
                                    normals=normals, vertex_attributes=attributes, edge_parameter=weight[:, 0])
+
+
+def _checked_hole_space(hole_space, dimension: int) -> tuple[np.ndarray, np.ndarray] | None:
+    """The hole space as read-only (float64, int32) arrays, or None when absent or empty."""
+    if hole_space is None:
+        return None
+    try:
+        vertices, faces = hole_space
+    except (TypeError, ValueError):
+        raise ValueError("hole_space must be a pair (vertices, faces)") from None
+    d = dimension - 1
+    v = np.array(vertices, dtype=np.float64, order="C")
+    f = np.asarray(faces)
+    if f.size == 0:
+        f = f.reshape(0, d)
+    if v.ndim != 2 or v.shape[1] != d or f.ndim != 2 or f.shape[1] != d:
+        raise ValueError(f"the hole space of a manifold in R^{dimension} must be vertices (k, {d}) and faces "
+                         f"(l, {d}), got shapes {v.shape} and {f.shape}")
+    if f.size and (not np.issubdtype(f.dtype, np.integer) or f.min() < 0 or f.max() >= len(v)):
+        raise ValueError(f"the hole space's faces must be integer indices into its {len(v)} vertices")
+    if not np.isfinite(v).all():
+        raise ValueError("the hole space has a vertex that is not finite")
+    if not len(f):
+        return None
+    f = np.array(f, dtype=np.int32, order="C")
+    v.flags.writeable = False
+    f.flags.writeable = False
+    return v, f
+
+
+def _subtract_holes(s: "_core.Slice", hole: tuple[np.ndarray, np.ndarray], axis: int, value: float):
+    """frame \\ hole for a core slice `s`: `s` itself when the hole cannot touch
+    it, else a Slice of the cut frame (no edge maps, no attributes)."""
+    vertices, faces, unchanged = _core.subtract_solid(s.vertices, s.faces, hole[0], hole[1])
+    if unchanged:
+        return s
+    return Slice(axis=axis, value=value, vertices=vertices, faces=faces,
+                 normals=_core.frame_vertex_normals(vertices, faces))
 
 
 def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:
