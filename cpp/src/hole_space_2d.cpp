@@ -20,6 +20,15 @@ namespace animanifold::holes {
 namespace {
 
 using K = CGAL::Exact_predicates_exact_constructions_kernel;
+
+// A lazy exact number rounds to the midpoint of its interval until its exact
+// value has been needed, and to the exact value's rounding after: the same
+// point could come out one ulp apart from one call to the next. Always
+// round the exact value.
+template <class Number>
+double rounded(const Number& x) {
+  return CGAL::to_double(CGAL::exact(x));
+}
 using Point = K::Point_2;
 using Polygon = CGAL::Polygon_2<K>;
 using PolygonWithHoles = CGAL::Polygon_with_holes_2<K>;
@@ -126,7 +135,7 @@ PolygonSet region_of(const Operand& s, double* signed_area = nullptr) {
       region.symmetric_difference(polygon);
     }
   }
-  if (signed_area) *signed_area = CGAL::to_double(area);
+  if (signed_area) *signed_area = rounded(area);
   return region;
 }
 
@@ -148,7 +157,7 @@ Solid to_solid(const PolygonSet& set) {
     const Index size = static_cast<Index>(loop->size());
     for (Index i = 0; i < size; ++i) {
       const Point& p = (*loop)[i];
-      out.vertices.row(first + i) << CGAL::to_double(p.x()), CGAL::to_double(p.y());
+      out.vertices.row(first + i) << rounded(p.x()), rounded(p.y());
       out.faces.row(first + i) << first + i, first + (i + 1) % size;
     }
     first += size;

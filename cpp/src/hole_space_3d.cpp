@@ -32,6 +32,15 @@ namespace {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using K = CGAL::Exact_predicates_exact_constructions_kernel;
+
+// A lazy exact number rounds to the midpoint of its interval until its exact
+// value has been needed, and to the exact value's rounding after: the same
+// point could come out one ulp apart from one call to the next. Always
+// round the exact value.
+template <class Number>
+double rounded(const Number& x) {
+  return CGAL::to_double(CGAL::exact(x));
+}
 using Point = K::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using Triangle = std::array<std::size_t, 3>;
@@ -65,7 +74,7 @@ std::size_t snap_nearly_degenerate(Mesh& mesh, double tolerance) {
   using Vertex = Mesh::Vertex_index;
   const auto at = [&](Vertex v) {
     const Point& p = mesh.point(v);
-    return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    return Eigen::Vector3d(rounded(p.x()), rounded(p.y()), rounded(p.z()));
   };
   std::vector<std::uint32_t> parent(mesh.num_vertices());
   for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
@@ -185,7 +194,7 @@ Solid to_solid(const Mesh& mesh) {
   Index next = 0;
   for (const auto v : mesh.vertices()) {
     const Point& p = mesh.point(v);
-    out.vertices.row(next) << CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z());
+    out.vertices.row(next) << rounded(p.x()), rounded(p.y()), rounded(p.z());
     id[v.idx()] = next++;
   }
   out.faces.resize(static_cast<Index>(mesh.number_of_faces()), 3);
@@ -225,7 +234,7 @@ std::size_t follow_hull(Mesh& solid, const Mesh& hull, double tolerance) {
   const auto is_hull_edge = [&](Vertex a, Vertex b) { return hull_edges.count(std::minmax(a.idx(), b.idx())) > 0; };
   const auto at = [&](Vertex v) {
     const Point& p = solid.point(v);
-    return Eigen::Vector3d(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    return Eigen::Vector3d(rounded(p.x()), rounded(p.y()), rounded(p.z()));
   };
   std::size_t flips = 0;
   for (bool again = true; again;) {

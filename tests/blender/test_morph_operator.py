@@ -260,7 +260,7 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
     values = [c[1] for c in calls if c[0] == "update"]
     assert values == sorted(values) and 0 <= values[0] and values[-1] <= 100
     first = ["skeleton", "conforming", "fill"] if best_method() == "skeleton" else ["conforming", "fill"]
-    assert stages[:len(first)] == first and stages[-2:] == ["boundary", "validity"]
+    assert stages[:len(first)] == first and stages[-4:] == ["boundary", "validity", "holes", "hole validity"]
 
 
 def test_undo_and_redo_of_a_morph(empty_scene):
