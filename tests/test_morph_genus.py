@@ -46,14 +46,19 @@ def two_spheres():
     return np.vstack([0.55 * v - [0.8, 0.05, 0.0], 0.65 * v + [0.85, 0.0, 0.05]]), np.vstack([f, f + len(v)])
 
 
-def check_topology_changing_morph(source, target, source_euler, target_euler):
-    """The manifold's own frames (raw: before the shared holes are cut out, §8.6.5)."""
+def check_topology_changing_morph(source, target, source_euler, target_euler, frames_cross=False):
+    """The manifold's own frames (raw: before the shared holes are cut out, §8.6.5).
+
+    frames_cross: known limitation, see the issue's note — where free vertices lie in a flat
+    facet of an input's convex hull that the input's own faces share (the plate's top), pushed
+    frames pass through themselves; the report says so."""
     m = am.morph(source, target)
     report = m.validity
     assert report["ends_reproduced"], report
     assert report["inverted_simplices"] == 0 and report["missing_source_faces"] == 0
     assert report["stripped_simplices"] == 0  # the skeleton method strips nothing
     assert m.check()["is_oriented_manifold"]
+    assert report["frames_cross_themselves"] == frames_cross, report["crossing_frames"]
     eulers = []
     for t in TIMES:
         frame = m.slice(t, honour_holes=False)
@@ -92,7 +97,7 @@ def test_torus_to_two_spheres():
 def test_sphere_to_genus_3():
     v, f = icosphere(3)
     plate = genus3_plate()
-    check_topology_changing_morph((1.9 * v, f), plate, 2, -4)
+    check_topology_changing_morph((1.9 * v, f), plate, 2, -4, frames_cross=True)
 
 
 def test_the_push_keeps_every_simplex_positive_and_within_the_span():

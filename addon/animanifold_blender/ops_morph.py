@@ -101,7 +101,7 @@ def retime(manifold, span: float, start: float, end: float):
     metadata = dict(manifold.metadata)
     metadata["morph"] = dict(metadata.get("morph", {}), t0=float(start), t1=float(end), solved_time_span=float(span))
     return am.AnimationManifold.from_arrays(points, manifold.simplices, manifold.vertex_attributes,
-                                           manifold.simplex_attributes, metadata)
+                                           manifold.simplex_attributes, metadata, hole_space=manifold.hole_space)
 
 
 def cache_path_for(name: str) -> tuple[str, str, str | None]:

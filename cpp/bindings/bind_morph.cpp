@@ -1,5 +1,6 @@
 #include "animanifold/morph.hpp"
 #include "animanifold/morph_skeleton.hpp"
+#include "animanifold/self_intersection.hpp"
 #include "bindings.hpp"
 
 namespace animanifold::bindings {
@@ -61,6 +62,16 @@ void bind_morph(py::module_& m) {
       py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
       "Morph between two closed shapes: (manifold Complex, validity report dict).");
   py::register_exception<Cancelled>(m, "Cancelled");
+  m.def(
+      "self_intersections",
+      [](PointsRef V, SimplicesRef F, std::size_t max_pairs) {
+        const PointMatrix v = V;
+        const SimplexMatrix f = F;
+        py::gil_scoped_release release;
+        return self_intersections(v, f, max_pairs);
+      },
+      py::arg("vertices"), py::arg("faces"), py::arg("max_pairs") = 1,
+      "Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all.");
   m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
         py::call_guard<py::gil_scoped_release>(),
         "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");

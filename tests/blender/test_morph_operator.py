@@ -366,3 +366,36 @@ def test_smoke_blender_binary_morphs_sphere_to_torus_and_cube_and_bakes(blender_
 def test_smoke_blender_binary_sphere_to_torus_ends_as_the_torus(blender_binary_morph):
     line, fields = blender_binary_morph
     assert fields["torus_end"] == "exact", line
+
+
+def test_two_tori_carry_their_shared_tunnel_into_playback(empty_scene):
+    """The hole space both tori share (§8.6.5) is kept with the morph's cache, and live playback
+    shows what AnimationManifold.slice gives: each frame with that tunnel cut out where the cut
+    succeeds (raw, with a warning, where the frame cannot be cut)."""
+    import warnings
+
+    from test_morph_genus import euler_characteristic
+
+    bpy.ops.mesh.primitive_torus_add(major_segments=20, minor_segments=8, major_radius=1.0, minor_radius=0.35)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add(major_segments=20, minor_segments=8, major_radius=1.1, minor_radius=0.35,
+                                     rotation=(0.0, 0.0, 0.3))
+    target = bpy.context.active_object
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=21) == {"FINISHED"}
+    morph = bpy.context.active_object
+    from animanifold_blender import live
+
+    manifold = live.manifold_for(morph)
+    assert manifold.hole_space is not None and manifold.validity["shared_hole_volume"] > 0
+    scene = bpy.context.scene
+    for frame in (1, 6, 11, 16, 21):
+        scene.frame_set(frame)
+        assert live.last_error(morph) is None, live.last_error(morph)
+        mesh = shown(morph)
+        corners = np.array([list(p.vertices) for p in mesh.polygons])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            expected = manifold.slice(float(frame))
+        assert len(mesh.polygons) == len(expected.faces)
+        assert euler_characteristic(corners) == euler_characteristic(expected.faces)
