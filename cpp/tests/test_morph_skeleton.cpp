@@ -1,0 +1,127 @@
+// The pieces of the skeleton morph (morph_skeleton.hpp), the exact Delaunay
+// fill and the self-intersection test, on small known configurations.
+#include "animanifold/complex.hpp"
+#include "animanifold/delaunay.hpp"
+#include "animanifold/morph_skeleton.hpp"
+#include "animanifold/self_intersection.hpp"
+#include "fixtures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+namespace animanifold {
+namespace {
+
+// Random points in R^4 on two planes t = 0 and t = 1, like a morph's fill.
+PointMatrix two_planes(int per_plane, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  PointMatrix P(2 * per_plane, 4);
+  for (int r = 0; r < 2 * per_plane; ++r) P.row(r) << g(rng), g(rng), g(rng), r < per_plane ? 0.0 : 1.0;
+  return P;
+}
+
+double total_volume(const PointMatrix& P, const SimplexMatrix& A) { return signed_volumes(P, A).sum(); }
+
+TEST(MorphSkeleton, SplittingFacesKeepsTheFillPositiveAndItsVolume) {
+  PointMatrix P = two_planes(30, 1);
+  SimplexMatrix A = delaunay_exact(P).simplices;
+  const double before = total_volume(P, A);
+  const SimplexMatrix boundary_before = boundary_facets(A);
+  // An edge, a triangle and a cell of the t = 0 plane's triangulation: faces of the fill, none
+  // holding an earlier one (split_faces' precondition: a split face is gone).
+  std::vector<std::vector<Index>> faces;
+  auto holds = [](const std::vector<Index>& big, const std::vector<Index>& small) {
+    for (const Index v : small)
+      if (std::find(big.begin(), big.end(), v) == big.end()) return false;
+    return true;
+  };
+  for (Index s = 0; s < A.rows() && faces.size() < 3; ++s) {
+    std::vector<Index> in_plane;
+    for (int c = 0; c < 5; ++c)
+      if (A(s, c) < 30) in_plane.push_back(A(s, c));
+    if (in_plane.size() < faces.size() + 2) continue;
+    in_plane.resize(faces.size() + 2);
+    bool fresh = true;
+    for (const auto& earlier : faces) fresh = fresh && !holds(in_plane, earlier);
+    if (fresh) faces.push_back(in_plane);
+  }
+  ASSERT_EQ(faces.size(), 3u);
+  const Index points_before = P.rows();
+  const IndexVector added = split_faces(P, A, faces);
+  ASSERT_EQ(added.size(), 3);
+  EXPECT_EQ(P.rows(), points_before + 3);
+  for (Index a = 0; a < added.size(); ++a) EXPECT_EQ(P(added(a), 3), 0.0);  // on the plane of its face
+  const Eigen::VectorXd volumes = signed_volumes(P, A);
+  EXPECT_GT(volumes.minCoeff(), 0.0);
+  EXPECT_NEAR(volumes.sum(), before, 1e-9 * before);  // a split refines, it neither adds nor removes
+  EXPECT_EQ(check_manifold(boundary_facets(A)).nonmanifold_facets, 0);
+  EXPECT_GT(boundary_facets(A).rows(), boundary_before.rows());  // the cell lay on the boundary
+}
+
+TEST(MorphSkeleton, PushKeepsEverySimplexPositiveAndStaysWithinTheTargets) {
+  PointMatrix P = two_planes(40, 2);
+  const SimplexMatrix A = delaunay_exact(P).simplices;
+  std::vector<bool> moved(P.rows(), false);
+  Eigen::VectorXd target = Eigen::VectorXd::Zero(P.rows());
+  for (Index v = 40; v < 80; v += 3) moved[v] = true, target(v) = 0.4;  // points of the t = 1 plane, downwards
+  const PointMatrix before = P;
+  const PushReport report = push_free_vertices(P, A, moved, -1.0, target, 0.5);
+  EXPECT_GT(signed_volumes(P, A).minCoeff(), 0.0);
+  EXPECT_EQ(report.vertices, 14);
+  EXPECT_GT(report.largest, 0.0);
+  EXPECT_LE(report.largest, 0.4 + 1e-12);
+  for (Index v = 0; v < P.rows(); ++v) {
+    EXPECT_EQ(P.row(v).head(3), before.row(v).head(3));  // only time changes
+    if (!moved[v]) EXPECT_EQ(P(v, 3), before(v, 3));
+    else EXPECT_LE(P(v, 3), 1.0);
+  }
+}
+
+TEST(MorphSkeleton, DepthInHullIsTheDistanceToTheNearestFacet) {
+  PointMatrix V, points(3, 3);
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  points << 0, 0, 0, 0.25, 0, 0, 2, 0, 0;
+  const Eigen::VectorXd depth = depth_in_hull(points, V);
+  EXPECT_NEAR(depth(0), 1 / std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(depth(1), 0.75 / std::sqrt(3.0), 1e-12);
+  EXPECT_LT(depth(2), 0.0);
+}
+
+TEST(SelfIntersection, FindsCrossingFacesAndNotNeighbours) {
+  PointMatrix V, two(12, 3);
+  SimplexMatrix F, both(16, 3);
+  fixtures::octahedron(V, F);
+  EXPECT_TRUE(self_intersections(V, F).empty());
+  two << V, V.rowwise() + Eigen::RowVector3d(0.5, 0.2, 0.1);
+  both << F, F.array() + 6;
+  const auto pairs = self_intersections(two, both, 0);
+  ASSERT_FALSE(pairs.empty());
+  for (const auto& [a, b] : pairs) EXPECT_TRUE(a < 8 && b >= 8);  // one face of each copy
+  // 2D: a pentagram's edges cross; a pentagon's do not.
+  PointMatrix star(5, 2), gon(5, 2);
+  SimplexMatrix loop(5, 2);
+  for (int i = 0; i < 5; ++i) {
+    const double a = 2 * M_PI * i / 5, b = 2 * M_PI * ((2 * i) % 5) / 5;
+    gon.row(i) << std::cos(a), std::sin(a);
+    star.row(i) << std::cos(b), std::sin(b);
+    loop.row(i) << i, (i + 1) % 5;
+  }
+  EXPECT_TRUE(self_intersections(gon, loop).empty());
+  EXPECT_FALSE(self_intersections(star, loop).empty());
+}
+
+TEST(DelaunayExact, TwoPlanesGiveNoFlatCellAndKeepEachPlanesTriangulation) {
+  const PointMatrix P = two_planes(50, 3);
+  const DelaunayTriangulation fill = delaunay_exact(P);
+  EXPECT_EQ(fill.flat_simplices, 0);
+  EXPECT_GT(signed_volumes(P, fill.simplices).minCoeff(), 0.0);
+  const DelaunayTriangulation bottom = delaunay_exact(P.topLeftCorner(50, 3));
+  EXPECT_EQ(missing_facets(fill.simplices, bottom.simplices).size(), 0);
+}
+
+}  // namespace
+}  // namespace animanifold
