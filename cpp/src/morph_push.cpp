@@ -31,6 +31,15 @@ struct PushConstraint {
   double sign = 1.0;
 };
 
+// The determinant of a small square matrix: closed forms for 3x3 and 4x4
+// (the push evaluates hundreds of thousands per round; the general LU of a
+// dynamic-size matrix costs several times more).
+double small_determinant(const Eigen::MatrixXd& m) {
+  if (m.rows() == 4) return Eigen::Matrix4d(m).determinant();
+  if (m.rows() == 3) return Eigen::Matrix3d(m).determinant();
+  return m.determinant();
+}
+
 // (value, rate) of a constraint's determinant under moves of its corners
 // along the last axis by `share(v)` per unit of the move parameter.
 template <class Share>
@@ -39,10 +48,10 @@ std::pair<double, double> affine_volume(const PointMatrix& P, const PushConstrai
   const int D = static_cast<int>(P.cols());
   for (int c = 1; c < k.count; ++c) m.row(c - 1) = P.row(k.corners[c]) - P.row(k.corners[0]);
   if (k.count == D) m.row(D - 1) = k.normal.transpose();
-  const double before = k.sign * m.determinant();
+  const double before = k.sign * small_determinant(m);
   for (int c = 1; c < k.count; ++c) m(c - 1, D - 1) = share(k.corners[c]) - share(k.corners[0]);
   if (k.count == D) m(D - 1, D - 1) = 0.0;
-  return {before, k.sign * m.determinant()};
+  return {before, k.sign * small_determinant(m)};
 }
 
 }  // namespace
