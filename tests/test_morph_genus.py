@@ -165,3 +165,15 @@ def test_strip_method_stays_available_for_comparison():
     pushed = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), method="skeleton")
     assert pushed.validity["ends_reproduced"] and not stripped.validity["ends_reproduced"]
     assert stripped.validity["target_distance"] > 1e-3
+
+
+def test_convex_inputs_take_the_plain_fill_of_section_8_4():
+    """No skeleton, no free vertex, nothing split or stripped: the boundary of the fill itself."""
+    v, f = icosphere(2)
+    m = am.morph((v, f), (v * [1.4, 1.0, 0.8] + [0.2, 0, 0], f))
+    report = m.validity
+    for key in ("source_skeleton_points", "target_skeleton_points", "source_free_vertices", "target_free_vertices",
+                "split_faces", "stripped_simplices"):
+        assert report[key] == 0, key
+    assert report["ends_reproduced"] and not report["frames_cross_themselves"]
+    assert ((m.points[:, 3] == 0.0) | (m.points[:, 3] == 1.0)).all()  # every vertex on an end plane
