@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'dihedral_test', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -233,6 +233,10 @@ def delaunay(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 
     """
     (simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).
     """
+def delaunay_exact(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+    """
+    (simplices, flat_count, flat_simplices): Delaunay triangulation in R^3 or R^4 (CGAL).
+    """
 def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> dict:
     ...
 def drop_component(normals: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], axis: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -248,6 +252,10 @@ def edge_length_degeneracy(points: typing.Annotated[numpy.typing.NDArray[numpy.f
 def encroachments(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
     """
     (rows, distance): rows (vertex, a, b, c or -1, type 2/3/4) per encroached simplex and its closest encroacher.
+    """
+def external_skeleton_points(points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], gap: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    """
+    Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).
     """
 def faces_intersecting_mesh(faces_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], mesh_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
     """
@@ -287,7 +295,7 @@ def missing_facets(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32]
     """
     Rows of faces that are not faces of any simplex (Theorem 5.2.1).
     """
-def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t1: typing.SupportsFloat | typing.SupportsIndex = 1.0, method: str = 'strip', progress: typing.Any = None) -> tuple[Complex, dict]:
+def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t1: typing.SupportsFloat | typing.SupportsIndex = 1.0, method: str = 'skeleton', progress: typing.Any = None, max_push: typing.SupportsFloat | typing.SupportsIndex = 0.45, push_safety: typing.SupportsFloat | typing.SupportsIndex = 0.5, push_sweeps: typing.SupportsInt | typing.SupportsIndex = 3, fill: str = 'cgal') -> tuple[Complex, dict]:
     """
     Morph between two closed shapes: (manifold Complex, validity report dict).
     """
@@ -302,6 +310,10 @@ def read_mesh(path: str) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.fl
 def refine(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]], split_vertices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], split_barycentric: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], epsilon: typing.SupportsFloat | typing.SupportsIndex = 0.001, order: RefineOrder = ...) -> dict:
     """
     Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) are the split tuples; returns a dict of the refined arrays and the maps of animanifold/refine.hpp.
+    """
+def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1) -> list[tuple[int, int]]:
+    """
+    Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all.
     """
 def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     ...
