@@ -218,9 +218,12 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // made them; faces outside an input with no free vertex are split, the
     // new vertex free (split_faces); then every free vertex is pushed into
     // time (§8.6.3), the source's forward from t0, then the target's back
-    // from t1. All of it on the perturbed points, where no simplex is flat;
-    // the exact coordinates come back afterwards for the points that stay
-    // in the planes (free points never show at t0 or t1).
+    // from t1. All of it on the perturbed points, the geometry the fill's
+    // combinatorics were decided on; the exact coordinates come back
+    // afterwards for the points that stay in the planes (free points never
+    // show at t0 or t1). Where the exact geometry is flat (a facet of the
+    // hull across both planes), the simplices there are slivers whose sign
+    // constrains little: see crossing_frames in the report.
     A = fill.simplices;
     const PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
     const PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints);
@@ -237,10 +240,12 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // Targets go from 0 on the input to max_push on its convex hull's
     // boundary, as d_S / (d_S + d_H) with d_S the distance from the input and
     // d_H that from the hull's boundary. The region they sweep then fills
-    // from the input outwards and empties from the hull's boundary inwards:
-    // no point inside is the last of its neighbourhood to fill (a bubble
-    // enclosed in the frames) or the first (an island), and one height for
-    // all would fill big cells first wherever they are.
+    // from the input outwards and empties from the hull's boundary inwards,
+    // as far as the targets are reached: a point left higher than its
+    // neighbours would be the last of its region to fill (a bubble enclosed
+    // in the frames), one left lower the first (an island), and one height
+    // for all would fill big cells first wherever they are. Free vertices a
+    // sliver holds back (held_back_vertices) still make such bubbles.
     auto targets = [&](const std::vector<bool>& free, const PointMatrix& V, const SimplexMatrix& F) {
       std::vector<Index> ids;
       for (Index v = 0; v < P.rows(); ++v)
