@@ -177,3 +177,16 @@ def test_convex_inputs_take_the_plain_fill_of_section_8_4():
         assert report[key] == 0, key
     assert report["ends_reproduced"] and not report["frames_cross_themselves"]
     assert ((m.points[:, 3] == 0.0) | (m.points[:, 3] == 1.0)).all()  # every vertex on an end plane
+
+
+def test_the_same_morph_over_any_time_range():
+    """Solved over a span proportional to the shapes' size, then mapped: frames over 1..49
+    (frames) equal frames over 0..1 at the same fraction, to roundoff."""
+    v, f = icosphere(2)
+    a = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8))
+    b = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), t0=1.0, t1=49.0)
+    assert b.time_range == (1.0, 49.0)
+    for fraction in (0.0, 0.3, 0.97, 1.0):
+        sa, sb = a.slice(fraction, honour_holes=False), b.slice(1.0 + 48.0 * fraction, honour_holes=False)
+        assert np.array_equal(sa.faces, sb.faces)
+        assert np.abs(sa.vertices - sb.vertices).max() < 1e-9

@@ -6,14 +6,9 @@ frame, in world space (the objects' transforms align them), played live and
 baked like a converted action. Validity (§8.3) is checked and reported; the
 sources are hidden, never changed; on failure nothing is added.
 
-The core morphs over a time span proportional to the shapes' size
-(TIME_SPAN × the bounding-box diagonal), not over the frame numbers: its
-flatness tolerances are relative to the longest edge of a simplex, time
-included, so a span of tens of frames next to a shape a few units across
-made every simplex across the two inputs "flat". The Delaunay fill of two
-parallel layers does not depend on their distance, so the result is the
-same combinatorial morph; its time axis is then mapped linearly (a positive
-scale: orientations are kept) onto the frame range, ends exact.
+The core solves every morph over a time span proportional to the shapes'
+size and maps it onto t0..t1 (the frame range here), so the morph is the same
+whatever the range.
 """
 
 from __future__ import annotations
@@ -33,8 +28,6 @@ from . import live, live_nodes
 from ._lib import am
 from .ops_skeleton import closed_triangle_mesh
 from .operators import _unique_object_name
-
-TIME_SPAN = 0.1  # the core's time span, as a fraction of the inputs' bounding-box diagonal (see above)
 
 # The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not.
@@ -90,21 +83,6 @@ def euler_characteristic(faces: np.ndarray) -> int:
     """V - E + F of a closed triangle mesh (2 - 2·genus per component)."""
     edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     return int(len(np.unique(faces)) - len(np.unique(edges, axis=0)) + len(faces))
-
-
-def retime(manifold, span: float, start: float, end: float):
-    """`manifold` (time 0…span) with its time axis mapped linearly onto start…end, the
-    end planes exactly on start and end (a positive scale keeps every orientation)."""
-    points = np.array(manifold.points, dtype=np.float64)
-    t = points[:, -1]
-    mapped = start + (end - start) * (t / span)
-    mapped[t <= 0.0] = start
-    mapped[t >= span] = end
-    points[:, -1] = mapped
-    metadata = dict(manifold.metadata)
-    metadata["morph"] = dict(metadata.get("morph", {}), t0=float(start), t1=float(end), solved_time_span=float(span))
-    return am.AnimationManifold.from_arrays(points, manifold.simplices, manifold.vertex_attributes,
-                                           manifold.simplex_attributes, metadata, hole_space=manifold.hole_space)
 
 
 def cache_path_for(name: str) -> tuple[str, str, str | None]:
@@ -174,12 +152,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         try:
             vs, fs = world_mesh(context, source)
             vt, ft = world_mesh(context, target)
-            both = np.vstack([vs, vt])
-            span = TIME_SPAN * (float(np.linalg.norm(both.max(axis=0) - both.min(axis=0))) or 1.0)
             progress.at("in the core's conforming and fill stages", 5.0)
-            solved = am.morph((vs, fs), (vt, ft), t0=0.0, t1=span, method=method, progress=progress)
+            manifold = am.morph((vs, fs), (vt, ft), t0=float(start), t1=float(end), method=method, progress=progress)
             progress.at("saving the cache", 88.0)
-            manifold = retime(solved, span, float(start), float(end))
             manifold.metadata.update({"source_object": source.name, "target_object": target.name,
                                       "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
             am.save(manifold, absolute)

@@ -19,27 +19,21 @@ py::dict to_dict(const ConformingDelaunay& c) {
 }  // namespace
 
 void bind_delaunay(py::module_& m) {
-  m.def("delaunay",
-        [](PointsRef points) {
-          DelaunayTriangulation dt;
-          {
-            py::gil_scoped_release release;
-            dt = delaunay(points);
-          }
-          return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
-        },
-        py::arg("points"), "(simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).");
-  m.def(
-      "delaunay_exact",
-      [](PointsRef points) {
-        DelaunayTriangulation dt;
-        {
-          py::gil_scoped_release release;
-          dt = delaunay_exact(points);
-        }
-        return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
-      },
-      py::arg("points"), "(simplices, flat_count, flat_simplices): Delaunay triangulation in R^3 or R^4 (CGAL).");
+  // (simplices, flat_count, flat_simplices) of a triangulation, computed without the GIL.
+  auto triangulation = [](DelaunayTriangulation (*triangulate)(const PointMatrix&)) {
+    return [triangulate](PointsRef points) {
+      DelaunayTriangulation dt;
+      {
+        py::gil_scoped_release release;
+        dt = triangulate(points);
+      }
+      return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
+    };
+  };
+  m.def("delaunay", triangulation([](const PointMatrix& p) { return delaunay(p); }), py::arg("points"),
+        "(simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).");
+  m.def("delaunay_exact", triangulation(&delaunay_exact), py::arg("points"),
+        "(simplices, flat_count, flat_simplices): Delaunay triangulation in R^3 or R^4 (CGAL).");
   m.def("conforming_delaunay_3d",
         [](PointsRef points, SimplicesRef faces) {
           ConformingDelaunay c;

@@ -21,6 +21,10 @@ namespace animanifold {
 
 namespace {
 
+// The time span a morph is solved over, as a fraction of the shapes' size
+// (bounding-box diagonal).
+constexpr double kSolveSpan = 0.1;
+
 // A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
 void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char* name) {
   const int d = static_cast<int>(V.cols());
@@ -92,7 +96,6 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   if (!(options.push_safety > 0 && options.push_safety < 1))
     fail<InputError>("push_safety must lie in (0, 1), got ", options.push_safety);
   const int d = static_cast<int>(VS.cols());
-  const double span = options.t1 - options.t0;
 
   // Inputs in general position. Cospherical points (a cube's square faces, a
   // regular torus) make the Delaunay fill ambiguous and Qhull merges such
@@ -105,6 +108,11 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   // the fill in each plane would then no longer be one triangulation).
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
+  // The morph is solved over a time span proportional to the shapes' size,
+  // then its time axis is mapped linearly onto t0..t1. A Delaunay fill is not
+  // invariant under scaling one axis: solved over t0..t1 as given, the same
+  // shapes would morph differently over 48 frames than over 1 second.
+  const double span = kSolveSpan * std::max(size, 1e-300);
   // §8.6.1 step 1: the external skeletons, as free points (see morph_skeleton.hpp).
   PointMatrix KS(0, d), KT(0, d);
   if (skeleton_method) {
@@ -150,9 +158,9 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     nS = static_cast<Index>(S.fill.points.rows()), nT = static_cast<Index>(T.fill.points.rows());
     P.resize(nS + nT, d + 1);
     P.topLeftCorner(nS, d) = S.fill.points;
-    P.topRightCorner(nS, 1).setConstant(options.t0);
+    P.topRightCorner(nS, 1).setConstant(0.0);
     P.bottomLeftCorner(nT, d) = T.fill.points;
-    P.bottomRightCorner(nT, 1).setConstant(options.t1);
+    P.bottomRightCorner(nT, 1).setConstant(span);
     exact = P;
     exact.topLeftCorner(nS, d) = S.exact_points;
     exact.bottomLeftCorner(nT, d) = T.exact_points;
@@ -293,7 +301,14 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     for (int c = 0; c < d + 1; ++c) all_start = all_start && in_source[B(f, c)], all_end = all_end && in_target[B(f, c)];
     if (!all_start && !all_end) lateral.push_back(f);
   }
+  // Solved time 0..span onto t0..t1, the planes exactly.
   result.manifold.V = P;
+  for (Index v = 0; v < P.rows(); ++v) {
+    const double solved = P(v, d);
+    result.manifold.V(v, d) = solved <= 0.0    ? options.t0
+                              : solved >= span ? options.t1
+                                               : options.t0 + (options.t1 - options.t0) * (solved / span);
+  }
   result.manifold.S.resize(static_cast<Index>(lateral.size()), d + 1);
   for (size_t r = 0; r < lateral.size(); ++r) {
     result.manifold.S.row(static_cast<Index>(r)) = B.row(lateral[r]);

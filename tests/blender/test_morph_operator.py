@@ -284,26 +284,18 @@ def test_undo_and_redo_of_a_morph(empty_scene):
     assert len(morph.data.polygons) > 0 and bpy.data.objects["Cube"].hide_get()
 
 
-def test_open_input_is_refused_and_the_scene_is_unchanged(empty_scene):
-    bpy.ops.mesh.primitive_ico_sphere_add()
+@pytest.mark.parametrize("source_op, target_op, message", [
+    ("primitive_ico_sphere_add", "primitive_grid_add", "the target 'Grid' is open"),
+    ("primitive_plane_add", "primitive_torus_add", "the source 'Plane' is open"),
+])
+def test_an_open_input_is_refused_and_the_scene_is_unchanged(empty_scene, source_op, target_op, message):
+    getattr(bpy.ops.mesh, source_op)()
     source = bpy.context.active_object
-    bpy.ops.mesh.primitive_grid_add()
+    getattr(bpy.ops.mesh, target_op)()
     target = bpy.context.active_object
     select(source, target)
     before = scene_state()
-    with pytest.raises(RuntimeError, match=r"Morph failed: the target 'Grid' is open"):
-        bpy.ops.animanifold.morph_selected()
-    assert scene_state() == before
-
-
-def test_open_source_is_refused_and_the_scene_is_unchanged(empty_scene):
-    bpy.ops.mesh.primitive_plane_add()
-    source = bpy.context.active_object
-    bpy.ops.mesh.primitive_torus_add()
-    target = bpy.context.active_object
-    select(source, target)
-    before = scene_state()
-    with pytest.raises(RuntimeError, match=r"Morph failed: the source 'Plane' is open"):
+    with pytest.raises(RuntimeError, match="Morph failed: " + message):
         bpy.ops.animanifold.morph_selected()
     assert scene_state() == before
 

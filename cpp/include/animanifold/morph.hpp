@@ -35,6 +35,10 @@
 namespace animanifold {
 
 struct MorphOptions {
+  // The times of the source and the target. The morph is solved over a span
+  // proportional to the shapes' size and mapped onto t0..t1 (see morph.cpp),
+  // so it is the same morph over any range: frames at the same fraction of
+  // the range are the same.
   double t0 = 0.0, t1 = 1.0;
   // "skeleton" (§8.6) or "strip" (§8.5). Convex inputs need neither (§8.4):
   // both then reduce to the plain fill (no free points, nothing stripped).
