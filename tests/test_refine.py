@@ -283,11 +283,12 @@ def contour_splits(V, F, count: int) -> list:
     top = [f for f in range(len(F)) if np.all(V[F[f], 2] == 1)]
     splits = []
     for p in points:
-        for f in top:
-            lam, _ = barycentric(p[None], V[F[f]])
-            if lam.min() >= 0:
-                splits.append((F[f], lam[0]))
-                break
+        # The triangle holding p best: a point on the square's diagonal is in both
+        # triangles, and rounding can put it a few ulps outside each.
+        lam, f = max(((barycentric(p[None], V[F[f]])[0][0], f) for f in top), key=lambda lf: lf[0].min())
+        assert lam.min() >= -1e-12, p
+        lam = np.clip(lam, 0.0, None)
+        splits.append((F[f], lam / lam.sum()))
     assert len(splits) == count
     return splits
 
