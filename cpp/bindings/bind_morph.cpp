@@ -1,6 +1,7 @@
 #include "animanifold/morph.hpp"
 #include "animanifold/morph_skeleton.hpp"
 #include "animanifold/self_intersection.hpp"
+#include "animanifold/surface_distance.hpp"
 #include "bindings.hpp"
 
 namespace animanifold::bindings {
@@ -35,9 +36,12 @@ void bind_morph(py::module_& m) {
         report["source_conforming"] = r.source_conforming;
         report["target_conforming"] = r.target_conforming;
         report["flat_fill_simplices"] = r.flat_fill_simplices;
+        report["peeled_hull_slivers"] = r.peeled_hull_slivers;
         report["perturbation"] = r.perturbation;
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
+        report["shared_stripped_simplices"] = r.shared_stripped_simplices;
+        report["inputs_coincide"] = r.inputs_coincide;
         report["source_skeleton_points"] = r.source_skeleton_points;
         report["target_skeleton_points"] = r.target_skeleton_points;
         report["source_free_vertices"] = r.source_free_vertices;
@@ -72,6 +76,16 @@ void bind_morph(py::module_& m) {
       },
       py::arg("vertices"), py::arg("faces"), py::arg("max_pairs") = 1,
       "Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all.");
+  m.def(
+      "distances_to_surface",
+      [](PointsRef points, PointsRef V, SimplicesRef F) {
+        const PointMatrix p = points, v = V;
+        const SimplexMatrix f = F;
+        py::gil_scoped_release release;
+        return Eigen::VectorXd(distances_to_surface(p, v, f));
+      },
+      py::arg("points"), py::arg("vertices"), py::arg("faces"),
+      "Distance from each point to the surface (triangles in R^3, segments in R^2); inf without faces.");
   m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
         py::call_guard<py::gil_scoped_release>(),
         "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");

@@ -60,8 +60,8 @@ DelaunayTriangulation triangulate(const PointMatrix& points) {
     fail<InputError>("the points span only ", triangulation.current_dimension(), " dimensions of R^", D);
 
   DelaunayTriangulation out;
+  const auto orientation = Kernel().orientation_d_object();
   std::vector<Index> corners;
-  std::vector<Index> flat;
   Eigen::Matrix<double, D, D> edges;
   double factorial = 1;
   for (int i = 2; i <= D; ++i) factorial *= i;
@@ -81,17 +81,21 @@ DelaunayTriangulation triangulate(const PointMatrix& points) {
     const double volume = edges.determinant();
     // The same flatness rule as Qhull's path (delaunay.cpp): the cell is a
     // proper one for CGAL's exact predicates, but a volume this small next
-    // to Hadamard's bound is roundoff in every later computation.
+    // to Hadamard's bound is roundoff in every later computation. Its
+    // orientation is the exact predicate's, not the rounded determinant's.
+    bool negative = volume < 0;
     if (std::abs(volume) <= 1e-12 * product) {
-      flat.insert(flat.end(), ids.begin(), ids.end());
-      continue;
+      out.slivers.push_back(static_cast<Index>(corners.size() / (D + 1)));
+      std::array<Point, D + 1> corner;
+      for (int i = 0; i <= D; ++i) corner[i] = cell->vertex(i)->point();
+      // Points as in `points`, in the order of ids.
+      negative = orientation(corner.begin(), corner.end()) == CGAL::NEGATIVE;
     }
-    if (volume < 0) std::swap(ids[0], ids[1]);
+    if (negative) std::swap(ids[0], ids[1]);
     corners.insert(corners.end(), ids.begin(), ids.end());
   }
   out.simplices = Eigen::Map<SimplexMatrix>(corners.data(), static_cast<Index>(corners.size() / (D + 1)), D + 1);
-  out.flat = Eigen::Map<SimplexMatrix>(flat.data(), static_cast<Index>(flat.size() / (D + 1)), D + 1);
-  out.flat_simplices = static_cast<Index>(out.flat.rows());
+  out.flat.resize(0, D + 1);
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/morph_skeleton.hpp"
+#include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
@@ -14,7 +15,7 @@
 #include <cmath>
 #include <deque>
 #include <map>
-#include <random>
+#include <set>
 #include <unordered_map>
 
 namespace animanifold {
@@ -24,6 +25,98 @@ namespace {
 // The time span a morph is solved over, as a fraction of the shapes' size
 // (bounding-box diagonal).
 constexpr double kSolveSpan = 0.1;
+
+// The perturbations tried, as fractions of the size (see morph()): the first
+// one under which the mesher and the fill conform is used.
+constexpr std::array<double, 3> kPerturbations{1e-7, 1e-6, 1e-5};
+
+struct FlatSimplices {
+  Index peeled = 0;  // across the planes, on the hull's boundary: left out
+  Index inside = 0;  // across the planes, inside the fill
+};
+
+// Peels slivers off the fill's boundary: the flat simplices Qhull left out
+// of `fill` (fill.flat) and the nearly flat ones CGAL kept (fill.slivers)
+// that join the two planes (over `nS` source points). A sliver with a facet
+// on the convex hull (in one simplex only, counting the left-out ones) lies
+// where a facet of the hull holds points of both planes (a flat side both
+// inputs share, a hull edge with collinear points); leaving it out changes
+// nothing but the triangulation of that flat facet, and its volume is
+// roundoff. Peeled one after the other, so that slivers stacked on one
+// another go too. Kept slivers that are peeled are taken out of
+// fill.simplices; what is left inside is counted: holes for Qhull's, proper
+// (kept) cells for CGAL's.
+FlatSimplices peel_hull_slivers(DelaunayTriangulation& fill, Index nS) {
+  FlatSimplices result;
+  const int corners = static_cast<int>(fill.simplices.cols());
+  auto across = [&](const SimplexMatrix& S, Index r) {
+    int in_source = 0;
+    for (int c = 0; c < corners; ++c) in_source += S(r, c) < nS;
+    return in_source != 0 && in_source != corners;
+  };
+  struct Candidate {
+    bool kept;  // a row of fill.simplices (else of fill.flat)
+    Index row;
+  };
+  std::vector<Candidate> candidates;
+  for (Index f = 0; f < fill.flat.rows(); ++f)
+    if (across(fill.flat, f)) candidates.push_back({false, f});
+  for (const Index r : fill.slivers)
+    if (across(fill.simplices, r)) candidates.push_back({true, r});
+  if (candidates.empty()) return result;
+  using Facet = std::array<Index, 4>;
+  auto facets_of = [&](const SimplexMatrix& S, Index r) {
+    std::vector<Facet> out;
+    for (int drop = 0; drop < corners; ++drop) {
+      Facet k{-1, -1, -1, -1};
+      for (int c = 0, j = 0; c < corners; ++c)
+        if (c != drop) k[j++] = S(r, c);
+      std::sort(k.begin(), k.begin() + corners - 1);
+      out.push_back(k);
+    }
+    return out;
+  };
+  auto rows_of = [&](const Candidate& c) -> const SimplexMatrix& { return c.kept ? fill.simplices : fill.flat; };
+  std::map<Facet, int> uses;  // only facets of candidates matter
+  for (const Candidate& c : candidates)
+    for (const Facet& k : facets_of(rows_of(c), c.row)) uses.emplace(k, 0);
+  for (const SimplexMatrix* S : {&fill.simplices, &fill.flat})
+    for (Index r = 0; r < S->rows(); ++r)
+      for (const Facet& k : facets_of(*S, r))
+        if (const auto it = uses.find(k); it != uses.end()) ++it->second;
+  std::vector<bool> peeled(candidates.size(), false);
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      if (peeled[i]) continue;
+      const std::vector<Facet> facets = facets_of(rows_of(candidates[i]), candidates[i].row);
+      // A lateral facet on the hull (a cap facet, in one plane, is every
+      // in-plane cell's: the sliver over a planar quad's second diagonal is
+      // part of the plane's triangulation and stays).
+      const auto lateral_boundary = [&](const Facet& k) {
+        int in_source = 0;
+        for (int c = 0; c < corners - 1; ++c) in_source += k[c] < nS;
+        return uses[k] == 1 && in_source != 0 && in_source != corners - 1;
+      };
+      if (std::none_of(facets.begin(), facets.end(), lateral_boundary)) continue;
+      for (const Facet& k : facets) --uses[k];
+      peeled[i] = changed = true;
+      ++result.peeled;
+    }
+  }
+  result.inside = static_cast<Index>(candidates.size()) - result.peeled;
+  std::vector<bool> drop(fill.simplices.rows(), false);
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (peeled[i] && candidates[i].kept) drop[candidates[i].row] = true;
+  if (std::find(drop.begin(), drop.end(), true) != drop.end()) {
+    SimplexMatrix kept(fill.simplices.rows() - std::count(drop.begin(), drop.end(), true), corners);
+    for (Index r = 0, k = 0; r < fill.simplices.rows(); ++r)
+      if (!drop[r]) kept.row(k++) = fill.simplices.row(r);
+    fill.simplices = std::move(kept);
+    fill.slivers.clear();  // row numbers changed; not read after this
+  }
+  return result;
+}
 
 // A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
 void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char* name) {
@@ -101,8 +194,10 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   // regular torus) make the Delaunay fill ambiguous and Qhull merges such
   // facets into flat simplices, so the fill could miss faces of the
   // conforming surfaces. The combinatorics are therefore computed on points
-  // perturbed by a small fraction of the size (1e-7, then larger until the
-  // fill is proper and conforms); the result gets the exact coordinates back
+  // perturbed by a small fraction of the size (kPerturbations: 1e-7, then
+  // larger until the mesher and the fill conform), by offsets that are
+  // functions of position (perturbation.hpp: vertices both inputs share stay
+  // columns in time); the result gets the exact coordinates back
   // (restore_on_input), so the perturbation never shows. The planes t0 and t1
   // stay exactly flat (Qhull's own joggle would tilt them, and the part of
   // the fill in each plane would then no longer be one triangulation).
@@ -123,11 +218,10 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // size — far more than the surface's perturbation below, and a tenth of
     // their least distance from the surface — cells joining them keep a
     // clear volume at the exact coordinates too.
-    std::mt19937_64 rng(1122);
-    std::uniform_real_distribution<double> jitter(-1e-4 * size, 1e-4 * size);
-    for (PointMatrix* K : {&KS, &KT})
-      for (Index r = 0; r < K->rows(); ++r)
-        for (int c = 0; c < d; ++c) (*K)(r, c) += jitter(rng);
+    // By position (perturbation.hpp): a skeleton point both inputs share
+    // stays one column.
+    KS = perturbed_by_position(KS, 1e-4 * size, 1122);
+    KT = perturbed_by_position(KT, 1e-4 * size, 1122);
   }
   report.source_skeleton_points = static_cast<Index>(KS.rows());
   report.target_skeleton_points = static_cast<Index>(KT.rows());
@@ -140,21 +234,25 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   SimplexMatrix target_constraints;
   Index nS = 0, nT = 0;
   double conform_seconds = 0;
-  for (double scale : {1e-7, 1e-6, 1e-5}) {
-    std::mt19937_64 rng(20261122);
-    std::uniform_real_distribution<double> jitter(-scale * size, scale * size);
-    auto perturbed = [&](const PointMatrix& V) {
-      PointMatrix out = V;
-      for (Index r = 0; r < out.rows(); ++r)
-        for (int c = 0; c < d; ++c) out(r, c) += jitter(rng);
-      return out;
-    };
+  std::string mesher_error;
+  for (const double scale : kPerturbations) {
+    auto perturbed = [&](const PointMatrix& V) { return perturbed_by_position(V, scale * size, 20261122); };
     const auto conform_start = Clock::now();
-    // §8.6.1 step 2 (the strip method has no free points).
-    S = conform_with_points(perturbed(VS), VS, FS, KS);
-    T = conform_with_points(perturbed(VT), VT, FT, KT);
+    // §8.6.1 step 2 (the strip method has no free points). A mesher that
+    // returns a constrained, not conforming, fill may conform on points
+    // perturbed further.
+    try {
+      S = conform_with_points(perturbed(VS), VS, FS, KS);
+      T = conform_with_points(perturbed(VT), VT, FT, KT);
+    } catch (const std::runtime_error& e) {
+      conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
+      mesher_error = e.what();
+      if (scale == kPerturbations.back()) throw;
+      continue;
+    }
+    mesher_error.clear();
     conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
-    if (scale == 1e-7 && options.progress && !options.progress("conforming", 0.3)) throw Cancelled();
+    if (options.progress && !options.progress("conforming", 0.3)) throw Cancelled();
     nS = static_cast<Index>(S.fill.points.rows()), nT = static_cast<Index>(T.fill.points.rows());
     P.resize(nS + nT, d + 1);
     P.topLeftCorner(nS, d) = S.fill.points;
@@ -169,22 +267,22 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // degenerate facet can put in one flat simplex. Nudged off them by a
     // tenth of the perturbation, the fill still contains the constraint
     // faces (checked below) and has no such simplex.
-    std::uniform_real_distribution<double> nudge(-0.1 * scale * size, 0.1 * scale * size);
-    for (Index v = VS.rows() + KS.rows(); v < nS; ++v)
-      for (int c = 0; c < d; ++c) P(v, c) += nudge(rng);
-    for (Index v = nS + VT.rows() + KT.rows(); v < nS + nT; ++v)
-      for (int c = 0; c < d; ++c) P(v, c) += nudge(rng);
+    auto nudge = [&](Index first, Index last) {
+      for (Index v = first; v < last; ++v)
+        for (int c = 0; c < d; ++c) P(v, c) += 0.1 * scale * size * position_hash_offset(P.row(v).data(), d, c, 777);
+    };
+    nudge(VS.rows() + KS.rows(), nS);
+    nudge(nS + VT.rows() + KT.rows(), nS + nT);
     fill = options.fill == "qhull" ? delaunay(P) : delaunay_exact(P);
     target_constraints = T.fill.constraints.array() + nS;
     report.perturbation = scale;
     // Flat simplices within one input's plane are harmless (they add
-    // nothing); flat ones across the planes would leave holes.
-    report.flat_fill_simplices = 0;
-    for (Index f = 0; f < fill.flat.rows(); ++f) {
-      int in_source = 0;
-      for (int c = 0; c < d + 2; ++c) in_source += fill.flat(f, c) < nS;
-      if (in_source != 0 && in_source != d + 2) ++report.flat_fill_simplices;
-    }
+    // nothing); slivers on the hull's boundary are peeled off (where a facet
+    // of the hull holds points of both planes: a flat side both inputs share,
+    // a hull edge with collinear points); flat ones inside would leave holes.
+    const FlatSimplices flats = peel_hull_slivers(fill, nS);
+    report.flat_fill_simplices = options.fill == "qhull" ? flats.inside : 0;  // CGAL's are proper: kept
+    report.peeled_hull_slivers = flats.peeled;
     report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.fill.constraints).size());
     report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
     if (report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0) break;
@@ -233,8 +331,21 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // hull across both planes), the simplices there are slivers whose sign
     // constrains little: see crossing_frames in the report.
     A = fill.simplices;
-    const PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
-    const PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints);
+    PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
+    PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints);
+    // Where the inputs coincide, what lies outside both is removed, not
+    // pushed (shared_prisms); the planes are classified again.
+    const std::vector<Prism> prism = shared_prisms(P, A, in_source, in_target, source_plane, target_plane);
+    report.shared_stripped_simplices = std::count(prism.begin(), prism.end(), Prism::SharedOutside);
+    report.inputs_coincide = std::find(prism.begin(), prism.end(), Prism::NotShared) == prism.end();
+    if (report.shared_stripped_simplices > 0) {
+      SimplexMatrix kept(A.rows() - report.shared_stripped_simplices, d + 2);
+      for (Index s = 0, r = 0; s < A.rows(); ++s)
+        if (prism[s] != Prism::SharedOutside) kept.row(r++) = A.row(s);
+      A = std::move(kept);
+      source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
+      target_plane = classify_plane(P, exact, A, in_target, target_constraints);
+    }
     std::vector<bool> source_free = source_plane.free, target_free = target_plane.free;
     std::vector<std::vector<Index>> faces = uncovered_outside_faces(source_plane);
     const size_t source_faces = faces.size();

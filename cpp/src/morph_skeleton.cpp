@@ -6,6 +6,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/morph.hpp"
+#include "animanifold/perturbation.hpp"
 #include "animanifold/skeleton.hpp"
 #include "animanifold/surface_distance.hpp"
 
@@ -17,7 +18,6 @@
 #include <array>
 #include <limits>
 #include <cmath>
-#include <random>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -135,11 +135,7 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
   // regions, and every bisector then looked as if it crossed the mesh (an
   // empty skeleton). 1e-6 of the size is far below the gap kept below.
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  std::mt19937_64 rng(31337);
-  std::uniform_real_distribution<double> jitter(-1e-6 * size, 1e-6 * size);
-  PointMatrix perturbed = V;
-  for (Index r = 0; r < perturbed.rows(); ++r)
-    for (int c = 0; c < d; ++c) perturbed(r, c) += jitter(rng);
+  const PointMatrix perturbed = perturbed_by_position(V, 1e-6 * size, 31337);  // the same shape, the same skeleton
   const VoronoiSkeleton skeleton = voronoi_skeleton(perturbed, F, skeleton_options);
   std::vector<bool> used(skeleton.vertices.rows(), false);
   for (Index f = 0; f < skeleton.faces.rows(); ++f)

@@ -61,6 +61,10 @@ def morph(
     most 1e-9 of H's volume; what failed is listed in `hole_errors`). Two
     `progress` stages follow "validity": "holes" and "hole validity". Raises
     animanifold.BooleanError when CGAL cannot compute the hole spaces.
+    Where the inputs coincide (`inputs_coincide`: the same shape, Figure 8.9),
+    the skeleton method removes what lies outside both instead of pushing it,
+    every frame is the input, and the result keeps no hole space (no frame
+    enters it; `shared_hole_volume` still reports it).
     """
     if method not in METHODS:
         raise ValueError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
@@ -86,12 +90,19 @@ def morph(
     report["stage_seconds"].append(["holes", time.perf_counter() - start])
     if progress is not None and not progress("holes", 1.0):
         raise _core.Cancelled("cancelled")
+    # Where the inputs coincide everywhere, every frame is the input (the fill is
+    # the product of the two, what lies outside both removed): no frame enters the
+    # shared hole space, and cutting frames that lie on its walls would only meet
+    # rounding (report: inputs_coincide).
+    unreachable = bool(report.get("inputs_coincide")) and not is_empty(shared)
     manifold = AnimationManifold(complex_, metadata={"morph": {"method": method, "fill": fill, "t0": float(t0),
                                                                "t1": float(t1)},
                                                      "validity": report},
-                                 hole_space=None if is_empty(shared) else shared)
+                                 hole_space=None if is_empty(shared) or unreachable else shared)
     start = time.perf_counter()
     report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks)))
+    if unreachable:
+        report["shared_hole_volume"] = solid_measure(*shared)
     report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks)))
     report["stage_seconds"].append(["hole validity", time.perf_counter() - start])
     if progress is not None and not progress("hole validity", 1.0):

@@ -21,6 +21,7 @@
 #include "animanifold/types.hpp"
 
 #include <string>
+#include <vector>
 
 namespace animanifold {
 
@@ -28,6 +29,10 @@ struct DelaunayTriangulation {
   SimplexMatrix simplices;       // #S by d+1, positive signed volume
   Index flat_simplices = 0;      // zero-volume simplices Qhull returned, left out
   SimplexMatrix flat;            // ... and those simplices
+  // delaunay_exact(): rows of `simplices` that are nearly flat (Hadamard's
+  // ratio below 1e-12): proper for CGAL's exact predicates, so kept, but a
+  // volume that small is roundoff in later computations in doubles.
+  std::vector<Index> slivers;
 };
 
 // `points` is #P by d (d >= 2). With `joggle`, Qhull perturbs the input by a
@@ -45,9 +50,10 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 // a space-filling curve). On points on two parallel hyperplanes — a morph's
 // fill — Qhull spends its time merging the huge vertical facets each plane
 // makes in the lifted hull (quadratic: 31.6 s for 7,000 points in R^4,
-// against 1.9 s here for 10,000); CGAL never builds them. Cells flat within
-// roundoff (Hadamard's ratio below 1e-12) are reported and left out as by
-// delaunay(). Throws InputError for coinciding or too few points.
+// against 1.9 s here for 10,000); CGAL never builds them. Every cell is
+// proper (exact orientation) and kept; those flat within roundoff (Hadamard's
+// ratio below 1e-12) are listed in `slivers`. Throws InputError for
+// coinciding or too few points.
 DelaunayTriangulation delaunay_exact(const PointMatrix& points);
 
 struct ConformingDelaunay {

@@ -63,9 +63,17 @@ struct MorphReport {
   // Theorem 5.2.1: refined constraint faces of S' and T' not found in the fill.
   Index missing_source_faces = 0, missing_target_faces = 0;
   bool source_conforming = false, target_conforming = false;  // the mesher's result was Delaunay
-  Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes (the fill is refused then)
+  Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes inside the fill (refused then)
+  Index peeled_hull_slivers = 0;  // zero-volume simplices across the planes on the hull's boundary, left out
   double perturbation = 0.0;      // of the size, used for the combinatorics only (see morph.cpp)
   Index fill_simplices = 0, stripped_simplices = 0;
+  // Skeleton method: simplices removed from prisms over cells both inputs
+  // share and that lie outside both (shared_outside_prisms).
+  Index shared_stripped_simplices = 0;
+  // Every simplex of the fill lies in such a prism: the inputs coincide (up
+  // to their triangulations' Steiner points), every frame is the input, and
+  // no frame enters the hole space.
+  bool inputs_coincide = false;
   // Skeleton method: skeleton points given per input, free vertices of the
   // conforming fills (skeleton points and the mesher's Steiner points off the
   // surface), faces outside an input without a free vertex split after the

@@ -75,6 +75,28 @@ struct PlaneCells {
 PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const SimplexMatrix& A,
                           const std::vector<bool>& in_plane, const SimplexMatrix& constraint);
 
+// Where the source and the target coincide (identical inputs: the rockerArm
+// of Figure 8.9; or a part both share), the fill holds prisms σ × [t0, t1]
+// over a cell σ that both planes have, with the same corners at the same
+// places: σ is Delaunay in both planes, so the eight (2D: six) corners are
+// cospherical in R^(n+1) and the prism is a cell of the Delaunay
+// subdivision, which the fill triangulates with those corners only. A prism
+// over a cell outside both inputs is outside the shape at every time:
+// pushing its free vertex would fill it in every frame in between (a
+// concavity of the rockerArm closing and opening again, left for the hole
+// space to cut back), so it is removed instead — the unambiguous case of
+// stripping (§8.5): Figure 8.8's ambiguity is a simplex joining different
+// cells of the two planes, and no such simplex is touched. Returns, per
+// simplex of `A` (#A by n+2 over `P`): NotShared, or in a prism over a shared
+// cell inside the inputs (SharedInside) or outside both (SharedOutside).
+// Vertices of the two planes (`in_source`, `in_target`) coincide when their
+// first n coordinates are equal bit for bit (the perturbation is a function
+// of position, see perturbation.hpp). Flat cells count as inside.
+enum class Prism : std::int8_t { NotShared, SharedInside, SharedOutside };
+std::vector<Prism> shared_prisms(const PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& in_source,
+                                        const std::vector<bool>& in_target, const PlaneCells& source_plane,
+                                        const PlaneCells& target_plane);
+
 // The faces of a plane that lie outside the input (faces of outside cells
 // and of no inside or flat cell) and have no free vertex: edges first, then
 // triangles, then cells (2D: edges, then triangles), each left out when one

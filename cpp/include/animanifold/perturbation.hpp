@@ -1,0 +1,29 @@
+// Perturbations that are functions of position.
+//
+// The morph computes its combinatorics on points moved off degeneracies by a
+// tiny amount (see morph.cpp). A random offset per point index would treat
+// two copies of one point differently: where the source and the target share
+// vertices (identical shapes, the rockerArm test of Figure 8.9, or shapes
+// that share a part), the copies at t0 and t1 would be perturbed apart, the
+// fill would cut the vertical rectangle between two shared vertices' columns
+// into slivers, and those slivers are flat once the exact coordinates come
+// back (zero-area faces in every frame). An offset that depends only on the
+// exact coordinates (a hash of their bits) moves both copies alike: the
+// columns stay exactly vertical, the exact Delaunay fill sees the degeneracy
+// and resolves it symbolically with proper simplices, as stitching does.
+// The offsets are deterministic, independent of point order, and look
+// uniformly random in [-scale, scale] per coordinate.
+#pragma once
+
+#include "animanifold/types.hpp"
+
+namespace animanifold {
+
+// An offset in [-1, 1] for coordinate `component` of the point `p` (`d`
+// coordinates), a function of p's exact bits (-0.0 and 0.0 alike) and `salt`.
+double position_hash_offset(const double* p, int d, int component, std::uint64_t salt);
+
+// `points` (#P by d) each moved by scale * position_hash_offset, per coordinate.
+PointMatrix perturbed_by_position(const PointMatrix& points, double scale, std::uint64_t salt);
+
+}  // namespace animanifold
