@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -239,6 +239,10 @@ def delaunay_exact(points: typing.Annotated[numpy.typing.NDArray[numpy.float64],
     """
 def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> dict:
     ...
+def distances_to_surface(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+    """
+    Distance from each point to the surface (triangles in R^3, segments in R^2); inf without faces.
+    """
 def drop_component(normals: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], axis: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     ...
 def dual_operator(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertex_count: typing.SupportsInt | typing.SupportsIndex) -> tuple[tuple, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
