@@ -13,6 +13,14 @@ frame is most of the cost of writing it).
 
 Kept least recently used first out, within BUDGET_BYTES, per loaded manifold
 (a reloaded or subdivided manifold is another object and gets its own cuts).
+
+Beside an interval's cut, the UV map of each of its integer frames (frame_uv):
+the live modifier would rebuild the UV map on every corner of every frame (600k
+corners for a 50k-triangle source: most of a frame's cost), where writing a kept
+one is one copy. Computed on a frame's first visit and kept within
+FRAME_BUDGET_BYTES; when that is full, no more are kept (a loop longer than the
+budget would otherwise evict every frame before it comes back) and the modifier
+computes the others. They go with their cut.
 """
 
 from __future__ import annotations
@@ -26,6 +34,9 @@ import numpy as np
 # ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
 # keyframes fit, and scrubbing back and forth over them slices nothing.
 BUDGET_BYTES = 256 * 2**20
+# ~53 integer frames' UV maps of that frame (600k corners, 4.8 MB each): the bench's
+# 48-frame loop fits.
+FRAME_BUDGET_BYTES = 256 * 2**20
 
 
 @dataclass
@@ -81,6 +92,13 @@ def interval_cut(manifold, s, interval: tuple[float, float]) -> Cut:
     return cut
 
 
+def frame_uv(cut: Cut, frame: float) -> np.ndarray:
+    """(2C,) float32: the UV map of an interval cut at `frame` (in the interval): every
+    vertex's UV moved along its edge from the cut's frame, per corner."""
+    now = cut.uv[:, :2] + (frame - cut.value) * cut.uv_rate[:, :2].astype(np.float64)
+    return corner_values(now, cut.faces)
+
+
 def vertex_time_cut(s) -> Cut:
     """The cut at a vertex time: the slice itself."""
     faces = _faces(s)
@@ -116,10 +134,13 @@ def _padded(a) -> np.ndarray:
 
 
 class CutCache:
-    def __init__(self, budget: int = BUDGET_BYTES):
+    def __init__(self, budget: int = BUDGET_BYTES, frame_budget: int = FRAME_BUDGET_BYTES):
         self.budget = budget
+        self.frame_budget = frame_budget
         self._entries: OrderedDict = OrderedDict()  # (id(manifold), key) -> (weakref, Cut, nbytes)
         self._bytes = 0
+        self._frames: dict = {}  # (id(manifold), key) -> {frame: (2C,) float32 UV map}, for kept cuts only
+        self._frame_bytes = 0
 
     def get(self, manifold, key) -> Cut | None:
         entry = self._entries.get((id(manifold), key))
@@ -155,14 +176,40 @@ class CutCache:
         for k in [k for k, (ref, _, _) in self._entries.items() if ref() is None]:
             self._drop(k)
 
+    def frame_uv(self, manifold, key, frame: float) -> np.ndarray | None:
+        """The kept UV map of the kept cut `key` at `frame`, if any."""
+        if self.get(manifold, key) is None:
+            return None
+        return self._frames.get((id(manifold), key), {}).get(frame)
+
+    def frame_room(self, manifold, key, nbytes: int) -> bool:
+        """Whether a UV map of `nbytes` for the kept cut `key` would be kept."""
+        return (id(manifold), key) in self._entries and self._frame_bytes + nbytes <= self.frame_budget
+
+    def keep_frame_uv(self, manifold, key, frame: float, uv: np.ndarray) -> bool:
+        """Keeps `uv`, the UV map of the kept cut `key` at `frame`, if the frame budget
+        has room (nothing is evicted for it); False if not kept."""
+        k = (id(manifold), key)
+        if not self.frame_room(manifold, key, uv.nbytes):
+            return False
+        frames = self._frames.setdefault(k, {})
+        if frame not in frames:
+            frames[frame] = uv
+            self._frame_bytes += uv.nbytes
+        return True
+
     def _drop(self, k) -> None:
         entry = self._entries.pop(k, None)
         if entry is not None:
             self._bytes -= entry[2]
+        for uv in self._frames.pop(k, {}).values():
+            self._frame_bytes -= uv.nbytes
 
     def clear(self) -> None:
         self._entries.clear()
         self._bytes = 0
+        self._frames.clear()
+        self._frame_bytes = 0
 
     def __len__(self) -> int:
         return len(self._entries)
@@ -170,3 +217,7 @@ class CutCache:
     @property
     def nbytes(self) -> int:
         return self._bytes
+
+    @property
+    def frame_nbytes(self) -> int:
+        return self._frame_bytes

@@ -5,17 +5,26 @@ vertex slides along one manifold edge, so its position (and UV) is affine in
 the frame: p(t) = p(t0) + (t - t0) * rate. live.py writes the cut once per
 interval (its frame t0, the interval's middle) with `am_rate` (and `am_uv` /
 `am_uv_rate`) point attributes; the node group "Animanifold Live" reads the
-Scene Time and moves the vertices and UVs, so a frame change inside the
-interval costs the handler an O(1) check and the mesh data block is not touched.
+Scene Time and moves the vertices, so a frame change inside the interval costs
+the handler an O(1) check for the positions.
 
-Modifier inputs (set by live.py only when a cut is written):
+The UV map is per corner (600k corners for a 50k-triangle source, six per
+vertex), and rebuilding it here is most of a frame's cost (~85%, measured; the
+fields are evaluated on the corners, and Named Attribute reads no float2, so the
+values pass through float3 conversions). So on
+integer frames the handler writes the frame's UV map, kept per frame (live_cuts),
+into the mesh, and says which frame it holds (UV Frame); the group rebuilds the
+UV map only on other frames (subframes, motion blur, playback without the add-on).
+
+Modifier inputs (set by live.py only):
   Active      off while the mesh holds a frame as it is (vertex times, sweeps,
               smoothing, custom normals): the geometry passes through;
-  Frame       the frame the mesh's positions and UVs hold (t0);
+  Frame       the frame the mesh's positions and `am_uv` hold (t0);
   Start, End  the interval: the scene frame is clamped to it, so without the
               handler (add-on missing) the object holds the interval's ends
               instead of extrapolating;
   Animate UV  whether the UV map moves (the manifold has UVs);
+  UV Frame    the frame the mesh's UV map holds: at it the UV map passes through;
   UV Map      its name.
 
 Only live.py writes the inputs, and every other writer of a manifold object's
@@ -39,7 +48,9 @@ GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
 # Custom property marking the node group as ours (and its layout version), so a
 # user's group that happens to have the name is never used or changed.
 GROUP_TAG = "animanifold_live"
-GROUP_VERSION = 1
+# 2: UV Frame. A group of an older version is not ours any more: the modifier is
+# pointed at a new one the next time a cut is written.
+GROUP_VERSION = 2
 
 RATE = "am_rate"  # point, float vector: d position / d frame
 UV = "am_uv"  # point, float vector (u, v, 0): the UV at Frame
@@ -53,6 +64,7 @@ _INPUTS = (  # name, socket type, default
     ("Start", "NodeSocketFloat", 0.0),
     ("End", "NodeSocketFloat", 0.0),
     ("Animate UV", "NodeSocketBool", False),
+    ("UV Frame", "NodeSocketFloat", 0.0),
     ("UV Map", "NodeSocketString", "UVMap"),
 )
 
@@ -143,8 +155,17 @@ def _build():
     links.new(old_uv.outputs[0], on_corners.inputs["Geometry"])
     links.new(inp.outputs["UV Map"], on_corners.inputs["Name"])
     links.new(named(_UV_NOW, -400, 0).outputs["Attribute"], on_corners.inputs["Value"])
+    # Rebuilt unless the UV map holds this frame already (the handler wrote it): the
+    # switch's other branch is not evaluated.
+    elsewhere = node("FunctionNodeCompare", -1000, -600, data_type="FLOAT", operation="NOT_EQUAL")
+    links.new(clamp.outputs[0], elsewhere.inputs[0])
+    links.new(inp.outputs["UV Frame"], elsewhere.inputs[1])
+    elsewhere.inputs["Epsilon"].default_value = 0.0
+    rebuild = node("FunctionNodeBooleanMath", -800, -600, operation="AND")
+    links.new(inp.outputs["Animate UV"], rebuild.inputs[0])
+    links.new(elsewhere.outputs[0], rebuild.inputs[1])
     uv_switch = node("GeometryNodeSwitch", 50, 100, input_type="GEOMETRY")
-    links.new(inp.outputs["Animate UV"], uv_switch.inputs["Switch"])
+    links.new(rebuild.outputs[0], uv_switch.inputs["Switch"])
     links.new(inp.outputs["Geometry"], uv_switch.inputs["False"])
     links.new(on_corners.outputs[0], uv_switch.inputs["True"])
 
@@ -215,11 +236,19 @@ def _set(obj, mod, values: dict) -> None:
         obj.update_tag()
 
 
-def drive(obj, frame: float, start: float, end: float, uv_name: str | None) -> None:
-    """Turns the modifier on for the cut just written at `frame` of the interval (start, end)."""
+def drive(obj, frame: float, start: float, end: float, uv_name: str | None, uv_frame: float | None = None) -> None:
+    """Turns the modifier on for the cut just written at `frame` of the interval (start, end),
+    its UV map (`uv_name`, None without UVs) at `uv_frame` (default `frame`)."""
     mod = ensure_modifier(obj)
     _set(obj, mod, {"Active": True, "Frame": float(frame), "Start": float(start), "End": float(end),
-                    "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+                    "Animate UV": uv_name is not None, "UV Frame": float(frame if uv_frame is None else uv_frame),
+                    "UV Map": uv_name or ""})
+
+
+def set_uv_frame(obj, frame: float) -> None:
+    """The mesh's UV map now holds `frame` (written by the handler)."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    _set(obj, mod, {"UV Frame": float(frame)})
 
 
 def release(obj) -> None:
@@ -229,14 +258,17 @@ def release(obj) -> None:
         _set(obj, mod, {"Active": False})
 
 
-def drives(obj, start: float, end: float) -> bool:
-    """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)."""
+def drives(obj, start: float, end: float, frame: float | None = None, uv_frame: float | None = None) -> bool:
+    """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)
+    from the cut at `frame` with the UV map at `uv_frame` (when given)."""
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None or not mod.show_viewport or not _is_ours(mod.node_group):
         return False
     ids = _identifiers(mod.node_group)
     return (bool(mod.get(ids["Active"])) and _same(mod.get(ids["Start"]), float(start))
-            and _same(mod.get(ids["End"]), float(end)))
+            and _same(mod.get(ids["End"]), float(end))
+            and (frame is None or _same(mod.get(ids["Frame"]), float(frame)))
+            and (uv_frame is None or _same(mod.get(ids["UV Frame"]), float(uv_frame))))
 
 
 def remove_unused_group() -> None:

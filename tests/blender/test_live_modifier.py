@@ -1,9 +1,10 @@
 """Live playback through the "Animanifold Live" geometry-nodes modifier, in-process with bpy 4.5.
 
-Inside a topology interval the handler writes nothing: the mesh holds the
-interval's cut (its middle frame and every vertex's rate) and the modifier moves
-the vertices (and UVs) with the scene frame. What is checked is what the user
-sees: the evaluated mesh, against a direct slice of the cache.
+Inside a topology interval the mesh holds the interval's cut (its middle frame
+and every vertex's rate) and the modifier moves the vertices with the scene
+frame; on integer frames the handler copies the frame's kept UV map into the
+mesh, on other frames the modifier rebuilds the UV map. What is checked is what
+the user sees: the evaluated mesh, against a direct slice of the cache.
 """
 
 from __future__ import annotations
@@ -100,30 +101,134 @@ def writes(monkeypatch):
     return count
 
 
+@pytest.fixture()
+def uv_work(monkeypatch):
+    """Records the frames whose UV maps the handler copies into the mesh (write_corner_uv)
+    and computes with numpy (live_cuts.frame_uv, live_cuts.corner_values)."""
+    from animanifold_blender import live, live_cuts
+
+    work = {"written": [], "computed": [], "gathers": 0}
+    write, compute, gather = live.write_corner_uv, live_cuts.frame_uv, live_cuts.corner_values
+
+    def counted_write(mesh, uv_name, corner_uv):
+        scene = bpy.context.scene
+        work["written"].append(scene.frame_current + scene.frame_subframe)
+        return write(mesh, uv_name, corner_uv)
+
+    def counted_compute(cut, frame):
+        work["computed"].append(frame)
+        return compute(cut, frame)
+
+    def counted_gather(*args):
+        work["gathers"] += 1
+        return gather(*args)
+
+    monkeypatch.setattr(live, "write_corner_uv", counted_write)
+    monkeypatch.setattr(live_cuts, "frame_uv", counted_compute)
+    monkeypatch.setattr(live_cuts, "corner_values", counted_gather)
+    return work
+
+
+def own_uv(man) -> np.ndarray:
+    """The UV map of the object's own mesh (not the evaluated one), per corner."""
+    return corner_uv(man.data, man.animanifold.uv_name)
+
+
 def modifier_inputs(man) -> dict:
     mod = man.modifiers[MODIFIER]
     return {item.name: mod[item.identifier] for item in mod.node_group.interface.items_tree
             if item.in_out == "INPUT" and item.socket_type != "NodeSocketGeometry"}
 
 
-def test_inside_an_interval_the_handler_writes_nothing(demo, writes):
+def test_inside_an_interval_the_handler_writes_only_kept_uv_maps(demo, writes, uv_work):
     man, cache = convert(demo)  # at frame 1: the first keyframe, written by Convert
     times = cache.metadata["keyframe_times"]  # [1, 12, 24, 36, 48]
+    uv_name = man.animanifold.uv_name
     writes["n"] = 0
-    goto(2)  # enters the interval (1, 12): one cut written
-    assert writes["n"] == 1
+    goto(2)  # enters the interval (1, 12): one cut written, with frame 2's UV map
+    assert writes["n"] == 1 and uv_work["written"] == [] and uv_work["computed"] == [2.0]
     assert man.modifiers[0].name == MODIFIER and man.modifiers[MODIFIER].type == "NODES"
     inputs = modifier_inputs(man)
     assert inputs["Active"] and (inputs["Start"], inputs["End"]) == (times[0], times[1])
-    assert inputs["Frame"] == 6.5 and inputs["Animate UV"] and inputs["UV Map"] == man.animanifold.uv_name
+    assert inputs["Frame"] == 6.5 and inputs["Animate UV"] and inputs["UV Map"] == uv_name
+    assert inputs["UV Frame"] == 2.0
     before = snapshot(man.data)
     for name in ("am_rate", "am_uv", "am_uv_rate"):
         assert name in before, name
-    for frame in (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125):
+    del before[uv_name]
+    cv = corner_vertex(man.data)
+    frames = (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125, 3.0, 7.0, 11.0)
+    integer = [f for f in frames if f == int(f)]
+    held = 2.0  # the frame the mesh's UV map holds
+    for loop in range(2):
+        gathers = uv_work["gathers"]
+        for frame in frames:
+            written = len(uv_work["written"])
+            goto(frame)
+            assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
+            if frame == int(frame) and frame != held:
+                held = frame
+                assert uv_work["written"][written:] == [frame], f"frame {frame}: its UV map was not copied once"
+            else:  # a subframe (the modifier rebuilds the UV map) or the UV map shown
+                assert len(uv_work["written"]) == written, f"frame {frame}: a UV map was written"
+            now = snapshot(man.data)
+            uv = now.pop(uv_name).reshape(-1, 2).astype(np.float64)
+            assert_same(now, before, f"frame {frame}")  # positions, rates, faces, edges as cut
+            np.testing.assert_allclose(uv, cache.slice(held).vertex_attributes["uv"][cv], atol=1e-6,
+                                       err_msg=f"frame {frame}: the mesh's UV map")
+            assert modifier_inputs(man)["UV Frame"] == held
+            assert_shows(man, cache, frame)
+        # Each integer frame's UV map computed once; the second loop copies kept ones only.
+        assert sorted(uv_work["computed"]) == sorted(set(integer)), f"loop {loop}"
+        if loop == 1:
+            assert uv_work["gathers"] == gathers, "numpy work on frames whose UV maps are kept"
+    assert len(uv_work["written"]) > len(set(integer))  # the second loop copied them again
+
+
+def test_uv_maps_beyond_the_frame_budget_are_rebuilt_by_the_modifier(demo, uv_work, monkeypatch):
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    goto(25)  # enters (24, 36), whose middle is 30: frame 25's UV map computed and kept
+    assert uv_work["computed"] == [25.0] and live._CUTS.frame_nbytes > 0
+    monkeypatch.setattr(live._CUTS, "frame_budget", live._CUTS.frame_nbytes)  # no room for another
+    for frame in (26, 27, 25, 30, 26, 31):
         goto(frame)
-        assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
-        assert_same(snapshot(man.data), before, f"frame {frame}")
         assert_shows(man, cache, frame)
+    # 26, 27, 31 not kept, so not computed either: the modifier rebuilt them. 25 was
+    # still in the mesh; 30 is the cut's own UV map.
+    assert uv_work["computed"] == [25.0] and uv_work["written"] == [30.0]
+    assert modifier_inputs(man)["UV Frame"] == 30.0
+
+
+def test_without_uvs_nothing_of_the_uv_map_is_done(demo, uv_work):
+    for layer in list(demo.data.uv_layers):
+        demo.data.uv_layers.remove(layer)
+    demo.data.update()  # (removing a UV map does not tag the mesh: the evaluated one kept it)
+    man, cache = convert(demo)
+    assert "uv" not in cache.vertex_attributes
+    for frame in (25, 26, 27.5, 28, 30):
+        goto(frame)
+        mesh = shown(man)
+        np.testing.assert_allclose(mesh_vertices(mesh), cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
+        assert len(mesh.uv_layers) == 0
+    assert not modifier_inputs(man)["Animate UV"]
+    assert uv_work["written"] == [] and uv_work["computed"] == []
+
+
+def test_a_node_group_of_an_older_layout_is_replaced(demo):
+    from animanifold_blender import live_nodes
+
+    man, cache = convert(demo)
+    goto(25)
+    old = man.modifiers[MODIFIER].node_group
+    old[live_nodes.GROUP_TAG] = live_nodes.GROUP_VERSION - 1  # as a file of an earlier add-on holds it
+    goto(26)
+    group = man.modifiers[MODIFIER].node_group
+    assert group != old and group[live_nodes.GROUP_TAG] == live_nodes.GROUP_VERSION
+    assert_shows(man, cache, 26)
+    goto(26.5)
+    assert_shows(man, cache, 26.5)
 
 
 def test_crossing_keyframes_and_intervals_writes_once_each(demo, writes):
@@ -267,7 +372,8 @@ def test_undo_and_redo(demo):
 
 
 # Fresh python3 + bpy without animanifold: the saved modifier still plays the interval
-# it holds (clamped to it outside: no handler writes the next cut).
+# it holds (clamped to it outside: no handler writes the next cut), UVs included (the
+# modifier rebuilds the UV map on frames other than the one the mesh holds).
 PROBE = r"""
 import json, sys
 import bpy, numpy as np
@@ -280,7 +386,9 @@ for f in frames:
     bpy.context.scene.frame_set(int(f), subframe=f - int(f))
     me = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     co = np.empty(3 * len(me.vertices), np.float32); me.vertices.foreach_get("co", co)
-    out[f] = co.tolist()
+    uv = np.empty(2 * len(me.loops), np.float32); me.uv_layers.active.uv.foreach_get("vector", uv)
+    cv = np.empty(len(me.loops), np.int32); me.loops.foreach_get("vertex_index", cv)
+    out[f] = {"co": co.tolist(), "uv": uv.tolist(), "corner_vertex": cv.tolist()}
 bpy.ops.wm.read_factory_settings(use_empty=True)
 print("PROBE" + json.dumps(out))
 """
@@ -306,14 +414,16 @@ def test_save_and_reload(demo, tmp_path):
 
     out = run_fresh_blender(PROBE, str(blend), "14.5,18,23.25")
     line = [ln for ln in out.splitlines() if ln.startswith("PROBE")][-1]
-    probed = {float(k): np.array(v).reshape(-1, 3) for k, v in json.loads(line[5:]).items()}
-    for frame in (14.5, 18.0, 23.25):  # inside the saved interval (12, 24)
-        np.testing.assert_allclose(probed[frame], cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
+    probed = {float(k): v for k, v in json.loads(line[5:]).items()}
+    for frame in (14.5, 18.0, 23.25):  # inside the saved interval (12, 24); the UV map saved at 18
+        s = cache.slice(frame)
+        got = probed[frame]
+        np.testing.assert_allclose(np.reshape(got["co"], (-1, 3)), s.vertices, atol=1e-6, err_msg=f"frame {frame}")
+        np.testing.assert_allclose(np.reshape(got["uv"], (-1, 2)), s.vertex_attributes["uv"][got["corner_vertex"]],
+                                   atol=1e-6, err_msg=f"frame {frame}: UVs")
 
 
-def _render(scene, path) -> np.ndarray:
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
+def _read(path, scene) -> np.ndarray:
     image = bpy.data.images.load(str(path))
     try:
         px = np.empty(len(image.pixels), np.float32)
@@ -323,15 +433,15 @@ def _render(scene, path) -> np.ndarray:
     return px.reshape(scene.render.resolution_y, scene.render.resolution_x, 4)
 
 
-@pytest.mark.slow
-def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
-    """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
-    written by the handler; with the UVs left as cut, it would not."""
-    from animanifold_blender import live
+def _render(scene, path) -> np.ndarray:
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return _read(path, scene)
 
-    man, cache = convert(demo)
-    scene = bpy.context.scene
-    for mat in man.data.materials:  # colour = UV: any UV error shows
+
+def _uv_colour_cycles(man, scene) -> None:
+    """Tiny float renders with Cycles whose colour is the UV: any UV error shows."""
+    for mat in man.data.materials:
         mat.use_nodes = True
         nodes, links = mat.node_tree.nodes, mat.node_tree.links
         nodes.clear()
@@ -351,7 +461,18 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"  # floats: small UV differences show
     scene.render.image_settings.color_depth = "32"
-    frame = 34.5  # inside (24, 36), away from the cut's middle (30)
+
+
+@pytest.mark.slow
+def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
+    """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
+    written by the handler; with the UVs left as cut, it would not."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    scene = bpy.context.scene
+    _uv_colour_cycles(man, scene)
+    frame = 34.5  # inside (24, 36), away from the cut's middle (30): the modifier rebuilds the UV map
     goto(frame)
     assert modifier_inputs(man)["Active"] and modifier_inputs(man)["Frame"] == 30.0
     driven = _render(scene, tmp_path / "driven.exr")
@@ -373,3 +494,47 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     man.update_tag()
     stale = _render(scene, tmp_path / "stale.exr")
     assert np.abs(stale - written).max() > 1e-2  # measured 0.04
+
+
+@pytest.mark.slow
+def test_animation_render_gets_each_frames_uv_map(demo, tmp_path, monkeypatch, uv_work):
+    """An animation render changes frames through the render pipeline, which calls the
+    frame-change handlers: on integer frames they copy the frame's kept UV map into the
+    mesh, and Cycles renders what the handler-written frame renders. Were the copy
+    missing (the modifier told the UV map holds the frame while it holds another),
+    the render would show the cut's UVs."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    scene = bpy.context.scene
+    _uv_colour_cycles(man, scene)
+    frames = (34, 35)  # inside (24, 36), away from its middle (30): the UVs differ enough to show
+
+    def animation(prefix):
+        goto(30)  # the cut's own UV map in the mesh
+        scene.frame_start, scene.frame_end = frames
+        scene.render.filepath = str(tmp_path / f"{prefix}_####")
+        bpy.ops.render.render(animation=True)
+        return {f: _read(tmp_path / f"{prefix}_{f:04d}.exr", scene) for f in frames}
+
+    rendered = animation("driven")
+    assert uv_work["written"][:len(frames)] == [float(f) for f in frames]  # by the render pipeline's frame changes
+    assert modifier_inputs(man)["Active"]
+
+    def lie(mesh, uv_name, corner_uv):  # says it wrote the UV map, writes nothing
+        return True
+
+    monkeypatch.setattr(live, "write_corner_uv", lie)
+    live.forget_shown()
+    stale = animation("stale")
+
+    monkeypatch.setattr(live, "can_drive", lambda *a, **k: False)  # the handler writes whole frames
+    live.forget_shown()
+    for f in frames:
+        goto(f)
+        assert not modifier_inputs(man)["Active"]
+        assert_shows(man, cache, f)
+        written = _render(scene, tmp_path / f"written_{f}.exr")
+        assert written[..., 3].max() > 0.5 and (written[..., 3] > 0.5).mean() > 0.1  # the blob is in view
+        assert np.abs(rendered[f] - written).max() < 1e-4, f"frame {f}"  # measured 1e-6
+        assert np.abs(stale[f] - written).max() > 1e-2, f"frame {f}: the check cannot fail"  # measured 0.04, 0.05
