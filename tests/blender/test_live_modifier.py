@@ -1,10 +1,10 @@
 """Live playback through the "Animanifold Live" geometry-nodes modifier, in-process with bpy 4.5.
 
-Inside a topology interval the mesh holds the interval's cut (its middle frame
-and every vertex's rate) and the modifier moves the vertices with the scene
-frame; on integer frames the handler copies the frame's kept UV map into the
-mesh, on other frames the modifier rebuilds the UV map. What is checked is what
-the user sees: the evaluated mesh, against a direct slice of the cache.
+Inside a topology interval the mesh holds the interval's cut (every vertex's
+rate, and a frame of it): on integer frames the handler copies the kept frame's
+positions and UV map into the mesh and the modifier passes it through; on other
+frames the modifier moves the vertices and rebuilds the UV map. What is checked
+is what the user sees: the evaluated mesh, against a direct slice of the cache.
 """
 
 from __future__ import annotations
@@ -102,36 +102,54 @@ def writes(monkeypatch):
 
 
 @pytest.fixture()
-def uv_work(monkeypatch):
-    """Records the frames whose UV maps the handler copies into the mesh (write_corner_uv)
-    and computes with numpy (live_cuts.frame_uv, live_cuts.corner_values)."""
+def frame_work(monkeypatch):
+    """Records the frames the handler copies into the mesh (write_frame), the frames it
+    computes (live_cuts.interval_frame, but for a cut's own frame) and the corner
+    gathers of UV maps (live_cuts.corner_values)."""
     from animanifold_blender import live, live_cuts
 
     work = {"written": [], "computed": [], "gathers": 0}
-    write, compute, gather = live.write_corner_uv, live_cuts.frame_uv, live_cuts.corner_values
+    write, compute, gather = live.write_frame, live_cuts.interval_frame, live_cuts.corner_values
 
-    def counted_write(mesh, uv_name, corner_uv):
+    def counted_write(mesh, uv_name, frame):
         scene = bpy.context.scene
         work["written"].append(scene.frame_current + scene.frame_subframe)
-        return write(mesh, uv_name, corner_uv)
+        return write(mesh, uv_name, frame)
 
     def counted_compute(cut, frame):
-        work["computed"].append(frame)
+        if frame != cut.value:
+            work["computed"].append(frame)
         return compute(cut, frame)
 
     def counted_gather(*args):
         work["gathers"] += 1
         return gather(*args)
 
-    monkeypatch.setattr(live, "write_corner_uv", counted_write)
-    monkeypatch.setattr(live_cuts, "frame_uv", counted_compute)
+    monkeypatch.setattr(live, "write_frame", counted_write)
+    monkeypatch.setattr(live_cuts, "interval_frame", counted_compute)
     monkeypatch.setattr(live_cuts, "corner_values", counted_gather)
     return work
 
 
-def own_uv(man) -> np.ndarray:
-    """The UV map of the object's own mesh (not the evaluated one), per corner."""
-    return corner_uv(man.data, man.animanifold.uv_name)
+def assert_bounds_and_normals(man, s, what):
+    """The evaluated object's bounding box and vertex normals are those of slice `s`
+    (stale caches would keep another frame's)."""
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    box = np.array([tuple(c) for c in ev.bound_box])
+    np.testing.assert_allclose(box.min(0), s.vertices.min(0), atol=1e-5, err_msg=f"{what}: bounds")
+    np.testing.assert_allclose(box.max(0), s.vertices.max(0), atol=1e-5, err_msg=f"{what}: bounds")
+    from animanifold_blender import live
+
+    fresh = bpy.data.meshes.new("fresh")
+    try:
+        live.write_mesh(fresh, s.vertices, s.faces)
+        expected = np.empty(3 * len(fresh.vertices), np.float32)
+        fresh.vertices.foreach_get("normal", expected)
+    finally:
+        bpy.data.meshes.remove(fresh)
+    got = np.empty(3 * len(ev.data.vertices), np.float32)
+    ev.data.vertices.foreach_get("normal", got)
+    np.testing.assert_allclose(got, expected, atol=1e-4, err_msg=f"{what}: normals")
 
 
 def modifier_inputs(man) -> dict:
@@ -140,68 +158,81 @@ def modifier_inputs(man) -> dict:
             if item.in_out == "INPUT" and item.socket_type != "NodeSocketGeometry"}
 
 
-def test_inside_an_interval_the_handler_writes_only_kept_uv_maps(demo, writes, uv_work):
+def test_inside_an_interval_the_handler_copies_only_kept_frames(demo, writes, frame_work):
     man, cache = convert(demo)  # at frame 1: the first keyframe, written by Convert
     times = cache.metadata["keyframe_times"]  # [1, 12, 24, 36, 48]
     uv_name = man.animanifold.uv_name
     writes["n"] = 0
-    goto(2)  # enters the interval (1, 12): one cut written, with frame 2's UV map
-    assert writes["n"] == 1 and uv_work["written"] == [] and uv_work["computed"] == [2.0]
+    goto(2)  # enters the interval (1, 12): one cut written, holding frame 2
+    assert writes["n"] == 1 and frame_work["written"] == [] and frame_work["computed"] == [2.0]
     assert man.modifiers[0].name == MODIFIER and man.modifiers[MODIFIER].type == "NODES"
     inputs = modifier_inputs(man)
     assert inputs["Active"] and (inputs["Start"], inputs["End"]) == (times[0], times[1])
-    assert inputs["Frame"] == 6.5 and inputs["Animate UV"] and inputs["UV Map"] == uv_name
-    assert inputs["UV Frame"] == 2.0
+    assert inputs["Frame"] == 2.0 and inputs["Cut Frame"] == 6.5
+    assert inputs["Animate UV"] and inputs["UV Map"] == uv_name
     before = snapshot(man.data)
     for name in ("am_rate", "am_uv", "am_uv_rate"):
         assert name in before, name
-    del before[uv_name]
+    del before[uv_name], before["position"]
     cv = corner_vertex(man.data)
     frames = (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125, 3.0, 7.0, 11.0)
     integer = [f for f in frames if f == int(f)]
-    held = 2.0  # the frame the mesh's UV map holds
+    held = 2.0  # the frame the mesh holds
     for loop in range(2):
-        gathers = uv_work["gathers"]
+        gathers = frame_work["gathers"]
         for frame in frames:
-            written = len(uv_work["written"])
+            written = len(frame_work["written"])
             goto(frame)
             assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
             if frame == int(frame) and frame != held:
                 held = frame
-                assert uv_work["written"][written:] == [frame], f"frame {frame}: its UV map was not copied once"
-            else:  # a subframe (the modifier rebuilds the UV map) or the UV map shown
-                assert len(uv_work["written"]) == written, f"frame {frame}: a UV map was written"
+                assert frame_work["written"][written:] == [frame], f"frame {frame}: not copied once"
+            else:  # a subframe (the modifier moves the mesh) or the frame held
+                assert len(frame_work["written"]) == written, f"frame {frame}: a frame was copied"
             now = snapshot(man.data)
             uv = now.pop(uv_name).reshape(-1, 2).astype(np.float64)
-            assert_same(now, before, f"frame {frame}")  # positions, rates, faces, edges as cut
-            np.testing.assert_allclose(uv, cache.slice(held).vertex_attributes["uv"][cv], atol=1e-6,
-                                       err_msg=f"frame {frame}: the mesh's UV map")
-            assert modifier_inputs(man)["UV Frame"] == held
+            positions = now.pop("position").reshape(-1, 3).astype(np.float64)
+            assert_same(now, before, f"frame {frame}")  # rates, faces, edges as cut
+            s = cache.slice(held)
+            np.testing.assert_allclose(positions, s.vertices, atol=1e-6, err_msg=f"frame {frame}: the mesh")
+            np.testing.assert_allclose(uv, s.vertex_attributes["uv"][cv], atol=1e-6, err_msg=f"frame {frame}: its UVs")
+            assert modifier_inputs(man)["Frame"] == held
             assert_shows(man, cache, frame)
-        # Each integer frame's UV map computed once; the second loop copies kept ones only.
-        assert sorted(uv_work["computed"]) == sorted(set(integer)), f"loop {loop}"
+        # Each integer frame computed once; the second loop copies kept frames only.
+        assert sorted(frame_work["computed"]) == sorted(set(integer)), f"loop {loop}"
         if loop == 1:
-            assert uv_work["gathers"] == gathers, "numpy work on frames whose UV maps are kept"
-    assert len(uv_work["written"]) > len(set(integer))  # the second loop copied them again
+            assert frame_work["gathers"] == gathers, "numpy work on kept frames"
+    assert len(frame_work["written"]) > len(set(integer))  # the second loop copied them again
 
 
-def test_uv_maps_beyond_the_frame_budget_are_rebuilt_by_the_modifier(demo, uv_work, monkeypatch):
+def test_copied_frames_have_their_own_bounds_and_normals(demo):
+    man, cache = convert(demo)
+    for frame in (25, 27, 33, 30, 27.5):  # copied by the handler, the cut's own, moved by the modifier
+        goto(frame)
+        assert_bounds_and_normals(man, cache.slice(frame), f"frame {frame}")
+    man.modifiers[MODIFIER].show_viewport = False  # the handler moves the vertices itself (write_positions)
+    for frame in (26, 28.5):
+        goto(frame)
+        assert_bounds_and_normals(man, cache.slice(frame), f"handler-moved frame {frame}")
+
+
+def test_frames_beyond_the_frame_budget_are_moved_by_the_modifier(demo, frame_work, monkeypatch):
     from animanifold_blender import live
 
     man, cache = convert(demo)
-    goto(25)  # enters (24, 36), whose middle is 30: frame 25's UV map computed and kept
-    assert uv_work["computed"] == [25.0] and live._CUTS.frame_nbytes > 0
+    goto(25)  # enters (24, 36), whose middle is 30: frame 25 computed and kept
+    assert frame_work["computed"] == [25.0] and live._CUTS.frame_nbytes > 0
     monkeypatch.setattr(live._CUTS, "frame_budget", live._CUTS.frame_nbytes)  # no room for another
     for frame in (26, 27, 25, 30, 26, 31):
         goto(frame)
         assert_shows(man, cache, frame)
-    # 26, 27, 31 not kept, so not computed either: the modifier rebuilt them. 25 was
-    # still in the mesh; 30 is the cut's own UV map.
-    assert uv_work["computed"] == [25.0] and uv_work["written"] == [30.0]
-    assert modifier_inputs(man)["UV Frame"] == 30.0
+    # 26, 27, 31 not kept, so not computed either: the modifier moved the mesh to them.
+    # 25 was still in the mesh; 30 is the cut's own frame.
+    assert frame_work["computed"] == [25.0] and frame_work["written"] == [30.0]
+    assert modifier_inputs(man)["Frame"] == 30.0
 
 
-def test_without_uvs_nothing_of_the_uv_map_is_done(demo, uv_work):
+def test_without_uvs_frames_are_positions_only(demo, frame_work):
     for layer in list(demo.data.uv_layers):
         demo.data.uv_layers.remove(layer)
     demo.data.update()  # (removing a UV map does not tag the mesh: the evaluated one kept it)
@@ -213,7 +244,7 @@ def test_without_uvs_nothing_of_the_uv_map_is_done(demo, uv_work):
         np.testing.assert_allclose(mesh_vertices(mesh), cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
         assert len(mesh.uv_layers) == 0
     assert not modifier_inputs(man)["Animate UV"]
-    assert uv_work["written"] == [] and uv_work["computed"] == []
+    assert frame_work["written"] == [26.0, 28.0, 30.0] and frame_work["gathers"] == 0
 
 
 def test_a_node_group_of_an_older_layout_is_replaced(demo):
@@ -373,7 +404,7 @@ def test_undo_and_redo(demo):
 
 # Fresh python3 + bpy without animanifold: the saved modifier still plays the interval
 # it holds (clamped to it outside: no handler writes the next cut), UVs included (the
-# modifier rebuilds the UV map on frames other than the one the mesh holds).
+# mesh holds the frame it was saved at; the modifier moves it to the others).
 PROBE = r"""
 import json, sys
 import bpy, numpy as np
@@ -472,7 +503,7 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     man, cache = convert(demo)
     scene = bpy.context.scene
     _uv_colour_cycles(man, scene)
-    frame = 34.5  # inside (24, 36), away from the cut's middle (30): the modifier rebuilds the UV map
+    frame = 34.5  # inside (24, 36), away from the cut's middle (30): the modifier moves the mesh
     goto(frame)
     assert modifier_inputs(man)["Active"] and modifier_inputs(man)["Frame"] == 30.0
     driven = _render(scene, tmp_path / "driven.exr")
@@ -497,12 +528,12 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
 
 
 @pytest.mark.slow
-def test_animation_render_gets_each_frames_uv_map(demo, tmp_path, monkeypatch, uv_work):
+def test_animation_render_gets_each_copied_frame(demo, tmp_path, monkeypatch, frame_work):
     """An animation render changes frames through the render pipeline, which calls the
-    frame-change handlers: on integer frames they copy the frame's kept UV map into the
-    mesh, and Cycles renders what the handler-written frame renders. Were the copy
-    missing (the modifier told the UV map holds the frame while it holds another),
-    the render would show the cut's UVs."""
+    frame-change handlers: on integer frames they copy the kept frame into the mesh,
+    and Cycles renders what the handler-written frame renders. Were the copy missing
+    (the modifier told the mesh holds the frame while it holds another), the render
+    would show the cut's frame."""
     from animanifold_blender import live
 
     man, cache = convert(demo)
@@ -511,20 +542,20 @@ def test_animation_render_gets_each_frames_uv_map(demo, tmp_path, monkeypatch, u
     frames = (34, 35)  # inside (24, 36), away from its middle (30): the UVs differ enough to show
 
     def animation(prefix):
-        goto(30)  # the cut's own UV map in the mesh
+        goto(30)  # the cut's own frame in the mesh
         scene.frame_start, scene.frame_end = frames
         scene.render.filepath = str(tmp_path / f"{prefix}_####")
         bpy.ops.render.render(animation=True)
         return {f: _read(tmp_path / f"{prefix}_{f:04d}.exr", scene) for f in frames}
 
     rendered = animation("driven")
-    assert uv_work["written"][:len(frames)] == [float(f) for f in frames]  # by the render pipeline's frame changes
+    assert frame_work["written"][:len(frames)] == [float(f) for f in frames]  # by the render pipeline's frame changes
     assert modifier_inputs(man)["Active"]
 
-    def lie(mesh, uv_name, corner_uv):  # says it wrote the UV map, writes nothing
+    def lie(mesh, uv_name, frame):  # says it copied the frame, writes nothing
         return True
 
-    monkeypatch.setattr(live, "write_corner_uv", lie)
+    monkeypatch.setattr(live, "write_frame", lie)
     live.forget_shown()
     stale = animation("stale")
 
