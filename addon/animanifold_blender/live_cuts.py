@@ -18,7 +18,8 @@ Beside an interval's cut, each of its integer frames (interval_frame: the
 positions and the UV map per corner, as the mesh takes them): the live modifier
 would move every vertex and rebuild the UV map on every corner (600k corners for
 a 50k-triangle source) on every frame, where copying a kept frame into the mesh
-is two copies (measured 0.7 against 1.7 ms a frame on the bench object). Computed
+is two copies (bench_playback.py, a frame inside an interval: ~1.2 ms this way,
+the median of 5 runs on a shared 2-core machine; ~4-5 ms by the modifier). Computed
 on a frame's first visit and kept within FRAME_BUDGET_BYTES; when that is full,
 no more are kept (a loop longer than the budget would otherwise evict every frame
 before it comes back) and the modifier moves the others. They go with their cut.
