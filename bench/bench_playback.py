@@ -3,15 +3,20 @@ the evaluated mesh read after every frame) for (a) the original shape-key object
 (b) the live manifold object and (c) the baked object (node group over the frames
 collection), on the demo blob at ~50k triangles. Prints figures and ratios.
 
-(b) is the add-on's live playback: inside a topology interval the "Animanifold
-Live" geometry-nodes modifier moves the vertices and UVs and the frame-change
-handlers write nothing; they write a cut when playback enters an interval or a
-keyframe (9 of the 48 frames of the demo). The first loop also slices and lets
-Blender compute edges (cold); later loops reuse the kept cuts (warm): (b) is the
-warm figure, and the medians of frames inside an interval and of frames that write
-a cut are printed too. For comparison, "b_live_handler_writes" is the previous
-path (the handler rewrites positions and UVs on every frame; with this branch's
-faster mesh writes), measured in the same run unless --no-handler-path.
+(b) is the add-on's live playback: inside a topology interval, on every integer
+frame the frame-change handler copies the frame (positions and UV map, kept per
+frame by live_cuts) into the mesh with two foreach_set and the "Animanifold Live"
+geometry-nodes modifier passes it through (on other frames the modifier moves the
+vertices and rebuilds the UV map); it writes a cut when playback enters an
+interval or a keyframe (9 of the 48 frames of the demo). The first loop also
+slices, lets Blender compute edges and computes the frames (cold); later loops
+reuse the kept cuts and frames (warm): (b) is the warm figure, and the medians of
+frames inside an interval and of frames that write a cut are printed too, with
+the counts per loop. For comparison, in the same run:
+"b_live_modifier_moves_every_frame", the previous path (the modifier moves the
+vertices and rebuilds the UV map on every frame but the cut's own), and unless
+--no-handler-path "b_live_handler_writes", the path before that (the handler
+rewrites positions and UVs on every frame, computing them).
 
 The machine's load matters: the modifier's work is multi-threaded, so figures
 from a busy machine are lower and noisier than from an idle one.
@@ -38,40 +43,42 @@ import bpy  # noqa: E402
 from build_demo_scene import build_demo_scene  # noqa: E402
 
 
-def playback_fps(scene, frames, loops, probe=None, per_frame=None) -> list[float]:
-    """Frames per second of each loop over `frames`; `per_frame` (a list) gets the
-    seconds of every frame of the later loops."""
+def playback_fps(scene, frames, loops, probe=None, per_frame=None, started=None) -> list[float]:
+    """Frames per second of each loop over `frames`, after going to the first frame
+    (then `started()` is called); `per_frame` (a list) gets the seconds of every frame."""
     scene.frame_set(frames[0])  # warm up (loads the manifold)
+    if started is not None:
+        started()
     fps = []
-    for loop in range(loops):
+    for _ in range(loops):
         start = time.perf_counter()
         for f in frames:
             t = time.perf_counter()
             scene.frame_set(f)
             if probe is not None:
                 probe()
-            if per_frame is not None and loop > 0:
+            if per_frame is not None:
                 per_frame.append(time.perf_counter() - t)
         fps.append(len(frames) / (time.perf_counter() - start))
     return fps
 
 
 def warm(fps: list[float]) -> float:
-    """The loops after the first (all of them when there is one)."""
+    """Frames per second over the loops after the first (all of them when there is one)."""
     later = fps[1:] or fps
     return len(later) / sum(1.0 / f for f in later)
 
 
-def count_writes(live) -> dict:
-    """Counts the meshes the add-on writes (live.write_mesh calls)."""
+def count_calls(module, name: str) -> dict:
+    """Counts the calls of module.name (replaced by a counting wrapper)."""
     counter = {"n": 0}
-    write_mesh = live.write_mesh
+    fn = getattr(module, name)
 
     def counted(*args, **kwargs):
         counter["n"] += 1
-        return write_mesh(*args, **kwargs)
+        return fn(*args, **kwargs)
 
-    live.write_mesh = counted
+    setattr(module, name, counted)
     return counter
 
 
@@ -85,7 +92,7 @@ def main() -> int:
     parser.add_argument("--segments", type=int, default=180)
     parser.add_argument("--rings", type=int, default=140)
     parser.add_argument("--loops", type=int, default=3)
-    parser.add_argument("--no-handler-path", action="store_true", help="skip the previous live path (b')")
+    parser.add_argument("--no-handler-path", action="store_true", help="skip the handler-writes-every-frame path")
     args = parser.parse_args()
     import animanifold_blender
 
@@ -109,23 +116,53 @@ def main() -> int:
         man = bpy.data.objects[src.name + "_manifold"]
         src.hide_set(False)
         only_visible(man, [src, man])
-        from animanifold_blender import live
+        from animanifold_blender import live, live_cuts
 
-        writes = count_writes(live)
+        writes = count_calls(live, "write_mesh")
+        copies = count_calls(live, "write_frame")
+        computed = {"n": 0}
+        interval_frame = live_cuts.interval_frame
+
+        def counted_frame(cut, value):  # computed, not the cut's own
+            computed["n"] += value != cut.value
+            return interval_frame(cut, value)
+
+        live_cuts.interval_frame = counted_frame
         keyframes = set(live.manifold_for(man).metadata["keyframe_times"])
         # Frames that write a cut: the keyframes and the first frame of each interval.
         writing = {f for f in frames if f in keyframes or (f - 1) in keyframes}
+        live_loops = playback_fps(scene, frames, 1, evaluated_faces(man))  # cold: slices, edges, frames
+        cold = {"cut_writes": writes["n"], "frames_computed": computed["n"], "frames_copied": copies["n"]}
+
+        def reset():
+            for counter in (writes, copies, computed):
+                counter["n"] = 0
+
         seconds = []
-        live_loops = playback_fps(scene, frames, args.loops, evaluated_faces(man), seconds)
+        warm_loops = max(args.loops - 1, 1)
+        live_loops += playback_fps(scene, frames, warm_loops, evaluated_faces(man), seconds, started=reset)
         fps_live = warm(live_loops)
-        writes_per_loop = writes["n"] / args.loops
-        per_frame = dict(zip(frames * (args.loops - 1), seconds))  # the last loop's
+        warm_counts = {"cut_writes": writes["n"] / warm_loops, "frames_computed": computed["n"] / warm_loops,
+                       "frames_copied": copies["n"] / warm_loops}
+        per_frame = dict(zip(frames * warm_loops, seconds))  # the last loop's
         inside_ms = 1000 * statistics.median(per_frame[f] for f in frames if f not in writing)
         writing_ms = 1000 * statistics.median(per_frame[f] for f in writing)
         assert man.modifiers.get("Animanifold Live") is not None, "the live modifier did not play the object"
+        assert warm_counts["frames_computed"] == 0, "warm loops computed frames"
+
+        # The previous path: the modifier moves the mesh on every frame but the cut's own.
+        frame = live._frame
+        live._frame = lambda manifold, key, cut, value: interval_frame(cut, value) if value == cut.value else None
+        try:
+            live.forget_shown()
+            fps_modifier = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
+        finally:
+            live._frame = frame
+            live.forget_shown()
+            scene.frame_set(frames[0])
 
         fps_handler = None
-        if not args.no_handler_path:  # the previous path: the handler writes every frame
+        if not args.no_handler_path:  # the path before the modifier: the handler writes every frame
             can_drive = live.can_drive
             live.can_drive = lambda *a, **k: False
             try:
@@ -154,13 +191,16 @@ def main() -> int:
             "frames_per_loop": len(frames),
             "loops": args.loops,
             "fps": {"a_source_shape_keys": round(fps_source, 1), "b_live_manifold": round(fps_live, 1),
-                    "c_baked_node_group": round(fps_baked, 1)},
+                    "c_baked_node_group": round(fps_baked, 1),
+                    "b_live_modifier_moves_every_frame": round(fps_modifier, 1)},
             "ratios": {"live/source": float(f"{fps_live / fps_source:.3g}"),
                        "baked/source": float(f"{fps_baked / fps_source:.3g}"),
-                       "live/baked": float(f"{fps_live / fps_baked:.3g}")},
+                       "live/baked": float(f"{fps_live / fps_baked:.3g}"),
+                       "live/modifier_moves_every_frame": float(f"{fps_live / fps_modifier:.3g}")},
             "live_fps_per_loop": [round(f, 1) for f in live_loops],
             "live_ms_per_frame": round(1000 / fps_live, 2),
-            "live_cut_writes_per_loop": writes_per_loop,
+            "live_cold_loop": cold,
+            "live_per_warm_loop": warm_counts,
             "live_ms_frame_inside_interval_median": round(inside_ms, 2),
             "live_ms_frame_writing_a_cut_median": round(writing_ms, 2),
             "slice_ms_per_frame": round(slice_ms, 2),

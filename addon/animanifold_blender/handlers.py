@@ -23,8 +23,8 @@ def animanifold_frame_change_pre(scene, *_args):
 @persistent
 def animanifold_frame_change_post(scene, depsgraph=None):
     # After evaluation: animated settings (a keyframed sweep value, say) have their
-    # new values now; objects already shown at this frame cost an O(1) check.
-    live.update_scene(scene)
+    # new values now; objects without animation were shown at this frame already.
+    live.update_scene(scene, after_evaluation=True)
 
 
 @persistent

@@ -15,10 +15,13 @@ the same functions (frame_slice, frame_normals), so they bake what plays live.
 Playback inside a topology interval (Blender 4.2+, time axis, no smoothing or
 custom normals): the interval's cut is written once with the rate of every
 vertex, and the "Animanifold Live" geometry-nodes modifier (live_nodes) moves
-the vertices with the scene frame; the handler only checks that the frame is
-still in the interval. The user, renders and exports see the evaluated mesh;
-obj.data holds the interval's middle frame. Cuts are kept between visits
-(live_cuts), so looping playback slices nothing and Blender computes no edges.
+the vertices (and rebuilds the UV map) with the scene frame. On integer frames
+the handler instead copies the frame, kept per frame (live_cuts), into the
+mesh's positions and UV map (two copies, no other work) and the modifier passes
+it through. The user, renders and exports see the evaluated mesh; obj.data holds
+the last integer frame shown (or the interval's middle). Cuts and frames are
+kept between visits, so looping playback slices nothing and Blender computes no
+edges.
 """
 
 from __future__ import annotations
@@ -66,6 +69,7 @@ def clear():
     _CACHE.clear()
     _ERRORS.clear()
     _SHOWN.clear()
+    _CHECKED.clear()
     _SUBDIVIDED.clear()
     _CUTS.clear()
 
@@ -73,6 +77,7 @@ def clear():
 def forget_shown():
     """Next frame changes write every object in full (after undo/redo)."""
     _SHOWN.clear()
+    _CHECKED.clear()
 
 
 def last_error(obj) -> str | None:
@@ -349,9 +354,14 @@ class _Shown:
     counts: tuple  # (vertices, faces) of the mesh as written
     value: float = math.nan
     driven: bool = False
+    cut: live_cuts.Cut | None = None  # driven: the cut written
+    mesh_value: float = math.nan  # driven: the frame the mesh's positions and UV map hold
 
 
 _SHOWN: dict[str, _Shown] = {}
+# Object -> (scene, frame) last shown by update_scene without error: after the
+# evaluation of that frame only animated objects need another look.
+_CHECKED: dict[str, tuple] = {}
 _CUTS = live_cuts.CutCache()
 
 
@@ -388,8 +398,9 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     Between two vertex times (two keyframes, for a converted action) every
     frame has the same faces. Where the live modifier can play the object
     (can_drive), the first frame there writes the interval's cut with the
-    rate of every vertex, and later frames write nothing: the modifier moves
-    the vertices with the scene frame. Elsewhere the first frame is cut and
+    rate of every vertex; on later integer frames the handler copies the kept
+    frame into the mesh, and on other frames the modifier moves the vertices
+    (and rebuilds the UV map) with the scene frame. Elsewhere the first frame is cut and
     written in full and the next ones slide the vertices along their manifold
     edges (AnimationManifold.move_slice), rewriting positions, UVs and normals.
     Frames refined by OpenSubdiv (smooth_levels > 0) are not on manifold
@@ -455,16 +466,20 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: _Shown | None
     interval = manifold.topology_interval(value, "t")
     if shown is not None:
         if interval is None:
-            if shown.interval is None and shown.value == value and live_nodes.RATE not in mesh.attributes:
+            if shown.interval is None and shown.value == value and not _has_rates(mesh):
                 return  # this vertex time is shown
-        elif (shown.driven and shown.interval == interval and live_nodes.RATE in mesh.attributes
-              and live_nodes.drives(obj, *interval)):
-            return  # the modifier moves the vertices: the O(1) path of playback
+        elif (shown.driven and shown.interval == interval and _has_rates(mesh)
+              and live_nodes.drives(obj, *interval, frame=shown.mesh_value, cut_frame=shown.cut.value)):
+            # The O(1) path of playback: the modifier moves the mesh, or on an integer
+            # frame the kept frame is copied in.
+            if _show_frame(obj, manifold, shown, value):
+                return
     _SHOWN.pop(obj.name_full, None)  # until the write is done, the mesh shows nothing known
     if interval is None:  # a vertex time (a keyframe): the frame as sliced, the modifier off
         cut_key = ("at", value)
         cut = _cut(manifold, cut_key, lambda: live_cuts.vertex_time_cut(manifold.slice(value, "t")))
         vectors = None
+        vertices, corner_uv, mesh_value = cut.vertices, cut.corner_uv, value
     else:
         cut_key = interval
         cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold, manifold.slice(value, "t"), interval))
@@ -472,17 +487,96 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: _Shown | None
         if cut.uv_rate is not None:
             vectors[live_nodes.UV] = cut.uv
             vectors[live_nodes.UV_RATE] = cut.uv_rate
+        # The mesh holds this frame if it is kept (the modifier passes it through), else
+        # the cut's frame (the modifier moves it).
+        frame = _frame(manifold, cut_key, cut, value) or live_cuts.interval_frame(cut, cut.value)
+        vertices, corner_uv, mesh_value = frame.positions.reshape(-1, 3), frame.corner_uv, frame.value
     uv_name = obj.animanifold.uv_name or "UVMap"
-    write_mesh(mesh, cut.vertices, cut.faces, uv_name=uv_name, corner_uv=cut.corner_uv,
+    write_mesh(mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv,
                material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors)
     if cut.edges is None:
         cut.edges = mesh_edges(mesh)
         _CUTS.resized(manifold, cut_key)
     if interval is None:
         live_nodes.release(obj)
-    else:  # the mesh shows the interval's middle; the modifier moves it to the scene frame
-        live_nodes.drive(obj, cut.value, interval[0], interval[1], uv_name if cut.uv_rate is not None else None)
-    _SHOWN[obj.name_full] = _Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None)
+    else:
+        live_nodes.drive(obj, mesh_value, cut.value, interval[0], interval[1],
+                         uv_name if cut.uv_rate is not None else None)
+    _SHOWN[obj.name_full] = _Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None,
+                                   cut=cut if interval is not None else None, mesh_value=mesh_value)
+
+
+def _has_rates(mesh) -> bool:
+    """Whether the mesh holds an interval cut's rates. By name among the keys: `name in
+    mesh.attributes` looks the layer up for writing, which copies it when the
+    evaluated mesh shares it (every frame after a copied frame: ~70 us, against ~12)."""
+    return live_nodes.RATE in mesh.attributes.keys()
+
+
+def _frame(manifold, key, cut: live_cuts.Cut, value: float) -> live_cuts.Frame | None:
+    """Interval cut `cut` (kept as `key`) at integer frame `value`: kept from an
+    earlier visit, or computed now and kept if the frame budget has room; None for
+    other frames, or when it has none (the modifier moves those)."""
+    if value != math.floor(value):
+        return None
+    if value == cut.value:
+        return live_cuts.interval_frame(cut, value)  # the cut's own arrays: nothing to keep
+    frame = _CUTS.frame(manifold, key, value)
+    if frame is not None:
+        return frame
+    # Computed only to be kept: one that could not be would cost a gather over every
+    # corner on each visit, more than the modifier's work.
+    if _CUTS.get(manifold, key) is not cut or not _CUTS.frame_room(manifold, key, live_cuts.frame_nbytes(cut)):
+        return None
+    frame = live_cuts.interval_frame(cut, value)
+    return frame if _CUTS.keep_frame(manifold, key, frame) else None
+
+
+def _show_frame(obj, manifold, shown: _Shown, value: float) -> bool:
+    """On a frame change inside the driven interval: copies the kept frame of an
+    integer frame into the mesh (and tells the modifier); other frames write
+    nothing (the modifier moves the mesh to them). False if the mesh is not as
+    written (the caller writes the cut again)."""
+    if shown.mesh_value == value:
+        return True  # shown (the post-frame handler, a repeated frame)
+    frame = _frame(manifold, shown.interval, shown.cut, value)
+    if frame is None:
+        return True  # the modifier moves the mesh from the frame it holds
+    if not write_frame(obj.data, obj.animanifold.uv_name or "UVMap", frame):
+        return False
+    live_nodes.set_frame(obj, value)
+    shown.mesh_value = value
+    return True
+
+
+def write_frame(mesh, uv_name: str, frame: live_cuts.Frame) -> bool:
+    """Copies a frame's positions and UV map into a mesh holding its cut (one raw copy
+    each, after Blender unshares each buffer from the evaluated mesh). False, and
+    nothing written, if the mesh's sizes or UV map do not match (Blender 4.0+)."""
+    # The UV map through uv_layers: mesh.attributes[name] looks the layer up for
+    # writing, ~0.4 ms on the bench object's UV map after each evaluation (uv_layers':
+    # ~4 us); copying UV maps only, a frame measured 2.05 ms that way, 1.42 this way.
+    layer = mesh.uv_layers.get(uv_name) if frame.corner_uv is not None else None
+    if (3 * len(mesh.vertices) != len(frame.positions)
+            or (frame.corner_uv is not None and (layer is None or 2 * len(mesh.loops) != len(frame.corner_uv)))):
+        return False
+    # (mesh.vertices.foreach_set("co") is no raw copy: a frame measured 14 ms that way.)
+    mesh.attributes["position"].data.foreach_set("vector", frame.positions)
+    if layer is not None:
+        layer.uv.foreach_set("vector", frame.corner_uv)
+    tag_positions_changed(mesh)
+    return True
+
+
+def tag_positions_changed(mesh) -> None:
+    """After foreach_set of a mesh's positions: its normals, bounds and BVH are stale
+    and the depsgraph must copy it again. mesh.update() marks only the normals (4.5:
+    the evaluated object kept its old bounding box, measured); setting one vertex's
+    co through RNA runs Blender's positions-changed tag and tags the depsgraph."""
+    if len(mesh.vertices):
+        vertex = mesh.vertices[0]
+        vertex.co = vertex.co
+    mesh.update_tag()
 
 
 def _cut(manifold, key, make) -> live_cuts.Cut:
@@ -509,6 +603,7 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
         elif uv_name in mesh.uv_layers:
             mesh.uv_layers[uv_name].data.foreach_set("uv", corner)
     mesh.update()
+    tag_positions_changed(mesh)  # bounds too
     if normals is not None and len(corner_vertex):
         mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
 
@@ -534,16 +629,26 @@ def is_live(obj) -> bool:
             and obj.type == "MESH" and obj.data is not None and obj.library is None)
 
 
-def update_scene(scene, force: bool = False) -> int:
+def update_scene(scene, force: bool = False, after_evaluation: bool = False) -> int:
     """Shows every live manifold object of `scene` at its frame (update_object; on
     a frame change nothing is written for objects whose mesh shows it already);
     never raises (errors are kept per object, printed once, and shown in the
-    panel). Returns the count."""
+    panel). Returns the count.
+
+    `after_evaluation` (the post-frame handler): objects shown at this frame before
+    the evaluation are skipped unless animated (an animated setting, a keyframed
+    sweep value say, has its new value only now): ~0.1 ms a frame on the bench
+    object, as much as its frame's other checks."""
     frame = scene_frame(scene)
+    checked = (scene.as_pointer(), frame)
     count = 0
     for obj in scene.objects:
         if not is_live(obj):
             continue
+        if after_evaluation and not force and _CHECKED.get(obj.name_full) == checked and obj.animation_data is None:
+            count += 1
+            continue
+        _CHECKED.pop(obj.name_full, None)
         try:
             # A morph frame that its shared hole space cannot cut is shown uncut: Morph
             # Selected said so once; a warning per frame (an error where warnings are
@@ -552,6 +657,7 @@ def update_scene(scene, force: bool = False) -> int:
                 warnings.simplefilter("ignore", am.HoleSpaceWarning)
                 update_object(obj, frame, force=force, scene=scene)
             _ERRORS.pop(obj.name_full, None)
+            _CHECKED[obj.name_full] = checked
             count += 1
         except Exception as e:  # a broken cache must not break playback
             message = f"{type(e).__name__}: {e}"

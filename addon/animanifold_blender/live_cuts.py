@@ -13,6 +13,16 @@ frame is most of the cost of writing it).
 
 Kept least recently used first out, within BUDGET_BYTES, per loaded manifold
 (a reloaded or subdivided manifold is another object and gets its own cuts).
+
+Beside an interval's cut, each of its integer frames (interval_frame: the
+positions and the UV map per corner, as the mesh takes them): the live modifier
+would move every vertex and rebuild the UV map on every corner (600k corners for
+a 50k-triangle source) on every frame, where copying a kept frame into the mesh
+is two copies (bench_playback.py, a frame inside an interval: ~1.2 ms this way,
+the median of 5 runs on a shared 2-core machine; ~4-5 ms by the modifier). Computed
+on a frame's first visit and kept within FRAME_BUDGET_BYTES; when that is full,
+no more are kept (a loop longer than the budget would otherwise evict every frame
+before it comes back) and the modifier moves the others. They go with their cut.
 """
 
 from __future__ import annotations
@@ -26,6 +36,9 @@ import numpy as np
 # ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
 # keyframes fit, and scrubbing back and forth over them slices nothing.
 BUDGET_BYTES = 256 * 2**20
+# ~44 integer frames of that frame (100k positions, 600k corners: 6 MB each): the 40
+# of the bench's 48-frame loop fit.
+FRAME_BUDGET_BYTES = 256 * 2**20
 
 
 @dataclass
@@ -81,6 +94,36 @@ def interval_cut(manifold, s, interval: tuple[float, float]) -> Cut:
     return cut
 
 
+@dataclass
+class Frame:
+    """A frame of an interval cut as the handler copies it into the mesh."""
+
+    value: float
+    positions: np.ndarray  # (3P,) float32
+    corner_uv: np.ndarray | None  # (2C,) float32: the UV map; None without UVs
+
+    def nbytes(self) -> int:
+        return self.positions.nbytes + (0 if self.corner_uv is None else self.corner_uv.nbytes)
+
+
+def frame_nbytes(cut: Cut) -> int:
+    """The size of one Frame of `cut`."""
+    return cut.vertices.nbytes + (0 if cut.uv_rate is None else cut.corner_uv.nbytes)
+
+
+def interval_frame(cut: Cut, frame: float) -> Frame:
+    """An interval cut at `frame` (in the interval): every vertex (and its UV) moved
+    along its edge from the cut's frame; the UVs per corner."""
+    if frame == cut.value:
+        return Frame(cut.value, cut.vertices.reshape(-1), cut.corner_uv)
+    dt = frame - cut.value
+    positions = _f32(cut.vertices + dt * cut.rate.astype(np.float64)).reshape(-1)
+    corner_uv = None
+    if cut.uv_rate is not None:
+        corner_uv = corner_values(cut.uv[:, :2] + dt * cut.uv_rate[:, :2].astype(np.float64), cut.faces)
+    return Frame(float(frame), positions, corner_uv)
+
+
 def vertex_time_cut(s) -> Cut:
     """The cut at a vertex time: the slice itself."""
     faces = _faces(s)
@@ -116,10 +159,13 @@ def _padded(a) -> np.ndarray:
 
 
 class CutCache:
-    def __init__(self, budget: int = BUDGET_BYTES):
+    def __init__(self, budget: int = BUDGET_BYTES, frame_budget: int = FRAME_BUDGET_BYTES):
         self.budget = budget
+        self.frame_budget = frame_budget
         self._entries: OrderedDict = OrderedDict()  # (id(manifold), key) -> (weakref, Cut, nbytes)
         self._bytes = 0
+        self._frames: dict = {}  # (id(manifold), key) -> {frame value: Frame}, for kept cuts only
+        self._frame_bytes = 0
 
     def get(self, manifold, key) -> Cut | None:
         entry = self._entries.get((id(manifold), key))
@@ -155,14 +201,39 @@ class CutCache:
         for k in [k for k, (ref, _, _) in self._entries.items() if ref() is None]:
             self._drop(k)
 
+    def frame(self, manifold, key, value: float) -> Frame | None:
+        """The kept frame `value` of the kept cut `key`, if any."""
+        if self.get(manifold, key) is None:
+            return None
+        return self._frames.get((id(manifold), key), {}).get(value)
+
+    def frame_room(self, manifold, key, nbytes: int) -> bool:
+        """Whether a frame of `nbytes` for the kept cut `key` would be kept."""
+        return (id(manifold), key) in self._entries and self._frame_bytes + nbytes <= self.frame_budget
+
+    def keep_frame(self, manifold, key, frame: Frame) -> bool:
+        """Keeps `frame` of the kept cut `key` if the frame budget has room (nothing is
+        evicted for it); False if not kept."""
+        if not self.frame_room(manifold, key, frame.nbytes()):
+            return False
+        frames = self._frames.setdefault((id(manifold), key), {})
+        if frame.value not in frames:
+            frames[frame.value] = frame
+            self._frame_bytes += frame.nbytes()
+        return True
+
     def _drop(self, k) -> None:
         entry = self._entries.pop(k, None)
         if entry is not None:
             self._bytes -= entry[2]
+        for frame in self._frames.pop(k, {}).values():
+            self._frame_bytes -= frame.nbytes()
 
     def clear(self) -> None:
         self._entries.clear()
         self._bytes = 0
+        self._frames.clear()
+        self._frame_bytes = 0
 
     def __len__(self) -> int:
         return len(self._entries)
@@ -170,3 +241,7 @@ class CutCache:
     @property
     def nbytes(self) -> int:
         return self._bytes
+
+    @property
+    def frame_nbytes(self) -> int:
+        return self._frame_bytes

@@ -5,13 +5,24 @@ vertex slides along one manifold edge, so its position (and UV) is affine in
 the frame: p(t) = p(t0) + (t - t0) * rate. live.py writes the cut once per
 interval (its frame t0, the interval's middle) with `am_rate` (and `am_uv` /
 `am_uv_rate`) point attributes; the node group "Animanifold Live" reads the
-Scene Time and moves the vertices and UVs, so a frame change inside the
-interval costs the handler an O(1) check and the mesh data block is not touched.
+Scene Time and moves the vertices and rebuilds the UV map, so the object plays
+without the handler.
 
-Modifier inputs (set by live.py only when a cut is written):
+With the handler, integer frames cost it less: rebuilding the UV map here is
+most of a frame's cost (600k corners for a 50k-triangle source, six per vertex;
+the fields are evaluated on the corners, and Named Attribute reads no float2, so
+the values pass through float3 conversions), and moving 100k vertices most of
+the rest. So on integer frames the handler copies the frame, kept per frame
+(live_cuts), into the mesh's positions and UV map and sets Frame to it; at Frame
+the group passes the mesh through. On other frames (subframes, motion blur, no
+add-on) it moves the vertices from Frame and rebuilds the UV map from Cut Frame.
+
+Modifier inputs (set by live.py only):
   Active      off while the mesh holds a frame as it is (vertex times, sweeps,
               smoothing, custom normals): the geometry passes through;
-  Frame       the frame the mesh's positions and UVs hold (t0);
+  Frame       the frame the mesh's positions and UV map hold: at it, the mesh
+              passes through (less the attributes below);
+  Cut Frame   the frame `am_uv` holds (t0, the cut's);
   Start, End  the interval: the scene frame is clamped to it, so without the
               handler (add-on missing) the object holds the interval's ends
               instead of extrapolating;
@@ -39,7 +50,9 @@ GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
 # Custom property marking the node group as ours (and its layout version), so a
 # user's group that happens to have the name is never used or changed.
 GROUP_TAG = "animanifold_live"
-GROUP_VERSION = 1
+# 2: Cut Frame, and the mesh passes through at Frame. A group of an older version is
+# not ours any more: the modifier is pointed at a new one the next time a cut is written.
+GROUP_VERSION = 2
 
 RATE = "am_rate"  # point, float vector: d position / d frame
 UV = "am_uv"  # point, float vector (u, v, 0): the UV at Frame
@@ -50,6 +63,7 @@ ATTRIBUTES = (RATE, UV, UV_RATE)
 _INPUTS = (  # name, socket type, default
     ("Active", "NodeSocketBool", False),
     ("Frame", "NodeSocketFloat", 0.0),
+    ("Cut Frame", "NodeSocketFloat", 0.0),
     ("Start", "NodeSocketFloat", 0.0),
     ("End", "NodeSocketFloat", 0.0),
     ("Animate UV", "NodeSocketBool", False),
@@ -115,23 +129,27 @@ def _build():
     inp = node("NodeGroupInput", -1400, 0)
     out = node("NodeGroupOutput", 900, 0)
 
-    # dt = clamp(scene frame, Start, End) - Frame
+    # t = clamp(scene frame, Start, End); positions move by rate * (t - Frame), UVs
+    # are rebuilt as am_uv + am_uv_rate * (t - Cut Frame).
     time = node("GeometryNodeInputSceneTime", -1400, -400)
     clamp = node("ShaderNodeClamp", -1200, -400, clamp_type="MINMAX")
     links.new(time.outputs["Frame"], clamp.inputs["Value"])
     links.new(inp.outputs["Start"], clamp.inputs["Min"])
     links.new(inp.outputs["End"], clamp.inputs["Max"])
-    dt = node("ShaderNodeMath", -1000, -400, operation="SUBTRACT")
-    links.new(clamp.outputs[0], dt.inputs[0])
-    links.new(inp.outputs["Frame"], dt.inputs[1])
-    dt = dt.outputs[0]
+
+    def since(name, x, y):
+        n = node("ShaderNodeMath", x, y, operation="SUBTRACT")
+        links.new(clamp.outputs[0], n.inputs[0])
+        links.new(inp.outputs[name], n.inputs[1])
+        return n.outputs[0]
 
     # UV: evaluated on the points (a sixth of the corners), then copied to the
     # corners of the UV map. The old UV map is removed first: storing over it would
     # copy its values before overwriting them (a third of the frame's cost).
     uv_now = node("ShaderNodeVectorMath", -600, 300, operation="ADD")
     links.new(named(UV, -1000, 450).outputs["Attribute"], uv_now.inputs[0])
-    links.new(scale(named(UV_RATE, -1000, 300).outputs["Attribute"], dt, -800, 250), uv_now.inputs[1])
+    links.new(scale(named(UV_RATE, -1000, 300).outputs["Attribute"], since("Cut Frame", -1000, 150), -800, 250),
+              uv_now.inputs[1])
     on_points = node("GeometryNodeStoreNamedAttribute", -400, 200, data_type="FLOAT_VECTOR", domain="POINT")
     on_points.inputs["Name"].default_value = _UV_NOW
     links.new(inp.outputs["Geometry"], on_points.inputs["Geometry"])
@@ -151,10 +169,22 @@ def _build():
     # Positions: offset by rate * dt (a mesh without the rate reads zero: no offset).
     move = node("GeometryNodeSetPosition", 200, 0)
     links.new(uv_switch.outputs[0], move.inputs["Geometry"])
-    links.new(scale(named(RATE, -400, -250).outputs["Attribute"], dt, -200, -300), move.inputs["Offset"])
+    links.new(scale(named(RATE, -400, -250).outputs["Attribute"], since("Frame", -1000, -250), -200, -300),
+              move.inputs["Offset"])
+
+    # At Frame the mesh holds the frame (the handler wrote it): it passes through, and
+    # the switch's other branch is not evaluated.
+    elsewhere = node("FunctionNodeCompare", 200, -350, data_type="FLOAT", operation="NOT_EQUAL")
+    links.new(clamp.outputs[0], elsewhere.inputs[0])
+    links.new(inp.outputs["Frame"], elsewhere.inputs[1])
+    elsewhere.inputs["Epsilon"].default_value = 0.0
+    moved = node("GeometryNodeSwitch", 300, 0, input_type="GEOMETRY")
+    links.new(elsewhere.outputs[0], moved.inputs["Switch"])
+    links.new(inp.outputs["Geometry"], moved.inputs["False"])
+    links.new(move.outputs[0], moved.inputs["True"])
 
     # The evaluated mesh (render, export, Apply) carries none of our attributes.
-    geometry = move.outputs[0]
+    geometry = moved.outputs[0]
     for i, name in enumerate(ATTRIBUTES + (_UV_NOW,)):
         remove = node("GeometryNodeRemoveAttribute", 350 + 100 * i, -150)
         remove.inputs["Name"].default_value = name
@@ -188,7 +218,7 @@ def ensure_modifier(obj):
         if len(obj.modifiers) > 1:
             obj.modifiers.move(len(obj.modifiers) - 1, 0)
         mod.show_expanded = False
-        # Edit Mode draws the cage where the frame is (the mesh holds the interval's middle).
+        # Edit Mode draws the cage where the frame is (the mesh holds another frame of the interval).
         mod.show_in_editmode = mod.show_on_cage = True
     if not _is_ours(mod.node_group):
         mod.node_group = node_group()
@@ -215,11 +245,17 @@ def _set(obj, mod, values: dict) -> None:
         obj.update_tag()
 
 
-def drive(obj, frame: float, start: float, end: float, uv_name: str | None) -> None:
-    """Turns the modifier on for the cut just written at `frame` of the interval (start, end)."""
+def drive(obj, frame: float, cut_frame: float, start: float, end: float, uv_name: str | None) -> None:
+    """Turns the modifier on for the cut of the interval (start, end) at `cut_frame` just
+    written, the mesh showing `frame`; `uv_name` names its UV map (None without UVs)."""
     mod = ensure_modifier(obj)
-    _set(obj, mod, {"Active": True, "Frame": float(frame), "Start": float(start), "End": float(end),
-                    "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+    _set(obj, mod, {"Active": True, "Frame": float(frame), "Cut Frame": float(cut_frame), "Start": float(start),
+                    "End": float(end), "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+
+
+def set_frame(obj, frame: float) -> None:
+    """The mesh now holds `frame` (the handler copied it in)."""
+    _set(obj, obj.modifiers.get(MODIFIER_NAME), {"Frame": float(frame)})
 
 
 def release(obj) -> None:
@@ -229,14 +265,17 @@ def release(obj) -> None:
         _set(obj, mod, {"Active": False})
 
 
-def drives(obj, start: float, end: float) -> bool:
-    """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)."""
+def drives(obj, start: float, end: float, frame: float | None = None, cut_frame: float | None = None) -> bool:
+    """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)
+    from the cut at `cut_frame` with the mesh at `frame` (when given)."""
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None or not mod.show_viewport or not _is_ours(mod.node_group):
         return False
     ids = _identifiers(mod.node_group)
     return (bool(mod.get(ids["Active"])) and _same(mod.get(ids["Start"]), float(start))
-            and _same(mod.get(ids["End"]), float(end)))
+            and _same(mod.get(ids["End"]), float(end))
+            and (frame is None or _same(mod.get(ids["Frame"]), float(frame)))
+            and (cut_frame is None or _same(mod.get(ids["Cut Frame"]), float(cut_frame))))
 
 
 def remove_unused_group() -> None:

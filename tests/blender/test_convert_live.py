@@ -155,6 +155,37 @@ def test_sweep_axes_and_back_to_t(demo):
     np.testing.assert_allclose(mesh_vertices(shown(man)), at_t, atol=1e-6)
 
 
+def test_frame_changes_check_each_object_once_unless_animated(demo, monkeypatch):
+    """The post-frame handler skips objects the pre-frame one showed at this frame,
+    unless they are animated: a keyframed sweep value is read after evaluation."""
+    from animanifold_blender import live
+
+    man = convert(demo)
+    cache = cache_of(man)
+    calls = []
+    update_object = live.update_object
+    monkeypatch.setattr(live, "update_object", lambda obj, frame, **kw: (calls.append(frame), update_object(obj, frame, **kw)))
+    for frame in (20, 21, 21):
+        calls.clear()
+        bpy.context.scene.frame_set(frame)
+        assert calls == [frame], f"frame {frame}: {calls}"
+    settings = man.animanifold
+    settings.axis = "x"
+    for frame, value in ((1, -0.2), (21, 0.3)):
+        settings.sweep_value = value
+        man.keyframe_insert("animanifold.sweep_value", frame=frame)
+    for frame in (11, 16, 21, 6):
+        calls.clear()
+        bpy.context.scene.frame_set(frame)
+        assert calls == [frame, frame], f"frame {frame}: an animated object is looked at again after evaluation"
+        value = settings.sweep_value  # as animated at this frame
+        assert -0.2 < value < 0.3 or frame == 21
+        s = cache.slice(value, "x")
+        co = mesh_vertices(shown(man))
+        assert len(co) == len(s.vertices) > 0, f"frame {frame}"
+        np.testing.assert_allclose(co[:, 1:], s.vertices[:, :2], atol=1e-5, err_msg=f"frame {frame}: sweep at {value}")
+
+
 def test_object_level_keyframes_in_local_space(empty_scene):
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0, 0, 0))
     cube = bpy.context.active_object

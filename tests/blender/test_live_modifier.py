@@ -1,9 +1,10 @@
 """Live playback through the "Animanifold Live" geometry-nodes modifier, in-process with bpy 4.5.
 
-Inside a topology interval the handler writes nothing: the mesh holds the
-interval's cut (its middle frame and every vertex's rate) and the modifier moves
-the vertices (and UVs) with the scene frame. What is checked is what the user
-sees: the evaluated mesh, against a direct slice of the cache.
+Inside a topology interval the mesh holds the interval's cut (every vertex's
+rate, and a frame of it): on integer frames the handler copies the kept frame's
+positions and UV map into the mesh and the modifier passes it through; on other
+frames the modifier moves the vertices and rebuilds the UV map. What is checked
+is what the user sees: the evaluated mesh, against a direct slice of the cache.
 """
 
 from __future__ import annotations
@@ -100,30 +101,165 @@ def writes(monkeypatch):
     return count
 
 
+@pytest.fixture()
+def frame_work(monkeypatch):
+    """Records the frames the handler copies into the mesh (write_frame), the frames it
+    computes (live_cuts.interval_frame, but for a cut's own frame) and the corner
+    gathers of UV maps (live_cuts.corner_values)."""
+    from animanifold_blender import live, live_cuts
+
+    work = {"written": [], "computed": [], "gathers": 0}
+    write, compute, gather = live.write_frame, live_cuts.interval_frame, live_cuts.corner_values
+
+    def counted_write(mesh, uv_name, frame):
+        scene = bpy.context.scene
+        work["written"].append(scene.frame_current + scene.frame_subframe)
+        return write(mesh, uv_name, frame)
+
+    def counted_compute(cut, frame):
+        if frame != cut.value:
+            work["computed"].append(frame)
+        return compute(cut, frame)
+
+    def counted_gather(*args):
+        work["gathers"] += 1
+        return gather(*args)
+
+    monkeypatch.setattr(live, "write_frame", counted_write)
+    monkeypatch.setattr(live_cuts, "interval_frame", counted_compute)
+    monkeypatch.setattr(live_cuts, "corner_values", counted_gather)
+    return work
+
+
+def assert_bounds_and_normals(man, s, what):
+    """The evaluated object's bounding box and vertex normals are those of slice `s`
+    (stale caches would keep another frame's)."""
+    ev = man.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    box = np.array([tuple(c) for c in ev.bound_box])
+    np.testing.assert_allclose(box.min(0), s.vertices.min(0), atol=1e-5, err_msg=f"{what}: bounds")
+    np.testing.assert_allclose(box.max(0), s.vertices.max(0), atol=1e-5, err_msg=f"{what}: bounds")
+    from animanifold_blender import live
+
+    fresh = bpy.data.meshes.new("fresh")
+    try:
+        live.write_mesh(fresh, s.vertices, s.faces)
+        expected = np.empty(3 * len(fresh.vertices), np.float32)
+        fresh.vertices.foreach_get("normal", expected)
+    finally:
+        bpy.data.meshes.remove(fresh)
+    got = np.empty(3 * len(ev.data.vertices), np.float32)
+    ev.data.vertices.foreach_get("normal", got)
+    np.testing.assert_allclose(got, expected, atol=1e-4, err_msg=f"{what}: normals")
+
+
 def modifier_inputs(man) -> dict:
     mod = man.modifiers[MODIFIER]
     return {item.name: mod[item.identifier] for item in mod.node_group.interface.items_tree
             if item.in_out == "INPUT" and item.socket_type != "NodeSocketGeometry"}
 
 
-def test_inside_an_interval_the_handler_writes_nothing(demo, writes):
+def test_inside_an_interval_the_handler_copies_only_kept_frames(demo, writes, frame_work):
     man, cache = convert(demo)  # at frame 1: the first keyframe, written by Convert
     times = cache.metadata["keyframe_times"]  # [1, 12, 24, 36, 48]
+    uv_name = man.animanifold.uv_name
     writes["n"] = 0
-    goto(2)  # enters the interval (1, 12): one cut written
-    assert writes["n"] == 1
+    goto(2)  # enters the interval (1, 12): one cut written, holding frame 2
+    assert writes["n"] == 1 and frame_work["written"] == [] and frame_work["computed"] == [2.0]
     assert man.modifiers[0].name == MODIFIER and man.modifiers[MODIFIER].type == "NODES"
     inputs = modifier_inputs(man)
     assert inputs["Active"] and (inputs["Start"], inputs["End"]) == (times[0], times[1])
-    assert inputs["Frame"] == 6.5 and inputs["Animate UV"] and inputs["UV Map"] == man.animanifold.uv_name
+    assert inputs["Frame"] == 2.0 and inputs["Cut Frame"] == 6.5
+    assert inputs["Animate UV"] and inputs["UV Map"] == uv_name
     before = snapshot(man.data)
     for name in ("am_rate", "am_uv", "am_uv_rate"):
         assert name in before, name
-    for frame in (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125):
+    del before[uv_name], before["position"]
+    cv = corner_vertex(man.data)
+    frames = (2.0, 2.25, 5.5, 6.5, 7.0, 9.75, 11.5, 3.125, 3.0, 7.0, 11.0)
+    integer = [f for f in frames if f == int(f)]
+    held = 2.0  # the frame the mesh holds
+    for loop in range(2):
+        gathers = frame_work["gathers"]
+        for frame in frames:
+            written = len(frame_work["written"])
+            goto(frame)
+            assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
+            if frame == int(frame) and frame != held:
+                held = frame
+                assert frame_work["written"][written:] == [frame], f"frame {frame}: not copied once"
+            else:  # a subframe (the modifier moves the mesh) or the frame held
+                assert len(frame_work["written"]) == written, f"frame {frame}: a frame was copied"
+            now = snapshot(man.data)
+            uv = now.pop(uv_name).reshape(-1, 2).astype(np.float64)
+            positions = now.pop("position").reshape(-1, 3).astype(np.float64)
+            assert_same(now, before, f"frame {frame}")  # rates, faces, edges as cut
+            s = cache.slice(held)
+            np.testing.assert_allclose(positions, s.vertices, atol=1e-6, err_msg=f"frame {frame}: the mesh")
+            np.testing.assert_allclose(uv, s.vertex_attributes["uv"][cv], atol=1e-6, err_msg=f"frame {frame}: its UVs")
+            assert modifier_inputs(man)["Frame"] == held
+            assert_shows(man, cache, frame)
+        # Each integer frame computed once; the second loop copies kept frames only.
+        assert sorted(frame_work["computed"]) == sorted(set(integer)), f"loop {loop}"
+        if loop == 1:
+            assert frame_work["gathers"] == gathers, "numpy work on kept frames"
+    assert len(frame_work["written"]) > len(set(integer))  # the second loop copied them again
+
+
+def test_copied_frames_have_their_own_bounds_and_normals(demo):
+    man, cache = convert(demo)
+    for frame in (25, 27, 33, 30, 27.5):  # copied by the handler, the cut's own, moved by the modifier
         goto(frame)
-        assert writes["n"] == 1, f"frame {frame}: the handler wrote the mesh"
-        assert_same(snapshot(man.data), before, f"frame {frame}")
+        assert_bounds_and_normals(man, cache.slice(frame), f"frame {frame}")
+    man.modifiers[MODIFIER].show_viewport = False  # the handler moves the vertices itself (write_positions)
+    for frame in (26, 28.5):
+        goto(frame)
+        assert_bounds_and_normals(man, cache.slice(frame), f"handler-moved frame {frame}")
+
+
+def test_frames_beyond_the_frame_budget_are_moved_by_the_modifier(demo, frame_work, monkeypatch):
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    goto(25)  # enters (24, 36), whose middle is 30: frame 25 computed and kept
+    assert frame_work["computed"] == [25.0] and live._CUTS.frame_nbytes > 0
+    monkeypatch.setattr(live._CUTS, "frame_budget", live._CUTS.frame_nbytes)  # no room for another
+    for frame in (26, 27, 25, 30, 26, 31):
+        goto(frame)
         assert_shows(man, cache, frame)
+    # 26, 27, 31 not kept, so not computed either: the modifier moved the mesh to them.
+    # 25 was still in the mesh; 30 is the cut's own frame.
+    assert frame_work["computed"] == [25.0] and frame_work["written"] == [30.0]
+    assert modifier_inputs(man)["Frame"] == 30.0
+
+
+def test_without_uvs_frames_are_positions_only(demo, frame_work):
+    for layer in list(demo.data.uv_layers):
+        demo.data.uv_layers.remove(layer)
+    demo.data.update()  # (removing a UV map does not tag the mesh: the evaluated one kept it)
+    man, cache = convert(demo)
+    assert "uv" not in cache.vertex_attributes
+    for frame in (25, 26, 27.5, 28, 30):
+        goto(frame)
+        mesh = shown(man)
+        np.testing.assert_allclose(mesh_vertices(mesh), cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
+        assert len(mesh.uv_layers) == 0
+    assert not modifier_inputs(man)["Animate UV"]
+    assert frame_work["written"] == [26.0, 28.0, 30.0] and frame_work["gathers"] == 0
+
+
+def test_a_node_group_of_an_older_layout_is_replaced(demo):
+    from animanifold_blender import live_nodes
+
+    man, cache = convert(demo)
+    goto(25)
+    old = man.modifiers[MODIFIER].node_group
+    old[live_nodes.GROUP_TAG] = live_nodes.GROUP_VERSION - 1  # as a file of an earlier add-on holds it
+    goto(26)
+    group = man.modifiers[MODIFIER].node_group
+    assert group != old and group[live_nodes.GROUP_TAG] == live_nodes.GROUP_VERSION
+    assert_shows(man, cache, 26)
+    goto(26.5)
+    assert_shows(man, cache, 26.5)
 
 
 def test_crossing_keyframes_and_intervals_writes_once_each(demo, writes):
@@ -267,7 +403,8 @@ def test_undo_and_redo(demo):
 
 
 # Fresh python3 + bpy without animanifold: the saved modifier still plays the interval
-# it holds (clamped to it outside: no handler writes the next cut).
+# it holds (clamped to it outside: no handler writes the next cut), UVs included (the
+# mesh holds the frame it was saved at; the modifier moves it to the others).
 PROBE = r"""
 import json, sys
 import bpy, numpy as np
@@ -280,7 +417,9 @@ for f in frames:
     bpy.context.scene.frame_set(int(f), subframe=f - int(f))
     me = obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
     co = np.empty(3 * len(me.vertices), np.float32); me.vertices.foreach_get("co", co)
-    out[f] = co.tolist()
+    uv = np.empty(2 * len(me.loops), np.float32); me.uv_layers.active.uv.foreach_get("vector", uv)
+    cv = np.empty(len(me.loops), np.int32); me.loops.foreach_get("vertex_index", cv)
+    out[f] = {"co": co.tolist(), "uv": uv.tolist(), "corner_vertex": cv.tolist()}
 bpy.ops.wm.read_factory_settings(use_empty=True)
 print("PROBE" + json.dumps(out))
 """
@@ -306,14 +445,16 @@ def test_save_and_reload(demo, tmp_path):
 
     out = run_fresh_blender(PROBE, str(blend), "14.5,18,23.25")
     line = [ln for ln in out.splitlines() if ln.startswith("PROBE")][-1]
-    probed = {float(k): np.array(v).reshape(-1, 3) for k, v in json.loads(line[5:]).items()}
-    for frame in (14.5, 18.0, 23.25):  # inside the saved interval (12, 24)
-        np.testing.assert_allclose(probed[frame], cache.slice(frame).vertices, atol=1e-6, err_msg=f"frame {frame}")
+    probed = {float(k): v for k, v in json.loads(line[5:]).items()}
+    for frame in (14.5, 18.0, 23.25):  # inside the saved interval (12, 24); the UV map saved at 18
+        s = cache.slice(frame)
+        got = probed[frame]
+        np.testing.assert_allclose(np.reshape(got["co"], (-1, 3)), s.vertices, atol=1e-6, err_msg=f"frame {frame}")
+        np.testing.assert_allclose(np.reshape(got["uv"], (-1, 2)), s.vertex_attributes["uv"][got["corner_vertex"]],
+                                   atol=1e-6, err_msg=f"frame {frame}: UVs")
 
 
-def _render(scene, path) -> np.ndarray:
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
+def _read(path, scene) -> np.ndarray:
     image = bpy.data.images.load(str(path))
     try:
         px = np.empty(len(image.pixels), np.float32)
@@ -323,15 +464,15 @@ def _render(scene, path) -> np.ndarray:
     return px.reshape(scene.render.resolution_y, scene.render.resolution_x, 4)
 
 
-@pytest.mark.slow
-def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
-    """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
-    written by the handler; with the UVs left as cut, it would not."""
-    from animanifold_blender import live
+def _render(scene, path) -> np.ndarray:
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return _read(path, scene)
 
-    man, cache = convert(demo)
-    scene = bpy.context.scene
-    for mat in man.data.materials:  # colour = UV: any UV error shows
+
+def _uv_colour_cycles(man, scene) -> None:
+    """Tiny float renders with Cycles whose colour is the UV: any UV error shows."""
+    for mat in man.data.materials:
         mat.use_nodes = True
         nodes, links = mat.node_tree.nodes, mat.node_tree.links
         nodes.clear()
@@ -351,7 +492,18 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"  # floats: small UV differences show
     scene.render.image_settings.color_depth = "32"
-    frame = 34.5  # inside (24, 36), away from the cut's middle (30)
+
+
+@pytest.mark.slow
+def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
+    """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
+    written by the handler; with the UVs left as cut, it would not."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    scene = bpy.context.scene
+    _uv_colour_cycles(man, scene)
+    frame = 34.5  # inside (24, 36), away from the cut's middle (30): the modifier moves the mesh
     goto(frame)
     assert modifier_inputs(man)["Active"] and modifier_inputs(man)["Frame"] == 30.0
     driven = _render(scene, tmp_path / "driven.exr")
@@ -373,3 +525,47 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     man.update_tag()
     stale = _render(scene, tmp_path / "stale.exr")
     assert np.abs(stale - written).max() > 1e-2  # measured 0.04
+
+
+@pytest.mark.slow
+def test_animation_render_gets_each_copied_frame(demo, tmp_path, monkeypatch, frame_work):
+    """An animation render changes frames through the render pipeline, which calls the
+    frame-change handlers: on integer frames they copy the kept frame into the mesh,
+    and Cycles renders what the handler-written frame renders. Were the copy missing
+    (the modifier told the mesh holds the frame while it holds another), the render
+    would show the cut's frame."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    scene = bpy.context.scene
+    _uv_colour_cycles(man, scene)
+    frames = (34, 35)  # inside (24, 36), away from its middle (30): the UVs differ enough to show
+
+    def animation(prefix):
+        goto(30)  # the cut's own frame in the mesh
+        scene.frame_start, scene.frame_end = frames
+        scene.render.filepath = str(tmp_path / f"{prefix}_####")
+        bpy.ops.render.render(animation=True)
+        return {f: _read(tmp_path / f"{prefix}_{f:04d}.exr", scene) for f in frames}
+
+    rendered = animation("driven")
+    assert frame_work["written"][:len(frames)] == [float(f) for f in frames]  # by the render pipeline's frame changes
+    assert modifier_inputs(man)["Active"]
+
+    def lie(mesh, uv_name, frame):  # says it copied the frame, writes nothing
+        return True
+
+    monkeypatch.setattr(live, "write_frame", lie)
+    live.forget_shown()
+    stale = animation("stale")
+
+    monkeypatch.setattr(live, "can_drive", lambda *a, **k: False)  # the handler writes whole frames
+    live.forget_shown()
+    for f in frames:
+        goto(f)
+        assert not modifier_inputs(man)["Active"]
+        assert_shows(man, cache, f)
+        written = _render(scene, tmp_path / f"written_{f}.exr")
+        assert written[..., 3].max() > 0.5 and (written[..., 3] > 0.5).mean() > 0.1  # the blob is in view
+        assert np.abs(rendered[f] - written).max() < 1e-4, f"frame {f}"  # measured 1e-6
+        assert np.abs(stale[f] - written).max() > 1e-2, f"frame {f}: the check cannot fail"  # measured 0.04, 0.05
