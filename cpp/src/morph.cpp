@@ -5,6 +5,7 @@
 #include "animanifold/morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
+#include "animanifold/shelling.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
 
@@ -35,84 +36,57 @@ struct FlatSimplices {
   Index inside = 0;  // across the planes, inside the fill
 };
 
-// Peels slivers off the fill's boundary: the flat simplices Qhull left out
-// of `fill` (fill.flat) and the nearly flat ones CGAL kept (fill.slivers)
-// that join the two planes (over `nS` source points). A sliver with a facet
-// on the convex hull (in one simplex only, counting the left-out ones) lies
-// where a facet of the hull holds points of both planes (a flat side both
-// inputs share, a hull edge with collinear points); leaving it out changes
-// nothing but the triangulation of that flat facet, and its volume is
-// roundoff. Peeled one after the other, so that slivers stacked on one
-// another go too. Kept slivers that are peeled are taken out of
-// fill.simplices; what is left inside is counted: holes for Qhull's, proper
-// (kept) cells for CGAL's.
+// Peels slivers off the fill's boundary (shelling.hpp): simplices joining
+// the two planes (at least two corners in each: one with all but one corner
+// in a plane holds a cell of that plane and stays) that are flat, or nearly,
+// in the coordinates the fill was built on (Qhull's left-out flat simplices,
+// CGAL's fill.slivers), through lateral facets only (the caps at t0 and t1
+// stay whole). They lie where a facet of the hull holds points of both
+// planes in one hyperplane (a hull edge of a plate with collinear points, a
+// flat side both inputs share). Kept slivers that are peeled are taken out
+// of fill.simplices; what is left inside is counted: holes for Qhull's flat
+// ones (the fill is refused then), cells for CGAL's (kept: proper for its
+// exact predicates).
 FlatSimplices peel_hull_slivers(DelaunayTriangulation& fill, Index nS) {
   FlatSimplices result;
   const int corners = static_cast<int>(fill.simplices.cols());
-  auto across = [&](const SimplexMatrix& S, Index r) {
-    int in_source = 0;
-    for (int c = 0; c < corners; ++c) in_source += S(r, c) < nS;
-    return in_source != 0 && in_source != corners;
+  auto in_source = [&](const Index* ids, int count) {
+    int n = 0;
+    for (int c = 0; c < count; ++c) n += ids[c] < nS;
+    return n;
   };
-  struct Candidate {
-    bool kept;  // a row of fill.simplices (else of fill.flat)
-    Index row;
-  };
-  std::vector<Candidate> candidates;
-  for (Index f = 0; f < fill.flat.rows(); ++f)
-    if (across(fill.flat, f)) candidates.push_back({false, f});
-  for (const Index r : fill.slivers)
-    if (across(fill.simplices, r)) candidates.push_back({true, r});
-  if (candidates.empty()) return result;
-  using Facet = std::array<Index, 4>;
-  auto facets_of = [&](const SimplexMatrix& S, Index r) {
-    std::vector<Facet> out;
-    for (int drop = 0; drop < corners; ++drop) {
-      Facet k{-1, -1, -1, -1};
-      for (int c = 0, j = 0; c < corners; ++c)
-        if (c != drop) k[j++] = S(r, c);
-      std::sort(k.begin(), k.begin() + corners - 1);
-      out.push_back(k);
+  // One complex: the kept simplices, then Qhull's left-out flat ones.
+  const Index kept = fill.simplices.rows();
+  SimplexMatrix all(kept + fill.flat.rows(), corners);
+  all.topRows(kept) = fill.simplices;
+  if (fill.flat.rows()) all.bottomRows(fill.flat.rows()) = fill.flat;
+  std::vector<bool> sliver(kept, false);
+  for (const Index r : fill.slivers) sliver[r] = true;
+  std::vector<Index> candidates;
+  Index left_out_across = 0;
+  for (Index r = 0; r < all.rows(); ++r) {
+    const int source = in_source(all.row(r).data(), corners);
+    if (r >= kept) {
+      if (source != 0 && source != corners) ++left_out_across, candidates.push_back(r);
+      continue;
     }
-    return out;
-  };
-  auto rows_of = [&](const Candidate& c) -> const SimplexMatrix& { return c.kept ? fill.simplices : fill.flat; };
-  std::map<Facet, int> uses;  // only facets of candidates matter
-  for (const Candidate& c : candidates)
-    for (const Facet& k : facets_of(rows_of(c), c.row)) uses.emplace(k, 0);
-  for (const SimplexMatrix* S : {&fill.simplices, &fill.flat})
-    for (Index r = 0; r < S->rows(); ++r)
-      for (const Facet& k : facets_of(*S, r))
-        if (const auto it = uses.find(k); it != uses.end()) ++it->second;
-  std::vector<bool> peeled(candidates.size(), false);
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (size_t i = 0; i < candidates.size(); ++i) {
-      if (peeled[i]) continue;
-      const std::vector<Facet> facets = facets_of(rows_of(candidates[i]), candidates[i].row);
-      // A lateral facet on the hull (a cap facet, in one plane, is every
-      // in-plane cell's: the sliver over a planar quad's second diagonal is
-      // part of the plane's triangulation and stays).
-      const auto lateral_boundary = [&](const Facet& k) {
-        int in_source = 0;
-        for (int c = 0; c < corners - 1; ++c) in_source += k[c] < nS;
-        return uses[k] == 1 && in_source != 0 && in_source != corners - 1;
-      };
-      if (std::none_of(facets.begin(), facets.end(), lateral_boundary)) continue;
-      for (const Facet& k : facets) --uses[k];
-      peeled[i] = changed = true;
-      ++result.peeled;
-    }
+    if (sliver[r] && source >= 2 && corners - source >= 2) candidates.push_back(r);
   }
-  result.inside = static_cast<Index>(candidates.size()) - result.peeled;
-  std::vector<bool> drop(fill.simplices.rows(), false);
-  for (size_t i = 0; i < candidates.size(); ++i)
-    if (peeled[i] && candidates[i].kept) drop[candidates[i].row] = true;
-  if (std::find(drop.begin(), drop.end(), true) != drop.end()) {
-    SimplexMatrix kept(fill.simplices.rows() - std::count(drop.begin(), drop.end(), true), corners);
-    for (Index r = 0, k = 0; r < fill.simplices.rows(); ++r)
-      if (!drop[r]) kept.row(k++) = fill.simplices.row(r);
-    fill.simplices = std::move(kept);
+  if (candidates.empty()) return result;
+  const std::vector<bool> removed = shell_off(all, candidates, [&](const Index* facet) {
+    const int source = in_source(facet, corners - 1);
+    return source != 0 && source != corners - 1;  // lateral: not a cap facet
+  });
+  Index removed_kept = 0, removed_left_out = 0;
+  for (Index r = 0; r < all.rows(); ++r)
+    if (removed[r]) ++(r < kept ? removed_kept : removed_left_out);
+  result.peeled = removed_kept + removed_left_out;
+  result.inside = left_out_across - removed_left_out;
+  if (removed_kept > 0) {
+    SimplexMatrix out(kept - removed_kept, corners);
+    for (Index r = 0, k = 0; r < kept; ++r)
+      if (!removed[r]) out.row(k++) = fill.simplices.row(r);
+    fill.simplices = std::move(out);
     fill.slivers.clear();  // row numbers changed; not read after this
   }
   return result;
