@@ -16,6 +16,7 @@
 #include "animanifold/delaunay.hpp"
 
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace animanifold {
@@ -39,9 +40,10 @@ struct ConformingInput {
 // Conforming Delaunay of the closed outward shape (V, F) with the points K
 // (#K by d, outside the shape) inserted. V is the shape perturbed into
 // general position, V_exact the shape itself (see morph.cpp). Throws
-// std::runtime_error when the mesher's result does not conform.
+// std::runtime_error naming the shape (`name`: "source", "target") and how
+// many faces failed when the mesher's result does not conform.
 ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
-                                    const PointMatrix& K);
+                                    const PointMatrix& K, const std::string& name);
 
 // The fill `c` was built on `perturbed` input: input vertices get their exact
 // coordinates `V` back, and every point the mesher added on an input face is
