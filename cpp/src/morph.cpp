@@ -266,23 +266,15 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     exact.bottomLeftCorner(nT, d) = T.exact_points;
     // The mesher's Steiner points lie exactly on the (perturbed) input edges
     // and faces: three collinear points, which Qhull's triangulation of a
-    // degenerate facet can put in one flat simplex. For Qhull they are
-    // nudged off them by a tenth of the perturbation (the fill must still
-    // contain the constraint faces, checked below). Not for CGAL's exact
-    // fill, which needs no nudge and is given the very points whose
-    // Delaunay triangulation the conforming stage checked: refinement makes
-    // cocircular pieces in a facet (a cyclic trapezoid from midpoint
-    // splits), whose diagonal a nudge off the plane decides afresh: on
-    // bunny.off and decimated-knight.off it lost 8 to 12 refined faces at
-    // every perturbation.
-    if (options.fill == "qhull") {
-      auto nudge = [&](Index first, Index last) {
-        for (Index v = first; v < last; ++v)
-          for (int c = 0; c < d; ++c) P(v, c) += 0.1 * scale * size * position_hash_offset(P.row(v).data(), d, c, 777);
-      };
-      nudge(VS.rows() + KS.rows(), nS);
-      nudge(nS + VT.rows() + KT.rows(), nS + nT);
-    }
+    // degenerate facet can put in one flat simplex. Nudged off them by a
+    // tenth of the perturbation — except those whose nudge would cost the
+    // fill a refined face (nudged_steiner_points) — the fill still contains
+    // the constraint faces (checked below) and has no such simplex.
+    const double nudge = 0.1 * scale * size;
+    report.unnudged_steiner_points = 0;
+    P.topLeftCorner(nS, d) = nudged_steiner_points(S.fill, VS.rows() + KS.rows(), nudge, report.unnudged_steiner_points);
+    P.bottomLeftCorner(nT, d) =
+        nudged_steiner_points(T.fill, VT.rows() + KT.rows(), nudge, report.unnudged_steiner_points);
     fill = options.fill == "qhull" ? delaunay(P) : delaunay_exact(P);
     target_constraints = T.fill.constraints.array() + nS;
     report.perturbation = scale;
