@@ -21,16 +21,20 @@ Edge edge_of(Index a, Index b) { return std::minmax(a, b); }
 
 Vec row(const PointMatrix& P, Index i) { return P.row(i).transpose(); }
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 // The centre of the circle through a, b, c (in their plane).
 Vec circumcentre(const Vec& a, const Vec& b, const Vec& c) {
   const Vec ab = b - a, ac = c - a, n = ab.cross(ac);
   return a + (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) / (2 * n.squaredNorm());
 }
 
-// Barycentric coordinates of x's projection onto the plane of triangle abc.
+// Barycentric coordinates of x's projection onto the plane of triangle abc
+// (all -inf for a flat triangle, which holds nothing).
 std::array<double, 3> barycentric(const Vec& a, const Vec& b, const Vec& c, const Vec& x) {
   const Vec n = (b - a).cross(c - a);
   const double area = n.squaredNorm();
+  if (!(area > 0)) return {-kInf, -kInf, -kInf};
   const double wa = (c - b).cross(x - b).dot(n) / area, wb = (a - c).cross(x - c).dot(n) / area;
   return {wa, wb, 1.0 - wa - wb};
 }
@@ -101,7 +105,7 @@ MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector
     if (smallest(w) < 0) {
       // Outside the input triangle, in no diametral ball: the boundary piece
       // nearest c, which the face's circumcircle reaches over.
-      double nearest = std::numeric_limits<double>::infinity();
+      double nearest = kInf;
       const Edge* pick = nullptr;
       for (const Edge& e : boundary) {
         const double d = (c - 0.5 * (row(P, e.first) + row(P, e.second))).squaredNorm();
