@@ -13,6 +13,8 @@ py::dict to_dict(const ConformingDelaunay& c) {
   out["constraint_parent"] = c.constraint_parent;
   out["is_delaunay"] = c.is_delaunay;
   out["non_delaunay_faces"] = c.non_delaunay_faces;
+  out["mending_rounds"] = c.mending_rounds;
+  out["mended_points"] = c.mended_points;
   return out;
 }
 

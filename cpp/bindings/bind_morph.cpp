@@ -38,6 +38,7 @@ void bind_morph(py::module_& m) {
         report["flat_fill_simplices"] = r.flat_fill_simplices;
         report["peeled_hull_slivers"] = r.peeled_hull_slivers;
         report["perturbation"] = r.perturbation;
+        report["unnudged_steiner_points"] = r.unnudged_steiner_points;
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
         report["shared_stripped_simplices"] = r.shared_stripped_simplices;

@@ -216,12 +216,14 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // returns a constrained, not conforming, fill may conform on points
     // perturbed further.
     try {
-      S = conform_with_points(perturbed(VS), VS, FS, KS);
-      T = conform_with_points(perturbed(VT), VT, FT, KT);
+      S = conform_with_points(perturbed(VS), VS, FS, KS, "source");
+      T = conform_with_points(perturbed(VT), VT, FT, KT, "target");
     } catch (const std::runtime_error& e) {
       conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
       mesher_error = e.what();
-      if (scale == kPerturbations.back()) throw;
+      if (scale == kPerturbations.back())
+        fail<std::runtime_error>(mesher_error, " (with the inputs perturbed by ", kPerturbations.front(), " to ", scale,
+                                 " of their size)");
       continue;
     }
     mesher_error.clear();
@@ -239,14 +241,14 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // The mesher's Steiner points lie exactly on the (perturbed) input edges
     // and faces: three collinear points, which Qhull's triangulation of a
     // degenerate facet can put in one flat simplex. Nudged off them by a
-    // tenth of the perturbation, the fill still contains the constraint
-    // faces (checked below) and has no such simplex.
-    auto nudge = [&](Index first, Index last) {
-      for (Index v = first; v < last; ++v)
-        for (int c = 0; c < d; ++c) P(v, c) += 0.1 * scale * size * position_hash_offset(P.row(v).data(), d, c, 777);
-    };
-    nudge(VS.rows() + KS.rows(), nS);
-    nudge(nS + VT.rows() + KT.rows(), nS + nT);
+    // tenth of the perturbation — except those whose nudge would cost the
+    // fill a refined face (nudged_steiner_points) — the fill still contains
+    // the constraint faces (checked below) and has no such simplex.
+    const double nudge = 0.1 * scale * size;
+    report.unnudged_steiner_points = 0;
+    P.topLeftCorner(nS, d) = nudged_steiner_points(S.fill, VS.rows() + KS.rows(), nudge, report.unnudged_steiner_points);
+    P.bottomLeftCorner(nT, d) =
+        nudged_steiner_points(T.fill, VT.rows() + KT.rows(), nudge, report.unnudged_steiner_points);
     fill = options.fill == "qhull" ? delaunay(P) : delaunay_exact(P);
     target_constraints = T.fill.constraints.array() + nS;
     report.perturbation = scale;

@@ -17,6 +17,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <limits>
+#include <string>
 #include <cmath>
 #include <unordered_map>
 #include <unordered_set>
@@ -163,15 +164,17 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 }
 
 ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
-                                    const PointMatrix& K) {
+                                    const PointMatrix& K, const std::string& name) {
   const int d = static_cast<int>(V.cols());
   PointMatrix points(V.rows() + K.rows(), d);
   points << V, K;
   ConformingInput result;
   result.fill = conform(points, F);
   if (!result.fill.is_delaunay)
-    fail<std::runtime_error>("the mesher returned a constrained, not conforming, Delaunay fill (",
-                             result.fill.non_delaunay_faces, " faces are not Delaunay)");
+    fail<std::runtime_error>("the mesher returned a constrained, not conforming, Delaunay fill of the ", name, ": ",
+                             result.fill.non_delaunay_faces, " of its ", result.fill.constraints.rows(),
+                             " refined faces are not Delaunay faces",
+                             d == 3 ? " after " + std::to_string(result.fill.mending_rounds) + " rounds of mending" : "");
   result.exact_points = restore_on_input(result.fill, V, V_exact, F);
   return result;
 }

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
+#include <set>
 
 namespace animanifold {
 namespace {
@@ -123,5 +125,43 @@ TEST(DelaunayExact, TwoPlanesGiveNoFlatCellAndKeepEachPlanesTriangulation) {
   EXPECT_EQ(missing_facets(fill.simplices, bottom.simplices).size(), 0);
 }
 
+TEST(MorphSkeleton, NudgedSteinerPointsKeepEveryRefinedFace) {
+  // A 5 x 5 grid in z = 0 between two apexes: every unit square of it has
+  // cocircular corners, so which diagonal is a Delaunay face is a tie that
+  // only the exact predicate on these coordinates settles. Its triangulation
+  // as the Delaunay triangulation has it stands for a refined facet whose
+  // grid points are Steiner points; a nudge off the plane settles many ties
+  // the other way.
+  PointMatrix P(27, 3);
+  P.row(0) << 2, 2, 3;
+  P.row(1) << 2, 2, -3;
+  for (int i = 0; i < 25; ++i) P.row(2 + i) << i % 5, i / 5, 0;
+  const SimplexMatrix tets = delaunay_exact(P).simplices;
+  std::set<std::array<Index, 3>> grid_faces;
+  for (Index t = 0; t < tets.rows(); ++t)
+    for (int drop = 0; drop < 4; ++drop) {
+      std::array<Index, 3> face;
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != drop) face[j++] = tets(t, k);
+      std::sort(face.begin(), face.end());
+      if (face[0] >= 2) grid_faces.insert(face);
+    }
+  ASSERT_EQ(grid_faces.size(), 32u);  // 16 squares, one diagonal each
+  ConformingDelaunay c;
+  c.points = P;
+  c.constraints.resize(32, 3);
+  Index row = 0;
+  for (const auto& face : grid_faces) c.constraints.row(row++) << face[0], face[1], face[2];
+  Index unnudged = 0;
+  const PointMatrix nudged = nudged_steiner_points(c, 2, 1e-3, unnudged);
+  EXPECT_EQ(missing_facets(delaunay_exact(nudged).simplices, c.constraints).size(), 0);
+  EXPECT_EQ(nudged.topRows(2), P.topRows(2));
+  EXPECT_LE((nudged - P).cwiseAbs().maxCoeff(), 1e-3);
+  Index moved = 0;
+  for (Index v = 2; v < 27; ++v) moved += nudged.row(v) != P.row(v);
+  EXPECT_EQ(moved + unnudged, 25);
+  EXPECT_GT(moved, 0);
+  EXPECT_GT(unnudged, 0) << "no tie was at stake";
+}
 }  // namespace
 }  // namespace animanifold

@@ -9,9 +9,10 @@
 //  - conforming_delaunay_3d(): a conforming Delaunay tetrahedralization of
 //    constraint triangles in R^3 through TetGen (`-p -D`), with the refined
 //    constraint surface S' read directly from TetGen's subfaces (each with
-//    the input triangle it lies in), checked against Qhull's Delaunay
-//    triangulation; where TetGen returned a constrained but not conforming
-//    result, the input edges there are split and TetGen runs again.
+//    the input triangle it lies in), checked against the exact Delaunay
+//    triangulation of its points (delaunay_exact); where TetGen returned a
+//    constrained but not conforming result, points are added on the input
+//    surface there and TetGen runs again (conforming_mend.hpp).
 //  - conforming_delaunay_2d(): the same for constraint segments in R^2
 //    through CGAL (make_conforming_Delaunay_2).
 //  - missing_facets(): Theorem 5.2.1's check, which constraint faces are not
@@ -68,15 +69,22 @@ struct ConformingDelaunay {
   IndexVector constraint_parent;  // the input constraint each refined one lies in
   // Every refined constraint is a face of the Delaunay triangulation. False
   // when the mesher gave a constrained but not a conforming result (and, in
-  // 3D, the refinement rounds did not mend it); `non_delaunay_faces` counts
+  // 3D, the mending rounds did not mend it); `non_delaunay_faces` counts
   // the offending faces.
   bool is_delaunay = false;
   Index non_delaunay_faces = 0;
+  // 3D: how many times TetGen ran again after mending (0: it conformed at
+  // once), and the points those rounds added on the input surface (TetGen's
+  // own Steiner points not counted). 0 in 2D.
+  Index mending_rounds = 0;
+  Index mended_points = 0;
 };
 
 // Constraint triangles `faces` (#F by 3) over `points` (#P by 3); points that
-// belong to no face (skeleton vertices, say) are inserted too. Throws
-// InputError for bad indices and std::runtime_error naming TetGen's failure.
+// belong to no face (skeleton vertices, say) are inserted too. `simplices`
+// are CGAL's exact Delaunay triangulation of the result's points. Throws
+// InputError for bad indices or coinciding points and std::runtime_error
+// naming TetGen's failure.
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces);
 
 // Constraint segments `edges` (#E by 2) over `points` (#P by 2).

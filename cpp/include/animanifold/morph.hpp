@@ -66,6 +66,9 @@ struct MorphReport {
   Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes inside the fill (refused then)
   Index peeled_hull_slivers = 0;  // zero-volume simplices across the planes on the hull's boundary, left out
   double perturbation = 0.0;      // of the size, used for the combinatorics only (see morph.cpp)
+  // Steiner points left where the mesher put them, because nudging them off
+  // their edges and faces would lose a refined face (nudged_steiner_points).
+  Index unnudged_steiner_points = 0;
   Index fill_simplices = 0, stripped_simplices = 0;
   // Skeleton method: simplices removed from prisms over cells both inputs
   // share and that lie outside both (shared_outside_prisms).

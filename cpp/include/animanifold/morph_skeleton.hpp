@@ -16,6 +16,7 @@
 #include "animanifold/delaunay.hpp"
 
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace animanifold {
@@ -39,9 +40,23 @@ struct ConformingInput {
 // Conforming Delaunay of the closed outward shape (V, F) with the points K
 // (#K by d, outside the shape) inserted. V is the shape perturbed into
 // general position, V_exact the shape itself (see morph.cpp). Throws
-// std::runtime_error when the mesher's result does not conform.
+// std::runtime_error naming the shape (`name`: "source", "target") and how
+// many faces failed when the mesher's result does not conform.
 ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
-                                    const PointMatrix& K);
+                                    const PointMatrix& K, const std::string& name);
+
+// The points of the conforming fill `c` with its Steiner points (rows
+// `first` on: the mesher's and the mending's, on the input's edges and faces)
+// nudged off those edges and faces by up to `amount` per coordinate (a
+// function of position, perturbation.hpp), for the fill in R^(n+1): Qhull
+// may put three collinear points in one flat simplex. A point whose nudge
+// loses a refined face from the Delaunay triangulation of the points goes
+// back to where it was, until none is lost; `unnudged` is increased by how
+// many. Midpoint refinement leaves pieces of a facet with cocircular
+// corners (a cyclic trapezoid), whose diagonal only the exact predicate on
+// the mesher's own coordinates settles the mesher's way: TetGen's first run
+// on bunny.off has 10 such faces that the nudge alone would lose.
+PointMatrix nudged_steiner_points(const ConformingDelaunay& c, Index first, double amount, Index& unnudged);
 
 // The fill `c` was built on `perturbed` input: input vertices get their exact
 // coordinates `V` back, and every point the mesher added on an input face is
