@@ -53,6 +53,7 @@ void bind_morph(py::module_& m) {
         report["push_degenerate"] = r.push_degenerate;
         report["held_back_vertices"] = r.held_back_vertices;
         report["min_volume"] = r.min_volume;
+        report["min_relative_volume"] = r.min_relative_volume;
         report["inverted_simplices"] = r.inverted_simplices;
         report["degenerate_simplices"] = r.degenerate_simplices;
         report["source_distance"] = r.source_distance;

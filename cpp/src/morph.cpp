@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -371,12 +372,30 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     stage("push", 0.8);
   }
 
+  // Validity 1, at the exact coordinates. Restoring them moves each point in
+  // the planes by at most `moved` (the perturbation, per coordinate, and the
+  // Steiner points' nudge), which changes a simplex's determinant by at most
+  // about (n+1)·2·moved·L^n (L its longest edge; Hadamard's bound on each
+  // changed row), taken twice for safety. Simplices that are not positive but
+  // within that of zero are flat at the exact coordinates: cells of the
+  // inputs' degenerate configurations (four coplanar or cocircular points)
+  // whose sign the perturbation decided, as in simulation of simplicity.
+  // Below it a simplex is inverted, which no rounding explains.
   const Eigen::VectorXd volumes = signed_volumes(P, A);
   report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
-  const double volume_tolerance = 1e-8 * std::pow(size, d + 1);
+  const double moved = (std::sqrt(static_cast<double>(d)) + 0.1) * report.perturbation * size;
+  double factorial = 1;
+  for (int i = 2; i <= d + 1; ++i) factorial *= i;
+  report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
   for (Index s = 0; s < volumes.size(); ++s) {
-    if (volumes(s) < -volume_tolerance) ++report.inverted_simplices;
-    else if (volumes(s) <= volume_tolerance) ++report.degenerate_simplices;
+    double longest = 0;
+    for (int a = 0; a < d + 2; ++a)
+      for (int b = a + 1; b < d + 2; ++b) longest = std::max(longest, (P.row(A(s, a)) - P.row(A(s, b))).norm());
+    const double determinant = volumes(s) * factorial;
+    report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
+    const double restore_bound = 2.0 * (d + 1) * 2.0 * moved * std::pow(longest, d);
+    if (determinant < -restore_bound) ++report.inverted_simplices;
+    else if (determinant <= 0) ++report.degenerate_simplices;
   }
 
   // The animation manifold: the boundary of what remains, less the caps

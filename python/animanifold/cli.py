@@ -393,7 +393,8 @@ def run_morph(args: argparse.Namespace) -> int:
     report = manifold.validity
     print(f"morph: {len(manifold.simplices)} tets; ends reproduced: {report['ends_reproduced']} "
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
-          f"inverted simplices: {report['inverted_simplices']}; " + (
+          f"inverted simplices: {report['inverted_simplices']} "
+          f"({report['degenerate_simplices']} flat at the exact coordinates); " + (
               f"stripped {report['stripped_simplices']} of {report['fill_simplices']}" if args.method == "strip" else
               f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
               f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)"))

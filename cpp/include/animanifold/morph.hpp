@@ -89,11 +89,15 @@ struct MorphReport {
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
   Index push_degenerate = 0;
   Index held_back_vertices = 0;  // free vertices held below a tenth of their target (PushReport::held_back)
-  // Validity 1: the smallest signed hypervolume of the kept simplices, how
-  // many are inverted (below -tolerance) and how many are degenerate slivers
-  // (within tolerance of zero: four coplanar corners of a planar quad, say).
-  // The tolerance is 1e-8 of the bounding-box diagonal to the power n+1.
-  double min_volume = 0.0;
+  // Validity 1, at the exact coordinates: the smallest signed hypervolume of
+  // the kept simplices, the smallest relative to its longest edge L (the
+  // determinant over L^(n+1): 1 for a cube's corner, 0 for a flat one), how
+  // many are inverted (negative beyond anything restoring the exact
+  // coordinates can do) and how many are degenerate (zero or negative within
+  // it: flat at the exact coordinates, cells of the inputs' degenerate
+  // configurations — four coplanar or cocircular points — whose orientation
+  // the perturbation decided; see morph.cpp).
+  double min_volume = 0.0, min_relative_volume = 0.0;
   Index inverted_simplices = 0, degenerate_simplices = 0;
   // Validity 2: one-sided distances between the slices at t0/t1 and the
   // inputs, relative to the bounding-box diagonal (every slice vertex on the
