@@ -13,7 +13,9 @@ extern "C" {
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <set>
+#include <array>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 
 namespace animanifold {
@@ -127,30 +129,41 @@ IndexVector missing_facets(const SimplexMatrix& simplices, const SimplexMatrix& 
   const int k = static_cast<int>(faces.cols());
   const int s = static_cast<int>(simplices.cols());
   if (k < 1 || k > s || k > 5) fail<InputError>("faces of ", k, " vertices cannot be faces of ", s, "-vertex simplices");
-  // Every k-subset of every simplex, sorted, in a set.
-  std::set<std::array<Index, 5>> present;
-  for (Index r = 0; r < simplices.rows(); ++r) {
-    // iterate over k-combinations of the s corners
-    std::vector<bool> mask(s, false);
-    std::fill(mask.begin(), mask.begin() + k, true);
-    do {
-      std::array<Index, 5> key;
-      key.fill(-1);
-      int j = 0;
-      for (int c = 0; c < s; ++c)
-        if (mask[c]) key[j++] = simplices(r, c);
-      std::sort(key.begin(), key.begin() + k);
-      present.insert(key);
-    } while (std::prev_permutation(mask.begin(), mask.end()));
-  }
-  std::vector<Index> missing;
-  for (Index f = 0; f < faces.rows(); ++f) {
-    std::array<Index, 5> key;
+  using Key = std::array<Index, 5>;
+  auto sorted_key = [k](auto corner) {
+    Key key;
     key.fill(-1);
-    for (int c = 0; c < k; ++c) key[c] = faces(f, c);
+    for (int c = 0; c < k; ++c) key[c] = corner(c);
     std::sort(key.begin(), key.begin() + k);
-    if (!present.count(key)) missing.push_back(f);
-  }
+    return key;
+  };
+  // The faces, by their sorted corners; every k-subset of every simplex is
+  // looked up among them (there are far fewer faces than subsets: a set of
+  // all subsets took seconds on a 4D fill of 300,000 simplices).
+  std::vector<std::pair<Key, Index>> wanted(faces.rows());
+  for (Index f = 0; f < faces.rows(); ++f) wanted[f] = {sorted_key([&](int c) { return faces(f, c); }), f};
+  std::sort(wanted.begin(), wanted.end());
+  auto by_key = [](const std::pair<Key, Index>& entry, const Key& key) { return entry.first < key; };
+  // The k-subsets of s corners, once.
+  std::vector<std::array<int, 5>> subsets;
+  std::vector<bool> mask(s, false);
+  std::fill(mask.begin(), mask.begin() + k, true);
+  do {
+    std::array<int, 5> subset{};
+    for (int c = 0, j = 0; c < s; ++c)
+      if (mask[c]) subset[j++] = c;
+    subsets.push_back(subset);
+  } while (std::prev_permutation(mask.begin(), mask.end()));
+  std::vector<bool> found(faces.rows(), false);
+  for (Index r = 0; r < simplices.rows(); ++r)
+    for (const auto& subset : subsets) {
+      const Key key = sorted_key([&](int c) { return simplices(r, subset[c]); });
+      for (auto it = std::lower_bound(wanted.begin(), wanted.end(), key, by_key); it != wanted.end() && it->first == key; ++it)
+        found[it->second] = true;
+    }
+  std::vector<Index> missing;
+  for (Index f = 0; f < faces.rows(); ++f)
+    if (!found[f]) missing.push_back(f);
   return Eigen::Map<IndexVector>(missing.data(), static_cast<Index>(missing.size()));
 }
 

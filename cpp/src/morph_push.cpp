@@ -8,7 +8,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <queue>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -27,31 +30,74 @@ namespace {
 struct PushConstraint {
   std::array<Index, 5> corners{-1, -1, -1, -1, -1};
   int count = 0;
-  Eigen::VectorXd normal;  // facets only
-  double sign = 1.0;
+  // The determinant, times the sign that makes it positive now, is
+  // `constant` + Σ weight[c]·(t[c] - t[0]) over the corners' last
+  // coordinates t (the only ones the push moves): the cofactors of the last
+  // column, which depend on the other coordinates only, are computed once,
+  // and every evaluation after that is a dot product.
+  std::array<double, 5> weight{0, 0, 0, 0, 0};
+  double constant = 0.0;
 };
 
-// The determinant of a small square matrix: closed forms for 3x3 and 4x4
-// (the push evaluates hundreds of thousands per round; the general LU of a
-// dynamic-size matrix costs several times more).
-double small_determinant(const Eigen::MatrixXd& m) {
+// Square matrices of up to 4x4 on the stack (morphs in 2D and 3D: D = 3, 4).
+using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
+
+// The matrix of a constraint: rows from corner 0 to the others, and for a
+// facet its hyperplane's normal (kept as it is at the start) as the last row.
+SmallMatrix constraint_matrix(const PointMatrix& P, const std::array<Index, 5>& corners, int count,
+                                  const Eigen::VectorXd* normal) {
+  const int D = static_cast<int>(P.cols());
+  SmallMatrix m(D, D);
+  for (int c = 1; c < count; ++c) m.row(c - 1) = P.row(corners[c]) - P.row(corners[0]);
+  if (normal) m.row(D - 1) = normal->transpose();
+  return m;
+}
+
+// The determinant of a small square matrix: closed forms for 3x3 and 4x4.
+double small_determinant(const SmallMatrix& m) {
   if (m.rows() == 4) return Eigen::Matrix4d(m).determinant();
   if (m.rows() == 3) return Eigen::Matrix3d(m).determinant();
   return m.determinant();
 }
 
-// (value, rate) of a constraint's determinant under moves of its corners
-// along the last axis by `share(v)` per unit of the move parameter.
-template <class Share>
-std::pair<double, double> affine_volume(const PointMatrix& P, const PushConstraint& k, const Share& share,
-                                        Eigen::MatrixXd& m) {
+// A constraint over `corners` (`count` of them; a facet when `normal` is
+// given) with its weights; `measure` gets its determinant now. A facet is
+// turned so that it is positive now (its normal's direction is arbitrary); a
+// simplex keeps the orientation the fill gave it.
+PushConstraint linear_constraint(const PointMatrix& P, const std::array<Index, 5>& corners, int count,
+                                 const Eigen::VectorXd* normal, double& measure) {
   const int D = static_cast<int>(P.cols());
-  for (int c = 1; c < k.count; ++c) m.row(c - 1) = P.row(k.corners[c]) - P.row(k.corners[0]);
-  if (k.count == D) m.row(D - 1) = k.normal.transpose();
-  const double before = k.sign * small_determinant(m);
-  for (int c = 1; c < k.count; ++c) m(c - 1, D - 1) = share(k.corners[c]) - share(k.corners[0]);
-  if (k.count == D) m(D - 1, D - 1) = 0.0;
-  return {before, k.sign * small_determinant(m)};
+  const SmallMatrix m = constraint_matrix(P, corners, count, normal);
+  measure = small_determinant(m);
+  PushConstraint k;
+  k.corners = corners;
+  k.count = count;
+  std::array<double, 5> cofactor{};
+  for (int r = 0; r < D; ++r) {
+    SmallMatrix e = m;
+    e.col(D - 1).setZero();
+    e(r, D - 1) = 1.0;
+    cofactor[r] = small_determinant(e);
+  }
+  const double sign = normal && measure < 0 ? -1.0 : 1.0;
+  for (int c = 1; c < count; ++c) k.weight[c] = sign * cofactor[c - 1];
+  if (normal) k.constant = sign * (*normal)(D - 1) * cofactor[D - 1];
+  return k;
+}
+
+// (value, rate) of a constraint under moves of its corners along the last
+// axis by `share(v)` per unit of the move parameter.
+template <class Share>
+std::pair<double, double> affine_volume(const PointMatrix& P, const PushConstraint& k, const Share& share) {
+  const Index last = P.cols() - 1;
+  const Index first = k.corners[0];
+  const double t0 = P(first, last), s0 = share(first);
+  double value = k.constant, rate = 0.0;
+  for (int c = 1; c < k.count; ++c) {
+    value += k.weight[c] * (P(k.corners[c], last) - t0);
+    rate += k.weight[c] * (share(k.corners[c]) - s0);
+  }
+  return {value, rate};
 }
 
 }  // namespace
@@ -61,34 +107,32 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   const int D = static_cast<int>(P.cols());
   if (A.cols() != D + 1) fail<InputError>("pushing needs ", D, "-simplices in R^", D, ", got ", A.cols(), " corners");
   PushReport report;
+  if (std::find(moved.begin(), moved.end(), true) == moved.end()) return report;  // nothing to push
   std::vector<PushConstraint> constraints;
   auto touches = [&](const Index* ids, int count) {
     for (int c = 0; c < count; ++c)
       if (moved[ids[c]]) return true;
     return false;
   };
+  std::array<Index, 5> corners{-1, -1, -1, -1, -1};
+  double measure = 0.0;
   for (Index s = 0; s < A.rows(); ++s)
     if (touches(A.row(s).data(), D + 1)) {
-      PushConstraint k;
-      std::copy(A.row(s).data(), A.row(s).data() + D + 1, k.corners.begin());
-      k.count = D + 1;
-      constraints.push_back(k);
+      std::copy(A.row(s).data(), A.row(s).data() + D + 1, corners.begin());
+      constraints.push_back(linear_constraint(P, corners, D + 1, nullptr, measure));
     }
   const SimplexMatrix boundary = boundary_facets(A);
   const double size = (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm();
-  Eigen::MatrixXd basis(D - 1, D), m(D, D);
+  Eigen::MatrixXd basis(D - 1, D);
   for (Index f = 0; f < boundary.rows(); ++f) {
     if (!touches(boundary.row(f).data(), D)) continue;
     for (int c = 1; c < D; ++c) basis.row(c - 1) = P.row(boundary(f, c)) - P.row(boundary(f, 0));
     Eigen::FullPivLU<Eigen::MatrixXd> lu(basis);
     if (lu.dimensionOfKernel() != 1) continue;
-    PushConstraint k;
-    std::copy(boundary.row(f).data(), boundary.row(f).data() + D, k.corners.begin());
-    k.count = D;
-    k.normal = lu.kernel().col(0).normalized();
-    const double measure = affine_volume(P, k, [](Index) { return 0.0; }, m).first;
+    const Eigen::VectorXd normal = lu.kernel().col(0).normalized();
+    std::copy(boundary.row(f).data(), boundary.row(f).data() + D, corners.begin());
+    PushConstraint k = linear_constraint(P, corners, D, &normal, measure);
     if (std::abs(measure) <= 1e-9 * std::pow(size, D - 1)) continue;  // flat already: nothing to keep
-    k.sign = measure > 0 ? 1.0 : -1.0;
     constraints.push_back(k);
   }
   std::vector<std::vector<Index>> star(P.rows());
@@ -102,7 +146,7 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   auto limit_of = [&](Index v, bool count_degenerate) {
     double limit = std::numeric_limits<double>::infinity();
     for (const Index i : star[v]) {
-      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? direction : 0.0; }, m);
+      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? direction : 0.0; });
       if (!(before > 0)) {
         report.degenerate += count_degenerate;
         continue;
@@ -122,19 +166,36 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   const double largest = target.size() ? target.maxCoeff() : 0.0;
   std::vector<bool> active(P.rows(), false);
   for (Index v = 0; v < P.rows(); ++v) active[v] = moved[v] && target(v) > 0;
+  // Each constraint's value is affine in Δ with a rate that changes only
+  // when one of its corners freezes, so the Δ at which it would go flat is
+  // known in advance and kept in a queue (earliest first), renewed for the
+  // stars of the vertices that freeze: no round looks at every constraint.
   double done = 0;
-  for (int round = 0; round < 64 && largest > 0 && done < largest; ++round) {
-    std::vector<double> limit(constraints.size(), std::numeric_limits<double>::infinity());
-    double smallest = std::numeric_limits<double>::infinity();
-    auto share = [&](Index v) { return active[v] ? direction * target(v) / largest : 0.0; };
+  std::vector<int> version(constraints.size(), 0);
+  using Event = std::tuple<double, size_t, int>;  // (Δ at which it goes flat, constraint, version)
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> flat_at;
+  auto schedule = [&](size_t i) {
+    ++version[i];
+    const auto [before, rate] =
+        affine_volume(P, constraints[i], [&](Index v) { return active[v] ? direction * target(v) / largest : 0.0; });
+    if (before > 0 && rate < 0) flat_at.emplace(done - before / rate, i, version[i]);
+  };
+  auto drop_stale = [&] {
+    while (!flat_at.empty() && std::get<2>(flat_at.top()) != version[std::get<1>(flat_at.top())]) flat_at.pop();
+  };
+  if (largest > 0)
     for (size_t i = 0; i < constraints.size(); ++i) {
       const PushConstraint& k = constraints[i];
-      bool any = false;
-      for (int c = 0; c < k.count; ++c) any = any || active[k.corners[c]];
-      if (!any) continue;
-      const auto [before, rate] = affine_volume(P, k, share, m);
-      if (before > 0 && rate < 0) smallest = std::min(smallest, limit[i] = -before / rate);
+      for (int c = 0; c < k.count; ++c)
+        if (active[k.corners[c]]) {
+          schedule(i);
+          break;
+        }
     }
+  std::vector<Index> frozen;
+  for (int round = 0; round < 64 && largest > 0 && done < largest; ++round) {
+    drop_stale();
+    const double smallest = flat_at.empty() ? std::numeric_limits<double>::infinity() : std::get<0>(flat_at.top()) - done;
     const double remaining = largest - done;
     const double step = std::min(remaining, safety * smallest);
     for (Index v = 0; v < P.rows(); ++v)
@@ -144,10 +205,22 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
       }
     done += step;
     if (step >= remaining) break;
-    // Freeze the corners of the constraints that would stop the next steps soon.
-    for (size_t i = 0; i < constraints.size(); ++i)
-      if (limit[i] - step <= 2 * (smallest - step))
-        for (int c = 0; c < constraints[i].count; ++c) active[constraints[i].corners[c]] = false;
+    // Freeze the corners of the constraints that would stop the next steps
+    // soon (within twice the nearest's distance), then renew the stars of
+    // the vertices frozen: their constraints' rates changed.
+    const double soon = done + 2 * (smallest - step);
+    frozen.clear();
+    for (drop_stale(); !flat_at.empty() && std::get<0>(flat_at.top()) <= soon; drop_stale()) {
+      const size_t i = std::get<1>(flat_at.top());
+      flat_at.pop();
+      ++version[i];  // its corners freeze: renewed below with the others
+      for (int c = 0; c < constraints[i].count; ++c) {
+        const Index v = constraints[i].corners[c];
+        if (active[v]) active[v] = false, frozen.push_back(v);
+      }
+    }
+    for (const Index v : frozen)
+      for (const Index i : star[v]) schedule(static_cast<size_t>(i));
   }
   // Then each frozen vertex alone, as far as its own constraints allow.
   const int levels = std::max(1, sweeps) * 4;
