@@ -30,7 +30,8 @@ namespace {
 struct PushConstraint {
   std::array<Index, 5> corners{-1, -1, -1, -1, -1};
   int count = 0;
-  // The determinant, times the sign that makes it positive now, is
+  // The determinant (a facet's times the sign that makes it positive at the
+  // start) is
   // `constant` + Σ weight[c]·(t[c] - t[0]) over the corners' last
   // coordinates t (the only ones the push moves): the cofactors of the last
   // column, which depend on the other coordinates only, are computed once,
@@ -45,7 +46,7 @@ using SmallMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 
 // The matrix of a constraint: rows from corner 0 to the others, and for a
 // facet its hyperplane's normal (kept as it is at the start) as the last row.
 SmallMatrix constraint_matrix(const PointMatrix& P, const std::array<Index, 5>& corners, int count,
-                                  const Eigen::VectorXd* normal) {
+                              const Eigen::VectorXd* normal) {
   const int D = static_cast<int>(P.cols());
   SmallMatrix m(D, D);
   for (int c = 1; c < count; ++c) m.row(c - 1) = P.row(corners[c]) - P.row(corners[0]);
