@@ -114,6 +114,24 @@ def test_convex_shapes_have_no_hole_space(shape):
     assert v.shape == (0, shape[0].shape[1]) and f.shape == (0, shape[1].shape[1])
 
 
+def test_convex_pieces_that_are_not_one_convex_shape_still_have_their_hole_space():
+    """Convex inputs skip the booleans (convex at every edge and vertex, and connected): two
+    separate spheres are convex at every edge but not together, and a sphere with one vertex
+    pushed in is convex everywhere but there."""
+    v, f = icosphere(2)
+    apart = np.vstack([v - [1.5, 0, 0], v + [1.5, 0, 0]]), np.vstack([f, f + len(v)])
+    H = am.hole_space(*apart)
+    gap = hull_volume(apart[0]) - am.solid_measure(*apart)
+    assert am.solid_measure(*H) == pytest.approx(gap, rel=1e-9) and gap > 1.0
+    dented = v.copy()
+    dented[0] *= 0.8
+    H = am.hole_space(dented, f)
+    assert am.solid_measure(*H) == pytest.approx(hull_volume(dented) - am.solid_measure(dented, f), rel=1e-9)
+    assert am.solid_measure(*H) > 1e-4
+    with pytest.raises(am.BooleanError, match="inside out"):
+        am.hole_space(v, f[:, ::-1].copy())
+
+
 def test_2d_c_shape_and_ring():
     c = np.array([[0, 0], [3, 0], [3, 1], [1, 1], [1, 2], [3, 2], [3, 3], [0, 3]], float)
     loop = np.stack([np.arange(8), (np.arange(8) + 1) % 8], 1)

@@ -283,7 +283,67 @@ bool intersects_itself_3d(const Operand& shape) {
   return PMP::does_self_intersect(mesh);
 }
 
+// Whether the closed surface is convex: connected, no edge bends outward
+// (the far corner of each face's neighbour never above the face's plane;
+// exact predicates), and no vertex has more than 2π of face angles around it
+// (which a surface wound twice around a convex body would, at its branch
+// points). A closed connected surface convex at every edge and vertex bounds
+// a convex body, so its hole space is empty and both the self-intersection
+// test and the hull's corefinement with it (every face of one in a face of
+// the other: CGAL's slowest case) can be skipped: 0.7 s for a sphere of
+// 5,000 faces. False when in doubt (an edge without exactly one opposite).
+bool is_convex_surface(const Operand& shape) {
+  using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const Index n = shape.F.rows();
+  std::map<std::pair<Index, Index>, Index> face_of_edge;  // directed edge -> its face
+  for (Index f = 0; f < n; ++f)
+    for (int c = 0; c < 3; ++c)
+      if (!face_of_edge.emplace(std::pair{shape.F(f, c), shape.F(f, (c + 1) % 3)}, f).second) return false;
+  auto point = [&](Index v) { return Inexact::Point_3(shape.V(v, 0), shape.V(v, 1), shape.V(v, 2)); };
+  std::vector<Index> parent(n);
+  for (Index f = 0; f < n; ++f) parent[f] = f;
+  auto root = [&](Index f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  for (Index f = 0; f < n; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Index a = shape.F(f, c), b = shape.F(f, (c + 1) % 3);
+      const auto opposite = face_of_edge.find({b, a});
+      if (opposite == face_of_edge.end()) return false;
+      const Index g = opposite->second;
+      parent[root(f)] = root(g);
+      Index far = -1;
+      for (int k = 0; k < 3; ++k)
+        if (shape.F(g, k) != a && shape.F(g, k) != b) far = shape.F(g, k);
+      if (far < 0) return false;
+      // (p, q, r, far) is negatively oriented where `far` lies behind the
+      // face (p, q, r) seen from outside, as on a convex surface; positively
+      // where the edge bends outward (and everywhere on an inside-out one).
+      if (CGAL::orientation(point(shape.F(f, 0)), point(shape.F(f, 1)), point(shape.F(f, 2)), point(far)) ==
+          CGAL::POSITIVE)
+        return false;
+    }
+  for (Index f = 0; f < n; ++f)
+    if (root(f) != root(0)) return false;
+  std::vector<double> angle_sum(shape.V.rows(), 0.0);
+  for (Index f = 0; f < n; ++f)
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = shape.V.row(shape.F(f, c)).transpose();
+      const Eigen::Vector3d u = shape.V.row(shape.F(f, (c + 1) % 3)).transpose() - p;
+      const Eigen::Vector3d w = shape.V.row(shape.F(f, (c + 2) % 3)).transpose() - p;
+      angle_sum[shape.F(f, c)] += std::atan2(u.cross(w).norm(), u.dot(w));
+    }
+  for (const double sum : angle_sum)
+    if (sum > 2 * M_PI + 1e-9) return false;
+  return n > 0;
+}
+
 Solid hole_space_3d(const Operand& shape) {
+  const ManifoldReport report = check_manifold(shape.F);
+  if (report.boundary_facets == 0 && report.nonmanifold_facets == 0 && report.misoriented_facets == 0 &&
+      report.degenerate_simplices == 0 && is_convex_surface(shape))
+    return Solid{PointMatrix(0, 3), SimplexMatrix(0, 3)};
   Mesh solid = exact_mesh(shape, true);
   if (!PMP::is_outward_oriented(solid)) fail<BooleanError>(shape.name, " is inside out (its faces point inward)");
   std::vector<Point> points;

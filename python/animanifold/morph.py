@@ -118,6 +118,8 @@ def _shared_hole_space(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
             spaces.append(hole_space(v, f))
         except BooleanError as e:
             raise BooleanError(f"the hole space of the {name} cannot be computed: {e}") from None
+        if is_empty(spaces[-1]):  # a convex input: nothing is shared (the other's boolean is not needed)
+            return spaces[-1]
     try:
         return intersect_solids(*spaces)
     except BooleanError as e:
