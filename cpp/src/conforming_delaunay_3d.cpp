@@ -4,11 +4,14 @@
 #include "animanifold/conforming_mend.hpp"
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/isolated.hpp"
 
 #include <tetgen.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,7 +43,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
   const PointMatrix& points = surface.points;
   const auto& faces = surface.faces;
   const Index n = static_cast<Index>(points.rows());
-  tetgenio in, out;
+  tetgenio in;
   in.firstnumber = 0;
   in.numberofpoints = n;
   in.pointlist = new REAL[static_cast<size_t>(n) * 3];
@@ -66,31 +69,69 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
   }
   // p: mesh the PLC; D: conforming Delaunay; c: keep the convex hull (points
   // off the surface, such as a skeleton, lie outside it); z: number from
-  // zero; Q: quiet.
-  char switches[] = "pDczQ";
-  try {
-    tetrahedralize(switches, &in, &out);
-  } catch (int code) {
-    fail<std::runtime_error>("TetGen could not build a conforming Delaunay tetrahedralization (error ", code,
-                             code == 3 ? ": the constraints intersect each other" : code == 1 ? ": out of memory" : "",
-                             ")");
-  }
+  // zero; Q: quiet. In a child process (isolated.hpp): Debian's TetGen keeps
+  // its assert()s, and an assertion that fails must fail the morph, not end
+  // Blender. What comes back: the points, then the triangle faces with their
+  // markers.
+  const std::vector<char> bytes = [&] {
+    try {
+      return run_isolated([&] {
+        char switches[] = "pDczQ";
+        tetgenio out;
+        try {
+          tetrahedralize(switches, &in, &out);
+        } catch (int code) {
+          fail<std::runtime_error>("error ", code,
+                                   code == 3 ? ": the constraints intersect each other" : code == 1 ? ": out of memory" : "");
+        }
+        std::vector<char> packed;
+        auto put = [&packed](const void* data, size_t size) {
+          const size_t at = packed.size();
+          packed.resize(at + size);
+          if (size > 0) std::memcpy(packed.data() + at, data, size);
+        };
+        const int faces_with_markers = out.trifacemarkerlist ? out.numberoftrifaces : 0;
+        put(&out.numberofpoints, sizeof(int));
+        put(&out.numberoftrifaces, sizeof(int));
+        put(&faces_with_markers, sizeof(int));
+        put(out.pointlist, sizeof(REAL) * 3 * static_cast<size_t>(out.numberofpoints));
+        put(out.trifacelist, sizeof(int) * 3 * static_cast<size_t>(out.numberoftrifaces));
+        put(out.trifacemarkerlist, sizeof(int) * static_cast<size_t>(faces_with_markers));
+        return packed;
+      });
+    } catch (const IsolatedFailure& e) {
+      fail<std::runtime_error>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
+    }
+  }();
+  size_t at = 0;
+  auto take = [&bytes, &at](void* data, size_t size) {
+    if (at + size > bytes.size()) fail<std::runtime_error>("TetGen's result came back truncated");
+    std::copy(bytes.data() + at, bytes.data() + at + size, static_cast<char*>(data));
+    at += size;
+  };
+  int point_count = 0, face_count = 0, marker_count = 0;
+  take(&point_count, sizeof(int));
+  take(&face_count, sizeof(int));
+  take(&marker_count, sizeof(int));
   TetgenSurface result;
-  result.points.resize(out.numberofpoints, 3);
-  std::copy(out.pointlist, out.pointlist + 3 * static_cast<size_t>(out.numberofpoints), result.points.data());
+  result.points.resize(point_count, 3);
+  take(result.points.data(), sizeof(double) * 3 * static_cast<size_t>(point_count));  // row-major, as TetGen's list
+  std::vector<int> trifaces(3 * static_cast<size_t>(face_count)), markers(static_cast<size_t>(marker_count));
+  take(trifaces.data(), sizeof(int) * trifaces.size());
+  take(markers.data(), sizeof(int) * markers.size());
   // TetGen keeps input points first, in order; check rather than assume.
   for (Index v = 0; v < n; ++v)
     if ((result.points.row(v) - points.row(v)).squaredNorm() != 0)
       fail<std::runtime_error>("TetGen moved input point ", v, " (duplicate points in the input?)");
   std::vector<int> rows;
-  for (int f = 0; f < out.numberoftrifaces; ++f)
-    if (out.trifacemarkerlist && out.trifacemarkerlist[f] > 0) rows.push_back(f);
+  for (int f = 0; f < marker_count; ++f)
+    if (markers[f] > 0) rows.push_back(f);
   result.subfaces.resize(static_cast<Index>(rows.size()), 3);
   result.subface_parent.resize(static_cast<Index>(rows.size()));
   for (size_t r = 0; r < rows.size(); ++r) {
     const int f = rows[r];
-    for (int c = 0; c < 3; ++c) result.subfaces(static_cast<Index>(r), c) = out.trifacelist[3 * f + c];
-    result.subface_parent(static_cast<Index>(r)) = out.trifacemarkerlist[f] - 1;
+    for (int c = 0; c < 3; ++c) result.subfaces(static_cast<Index>(r), c) = trifaces[3 * static_cast<size_t>(f) + c];
+    result.subface_parent(static_cast<Index>(r)) = markers[f] - 1;
   }
   return result;
 }

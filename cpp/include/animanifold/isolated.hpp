@@ -1,0 +1,32 @@
+// Running a library call that can end the whole process in a child process.
+//
+// Debian builds TetGen 1.5 with its assert()s on: an assertion that fails
+// inside tetrahedralize() calls abort(), and in Blender that would take the
+// artist's session down with it (a morph of an unlucky input must fail the
+// operator, never the program). run_isolated() forks, runs the work in the
+// child and hands its result back through a pipe, so an abort, a
+// segmentation fault or an exit() in the work only fails the call.
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace animanifold {
+
+// The work ended its process, or threw: what() says how (the signal, or the
+// exception's own message).
+struct IsolatedFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Runs `work` in a forked child process and returns the bytes it returned.
+// Throws IsolatedFailure when the child ends any other way: killed by a
+// signal (an assertion's SIGABRT, a SIGSEGV), exiting on its own, or by an
+// exception thrown in `work` (its message is carried over). The child shares
+// nothing with the caller afterwards: what `work` changes in memory is lost,
+// only the bytes come back. Where fork() fails, `work` runs in this process.
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work);
+
+}  // namespace animanifold

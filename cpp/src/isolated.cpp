@@ -1,0 +1,106 @@
+// run_isolated (isolated.hpp): fork, a pipe, and waitpid.
+#include "animanifold/isolated.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace animanifold {
+
+namespace {
+
+// The child's message: one tag byte ('R' result, 'E' error message), then the
+// payload's length and the payload.
+constexpr char kResult = 'R', kError = 'E';
+
+bool write_all(int fd, const char* data, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    size -= static_cast<size_t>(n);
+  }
+  return true;
+}
+
+[[noreturn]] void send_and_exit(int fd, char tag, const char* data, size_t size) {
+  const std::uint64_t length = size;
+  const bool sent = write_all(fd, &tag, 1) && write_all(fd, reinterpret_cast<const char*>(&length), sizeof length) &&
+                    write_all(fd, data, size);
+  // _exit, not exit: the child must not run the parent's atexit handlers or
+  // flush its buffers (Python's, Blender's) a second time.
+  ::_exit(sent ? 0 : 3);
+}
+
+std::string signal_name(int signal) {
+  switch (signal) {
+    case SIGABRT: return "SIGABRT, an assertion failed or abort() was called";
+    case SIGSEGV: return "SIGSEGV, a segmentation fault";
+    case SIGBUS: return "SIGBUS";
+    case SIGFPE: return "SIGFPE";
+    case SIGKILL: return "SIGKILL, killed (out of memory?)";
+    default: return "signal " + std::to_string(signal);
+  }
+}
+
+}  // namespace
+
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work) {
+  int fds[2];
+  if (::pipe(fds) != 0) return work();
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return work();
+  }
+  if (pid == 0) {  // the child
+    ::close(fds[0]);
+    try {
+      const std::vector<char> result = work();
+      send_and_exit(fds[1], kResult, result.data(), result.size());
+    } catch (const std::exception& e) {
+      send_and_exit(fds[1], kError, e.what(), std::strlen(e.what()));
+    } catch (...) {
+      static const char unknown[] = "an exception that is not a std::exception";
+      send_and_exit(fds[1], kError, unknown, sizeof unknown - 1);
+    }
+  }
+  ::close(fds[1]);
+  std::vector<char> message;
+  char buffer[1 << 16];
+  for (;;) {  // read to the end before waiting: a full pipe would block the child
+    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    message.insert(message.end(), buffer, buffer + n);
+  }
+  ::close(fds[0]);
+  int status = 0;
+  pid_t waited;
+  do waited = ::waitpid(pid, &status, 0);
+  while (waited < 0 && errno == EINTR);
+  // (Where the host ignores SIGCHLD, children are reaped on their own and
+  // waitpid fails with ECHILD: the message alone then says how it went.)
+  if (waited == pid && WIFSIGNALED(status))
+    throw IsolatedFailure("it was killed by " + signal_name(WTERMSIG(status)));
+  std::uint64_t length = 0;
+  const size_t header = 1 + sizeof length;
+  if (message.size() >= header) std::memcpy(&length, message.data() + 1, sizeof length);
+  if (message.size() < header || message.size() - header != length) {
+    if (waited == pid && WIFEXITED(status))
+      throw IsolatedFailure("it exited with status " + std::to_string(WEXITSTATUS(status)) + " before finishing");
+    throw IsolatedFailure("it ended before finishing");
+  }
+  std::vector<char> payload(message.begin() + static_cast<std::ptrdiff_t>(header), message.end());
+  if (message[0] == kError) throw IsolatedFailure(std::string(payload.begin(), payload.end()));
+  return payload;
+}
+
+}  // namespace animanifold
