@@ -280,6 +280,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   for (Index v = 0; v < nS; ++v) in_source[v] = true;
   for (Index v = nS; v < nS + nT; ++v) in_target[v] = true;
   SimplexMatrix A;
+  SimplexMatrix boundary;  // of A, once it no longer changes (skeleton method)
   if (!skeleton_method) {
     // Sidedness is decided on the perturbed points, the geometry the fill
     // was built on: on the exact input, nearly planar quads (rounded
@@ -358,9 +359,12 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
       return target;
     };
     const Eigen::VectorXd source_target = targets(source_free, VS, FS), target_target = targets(target_free, VT, FT);
-    const PushReport forward =
-        push_free_vertices(P, A, source_free, +1.0, source_target, options.push_safety, options.push_sweeps);
-    const PushReport back = push_free_vertices(P, A, target_free, -1.0, target_target, options.push_safety, options.push_sweeps);
+    // The pushes move points, not simplices: A's boundary is the same throughout.
+    boundary = boundary_facets(A);
+    const PushReport forward = push_free_vertices(P, A, source_free, +1.0, source_target, options.push_safety,
+                                                  options.push_sweeps, &boundary);
+    const PushReport back = push_free_vertices(P, A, target_free, -1.0, target_target, options.push_safety,
+                                               options.push_sweeps, &boundary);
     report.source_push = {forward.smallest / span, forward.mean / span, forward.largest / span};
     report.target_push = {back.smallest / span, back.mean / span, back.largest / span};
     report.push_degenerate = forward.degenerate + back.degenerate;
@@ -400,7 +404,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
 
   // The animation manifold: the boundary of what remains, less the caps
   // (facets all of whose corners stay in one input's plane).
-  const SimplexMatrix B = boundary_facets(A);
+  const SimplexMatrix B = boundary.rows() ? std::move(boundary) : boundary_facets(A);
   std::vector<Index> lateral;
   for (Index f = 0; f < B.rows(); ++f) {
     bool all_start = true, all_end = true;

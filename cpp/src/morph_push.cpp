@@ -104,7 +104,8 @@ std::pair<double, double> affine_volume(const PointMatrix& P, const PushConstrai
 }  // namespace
 
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
-                              const Eigen::VectorXd& target, double safety, int sweeps) {
+                              const Eigen::VectorXd& target, double safety, int sweeps,
+                              const SimplexMatrix* given_boundary) {
   const int D = static_cast<int>(P.cols());
   if (A.cols() != D + 1) fail<InputError>("pushing needs ", D, "-simplices in R^", D, ", got ", A.cols(), " corners");
   PushReport report;
@@ -122,7 +123,8 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
       std::copy(A.row(s).data(), A.row(s).data() + D + 1, corners.begin());
       constraints.push_back(linear_constraint(P, corners, D + 1, nullptr, measure));
     }
-  const SimplexMatrix boundary = boundary_facets(A);
+  const SimplexMatrix own_boundary = given_boundary ? SimplexMatrix() : boundary_facets(A);
+  const SimplexMatrix& boundary = given_boundary ? *given_boundary : own_boundary;
   const double size = (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm();
   Eigen::MatrixXd basis(D - 1, D);
   for (Index f = 0; f < boundary.rows(); ++f) {

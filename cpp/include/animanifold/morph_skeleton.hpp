@@ -152,7 +152,10 @@ struct PushReport {
 // Per vertex, not one ε for all (as in the dissertation): a free point in a
 // sliver next to the surface would otherwise hold every other back at the
 // plane; but together (see the .cpp).
+// `boundary`: boundary_facets(A), when the caller has it (it costs a sort of
+// every facet of A).
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
-                              const Eigen::VectorXd& target, double safety, int sweeps = 3);
+                              const Eigen::VectorXd& target, double safety, int sweeps = 3,
+                              const SimplexMatrix* boundary = nullptr);
 
 }  // namespace animanifold
