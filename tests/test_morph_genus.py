@@ -208,3 +208,42 @@ def test_sphere_to_the_genus_3_model_of_the_shared_data(shared_data):
     centre = target[0].mean(0)
     radius = np.linalg.norm(target[0] - centre, axis=1).max()
     check_topology_changing_morph((radius * v + centre, f), target, 2, -4, frames_cross=False)
+
+
+def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them(shared_data):
+    """The report's bubble check (cavities enclosed in the solid that neither input has) against
+    a count made here with scipy's connected components: sphere -> 3holes, where free vertices held
+    back by slivers leave bubbles just before t1 (a known limit, see the issue notes)."""
+    from animanifold.cavities import cavities
+    from animanifold.meshio import read_mesh
+    from animanifold.morph import BUBBLE_CHECKS
+
+    path = shared_data / "meshes" / "3holes.off"
+    if not path.exists():
+        pytest.skip(f"{path} is not in the shared data")
+    target = read_mesh(path)
+    v, f = icosphere(3)
+    centre = target[0].mean(0)
+    radius = np.linalg.norm(target[0] - centre, axis=1).max()
+    m = am.morph((radius * v + centre, f), target)
+    report = m.validity
+    assert report["bubble_frames_checked"] == len(BUBBLE_CHECKS)
+    reported = {round(t, 12): n for t, n in report["bubble_frames"]}
+    for fraction in BUBBLE_CHECKS:
+        frame = m.slice(fraction, honour_holes=False)
+        labels = components_of_faces(len(frame.vertices), frame.faces)
+        a, b, c = (frame.vertices[frame.faces[:, k]] for k in range(3))
+        volumes = np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6)
+        count = int((volumes < 0).sum())
+        assert reported.get(round(fraction, 12), 0) == count, (fraction, count, report["bubble_frames"])
+        assert len(cavities(frame.vertices, frame.faces)) == count
+    assert reported and 0 < report["largest_bubble_fraction"] < 0.5
+
+
+def components_of_faces(vertex_count: int, faces: np.ndarray) -> np.ndarray:
+    rows = np.concatenate([faces[:, 0], faces[:, 1], faces[:, 2]])
+    cols = np.concatenate([faces[:, 1], faces[:, 2], faces[:, 0]])
+    graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(vertex_count, vertex_count))
+    _, labels = connected_components(graph, directed=False)
+    _, per_face = np.unique(labels[faces[:, 0]], return_inverse=True)
+    return per_face

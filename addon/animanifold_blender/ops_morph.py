@@ -194,6 +194,12 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             self.report({"WARNING"}, f"'{new.name}': in-between frames run through themselves at "
                                      f"{len(validity['crossing_frames'])} of {validity['crossing_frames_checked']} "
                                      "checked times (a known limit of the skeleton push; see the validity report)")
+        if validity.get("bubble_frames"):
+            counts = ", ".join(f"{count} at {time_:.3g}" for time_, count in validity["bubble_frames"])
+            self.report({"WARNING"}, f"'{new.name}': some in-between frames hold bubbles enclosed in the solid "
+                                     f"({counts}; at most {100 * validity['largest_bubble_fraction']:.2g} % of the "
+                                     "volume): hidden under opaque materials, visible through glass (a known limit "
+                                     "of the skeleton push; see the validity report)")
         if not validity.get("holes_preserved", True):
             self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
                                      f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
