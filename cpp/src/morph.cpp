@@ -387,7 +387,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   // Below it a simplex is inverted, which no rounding explains.
   const Eigen::VectorXd volumes = signed_volumes(P, A);
   report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
-  const double moved = (std::sqrt(static_cast<double>(d)) + 0.1) * report.perturbation * size;
+  const double moved = 1.1 * std::sqrt(static_cast<double>(d)) * report.perturbation * size;  // per coordinate: perturbation + nudge
   double factorial = 1;
   for (int i = 2; i <= d + 1; ++i) factorial *= i;
   report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
