@@ -406,6 +406,13 @@ def run_morph(args: argparse.Namespace) -> int:
               f"{report['holes_preserved']}")
         for error in report["hole_errors"]:
             print(f"{PROG}: warning: {error}", file=sys.stderr)
+    if report.get("frames_cross_themselves"):
+        print(f"{PROG}: warning: in-between frames run through themselves at times "
+              f"{', '.join(f'{t:.3g}' for t in report['crossing_frames'])}", file=sys.stderr)
+    if report.get("bubble_frames"):
+        print(f"{PROG}: warning: in-between frames hold bubbles enclosed in the solid (time: count "
+              f"{', '.join(f'{t:.3g}: {n}' for t, n in report['bubble_frames'])}; up to "
+              f"{100 * report['largest_bubble_fraction']:.2g} % of the volume)", file=sys.stderr)
     if not manifold.check()["is_oriented_manifold"]:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
               ("; the skeleton method (--method skeleton) avoids that" if args.method == "strip" else ""),
