@@ -15,7 +15,7 @@ import scipy.sparse as sparse
 from scipy.sparse.csgraph import connected_components
 
 import animanifold as am
-from shapes import genus3_plate, icosphere, torus
+from shapes import genus3_plate, icosphere, torus, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
 
@@ -46,13 +46,13 @@ def two_spheres():
     return np.vstack([0.55 * v - [0.8, 0.05, 0.0], 0.65 * v + [0.85, 0.0, 0.05]]), np.vstack([f, f + len(v)])
 
 
-def check_topology_changing_morph(source, target, source_euler, target_euler, frames_cross=False):
+def check_topology_changing_morph(source, target, source_euler, target_euler, frames_cross=False, **options):
     """The manifold's own frames (raw: before the shared holes are cut out, §8.6.5).
 
-    frames_cross: known limitation, see the issue's note — where free vertices lie in a flat
-    facet of an input's convex hull that the input's own faces share (the plate's top), pushed
-    frames pass through themselves; the report says so."""
-    m = am.morph(source, target)
+    frames_cross: known limitation, see the issue's note — with the plain perturbation, points
+    of flat sides of an input's hull (the plate's top) leave slivers whose frames pass through
+    themselves; the report says so."""
+    m = am.morph(source, target, **options)
     report = m.validity
     assert report["ends_reproduced"], report
     assert report["inverted_simplices"] == 0 and report["missing_source_faces"] == 0
@@ -99,9 +99,27 @@ def test_torus_to_two_spheres():
 
 
 def test_sphere_to_genus_3():
+    """The voxel plate's flat sides: with the plain perturbation its frames run through themselves
+    (the report says so); morph() then keeps those sides flat (perturbation "hull_faces") and
+    every checked frame is clean."""
     v, f = icosphere(3)
     plate = genus3_plate()
-    check_topology_changing_morph((1.9 * v, f), plate, 2, -4, frames_cross=True)
+    plain = check_topology_changing_morph((1.9 * v, f), plate, 2, -4, frames_cross=True, perturbation="position")
+    assert plain.validity["perturbation_mode"] == "position" and "perturbation_retried" not in plain.validity
+    m = check_topology_changing_morph((1.9 * v, f), plate, 2, -4, frames_cross=False)
+    assert m.validity["perturbation_mode"] == "hull_faces" and m.validity["perturbation_retried"]
+    assert m.validity["stage_seconds"][0][0] == "first perturbation (frames crossed)"
+
+
+def test_sphere_to_a_ring_of_voxels_keeps_its_flat_sides_flat():
+    """A 3x3 ring of unit voxels (genus 1, flat sides with collinear points along every hull edge)."""
+    ring = np.ones((3, 3, 1), dtype=bool)
+    ring[1, 1, 0] = False
+    v, f = icosphere(3)
+    m = check_topology_changing_morph((1.9 * v, f), voxel_surface(ring), 2, 0)
+    assert m.validity["perturbation_mode"] == "hull_faces"
+    with pytest.raises(ValueError, match="unknown perturbation"):
+        am.morph((v, f), (v, f), perturbation="jiggle")
 
 
 def test_the_push_keeps_every_simplex_positive_and_within_the_span():

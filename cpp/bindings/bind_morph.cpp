@@ -10,7 +10,8 @@ void bind_morph(py::module_& m) {
   m.def(
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
-         py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill) {
+         py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill,
+         const std::string& perturbation) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -19,6 +20,7 @@ void bind_morph(py::module_& m) {
         options.push_safety = push_safety;
         options.push_sweeps = push_sweeps;
         options.fill = fill;
+        options.perturbation = perturbation;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -66,6 +68,7 @@ void bind_morph(py::module_& m) {
       py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
       py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
       py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
+      py::arg("perturbation") = MorphOptions{}.perturbation,
       "Morph between two closed shapes: (manifold Complex, validity report dict).");
   py::register_exception<Cancelled>(m, "Cancelled");
   m.def(

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -158,6 +159,8 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   const bool skeleton_method = options.method == "skeleton";
   if (!skeleton_method && options.method != "strip")
     fail<InputError>("unknown morph method '", options.method, "': use 'skeleton' or 'strip'");
+  if (options.perturbation != "position" && options.perturbation != "hull_faces")
+    fail<InputError>("unknown perturbation '", options.perturbation, "': use 'position' or 'hull_faces'");
   if (options.fill != "cgal" && options.fill != "qhull")
     fail<InputError>("unknown fill triangulation '", options.fill, "': use 'cgal' or 'qhull'");
   if (!(options.max_push > 0 && options.max_push < 1)) fail<InputError>("max_push must lie in (0, 1), got ", options.max_push);
@@ -211,7 +214,10 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   double conform_seconds = 0;
   std::string mesher_error;
   for (const double scale : kPerturbations) {
-    auto perturbed = [&](const PointMatrix& V) { return perturbed_by_position(V, scale * size, 20261122); };
+    auto perturbed = [&](const PointMatrix& V) {
+      return options.perturbation == "hull_faces" ? perturbed_along_hull_faces(V, scale * size, 20261122)
+                                                  : perturbed_by_position(V, scale * size, 20261122);
+    };
     const auto conform_start = Clock::now();
     // §8.6.1 step 2 (the strip method has no free points). A mesher that
     // returns a constrained, not conforming, fill may conform on points

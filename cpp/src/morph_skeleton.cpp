@@ -98,6 +98,48 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   return depth;
 }
 
+PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
+  PointMatrix out = perturbed_by_position(V, scale, salt);
+  if (V.cols() != 3 || V.rows() < 4) return out;
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K::Point_3> input;
+  for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
+  CGAL::Surface_mesh<K::Point_3> hull;
+  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  // The hull's facet planes, one per direction (coplanar triangles share one).
+  std::vector<std::pair<Eigen::Vector3d, double>> planes;
+  for (const auto f : hull.faces()) {
+    std::array<Eigen::Vector3d, 3> corner;
+    int i = 0;
+    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+      const auto& q = hull.point(v);
+      corner[i++] = Eigen::Vector3d(q.x(), q.y(), q.z());
+    }
+    const Eigen::Vector3d normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
+    const double offset = normal.dot(corner[0]);
+    bool known = false;
+    for (const auto& [n, c] : planes) known = known || (n.dot(normal) > 1 - 1e-12 && std::abs(c - offset) <= 1e-12 * (1 + std::abs(c)));
+    if (!known) planes.emplace_back(normal, offset);
+  }
+  const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  for (Index v = 0; v < V.rows(); ++v) {
+    const Eigen::Vector3d p = V.row(v).transpose();
+    Eigen::Vector3d offset = out.row(v).transpose() - p;
+    // Orthonormal normals of the planes through p; the offset keeps only
+    // what lies within all of them.
+    std::vector<Eigen::Vector3d> basis;
+    for (const auto& [n, c] : planes) {
+      if (std::abs(n.dot(p) - c) > 1e-12 * size) continue;
+      Eigen::Vector3d q = n;
+      for (const Eigen::Vector3d& b : basis) q -= q.dot(b) * b;
+      if (q.norm() > 1e-6) basis.push_back(q.normalized());
+    }
+    for (const Eigen::Vector3d& b : basis) offset -= offset.dot(b) * b;
+    out.row(v) = (p + offset).transpose();
+  }
+  return out;
+}
+
 // The conforming surface was built on perturbed input (`perturbed`); give
 // input vertices their exact coordinates back and put every added point on
 // the input face it lies in, at the same barycentric coordinates, so the

@@ -3,6 +3,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
 #include "animanifold/morph_skeleton.hpp"
+#include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "fixtures.hpp"
 
@@ -80,6 +81,28 @@ TEST(MorphSkeleton, PushKeepsEverySimplexPositiveAndStaysWithinTheTargets) {
     if (!moved[v]) EXPECT_EQ(P(v, 3), before(v, 3));
     else EXPECT_LE(P(v, 3), 1.0);
   }
+}
+
+TEST(MorphSkeleton, PerturbationAlongHullFacesKeepsFlatSidesFlat) {
+  // A 2x2x2 box's corners, a point inside its top face, one on its edge along
+  // x at y = z = 0, and one inside the box.
+  PointMatrix V(12, 3);
+  for (int c = 0; c < 8; ++c) V.row(c) << 2.0 * (c & 1), 2.0 * ((c >> 1) & 1), 2.0 * ((c >> 2) & 1);
+  V.row(8) << 1.0, 0.7, 2.0;
+  V.row(9) << 0.6, 0.0, 0.0;
+  V.row(10) << 1.0, 1.0, 1.0;
+  V.row(11) << 1.3, 2.0, 0.4;  // inside the side y = 2
+  const double scale = 1e-3;
+  const PointMatrix P = perturbed_along_hull_faces(V, scale, 7);
+  for (int c = 0; c < 8; ++c) EXPECT_EQ(P.row(c), V.row(c)) << "corner " << c;
+  EXPECT_EQ(P(8, 2), 2.0);  // stays in the top face's plane, bit for bit
+  EXPECT_NE(P(8, 0), V(8, 0));
+  EXPECT_EQ(P(9, 1), 0.0);  // stays on its edge
+  EXPECT_EQ(P(9, 2), 0.0);
+  EXPECT_NE(P(9, 0), V(9, 0));
+  EXPECT_EQ(P(11, 1), 2.0);
+  EXPECT_EQ(P.row(10), perturbed_by_position(V, scale, 7).row(10));  // inside: the plain perturbation
+  EXPECT_LE((P - V).cwiseAbs().maxCoeff(), scale);
 }
 
 TEST(MorphSkeleton, DepthInHullIsTheDistanceToTheNearestFacet) {

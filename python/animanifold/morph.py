@@ -27,6 +27,7 @@ def morph(
     push_safety: float = 0.5,
     fill: str = "cgal",
     hole_checks: int = 5,
+    perturbation: str = "auto",
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -47,6 +48,12 @@ def morph(
     The result's `validity` (also kept in its metadata) is the report of §8.3:
     Theorem 5.2.1's missing faces, inverted/degenerate simplices, and how far
     the end frames are from the inputs (relative to the bounding box).
+
+    perturbation: how the inputs are put in general position — "position" (each point by an
+    offset that is a function of its position), "hull_faces" (the same, but points on flat sides
+    of the inputs' convex hulls move only within them), or "auto" (the default): "position", and
+    when frames run through themselves (flat-sided inputs), "hull_faces" too, keeping the better
+    (report: `perturbation_mode`, `perturbation_retried`).
 
     Frames near the ends and in the middle (BUBBLE_CHECKS) are checked for bubbles enclosed in
     the solid that neither input has: `bubble_frames` lists [time, bubbles] where there are,
@@ -85,8 +92,50 @@ def morph(
         arrays += [v, np.ascontiguousarray(f, dtype=np.int32)]
     if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
         raise ValueError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
-    complex_, report = _core.morph(*arrays, t0=float(t0), t1=float(t1), method=method, progress=progress,
-                                   max_push=float(max_push), push_safety=float(push_safety), fill=fill)
+    if perturbation not in PERTURBATIONS:
+        raise ValueError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
+    if progress is not None:  # a retry (below) starts its stages again: the fraction never goes back
+        user_progress, done = progress, [0.0]
+
+        def progress(stage: str, fraction: float) -> bool:
+            done[0] = max(done[0], float(fraction))
+            return user_progress(stage, done[0])
+
+    once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
+                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks))
+    start = time.perf_counter()
+    manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
+    manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
+    if perturbation != "auto" or not manifold.validity["frames_cross_themselves"]:
+        return manifold
+    # Frames that run through themselves come from slivers of flat sides of the inputs' hulls
+    # (a voxel model's flat faces, collinear points along its hull edges), which the default
+    # perturbation bumps in and out of the hull: once more with those sides kept flat, and the
+    # better of the two is kept.
+    first_seconds = time.perf_counter() - start
+    try:
+        retry = _morph_once(arrays, perturbation="hull_faces", **once)
+    except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
+        manifold.validity["perturbation_retried"] = True
+        return manifold
+    first, second = manifold.validity, retry.validity
+    if (second["ends_reproduced"] and second["inverted_simplices"] == 0
+            and len(second["crossing_frames"]) < len(first["crossing_frames"]) and retry.check()["is_oriented_manifold"]):
+        second["perturbation_mode"] = "hull_faces"
+        second["stage_seconds"].insert(0, ["first perturbation (frames crossed)", first_seconds])
+        manifold = retry
+    manifold.validity["perturbation_retried"] = True
+    return manifold
+
+
+PERTURBATIONS = ("auto", "position", "hull_faces")
+
+
+def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
+                push_safety: float, fill: str, hole_checks: int, perturbation: str) -> AnimationManifold:
+    """One morph with the core's `perturbation` (see morph())."""
+    complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
+                                   max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
 

@@ -51,6 +51,11 @@ struct MorphOptions {
   // The fill's Delaunay triangulation: "cgal" (delaunay_exact, the default:
   // 10-20 times faster on the fill's two planes of points) or "qhull".
   std::string fill = "cgal";
+  // How the inputs are put in general position (see morph.cpp): "position"
+  // (perturbed_by_position, the default) or "hull_faces"
+  // (perturbed_along_hull_faces: flat sides of the inputs' hulls stay flat;
+  // the Python morph() retries with it when frames run through themselves).
+  std::string perturbation = "position";
   // Passes of the vertex-by-vertex push (push_free_vertices).
   int push_sweeps = 3;
   // Called with (stage, fraction done) between stages; returning false cancels

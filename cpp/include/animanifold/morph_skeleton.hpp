@@ -32,6 +32,17 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 // outside. CGAL's convex hull.
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
 
+// perturbed_by_position, except that points on the planes of the convex
+// hull's facets move only within them (a point on an edge of the hull along
+// the edge, a corner not at all): flat sides of the hull stay flat. With the
+// plain perturbation, points of a flat side (a voxel plate's top, collinear
+// points along its hull edges) bump in and out of the hull, and the fill's
+// lateral boundary holds slivers there that fold once the exact coordinates
+// are back: frames that run through themselves. Not the default (a cube's
+// corners then stay exact and its fill's ties are not broken: see
+// MorphOptions::perturbation).
+PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt);
+
 struct ConformingInput {
   ConformingDelaunay fill;  // of the shape and its free points K: the shape's vertices first, then K, then Steiner points
   PointMatrix exact_points;  // fill.points with the exact coordinates back (restore_on_input); K as given
