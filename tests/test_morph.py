@@ -7,7 +7,7 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from shapes import cube, face_normals, icosphere
+from shapes import cube, face_normals, icosphere, torus
 from test_slice import assert_closed_oriented_surface
 
 
@@ -143,3 +143,16 @@ def test_python_api_keeps_the_validity_report_through_the_cache(tmp_path):
         am.morph((v, f), (v, f), method="magic")
     with pytest.raises(ValueError, match="target's faces must be integer"):
         am.morph((v, f), (v, f.astype(float)))
+
+
+def test_the_morph_does_not_depend_on_the_order_or_rotation_of_the_faces():
+    """Blender hands out one mesh's triangles in a different order from one session to the next."""
+    v, f = icosphere(2)
+    tv, tf = torus(minor_radius=0.4, major=16, minor=8)
+    rng = np.random.default_rng(3)
+    shuffled = f[rng.permutation(len(f))]
+    turn = rng.integers(0, 3, len(shuffled))
+    shuffled = np.stack([shuffled[np.arange(len(shuffled)), (turn + k) % 3] for k in range(3)], axis=1)
+    a = am.morph((1.5 * v, f), (tv, tf))
+    b = am.morph((1.5 * v, shuffled), (tv, tf[::-1].copy()))
+    assert np.array_equal(a.points, b.points) and np.array_equal(a.simplices, b.simplices)
