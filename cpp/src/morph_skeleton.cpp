@@ -122,6 +122,19 @@ PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::
     if (!known) planes.emplace_back(normal, offset);
   }
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  auto on = [&](const std::pair<Eigen::Vector3d, double>& plane, Index v) {
+    return std::abs(plane.first.dot(Eigen::Vector3d(V.row(v).transpose())) - plane.second) <= 1e-12 * size;
+  };
+  // Only flat sides: planes that hold four points or more. A plane through
+  // three (every facet of a sphere's hull) is no degeneracy, and its corners
+  // left unperturbed would be (cospherical points, then ties everywhere).
+  std::vector<std::pair<Eigen::Vector3d, double>> flat;
+  for (const auto& plane : planes) {
+    int count = 0;
+    for (Index v = 0; v < V.rows() && count < 4; ++v) count += on(plane, v);
+    if (count >= 4) flat.push_back(plane);
+  }
+  planes = std::move(flat);
   for (Index v = 0; v < V.rows(); ++v) {
     const Eigen::Vector3d p = V.row(v).transpose();
     Eigen::Vector3d offset = out.row(v).transpose() - p;

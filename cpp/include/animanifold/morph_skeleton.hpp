@@ -32,9 +32,10 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 // outside. CGAL's convex hull.
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
 
-// perturbed_by_position, except that points on the planes of the convex
-// hull's facets move only within them (a point on an edge of the hull along
-// the edge, a corner not at all): flat sides of the hull stay flat. With the
+// perturbed_by_position, except that points on the flat sides of the convex
+// hull (facet planes that hold four points or more) move only within them (a
+// point on an edge between two such sides along the edge, a corner of three
+// not at all): flat sides of the hull stay flat. With the
 // plain perturbation, points of a flat side (a voxel plate's top, collinear
 // points along its hull edges) bump in and out of the hull, and the fill's
 // lateral boundary holds slivers there that fold once the exact coordinates
