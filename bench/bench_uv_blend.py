@@ -46,6 +46,8 @@ import time
 import bpy
 import numpy as np
 
+from bench_playback import playback_fps  # noqa: E402  (bench/ is the script's folder)
+
 NX, NY = 250, 400  # 100,000 vertices, 2*249*399 = 198,702 triangles, 596,106 corners
 F0, F1 = 1, 48
 EXPR = f"(frame - {F0}) / {F1 - F0}"
@@ -341,20 +343,14 @@ def check(scene, obj, A, B, UV0, UV1):
 
 
 def play(scene, obj, loops):
+    """Per-frame seconds of the warm loops and the fps of every loop (the first one cold),
+    timed as bench_playback.py times its objects."""
     frames = list(range(F0, F1 + 1))
-    scene.frame_set(F0)
+    probe = lambda: len(evaluated(obj).polygons)  # noqa: E731
+    cold = playback_fps(scene, frames, 1, probe)
     per = []
-    loop_fps = []
-    for i in range(loops):
-        t0 = time.perf_counter()
-        for f in frames:
-            t = time.perf_counter()
-            scene.frame_set(f)
-            len(evaluated(obj).polygons)
-            if i > 0:
-                per.append(time.perf_counter() - t)
-        loop_fps.append(len(frames) / (time.perf_counter() - t0))
-    return per, loop_fps
+    warm = playback_fps(scene, frames, max(loops - 1, 1), probe, per)
+    return per, cold + warm
 
 
 def main():

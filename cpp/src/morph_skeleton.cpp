@@ -63,27 +63,38 @@ std::vector<Index> spread_out(const PointMatrix& points, double gap) {
   return kept;
 }
 
+// The convex hull's facets of 3D points as planes: outward unit normal n and
+// offset c (n·x = c on the facet, n·x < c inside), one per triangle of CGAL's
+// hull (coplanar triangles repeat their plane).
+std::vector<std::pair<Eigen::Vector3d, double>> hull_facet_planes(const PointMatrix& V) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K::Point_3> input;
+  for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
+  CGAL::Surface_mesh<K::Point_3> hull;
+  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  std::vector<std::pair<Eigen::Vector3d, double>> planes;
+  for (const auto f : hull.faces()) {
+    std::array<Eigen::Vector3d, 3> corner;
+    int i = 0;
+    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+      const auto& p = hull.point(v);
+      corner[i++] = Eigen::Vector3d(p.x(), p.y(), p.z());
+    }
+    const Eigen::Vector3d normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
+    planes.emplace_back(normal, normal.dot(corner[0]));
+  }
+  return planes;
+}
+
 }  // namespace
 
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   Eigen::VectorXd depth = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());
   if (V.cols() == 3) {
-    std::vector<K::Point_3> input;
-    for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
-    CGAL::Surface_mesh<K::Point_3> hull;
-    CGAL::convex_hull_3(input.begin(), input.end(), hull);
-    for (const auto f : hull.faces()) {
-      std::array<Eigen::Vector3d, 3> corner;
-      int i = 0;
-      for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-        const auto& p = hull.point(v);
-        corner[i++] = Eigen::Vector3d(p.x(), p.y(), p.z());
-      }
-      const Eigen::Vector3d normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();  // outward
+    for (const auto& [normal, offset] : hull_facet_planes(V))
       for (Index p = 0; p < points.rows(); ++p)
-        depth(p) = std::min(depth(p), -normal.dot(Eigen::Vector3d(points.row(p).transpose()) - corner[0]));
-    }
+        depth(p) = std::min(depth(p), offset - normal.dot(Eigen::Vector3d(points.row(p).transpose())));
     return depth;
   }
   std::vector<K::Point_2> input, hull;
@@ -101,22 +112,9 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
   PointMatrix out = perturbed_by_position(V, scale, salt);
   if (V.cols() != 3 || V.rows() < 4) return out;
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  std::vector<K::Point_3> input;
-  for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
-  CGAL::Surface_mesh<K::Point_3> hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
   // The hull's facet planes, one per direction (coplanar triangles share one).
   std::vector<std::pair<Eigen::Vector3d, double>> planes;
-  for (const auto f : hull.faces()) {
-    std::array<Eigen::Vector3d, 3> corner;
-    int i = 0;
-    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-      const auto& q = hull.point(v);
-      corner[i++] = Eigen::Vector3d(q.x(), q.y(), q.z());
-    }
-    const Eigen::Vector3d normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
-    const double offset = normal.dot(corner[0]);
+  for (const auto& [normal, offset] : hull_facet_planes(V)) {
     bool known = false;
     for (const auto& [n, c] : planes) known = known || (n.dot(normal) > 1 - 1e-12 && std::abs(c - offset) <= 1e-12 * (1 + std::abs(c)));
     if (!known) planes.emplace_back(normal, offset);
