@@ -11,7 +11,7 @@ APT_PACKAGES=(
   libopenvdb-dev  # only for the opt-in peer of bench/bench_morph.py (~5 MB with its -dev deps)
 )
 PIP_PACKAGES=(
-  "numpy<2" pytest hypothesis matplotlib scikit-build-core pybind11
+  "numpy<2" pytest hypothesis matplotlib scipy scikit-build-core pybind11
   "bpy>=4.5,<4.6"
 )
 
@@ -36,7 +36,7 @@ PYTHON="${PYTHON:-python3}"
 if ! "$PYTHON" - <<'PY' 2>/dev/null
 import importlib.metadata as md, sys
 need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "hypothesis": None,
-        "matplotlib": None, "scikit-build-core": None, "pybind11": None,
+        "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None,
         "bpy": lambda v: v.startswith("4.5")}
 for name, ok in need.items():
     v = md.version(name)
