@@ -27,6 +27,10 @@ Candidates:
   copy_live     copy + the add-on's "Animanifold Live" group (live_nodes._build, read-only import), Frame set
                 by the handler each frame as live_nodes.set_frame does (the group passes through)
   sk_gn_only    shape key + GN that stores nothing (GN modifier overhead alone)
+  sk_gn_pt      shape key + GN: UVMap (CORNER) = mix(uv0, uv1, s) of POINT float3 attrs, the old
+                UVMap removed first (the slice gives every vertex one UV, so the blend runs on the
+                100k points and Blender spreads it to the 600k corners)
+  gn_pos_pt     one GN modifier: positions as gn_pos and UVs as sk_gn_pt (no shape key)
 
 Each run: 48 frames x loops frame_set, after each frame the evaluated mesh is read
 (len(polygons)) as bench/bench_playback.py does; per-frame seconds of the loops after the
@@ -170,6 +174,8 @@ def gn_group(kind):
         if not kind:
             L.new(geo, out.inputs["Geometry"])
             return g
+    if kind == "pt":  # point-domain blend: the mix of "mix", the removal of "rm"
+        kind = "mixrm"
     if kind.endswith("rm"):  # remove the old UV map first (no copy of its values into the new one)
         rm = N.new("GeometryNodeRemoveAttribute")
         rm.inputs["Name"].default_value = "UVMap"
@@ -226,6 +232,13 @@ def setup(candidate):
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = F0, F1
     obj, A, B, UV0, UV1 = build_mesh()
+    if candidate.endswith("_pt"):  # one UV per vertex (as in a slice): corners take their vertex's
+        rng = np.random.default_rng(2)
+        PUV0, PUV1 = (rng.random((len(A), 2), dtype=np.float32) for _ in range(2))
+        corner_vertex = np.empty(len(obj.data.loops), np.int32)
+        obj.data.loops.foreach_get("vertex_index", corner_vertex)
+        UV0, UV1 = PUV0[corner_vertex], PUV1[corner_vertex]
+        obj.data.uv_layers["UVMap"].uv.foreach_set("vector", UV0.ravel())
     drivers = []
     info = {}
     if not candidate.startswith(("copy", "gn_")):
@@ -240,6 +253,9 @@ def setup(candidate):
         me = obj.data
         if kind.startswith("pos"):
             me.attributes.new("am_d", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", (B - A).ravel())
+        if kind.endswith("pt"):
+            me.attributes.new("am_uv0", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", vec3(PUV0).ravel())
+            me.attributes.new("am_uv1", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", vec3(PUV1).ravel())
         if kind.rstrip("rm").endswith(("mix", "fma")):
             kind = kind.rstrip("rm")
         if kind.endswith(("mix", "fma")):

@@ -15,7 +15,7 @@ import scipy.sparse as sparse
 from scipy.sparse.csgraph import connected_components
 
 import animanifold as am
-from shapes import genus3_plate, icosphere, torus, voxel_surface
+from shapes import cube, genus3_plate, icosphere, torus, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
 
@@ -202,6 +202,32 @@ def test_convex_inputs_take_the_plain_fill_of_section_8_4():
         assert report[key] == 0, key
     assert report["ends_reproduced"] and not report["frames_cross_themselves"]
     assert ((m.points[:, 3] == 0.0) | (m.points[:, 3] == 1.0)).all()  # every vertex on an end plane
+
+
+@pytest.mark.parametrize("subdivisions", [1, 3])
+def test_a_sphere_into_a_cube_keeps_every_frame_clear_of_itself(subdivisions):
+    """Convex inputs with flat sides (a cube's square faces, the shapes of the Blender operator
+    test): the fill's simplices there are flat at the exact coordinates (decided by the
+    perturbation); left on the boundary, they folded every frame through itself (zero-area and
+    overlapping triangles), and they are peeled off it. Every frame is then a convex shape."""
+    v, f = icosphere(subdivisions)
+    cube_v, cube_f = cube()
+    m = am.morph((v, f), (0.75 * cube_v, cube_f), perturbation="position")
+    report = m.validity
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0
+    assert not report["frames_cross_themselves"], report["crossing_frames"]
+    assert report["peeled_hull_slivers"] > 0
+    assert m.check()["is_oriented_manifold"]
+    for t in (0.02, 0.5, 0.98):
+        frame = m.slice(t, honour_holes=False)
+        V, F = frame.vertices, frame.faces
+        assert_closed_oriented_surface(F)
+        areas = np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1) / 2
+        assert areas.min() > 1e-6 * areas.max()
+        # convex: every vertex on or behind the plane of every face
+        normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+        heights = np.einsum("fk,vk->fv", normals, V) - np.einsum("fk,fk->f", normals, V[F[:, 0]])[:, None]
+        assert heights.max() < 1e-9 * np.abs(heights).max()
 
 
 def test_the_same_morph_over_any_time_range():

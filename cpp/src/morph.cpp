@@ -38,6 +38,43 @@ struct FlatSimplices {
   Index inside = 0;  // across the planes, inside the fill
 };
 
+// How far restoring the exact coordinates moves a point of the planes, per
+// coordinate at most: the perturbation (`scale` of the shapes' `size`, along
+// each of the d axes) and the Steiner points' nudge (a tenth of it).
+double restored_distance(int d, double scale, double size) {
+  return 1.1 * std::sqrt(static_cast<double>(d)) * scale * size;
+}
+
+// How much restoring the exact coordinates can change the determinant of a
+// simplex of the fill (#corners = D+1 in R^D) whose longest edge is
+// `longest`: each point in the planes moves by at most `moved` per
+// coordinate (the perturbation and the Steiner points' nudge), which changes
+// each of the D rows of the determinant by at most 2·moved and so the
+// determinant by at most D·2·moved·longest^(D-1) (Hadamard's bound on each
+// changed row), taken twice for safety.
+double restore_bound(double longest, int D, double moved) {
+  return 2.0 * D * 2.0 * moved * std::pow(longest, D - 1);
+}
+
+// The determinant of the simplex `corners` of points P (rows from corner 0
+// to the others) and its longest edge.
+std::pair<double, double> determinant_and_longest(const PointMatrix& P, const Index* corners, int count) {
+  const int D = static_cast<int>(P.cols());
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4> m(D, D);
+  double longest = 0;
+  for (int c = 1; c < count; ++c) m.row(c - 1) = P.row(corners[c]) - P.row(corners[0]);
+  for (int a = 0; a < count; ++a)
+    for (int b = a + 1; b < count; ++b) longest = std::max(longest, (P.row(corners[a]) - P.row(corners[b])).norm());
+  return {m.determinant(), longest};
+}
+
+// Whether the simplex is flat at the exact coordinates: its determinant
+// there within what the perturbation decided (restore_bound).
+bool is_flat_at_exact(const PointMatrix& exact, const Index* corners, int count, double moved) {
+  const auto [determinant, longest] = determinant_and_longest(exact, corners, count);
+  return std::abs(determinant) <= restore_bound(longest, static_cast<int>(exact.cols()), moved);
+}
+
 // Peels slivers off the fill's boundary (shelling.hpp): simplices joining
 // the two planes (at least two corners in each: one with all but one corner
 // in a plane holds a cell of that plane and stays) that are flat, or nearly,
@@ -92,6 +129,64 @@ FlatSimplices peel_hull_slivers(DelaunayTriangulation& fill, Index nS) {
     fill.slivers.clear();  // row numbers changed; not read after this
   }
   return result;
+}
+
+// Whether the facet `corners` (#count = D points of R^D) is degenerate at the
+// exact coordinates: its (D-1)-volume, from the Gram determinant of its
+// edges, within what restoring them can change (as restore_bound, one
+// dimension down).
+bool is_degenerate_facet_at_exact(const PointMatrix& exact, const Index* corners, int count, double moved) {
+  const int D = static_cast<int>(exact.cols());
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 4> edges(count - 1, D);
+  double longest = 0;
+  for (int c = 1; c < count; ++c) edges.row(c - 1) = exact.row(corners[c]) - exact.row(corners[0]);
+  for (int a = 0; a < count; ++a)
+    for (int b = a + 1; b < count; ++b)
+      longest = std::max(longest, (exact.row(corners[a]) - exact.row(corners[b])).norm());
+  const double measure = std::sqrt(std::max(0.0, (edges * edges.transpose()).determinant()));
+  return measure <= restore_bound(longest, count - 1, moved) * std::sqrt(static_cast<double>(D));
+}
+
+// Where no point is pushed into time (convex inputs, §8.4: every point gets
+// its exact coordinates back), peels off the boundary the simplices across
+// the planes that are flat at the exact coordinates through their boundary
+// facets that are degenerate there: a flat side of an input (a cube's
+// square) puts four coplanar points in one facet of the fill's boundary,
+// whose slices are zero-area triangles along which the frame folds through
+// itself. Removing a simplex that is flat changes nothing but how its
+// region is triangulated, and only facets that are degenerate are opened, so
+// nothing proper is exposed in their place unless it was there already.
+// Returns how many were peeled.
+Index peel_flat_boundary_facets(DelaunayTriangulation& fill, Index nS, const PointMatrix& exact, double moved) {
+  const int corners = static_cast<int>(fill.simplices.cols());
+  auto in_source = [&](const Index* ids, int count) {
+    int n = 0;
+    for (int c = 0; c < count; ++c) n += ids[c] < nS;
+    return n;
+  };
+  std::vector<Index> candidates;
+  for (Index r = 0; r < fill.simplices.rows(); ++r) {
+    const int source = in_source(fill.simplices.row(r).data(), corners);
+    if (source >= 2 && corners - source >= 2 && is_flat_at_exact(exact, fill.simplices.row(r).data(), corners, moved))
+      candidates.push_back(r);
+  }
+  if (candidates.empty()) return 0;
+  const std::vector<bool> removed = shell_off(
+      fill.simplices, candidates,
+      [&](const Index* facet) {
+        const int source = in_source(facet, corners - 1);
+        return source != 0 && source != corners - 1;  // lateral: not a cap facet
+      },
+      [&](const Index* facet) { return !is_degenerate_facet_at_exact(exact, facet, corners - 1, moved); });
+  const Index peeled = std::count(removed.begin(), removed.end(), true);
+  if (peeled > 0) {
+    SimplexMatrix out(fill.simplices.rows() - peeled, corners);
+    for (Index r = 0, k = 0; r < fill.simplices.rows(); ++r)
+      if (!removed[r]) out.row(k++) = fill.simplices.row(r);
+    fill.simplices = std::move(out);
+    fill.slivers.clear();  // row numbers changed; not read after this
+  }
+  return peeled;
 }
 
 // A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
@@ -266,6 +361,11 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     const FlatSimplices flats = peel_hull_slivers(fill, nS);
     report.flat_fill_simplices = options.fill == "qhull" ? flats.inside : 0;  // CGAL's are proper: kept
     report.peeled_hull_slivers = flats.peeled;
+    // Only without free points: with them, peeling the exactly flat simplices
+    // of the voxel plate's flat sides made its frames cross where they did not
+    // (the push then works on another boundary).
+    if (skeleton_method && KS.rows() == 0 && KT.rows() == 0)
+      report.peeled_hull_slivers += peel_flat_boundary_facets(fill, nS, exact, restored_distance(d, scale, size));
     report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.fill.constraints).size());
     report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
     if (report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0) break;
@@ -382,29 +482,22 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     stage("push", 0.8);
   }
 
-  // Validity 1, at the exact coordinates. Restoring them moves each point in
-  // the planes by at most `moved` (the perturbation, per coordinate, and the
-  // Steiner points' nudge), which changes a simplex's determinant by at most
-  // about (n+1)·2·moved·L^n (L its longest edge; Hadamard's bound on each
-  // changed row), taken twice for safety. Simplices that are not positive but
-  // within that of zero are flat at the exact coordinates: cells of the
+  // Validity 1, at the exact coordinates. Simplices that are not positive but
+  // within restore_bound of zero are flat at the exact coordinates: cells of the
   // inputs' degenerate configurations (four coplanar or cocircular points)
   // whose sign the perturbation decided, as in simulation of simplicity.
   // Below it a simplex is inverted, which no rounding explains.
   const Eigen::VectorXd volumes = signed_volumes(P, A);
   report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
-  const double moved = 1.1 * std::sqrt(static_cast<double>(d)) * report.perturbation * size;  // per coordinate: perturbation + nudge
+  const double moved = restored_distance(d, report.perturbation, size);
+  report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
   double factorial = 1;
   for (int i = 2; i <= d + 1; ++i) factorial *= i;
-  report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
   for (Index s = 0; s < volumes.size(); ++s) {
-    double longest = 0;
-    for (int a = 0; a < d + 2; ++a)
-      for (int b = a + 1; b < d + 2; ++b) longest = std::max(longest, (P.row(A(s, a)) - P.row(A(s, b))).norm());
-    const double determinant = volumes(s) * factorial;
+    const double longest = determinant_and_longest(P, A.row(s).data(), d + 2).second;
+    const double determinant = volumes(s) * factorial;  // the sign convention of signed_volumes
     report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
-    const double restore_bound = 2.0 * (d + 1) * 2.0 * moved * std::pow(longest, d);
-    if (determinant < -restore_bound) ++report.inverted_simplices;
+    if (determinant < -restore_bound(longest, d + 1, moved)) ++report.inverted_simplices;
     else if (determinant <= 0) ++report.degenerate_simplices;
   }
 
