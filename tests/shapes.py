@@ -41,6 +41,21 @@ def cube() -> tuple[np.ndarray, np.ndarray]:
     return v, f
 
 
+def cylinder(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
+    """Blender's cylinder primitive: n points on each cap's circle (all 2n cospherical), the caps
+    triangulated as fans, outward."""
+    a = 2 * np.pi * np.arange(n) / n
+    ring = np.stack([radius * np.cos(a), radius * np.sin(a)], 1)
+    v = np.concatenate([np.c_[ring, np.full(n, -depth / 2)], np.c_[ring, np.full(n, depth / 2)]])
+    i = np.arange(n)
+    j = (i + 1) % n
+    sides = np.concatenate([np.stack([i, j, j + n], 1), np.stack([i, j + n, i + n], 1)])
+    k = np.arange(1, n - 1)
+    bottom = np.stack([np.zeros_like(k), k + 1, k], 1)
+    top = np.stack([np.full_like(k, n), k + n, k + 1 + n], 1)
+    return v, np.concatenate([sides, bottom, top]).astype(np.int32)
+
+
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
     return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])

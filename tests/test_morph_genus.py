@@ -15,7 +15,7 @@ import scipy.sparse as sparse
 from scipy.sparse.csgraph import connected_components
 
 import animanifold as am
-from shapes import cube, genus3_plate, icosphere, torus, voxel_surface
+from shapes import cube, cylinder, genus3_plate, icosphere, torus, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
 
@@ -228,6 +228,29 @@ def test_a_sphere_into_a_cube_keeps_every_frame_clear_of_itself(subdivisions):
         normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
         heights = np.einsum("fk,vk->fv", normals, V) - np.einsum("fk,fk->f", normals, V[F[:, 0]])[:, None]
         assert heights.max() < 1e-9 * np.abs(heights).max()
+
+
+def test_convex_inputs_with_cocircular_flat_sides_push_nothing():
+    """A cylinder's caps hold cocircular points (an 8-sided one, caps as fans): the fill's cells
+    there are flat at the exact coordinates, and with one constraint face only the perturbation
+    made some of them 'outside' the cylinder: 6 faces were split, the new points pushed into
+    time, and a frame ran through itself. A convex input has nothing outside it: such cells are
+    flat, the morph is §8.4's plain fill."""
+    v, f = cylinder(8)
+    assert_closed_oriented_surface(f)
+    assert enclosed_volume(v, f) > 0
+    cube_v, cube_f = cube()
+    m = am.morph((cube_v, cube_f), (v, f))
+    report = m.validity
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0, report
+    for key in ("source_free_vertices", "target_free_vertices", "split_faces", "held_back_vertices"):
+        assert report[key] == 0, (key, report[key])
+    assert report["bubble_frames"] == [] and not report["frames_cross_themselves"]
+    assert m.check()["is_oriented_manifold"]
+    for t in (0.25, 0.5, 0.75):
+        frame = m.slice(t, honour_holes=False)
+        assert_closed_oriented_surface(frame.faces)
+        assert components(len(frame.vertices), frame.faces) == 1
 
 
 def test_the_same_morph_over_any_time_range():

@@ -415,8 +415,8 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // hull across both planes), the simplices there are slivers whose sign
     // constrains little: see crossing_frames in the report.
     A = fill.simplices;
-    PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
-    PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints);
+    PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
+    PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);
     // Where the inputs coincide, what lies outside both is removed, not
     // pushed (shared_prisms); the planes are classified again.
     const std::vector<Prism> prism = shared_prisms(P, A, in_source, in_target, source_plane, target_plane);
@@ -427,8 +427,8 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
       for (Index s = 0, r = 0; s < A.rows(); ++s)
         if (prism[s] != Prism::SharedOutside) kept.row(r++) = A.row(s);
       A = std::move(kept);
-      source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints);
-      target_plane = classify_plane(P, exact, A, in_target, target_constraints);
+      source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
+      target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);
     }
     std::vector<bool> source_free = source_plane.free, target_free = target_plane.free;
     std::vector<std::vector<Index>> faces = uncovered_outside_faces(source_plane);

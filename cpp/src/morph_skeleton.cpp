@@ -233,7 +233,7 @@ ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_e
 }
 
 PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const SimplexMatrix& A,
-                          const std::vector<bool>& in_plane, const SimplexMatrix& constraint) {
+                          const std::vector<bool>& in_plane, const SimplexMatrix& constraint, bool convex) {
   const int n = static_cast<int>(P.cols()) - 1;
   using CellKey = std::array<Index, 4>;
   struct Hash {
@@ -287,7 +287,9 @@ PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const 
         if (i != drop) ids[j++] = plane.cells(c, i);
       constraint_facets += static_cast<int>(constraint_keys.count(key_of(ids, n)));
     }
-    plane.flat[c] = constraint_facets >= 2;
+    bool all_on_surface = true;
+    for (int i = 0; i <= n; ++i) all_on_surface = all_on_surface && on_surface[plane.cells(c, i)];
+    plane.flat[c] = constraint_facets >= 2 || (convex && constraint_facets >= 1 && all_on_surface);
   }
   plane.outside = outside_cells(P, plane.cells, constraint, plane.flat);
   plane.free.assign(P.rows(), false);

@@ -87,7 +87,7 @@ struct PlaneCells {
   std::vector<bool> outside;  // per cell
   // Per cell: flat on the surface — zero volume at the exact coordinates and
   // two constraint faces, such as the second diagonal of a planar quad of
-  // the input. Neither in nor out (as in stripping): the perturbation tipped
+  // the input (or one, for a convex input: classify_plane). Neither in nor out (as in stripping): the perturbation tipped
   // it to a side at random. Other flat cells (in a flat facet of the convex
   // hull across a hole, say) are outside or inside like any cell.
   std::vector<bool> flat;
@@ -98,9 +98,15 @@ struct PlaneCells {
 // (#A by n+2 over `P`, #P by n+1, the perturbed coordinates the fill was
 // built on), classified against the closed outward `constraint` (refined
 // faces, fill vertex ids); flatness is judged on `exact` (#P by n+1 or more
-// columns; the first n are read).
+// columns; the first n are read). `convex`: the input has no exterior
+// skeleton (nothing of its hull lies outside it), so a cell outside it can
+// only be flat at the exact coordinates: such a cell with all corners on the
+// surface and a constraint face is flat too, though it has one only (cells
+// of cocircular points of a flat side, a Blender cylinder's caps: outside,
+// their faces were split and pushed into time for nothing, and the
+// frames folded over them).
 PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const SimplexMatrix& A,
-                          const std::vector<bool>& in_plane, const SimplexMatrix& constraint);
+                          const std::vector<bool>& in_plane, const SimplexMatrix& constraint, bool convex = false);
 
 // Where the source and the target coincide (identical inputs: the rockerArm
 // of Figure 8.9; or a part both share), the fill holds prisms σ × [t0, t1]
