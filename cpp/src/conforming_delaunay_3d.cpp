@@ -73,6 +73,10 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
   // its assert()s, and an assertion that fails must fail the morph, not end
   // Blender. What comes back: the points, then the triangle faces with their
   // markers.
+  // TetGen 1.5 can loop for ever recovering facets (a fan of 64 cocircular
+  // points as a cylinder's cap): stopped after far longer than meshing such
+  // an input takes (~0.5 s for 8,000 faces with a skeleton).
+  const double timeout_seconds = 20.0 + 2e-3 * static_cast<double>(faces.size());
   const std::vector<char> bytes = [&] {
     try {
       return run_isolated([&] {
@@ -98,7 +102,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
         put(out.trifacelist, sizeof(int) * 3 * static_cast<size_t>(out.numberoftrifaces));
         put(out.trifacemarkerlist, sizeof(int) * static_cast<size_t>(faces_with_markers));
         return packed;
-      });
+      }, timeout_seconds);
     } catch (const IsolatedFailure& e) {
       fail<std::runtime_error>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
     }

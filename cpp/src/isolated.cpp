@@ -1,7 +1,10 @@
-// run_isolated (isolated.hpp): fork, a pipe, and waitpid.
+// run_isolated (isolated.hpp): fork, a pipe, poll and waitpid.
 #include "animanifold/isolated.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <poll.h>
 #include <csignal>
 #include <cstdint>
 #include <cstring>
@@ -51,7 +54,7 @@ std::string signal_name(int signal) {
 
 }  // namespace
 
-std::vector<char> run_isolated(const std::function<std::vector<char>()>& work) {
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds) {
   int fds[2];
   if (::pipe(fds) != 0) return work();
   const pid_t pid = ::fork();
@@ -75,7 +78,20 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work) {
   ::close(fds[1]);
   std::vector<char> message;
   char buffer[1 << 16];
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
+  bool timed_out = false;
   for (;;) {  // read to the end before waiting: a full pipe would block the child
+    if (timeout_seconds > 0) {
+      const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+      pollfd readable{fds[0], POLLIN, 0};
+      const int ready = left > 0 ? ::poll(&readable, 1, static_cast<int>(std::min(left * 1000.0 + 1.0, 2.0e9))) : 0;
+      if (ready < 0 && errno == EINTR) continue;
+      if (ready == 0) {
+        timed_out = true;
+        ::kill(pid, SIGKILL);
+        break;
+      }
+    }
     const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;
@@ -86,6 +102,9 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work) {
   pid_t waited;
   do waited = ::waitpid(pid, &status, 0);
   while (waited < 0 && errno == EINTR);
+  if (timed_out)
+    throw IsolatedFailure("it did not finish within " + std::to_string(static_cast<long>(timeout_seconds)) +
+                          " s and was stopped");
   // (Where the host ignores SIGCHLD, children are reaped on their own and
   // waitpid fails with ECHILD: the message alone then says how it went.)
   if (waited == pid && WIFSIGNALED(status))

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -52,6 +53,20 @@ TEST(Isolated, AnExceptionsMessageIsCarriedOver) {
   } catch (const IsolatedFailure& e) {
     EXPECT_STREQ(e.what(), "the constraints intersect each other");
   }
+}
+
+TEST(Isolated, WorkPastItsTimeIsStoppedAndReported) {
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    run_isolated([]() -> std::vector<char> { for (volatile bool on = true; on;) {} return {}; }, 0.5);
+    FAIL() << "no failure reported";
+  } catch (const IsolatedFailure& e) {
+    EXPECT_NE(std::string(e.what()).find("did not finish within"), std::string::npos) << e.what();
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  // work that finishes in time, with a big result, comes back whole
+  const std::vector<char> big(300000, 'y');
+  EXPECT_EQ(run_isolated([&] { return big; }, 30.0), big);
 }
 
 TEST(Isolated, WhatTheWorkChangesStaysInTheChild) {

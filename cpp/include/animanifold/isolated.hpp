@@ -5,7 +5,8 @@
 // artist's session down with it (a morph of an unlucky input must fail the
 // operator, never the program). run_isolated() forks, runs the work in the
 // child and hands its result back through a pipe, so an abort, a
-// segmentation fault or an exit() in the work only fails the call.
+// segmentation fault or an exit() in the work only fails the call, and so
+// does a child that runs past its time.
 #pragma once
 
 #include <functional>
@@ -27,6 +28,9 @@ struct IsolatedFailure : std::runtime_error {
 // exception thrown in `work` (its message is carried over). The child shares
 // nothing with the caller afterwards: what `work` changes in memory is lost,
 // only the bytes come back. Where fork() fails, `work` runs in this process.
-std::vector<char> run_isolated(const std::function<std::vector<char>()>& work);
+// `timeout_seconds` > 0: a child that has not finished by then is killed and
+// IsolatedFailure says so (TetGen 1.5 can loop for ever recovering the facets
+// of a fan of cocircular points; a morph must fail, not hang Blender).
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds = 0);
 
 }  // namespace animanifold
