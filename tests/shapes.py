@@ -56,6 +56,17 @@ def cylinder(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.n
     return v, np.concatenate([sides, bottom, top]).astype(np.int32)
 
 
+def cone(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
+    """Blender's cone primitive: n cocircular points at the base (a fan), one at the tip, outward."""
+    a = 2 * np.pi * np.arange(n) / n
+    v = np.concatenate([np.c_[radius * np.cos(a), radius * np.sin(a), np.full(n, -depth / 2)], [[0, 0, depth / 2]]])
+    i = np.arange(n)
+    k = np.arange(1, n - 1)
+    sides = np.stack([i, (i + 1) % n, np.full(n, n)], 1)
+    base = np.stack([np.zeros_like(k), k + 1, k], 1)
+    return v, np.concatenate([sides, base]).astype(np.int32)
+
+
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
     return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])

@@ -124,11 +124,16 @@ def test_self_intersecting_inputs_are_refused_naming_two_crossing_faces():
 
 def test_progress_reports_stages_and_can_cancel():
     v, f = icosphere(1)
-    for method, expected in [("skeleton", ["skeleton", "conforming", "fill", "push", "boundary", "validity"]),
-                             ("strip", ["conforming", "fill", "strip", "boundary", "validity"])]:
+    tv, tf = torus(major=12, minor=6)
+    for method, target, expected in [
+            ("skeleton", (tv, tf), ["skeleton", "conforming", "fill", "push", "boundary", "validity"]),
+            ("skeleton", (v * 1.2, f), ["skeleton", "fill", "boundary", "validity"]),  # convex: the hull (§8.4)
+            ("strip", (v * 1.2, f), ["conforming", "fill", "strip", "boundary", "validity"])]:
         stages = []
-        _core.morph(v, f, v * 1.2, f, method=method, progress=lambda stage, fraction: stages.append(stage) or True)
+        _, report = _core.morph(v, f, *target, method=method,
+                                progress=lambda stage, fraction: stages.append(stage) or True)
         assert stages == expected
+        assert [name for name, _ in report["stage_seconds"]] == expected
     with pytest.raises(_core.Cancelled):
         _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
 

@@ -39,6 +39,7 @@ void bind_morph(py::module_& m) {
         report["target_conforming"] = r.target_conforming;
         report["flat_fill_simplices"] = r.flat_fill_simplices;
         report["peeled_hull_slivers"] = r.peeled_hull_slivers;
+        report["exact_convex_fill"] = r.exact_convex_fill;
         report["perturbation"] = r.perturbation;
         report["unnudged_steiner_points"] = r.unnudged_steiner_points;
         report["fill_simplices"] = r.fill_simplices;

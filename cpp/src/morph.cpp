@@ -2,6 +2,7 @@
 
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/morph_convex.hpp"
 #include "animanifold/morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
@@ -18,6 +19,7 @@
 #include <limits>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -56,23 +58,12 @@ double restore_bound(double longest, int D, double moved) {
   return 2.0 * D * 2.0 * moved * std::pow(longest, D - 1);
 }
 
-// The determinant of the simplex `corners` of points P (rows from corner 0
-// to the others) and its longest edge.
-std::pair<double, double> determinant_and_longest(const PointMatrix& P, const Index* corners, int count) {
-  const int D = static_cast<int>(P.cols());
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4> m(D, D);
+// The longest edge of the simplex `corners` (`count` rows of P).
+double longest_edge(const PointMatrix& P, const Index* corners, int count) {
   double longest = 0;
-  for (int c = 1; c < count; ++c) m.row(c - 1) = P.row(corners[c]) - P.row(corners[0]);
   for (int a = 0; a < count; ++a)
     for (int b = a + 1; b < count; ++b) longest = std::max(longest, (P.row(corners[a]) - P.row(corners[b])).norm());
-  return {m.determinant(), longest};
-}
-
-// Whether the simplex is flat at the exact coordinates: its determinant
-// there within what the perturbation decided (restore_bound).
-bool is_flat_at_exact(const PointMatrix& exact, const Index* corners, int count, double moved) {
-  const auto [determinant, longest] = determinant_and_longest(exact, corners, count);
-  return std::abs(determinant) <= restore_bound(longest, static_cast<int>(exact.cols()), moved);
+  return longest;
 }
 
 // Peels slivers off the fill's boundary (shelling.hpp): simplices joining
@@ -129,64 +120,6 @@ FlatSimplices peel_hull_slivers(DelaunayTriangulation& fill, Index nS) {
     fill.slivers.clear();  // row numbers changed; not read after this
   }
   return result;
-}
-
-// Whether the facet `corners` (#count = D points of R^D) is degenerate at the
-// exact coordinates: its (D-1)-volume, from the Gram determinant of its
-// edges, within what restoring them can change (as restore_bound, one
-// dimension down).
-bool is_degenerate_facet_at_exact(const PointMatrix& exact, const Index* corners, int count, double moved) {
-  const int D = static_cast<int>(exact.cols());
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 4> edges(count - 1, D);
-  double longest = 0;
-  for (int c = 1; c < count; ++c) edges.row(c - 1) = exact.row(corners[c]) - exact.row(corners[0]);
-  for (int a = 0; a < count; ++a)
-    for (int b = a + 1; b < count; ++b)
-      longest = std::max(longest, (exact.row(corners[a]) - exact.row(corners[b])).norm());
-  const double measure = std::sqrt(std::max(0.0, (edges * edges.transpose()).determinant()));
-  return measure <= restore_bound(longest, count - 1, moved) * std::sqrt(static_cast<double>(D));
-}
-
-// Where no point is pushed into time (convex inputs, §8.4: every point gets
-// its exact coordinates back), peels off the boundary the simplices across
-// the planes that are flat at the exact coordinates through their boundary
-// facets that are degenerate there: a flat side of an input (a cube's
-// square) puts four coplanar points in one facet of the fill's boundary,
-// whose slices are zero-area triangles along which the frame folds through
-// itself. Removing a simplex that is flat changes nothing but how its
-// region is triangulated, and only facets that are degenerate are opened, so
-// nothing proper is exposed in their place unless it was there already.
-// Returns how many were peeled.
-Index peel_flat_boundary_facets(DelaunayTriangulation& fill, Index nS, const PointMatrix& exact, double moved) {
-  const int corners = static_cast<int>(fill.simplices.cols());
-  auto in_source = [&](const Index* ids, int count) {
-    int n = 0;
-    for (int c = 0; c < count; ++c) n += ids[c] < nS;
-    return n;
-  };
-  std::vector<Index> candidates;
-  for (Index r = 0; r < fill.simplices.rows(); ++r) {
-    const int source = in_source(fill.simplices.row(r).data(), corners);
-    if (source >= 2 && corners - source >= 2 && is_flat_at_exact(exact, fill.simplices.row(r).data(), corners, moved))
-      candidates.push_back(r);
-  }
-  if (candidates.empty()) return 0;
-  const std::vector<bool> removed = shell_off(
-      fill.simplices, candidates,
-      [&](const Index* facet) {
-        const int source = in_source(facet, corners - 1);
-        return source != 0 && source != corners - 1;  // lateral: not a cap facet
-      },
-      [&](const Index* facet) { return !is_degenerate_facet_at_exact(exact, facet, corners - 1, moved); });
-  const Index peeled = std::count(removed.begin(), removed.end(), true);
-  if (peeled > 0) {
-    SimplexMatrix out(fill.simplices.rows() - peeled, corners);
-    for (Index r = 0, k = 0; r < fill.simplices.rows(); ++r)
-      if (!removed[r]) out.row(k++) = fill.simplices.row(r);
-    fill.simplices = std::move(out);
-    fill.slivers.clear();  // row numbers changed; not read after this
-  }
-  return peeled;
 }
 
 // A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
@@ -308,7 +241,25 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   Index nS = 0, nT = 0;
   double conform_seconds = 0;
   std::string mesher_error;
+  // §8.4 exactly where both inputs are convex (no exterior skeleton, checked
+  // again there by exact predicates): the hull's own faces, no perturbation,
+  // no mesher (morph_convex.hpp). Otherwise, or where that construction
+  // refuses, the Delaunay fill below.
+  std::optional<ConvexFill> convex_fill;
+  if (skeleton_method && d == 3 && KS.rows() == 0 && KT.rows() == 0) {
+    PointMatrix hull_points(VS.rows() + VT.rows(), d + 1);
+    hull_points << VS, Eigen::VectorXd::Zero(VS.rows()), VT, Eigen::VectorXd::Constant(VT.rows(), span);
+    convex_fill = convex_hull_fill(hull_points, VS.rows(), FS, (FT.array() + static_cast<int>(VS.rows())).matrix());
+    if (convex_fill) {
+      P = exact = convex_fill->points;
+      nS = VS.rows(), nT = VT.rows();
+      fill.simplices = convex_fill->simplices;
+      S.fill.is_delaunay = T.fill.is_delaunay = true;  // no mesher: the inputs are their own refinement
+      report.exact_convex_fill = true;
+    }
+  }
   for (const double scale : kPerturbations) {
+    if (convex_fill) break;
     auto perturbed = [&](const PointMatrix& V) {
       return options.perturbation == "hull_faces" ? perturbed_along_hull_faces(V, scale * size, 20261122)
                                                   : perturbed_by_position(V, scale * size, 20261122);
@@ -376,11 +327,6 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
       const FlatSimplices flats = peel_hull_slivers(fill, nS);
       report.flat_fill_simplices = options.fill == "qhull" ? flats.inside : 0;  // CGAL's are proper: kept
       report.peeled_hull_slivers = flats.peeled;
-      // Only without free points: with them, peeling the exactly flat simplices
-      // of the voxel plate's flat sides made its frames cross where they did not
-      // (the push then works on another boundary).
-      if (skeleton_method && KS.rows() == 0 && KT.rows() == 0)
-        report.peeled_hull_slivers += peel_flat_boundary_facets(fill, nS, exact, restored_distance(d, scale, size));
       report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.fill.constraints).size());
       report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
       conforms = report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0;
@@ -394,18 +340,21 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   stage("fill", 0.6);
   // Report conforming and filling apart (they alternate in the retries above).
   report.stage_seconds.back().second -= conform_seconds;
-  report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", conform_seconds});
+  if (!convex_fill) report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", conform_seconds});
   if (report.missing_source_faces || report.missing_target_faces || report.flat_fill_simplices)
     fail<std::runtime_error>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
                              " source and ", report.missing_target_faces, " target faces are missing and ",
                              report.flat_fill_simplices, " simplices are flat");
 
-  std::vector<bool> in_source(nS + nT, false), in_target(nS + nT, false);
+  std::vector<bool> in_source(P.rows(), false), in_target(P.rows(), false);
   for (Index v = 0; v < nS; ++v) in_source[v] = true;
   for (Index v = nS; v < nS + nT; ++v) in_target[v] = true;
+  if (convex_fill) in_source[convex_fill->source_centre] = in_target[convex_fill->target_centre] = true;
   SimplexMatrix A;
   SimplexMatrix boundary;  // of A, once it no longer changes (skeleton method)
-  if (!skeleton_method) {
+  if (convex_fill) {
+    A = fill.simplices;  // nothing outside either input: nothing to push or strip
+  } else if (!skeleton_method) {
     // Sidedness is decided on the perturbed points, the geometry the fill
     // was built on: on the exact input, nearly planar quads (rounded
     // coordinates) would put apexes on either side at random, against the
@@ -512,7 +461,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   double factorial = 1;
   for (int i = 2; i <= d + 1; ++i) factorial *= i;
   for (Index s = 0; s < volumes.size(); ++s) {
-    const double longest = determinant_and_longest(P, A.row(s).data(), d + 2).second;
+    const double longest = longest_edge(P, A.row(s).data(), d + 2);
     const double determinant = volumes(s) * factorial;  // the sign convention of signed_volumes
     report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
     if (determinant < -restore_bound(longest, d + 1, moved)) ++report.inverted_simplices;

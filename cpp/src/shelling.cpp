@@ -34,8 +34,7 @@ Key face(const SimplexMatrix& S, Index r, unsigned mask) {
 }  // namespace
 
 std::vector<bool> shell_off(const SimplexMatrix& S, const std::vector<Index>& candidates,
-                            const std::function<bool(const Index* facet)>& may_open,
-                            const std::function<bool(const Index* facet)>& may_expose) {
+                            const std::function<bool(const Index* facet)>& may_open) {
   const int corners = static_cast<int>(S.cols());
   if (corners < 2 || corners > 5) fail<InputError>("shelling works on simplices of 1 to 4 dimensions, got ", corners - 1);
   const unsigned all = (1u << corners) - 1;
@@ -72,9 +71,6 @@ std::vector<bool> shell_off(const SimplexMatrix& S, const std::vector<Index>& ca
         allowed = may_open(k.data());
       }
       if (!allowed || open == 0 || open == all) continue;
-      for (int drop = 0; drop < corners && allowed && may_expose; ++drop)
-        if (!(open & (1u << drop))) allowed = may_expose(face(S, r, all & ~(1u << drop)).data());
-      if (!allowed) continue;
       // Faces holding every vertex opposite an open facet are not in any
       // open facet: on the boundary already, the removal would pinch there.
       bool pinches = false;

@@ -69,6 +69,9 @@ struct MorphReport {
   Index missing_source_faces = 0, missing_target_faces = 0;
   bool source_conforming = false, target_conforming = false;  // the mesher's result was Delaunay
   Index flat_fill_simplices = 0;  // zero-volume simplices across the two planes inside the fill (refused then)
+  // Both inputs convex: the fill was built from the hull's faces at the exact
+  // coordinates (morph_convex.hpp), not by a Delaunay fill of perturbed points.
+  bool exact_convex_fill = false;
   Index peeled_hull_slivers = 0;  // zero-volume simplices across the planes on the hull's boundary, left out
   double perturbation = 0.0;      // of the size, used for the combinatorics only (see morph.cpp)
   // Steiner points left where the mesher put them, because nudging them off

@@ -24,12 +24,10 @@ namespace animanifold {
 // its facets on the current boundary are a nonempty proper subset of its
 // facets, `may_open` accepts each of them (sorted vertex ids, k of them),
 // and no face of the candidate that holds every vertex opposite those
-// facets lies on the boundary already, and `may_expose` (when given) accepts
-// each of its other facets. Removals expose the candidate's other facets;
-// candidates are tried again until none can go. Returns, per row of S,
-// whether it was removed.
+// facets lies on the boundary already. Removals expose the candidate's other
+// facets; candidates are tried again until none can go. Returns, per row of
+// S, whether it was removed.
 std::vector<bool> shell_off(const SimplexMatrix& S, const std::vector<Index>& candidates,
-                            const std::function<bool(const Index* facet)>& may_open,
-                            const std::function<bool(const Index* facet)>& may_expose = {});
+                            const std::function<bool(const Index* facet)>& may_open);
 
 }  // namespace animanifold

@@ -1,0 +1,267 @@
+// convex_hull_fill (morph_convex.hpp): the hull's faces by exact predicates,
+// then pulling triangulations of its 2D faces, its facets and the whole.
+#include "animanifold/morph_convex.hpp"
+
+#include "animanifold/complex.hpp"
+#include "animanifold/delaunay.hpp"
+
+#include <CGAL/Epick_d.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <vector>
+
+namespace animanifold {
+
+namespace {
+
+using K3 = CGAL::Exact_predicates_inexact_constructions_kernel;
+using K4 = CGAL::Epick_d<CGAL::Dimension_tag<4>>;
+using Triangle = std::array<Index, 3>;
+using Tet = std::array<Index, 4>;
+
+K3::Point_3 point3(const PointMatrix& P, Index v) { return {P(v, 0), P(v, 1), P(v, 2)}; }
+K4::Point_d point4(const PointMatrix& P, Index v) {
+  const std::array<double, 4> c{P(v, 0), P(v, 1), P(v, 2), P(v, 3)};
+  return K4::Point_d(c.begin(), c.end());
+}
+
+// The sign of the 4D orientation of five points (exact).
+CGAL::Orientation orientation4(const PointMatrix& P, const std::array<Index, 5>& ids) {
+  std::array<K4::Point_d, 5> points;
+  for (int i = 0; i < 5; ++i) points[i] = point4(P, ids[i]);
+  return K4::Orientation_d()(points.begin(), points.end());
+}
+
+// Three points of R^4 on one line: collinear in every coordinate plane (exact).
+bool collinear4(const PointMatrix& P, Index a, Index b, Index c) {
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (!CGAL::collinear(K3::Point_2(P(a, i), P(a, j)), K3::Point_2(P(b, i), P(b, j)), K3::Point_2(P(c, i), P(c, j))))
+        return false;
+  return true;
+}
+
+double determinant4(const PointMatrix& P, const std::array<Index, 5>& s) {
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r) m.row(r) = P.row(s[r + 1]) - P.row(s[0]);
+  return m.determinant();
+}
+
+double triangle_area(const PointMatrix& P, const Triangle& t) {
+  const Eigen::RowVector4d u = P.row(t[1]) - P.row(t[0]), w = P.row(t[2]) - P.row(t[0]);
+  return 0.5 * std::sqrt(std::max(0.0, u.squaredNorm() * w.squaredNorm() - std::pow(u.dot(w), 2)));
+}
+
+Triangle sorted(Triangle t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+// Convex: every vertex of the surface on or below the plane of each of its
+// outward faces (exact orientation; rows `vertices` of P, first 3 columns).
+bool is_convex(const PointMatrix& P, const std::vector<Index>& vertices, const SimplexMatrix& F) {
+  for (Index f = 0; f < F.rows(); ++f) {
+    const auto a = point3(P, F(f, 0)), b = point3(P, F(f, 1)), c = point3(P, F(f, 2));
+    for (const Index v : vertices)
+      if (CGAL::orientation(a, b, c, point3(P, v)) == CGAL::POSITIVE) return false;
+  }
+  return true;
+}
+
+// Whether the surface encloses its hull once: its enclosed volume (by the
+// divergence theorem) that of the star of its faces from the interior point
+// `inside` (an input wound twice encloses twice the hull's).
+bool encloses_its_hull_once(const PointMatrix& P, const SimplexMatrix& F, const Eigen::Vector3d& inside) {
+  double star = 0, enclosed = 0;
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = P.row(F(f, 0)).head<3>(), b = P.row(F(f, 1)).head<3>(), c = P.row(F(f, 2)).head<3>();
+    enclosed += a.dot(b.cross(c)) / 6;
+    star += std::abs((a - inside).dot((b - a).cross(c - a))) / 6;
+  }
+  return enclosed > 0 && std::abs(star - enclosed) <= 1e-9 * enclosed;
+}
+
+struct UnionFind {
+  std::vector<Index> parent;
+  explicit UnionFind(Index n) : parent(static_cast<size_t>(n)) { std::iota(parent.begin(), parent.end(), Index{0}); }
+  Index find(Index x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(Index a, Index b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
+std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const SimplexMatrix& FS,
+                                           const SimplexMatrix& FT) {
+  if (P.cols() != 4 || FS.rows() < 4 || FT.rows() < 4) return std::nullopt;
+  const Index n = P.rows();
+  std::vector<Index> source_vertices(FS.data(), FS.data() + FS.size()), target_vertices(FT.data(), FT.data() + FT.size());
+  for (auto* list : {&source_vertices, &target_vertices}) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  if (static_cast<Index>(source_vertices.size() + target_vertices.size()) != n) return std::nullopt;  // unused points
+  if (!is_convex(P, source_vertices, FS) || !is_convex(P, target_vertices, FT)) return std::nullopt;
+  // The points added: each cap's centre, the centres of lateral facets that
+  // are not simplices, the hull's centre.
+  std::vector<Eigen::RowVector4d> added;
+  auto add = [&](const Eigen::RowVector4d& p) {
+    added.push_back(p);
+    return n + static_cast<Index>(added.size()) - 1;
+  };
+  auto centre_of = [&](const std::vector<Index>& ids) {
+    Eigen::RowVector4d c = Eigen::RowVector4d::Zero();
+    for (const Index v : ids) c += P.row(v);
+    return Eigen::RowVector4d(c / static_cast<double>(ids.size()));
+  };
+  const Index source_centre = add(centre_of(source_vertices)), target_centre = add(centre_of(target_vertices));
+  added[0](3) = P(source_vertices[0], 3), added[1](3) = P(target_vertices[0], 3);  // in their planes exactly
+  if (!encloses_its_hull_once(P, FS, added[0].head<3>().transpose()) ||
+      !encloses_its_hull_once(P, FT, added[1].head<3>().transpose()))
+    return std::nullopt;
+
+  // The hull's boundary, triangulated by an exact Delaunay triangulation of
+  // the points, and its facets: boundary tets grouped across the triangles
+  // where the next one lies in the same hyperplane.
+  const DelaunayTriangulation delaunay = delaunay_exact(P);
+  const SimplexMatrix boundary = boundary_facets(delaunay.simplices);
+  const Index B = boundary.rows();
+  std::map<Triangle, std::vector<Index>> tets_of_triangle;
+  for (Index b = 0; b < B; ++b)
+    for (int drop = 0; drop < 4; ++drop) {
+      Triangle t;
+      for (int c = 0, j = 0; c < 4; ++c)
+        if (c != drop) t[j++] = boundary(b, c);
+      tets_of_triangle[sorted(t)].push_back(b);
+    }
+  UnionFind facets(B);
+  for (const auto& [triangle, tets] : tets_of_triangle) {
+    if (tets.size() != 2) return std::nullopt;  // not a closed boundary
+    Index opposite = -1;
+    for (int c = 0; c < 4; ++c)
+      if (std::find(triangle.begin(), triangle.end(), boundary(tets[1], c)) == triangle.end()) opposite = boundary(tets[1], c);
+    const std::array<Index, 5> five{boundary(tets[0], 0), boundary(tets[0], 1), boundary(tets[0], 2), boundary(tets[0], 3),
+                                    opposite};
+    if (orientation4(P, five) == CGAL::ZERO) facets.unite(tets[0], tets[1]);
+  }
+  std::map<Index, std::set<Index>> points_of_facet;  // by the facet's root
+  for (Index b = 0; b < B; ++b)
+    for (int c = 0; c < 4; ++c) points_of_facet[facets.find(b)].insert(boundary(b, c));
+  auto is_cap = [&](Index facet, bool source) {
+    const std::set<Index>& points = points_of_facet.at(facet);
+    return source ? *points.rbegin() < nS : *points.begin() >= nS;
+  };
+
+  // The 2D faces between facets, each as the Delaunay triangles it holds,
+  // then triangulated once for both of its facets: by the input's own
+  // triangles where it lies in an end plane, by pulling from its smallest
+  // vertex otherwise.
+  std::map<std::pair<Index, Index>, std::vector<Triangle>> ridge_triangles;  // (smaller root, larger root)
+  for (const auto& [triangle, tets] : tets_of_triangle) {
+    const Index f = facets.find(tets[0]), g = facets.find(tets[1]);
+    if (f != g) ridge_triangles[{std::min(f, g), std::max(f, g)}].push_back(triangle);
+  }
+  std::map<std::pair<Index, Index>, std::vector<Triangle>> ridge_triangulation;
+  for (const auto& [pair, triangles] : ridge_triangles) {
+    std::set<Index> points;
+    double area = 0;
+    for (const Triangle& t : triangles) points.insert(t.begin(), t.end()), area += triangle_area(P, t);
+    std::vector<Triangle> out;
+    const bool source_cap_ridge = is_cap(pair.first, true) || is_cap(pair.second, true);
+    const bool target_cap_ridge = is_cap(pair.first, false) || is_cap(pair.second, false);
+    if (source_cap_ridge || target_cap_ridge) {
+      const SimplexMatrix& F = source_cap_ridge ? FS : FT;
+      for (Index f = 0; f < F.rows(); ++f)
+        if (points.count(F(f, 0)) && points.count(F(f, 1)) && points.count(F(f, 2))) out.push_back({F(f, 0), F(f, 1), F(f, 2)});
+    } else {
+      std::map<std::pair<Index, Index>, int> edge_count;
+      for (const Triangle& t : triangles)
+        for (int i = 0; i < 3; ++i) ++edge_count[std::minmax(t[i], t[(i + 1) % 3])];
+      const Index apex = *points.begin();
+      for (const auto& [edge, count] : edge_count)
+        if (count == 1 && edge.first != apex && edge.second != apex && !collinear4(P, apex, edge.first, edge.second))
+          out.push_back({apex, edge.first, edge.second});
+    }
+    double covered = 0;
+    for (const Triangle& t : out) covered += triangle_area(P, t);
+    if (!(std::abs(covered - area) <= 1e-9 * area)) return std::nullopt;  // not the same polygon
+    ridge_triangulation[pair] = std::move(out);
+  }
+
+  // Each lateral facet that is not a simplex as the star of its ridges'
+  // triangles from its centre, each cap as the star of its input's faces from
+  // its centre, the whole as the star of all of it from the hull's centre:
+  // stars from interior points triangulate a convex polytope whatever its
+  // boundary's triangulation (a pulling from a vertex would have to agree
+  // with the inputs' triangles on the faces through that vertex).
+  std::vector<Tet> boundary_tets;
+  auto star = [&](Index centre, const std::vector<Triangle>& triangles) {
+    for (const Triangle& t : triangles) boundary_tets.push_back({centre, t[0], t[1], t[2]});
+  };
+  auto faces_of = [](const SimplexMatrix& F) {
+    std::vector<Triangle> out;
+    for (Index f = 0; f < F.rows(); ++f) out.push_back({F(f, 0), F(f, 1), F(f, 2)});
+    return out;
+  };
+  for (const auto& [facet, points] : points_of_facet) {
+    if (is_cap(facet, true) || is_cap(facet, false)) continue;
+    if (points.size() == 4) {  // a simplex: itself
+      boundary_tets.push_back({});
+      std::copy(points.begin(), points.end(), boundary_tets.back().begin());
+      continue;
+    }
+    std::vector<Triangle> triangles;
+    for (const auto& [pair, ridge] : ridge_triangulation)
+      if (pair.first == facet || pair.second == facet) triangles.insert(triangles.end(), ridge.begin(), ridge.end());
+    // Halfway between the centres of its faces in the two planes (inside
+    // it), at exactly half the span: every facet's centre at one time, so
+    // the frames change topology there only (one cut for live playback).
+    std::vector<Index> bottom, top;
+    for (const Index v : points) (v < nS ? bottom : top).push_back(v);
+    Eigen::RowVector4d centre = 0.5 * (centre_of(bottom) + centre_of(top));
+    centre(3) = 0.5 * P(top[0], 3);
+    star(add(centre), triangles);
+  }
+  star(source_centre, faces_of(FS));
+  star(target_centre, faces_of(FT));
+  std::vector<Index> everything(static_cast<size_t>(n));
+  std::iota(everything.begin(), everything.end(), Index{0});
+  const Index centre = add(centre_of(everything));
+
+  ConvexFill result;
+  result.points.resize(n + static_cast<Index>(added.size()), 4);
+  result.points.topRows(n) = P;
+  for (size_t a = 0; a < added.size(); ++a) result.points.row(n + static_cast<Index>(a)) = added[a];
+  result.source_centre = source_centre;
+  result.target_centre = target_centre;
+  const PointMatrix& Q = result.points;
+  // Orient every simplex positively; none may be flat. The result must fill
+  // the hull: its volume that of the Delaunay triangulation.
+  result.simplices.resize(static_cast<Index>(boundary_tets.size()), 5);
+  double volume = 0, hull_volume = 0;
+  for (size_t s = 0; s < boundary_tets.size(); ++s) {
+    std::array<Index, 5> ids{centre, boundary_tets[s][0], boundary_tets[s][1], boundary_tets[s][2], boundary_tets[s][3]};
+    const CGAL::Orientation sign = orientation4(Q, ids);
+    if (sign == CGAL::ZERO) return std::nullopt;
+    if (sign == CGAL::NEGATIVE) std::swap(ids[3], ids[4]);
+    volume += std::abs(determinant4(Q, ids));
+    for (int c = 0; c < 5; ++c) result.simplices(static_cast<Index>(s), c) = ids[c];
+  }
+  for (Index s = 0; s < delaunay.simplices.rows(); ++s) {
+    std::array<Index, 5> ids;
+    for (int c = 0; c < 5; ++c) ids[c] = delaunay.simplices(s, c);
+    hull_volume += std::abs(determinant4(P, ids));
+  }
+  if (!(std::abs(volume - hull_volume) <= 1e-9 * hull_volume)) return std::nullopt;
+  return result;
+}
+
+}  // namespace animanifold
