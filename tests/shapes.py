@@ -67,6 +67,27 @@ def cone(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarr
     return v, np.concatenate([sides, base]).astype(np.int32)
 
 
+def uv_sphere(segments: int = 32, rings: int = 16) -> tuple[np.ndarray, np.ndarray]:
+    """Blender's UV sphere as Blender hands it over: float32 coordinates, every quad between two
+    rings split along the same diagonal. Exactly, each quad is a planar trapezoid; rounded, most
+    of them bend along that diagonal by ~1e-8 of the size, half of them inwards."""
+    lat = np.pi * np.arange(1, rings) / rings
+    lon = 2 * np.pi * np.arange(segments) / segments
+    ring_points = [[np.sin(a) * np.cos(b), np.sin(a) * np.sin(b), np.cos(a)] for a in lat for b in lon]
+    v = np.array([[0, 0, 1]] + ring_points + [[0, 0, -1]], np.float32).astype(np.float64)
+
+    def at(r, s):
+        return 1 + r * segments + s % segments
+
+    f = []
+    for s in range(segments):
+        f += [[0, at(0, s), at(0, s + 1)], [len(v) - 1, at(rings - 2, s + 1), at(rings - 2, s)]]
+        for r in range(rings - 2):
+            a, b, c, d = at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s + 1)
+            f += [[a, b, c], [a, c, d]]
+    return v, np.array(f, np.int32)
+
+
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     tri = vertices[faces]
     return np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])

@@ -16,7 +16,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull
 
 import animanifold as am
-from shapes import cone, cube, cylinder, genus3_plate, icosphere, torus, voxel_surface
+from shapes import cone, cube, cylinder, genus3_plate, icosphere, torus, uv_sphere, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
 
@@ -292,6 +292,21 @@ def test_a_fill_that_loses_faces_to_the_nudge_is_built_on_the_meshers_points():
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
     assert not report["frames_cross_themselves"], report["crossing_frames"]
     assert m.check()["is_oriented_manifold"]
+
+
+def test_float32_inputs_come_back_exactly_at_the_ends():
+    """Blender hands over float32 coordinates: a UV sphere's quads bend by ~1e-8 of the size along
+    their diagonal. The cells between a bent quad's two diagonals were taken for flat (within 1e-6
+    of their size) and neither in nor out, so they stayed in the plane and the frame at t0 showed
+    the quads' other diagonals, 4.3e-9 of the diagonal off the input (the demo's sphere -> torus:
+    5.1e-8), and the report said the ends were not reproduced."""
+    source = uv_sphere()
+    m = am.morph(source, torus())
+    report = m.validity
+    assert report["ends_reproduced"] and report["source_distance"] < 1e-12, report["source_distance"]
+    assert report["inverted_simplices"] == 0 and m.check()["is_oriented_manifold"]
+    start = m.slice(0.0)  # the input refined (the mesher's Steiner points), the bends kept
+    assert enclosed_volume(start.vertices, start.faces) == pytest.approx(enclosed_volume(*source), rel=1e-12)
 
 
 def test_the_same_morph_over_any_time_range():

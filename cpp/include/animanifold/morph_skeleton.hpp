@@ -85,7 +85,8 @@ PointMatrix restore_on_input(const ConformingDelaunay& c, const PointMatrix& per
 struct PlaneCells {
   SimplexMatrix cells;        // #C by n+1, fill vertex ids
   std::vector<bool> outside;  // per cell
-  // Per cell: flat on the surface — zero volume at the exact coordinates and
+  // Per cell: flat on the surface — zero volume at the exact coordinates (to
+  // rounding) and
   // two constraint faces, such as the second diagonal of a planar quad of
   // the input (or one, for a convex input: classify_plane). Neither in nor out (as in stripping): the perturbation tipped
   // it to a side at random. Other flat cells (in a flat facet of the convex
