@@ -63,13 +63,22 @@ Triangle sorted(Triangle t) {
   return t;
 }
 
-// Convex: every vertex of the surface on or below the plane of each of its
-// outward faces (exact orientation; rows `vertices` of P, first 3 columns).
-bool is_convex(const PointMatrix& P, const std::vector<Index>& vertices, const SimplexMatrix& F) {
-  for (Index f = 0; f < F.rows(); ++f) {
-    const auto a = point3(P, F(f, 0)), b = point3(P, F(f, 1)), c = point3(P, F(f, 2));
-    for (const Index v : vertices)
-      if (CGAL::orientation(a, b, c, point3(P, v)) == CGAL::POSITIVE) return false;
+// Convex at every edge: the far corner of each face beyond an edge on or
+// below the plane of the face on this side (exact orientation, P's first 3
+// columns). With the surface enclosing its hull once (below), a closed
+// surface convex at every edge is convex; O(faces), unlike testing every
+// vertex against every face.
+bool is_convex_at_every_edge(const PointMatrix& P, const SimplexMatrix& F) {
+  std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> faces_of_edge;  // (face, far corner)
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int i = 0; i < 3; ++i) faces_of_edge[std::minmax(F(f, i), F(f, (i + 1) % 3))].push_back({f, F(f, (i + 2) % 3)});
+  for (const auto& [edge, faces] : faces_of_edge) {
+    if (faces.size() != 2) return false;
+    for (int side = 0; side < 2; ++side) {
+      const Index f = faces[side].first, far = faces[1 - side].second;
+      if (CGAL::orientation(point3(P, F(f, 0)), point3(P, F(f, 1)), point3(P, F(f, 2)), point3(P, far)) == CGAL::POSITIVE)
+        return false;
+    }
   }
   return true;
 }
@@ -109,7 +118,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
     list->erase(std::unique(list->begin(), list->end()), list->end());
   }
   if (static_cast<Index>(source_vertices.size() + target_vertices.size()) != n) return std::nullopt;  // unused points
-  if (!is_convex(P, source_vertices, FS) || !is_convex(P, target_vertices, FT)) return std::nullopt;
+  if (!is_convex_at_every_edge(P, FS) || !is_convex_at_every_edge(P, FT)) return std::nullopt;
   // The points added: each cap's centre, the centres of lateral facets that
   // are not simplices, the hull's centre.
   std::vector<Eigen::RowVector4d> added;

@@ -37,9 +37,9 @@ struct ConvexFill {
 // `P` (#P by 4): the source's vertices (rows 0..nS-1) at time 0, then the
 // target's at time span > 0, as given (no Steiner point). `FS`, `FT` (#F by
 // 3): the closed outward triangles of each, FT over P's rows (offset by nS).
-// Returns the fill, or nothing when an input is not convex (a vertex
-// strictly outside the plane of one of its faces, by exact predicates, or a
-// surface enclosing more than its hull, as one wound twice) or the
+// Returns the fill, or nothing when an input is not convex (bent inwards at
+// an edge, by exact predicates, or enclosing other than its hull once: in
+// parts, or wound twice) or the
 // construction fails one of its own checks; the caller then takes the
 // Delaunay route.
 std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const SimplexMatrix& FS,
