@@ -220,7 +220,8 @@ def frame_is_convex(V: np.ndarray, F: np.ndarray) -> bool:
 
 
 @pytest.mark.parametrize("pair", ["ico sphere (1) -> cube", "ico sphere (3) -> cube", "cube -> cylinder",
-                                  "cylinder -> cone", "cylinder (64, fans) -> cube"])
+                                  "cylinder -> cone", "cylinder (64, fans) -> cube", "subdivided cube -> ico sphere",
+                                  "subdivided cube -> itself turned"])
 def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
     """Convex inputs with flat sides (a cube's squares, cylinders' cocircular caps, Blender's
     primitives): on the Delaunay route their fill held simplices flat at the exact coordinates
@@ -228,13 +229,20 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
     frame folded through itself; cylinders with fan caps did not morph at all (16, 32 sides: the
     fill lost faces; 64: TetGen looped). Built from the hull's faces (morph_convex.hpp): nothing is
     perturbed or flat, and every frame is the convex shape (1-s)·S ⊕ s·T, whose volume is that of
-    the hull of all the points (1-s)·a + s·b."""
+    the hull of all the points (1-s)·a + s·b. A subdivided cube (points on its edges and inside
+    its faces) checks the 2D faces between facets: triangulated from one of their corners, they
+    spanned the points on that corner's own sides with one edge and the frames were not closed."""
     cube_v, cube_f = cube()
+    sub_v, sub_f = voxel_surface(np.ones((2, 2, 2), bool))
+    sub_v = sub_v - sub_v.mean(0)
+    turn = np.array([[0.6, -0.8, 0.0], [0.8, 0.6, 0.0], [0.0, 0.0, 1.0]])
     shapes = {"ico sphere (1) -> cube": (icosphere(1), (0.75 * cube_v, cube_f)),
               "ico sphere (3) -> cube": (icosphere(3), (0.75 * cube_v, cube_f)),
               "cube -> cylinder": ((cube_v, cube_f), cylinder(32)),
               "cylinder -> cone": (cylinder(32), cone(16)),
-              "cylinder (64, fans) -> cube": (cylinder(64), (cube_v, cube_f))}
+              "cylinder (64, fans) -> cube": (cylinder(64), (cube_v, cube_f)),
+              "subdivided cube -> ico sphere": ((sub_v, sub_f), icosphere(2)),
+              "subdivided cube -> itself turned": ((sub_v, sub_f), (sub_v @ turn.T, sub_f))}
     source, target = shapes[pair]
     m = am.morph(source, target)
     report = m.validity

@@ -1,5 +1,5 @@
 // convex_hull_fill (morph_convex.hpp): the hull's faces by exact predicates,
-// then pulling triangulations of its 2D faces, its facets and the whole.
+// then its 2D faces, its facets and the whole triangulated as stars.
 #include "animanifold/morph_convex.hpp"
 
 #include "animanifold/complex.hpp"
@@ -38,23 +38,14 @@ CGAL::Orientation orientation4(const PointMatrix& P, const std::array<Index, 5>&
   return K4::Orientation_d()(points.begin(), points.end());
 }
 
-// Three points of R^4 on one line: collinear in every coordinate plane (exact).
-bool collinear4(const PointMatrix& P, Index a, Index b, Index c) {
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j)
-      if (!CGAL::collinear(K3::Point_2(P(a, i), P(a, j)), K3::Point_2(P(b, i), P(b, j)), K3::Point_2(P(c, i), P(c, j))))
-        return false;
-  return true;
-}
-
 double determinant4(const PointMatrix& P, const std::array<Index, 5>& s) {
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r) m.row(r) = P.row(s[r + 1]) - P.row(s[0]);
   return m.determinant();
 }
 
-double triangle_area(const PointMatrix& P, const Triangle& t) {
-  const Eigen::RowVector4d u = P.row(t[1]) - P.row(t[0]), w = P.row(t[2]) - P.row(t[0]);
+double triangle_area(const Eigen::RowVector4d& a, const Eigen::RowVector4d& b, const Eigen::RowVector4d& c) {
+  const Eigen::RowVector4d u = b - a, w = c - a;
   return 0.5 * std::sqrt(std::max(0.0, u.squaredNorm() * w.squaredNorm() - std::pow(u.dot(w), 2)));
 }
 
@@ -131,6 +122,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
     for (const Index v : ids) c += P.row(v);
     return Eigen::RowVector4d(c / static_cast<double>(ids.size()));
   };
+  auto at = [&](Index v) { return v < n ? Eigen::RowVector4d(P.row(v)) : added[static_cast<size_t>(v - n)]; };
   const Index source_centre = add(centre_of(source_vertices)), target_centre = add(centre_of(target_vertices));
   added[0](3) = P(source_vertices[0], 3), added[1](3) = P(target_vertices[0], 3);  // in their planes exactly
   if (!encloses_its_hull_once(P, FS, added[0].head<3>().transpose()) ||
@@ -171,8 +163,8 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
 
   // The 2D faces between facets, each as the Delaunay triangles it holds,
   // then triangulated once for both of its facets: by the input's own
-  // triangles where it lies in an end plane, by pulling from its smallest
-  // vertex otherwise.
+  // triangles where it lies in an end plane, as a star from a point inside
+  // it otherwise.
   std::map<std::pair<Index, Index>, std::vector<Triangle>> ridge_triangles;  // (smaller root, larger root)
   for (const auto& [triangle, tets] : tets_of_triangle) {
     const Index f = facets.find(tets[0]), g = facets.find(tets[1]);
@@ -182,7 +174,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
   for (const auto& [pair, triangles] : ridge_triangles) {
     std::set<Index> points;
     double area = 0;
-    for (const Triangle& t : triangles) points.insert(t.begin(), t.end()), area += triangle_area(P, t);
+    for (const Triangle& t : triangles) points.insert(t.begin(), t.end()), area += triangle_area(at(t[0]), at(t[1]), at(t[2]));
     std::vector<Triangle> out;
     const bool source_cap_ridge = is_cap(pair.first, true) || is_cap(pair.second, true);
     const bool target_cap_ridge = is_cap(pair.first, false) || is_cap(pair.second, false);
@@ -194,13 +186,25 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
       std::map<std::pair<Index, Index>, int> edge_count;
       for (const Triangle& t : triangles)
         for (int i = 0; i < 3; ++i) ++edge_count[std::minmax(t[i], t[(i + 1) % 3])];
-      const Index apex = *points.begin();
-      for (const auto& [edge, count] : edge_count)
-        if (count == 1 && edge.first != apex && edge.second != apex && !collinear4(P, apex, edge.first, edge.second))
-          out.push_back({apex, edge.first, edge.second});
+      if (points.size() == 3) {
+        out = triangles;
+      } else {
+        // The star of its boundary edges from a point inside it, halfway
+        // between the centres of its sides in the two planes, at exactly half
+        // the span: pulling from a vertex would span the points on that
+        // vertex's own sides (a subdivided cube's edge midpoints) with one
+        // edge, and the next face would not meet it there.
+        std::vector<Index> bottom, top;
+        for (const Index v : points) (v < nS ? bottom : top).push_back(v);
+        Eigen::RowVector4d centre = 0.5 * (centre_of(bottom) + centre_of(top));
+        centre(3) = 0.5 * P(top[0], 3);
+        const Index middle = add(centre);
+        for (const auto& [edge, count] : edge_count)
+          if (count == 1) out.push_back({middle, edge.first, edge.second});
+      }
     }
     double covered = 0;
-    for (const Triangle& t : out) covered += triangle_area(P, t);
+    for (const Triangle& t : out) covered += triangle_area(at(t[0]), at(t[1]), at(t[2]));
     if (!(std::abs(covered - area) <= 1e-9 * area)) return std::nullopt;  // not the same polygon
     ridge_triangulation[pair] = std::move(out);
   }
@@ -270,6 +274,12 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
     hull_volume += std::abs(determinant4(P, ids));
   }
   if (!(std::abs(volume - hull_volume) <= 1e-9 * hull_volume)) return std::nullopt;
+  // And be a triangulation of a ball: oriented, its boundary a closed oriented
+  // 3-manifold (faces that did not meet up would show as non-manifold
+  // triangles in the frames).
+  if (!check_manifold(result.simplices).is_oriented_manifold()) return std::nullopt;
+  const ManifoldReport surface = check_manifold(boundary_facets(result.simplices));
+  if (!surface.is_oriented_manifold() || surface.boundary_facets != 0) return std::nullopt;
   return result;
 }
 

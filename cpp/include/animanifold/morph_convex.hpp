@@ -10,11 +10,12 @@
 // (a cube → cylinder morph: 539 of 1,496 simplices flat, every checked frame
 // running through itself). Here the hull's facets are found with exact
 // predicates (coplanar boundary cells of an exact Delaunay triangulation of
-// the points, grouped), every 2D face between two lateral facets is
-// triangulated by pulling from its smallest vertex (the same from both
-// sides), the faces in the planes t = 0 and t = span by the inputs' own
-// triangles, each facet as the star of those from its centre, and the whole
-// polytope as the star of its boundary from its centre: a triangulation
+// the points, grouped), every 2D face between two lateral facets that is
+// not a triangle is triangulated as the star of its edges from a point
+// inside it (once, for both facets), the faces in the planes t = 0 and
+// t = span by the inputs' own triangles, each facet as the star of those from
+// a point inside it, and the whole polytope as the star of its boundary from
+// its centre (points added between the planes all at half the span): a triangulation
 // whose every simplex is positive and whose boundary is the inputs at the
 // ends. Every frame is then the convex shape (1-s)·S ⊕ s·T.
 #pragma once
@@ -27,8 +28,9 @@ namespace animanifold {
 
 struct ConvexFill {
   // The points given, then those added: the centres of the source's and the
-  // target's caps (in their planes), of the hull's lateral facets that are
-  // not simplices (on the boundary, at half the span) and of the hull.
+  // target's caps (in their planes), of the hull's 2D faces and lateral
+  // facets between the planes that are not simplices (on the boundary, at
+  // half the span) and of the hull.
   PointMatrix points;
   SimplexMatrix simplices;  // #A by 5, each positive
   Index source_centre = -1, target_centre = -1;  // rows of `points`
