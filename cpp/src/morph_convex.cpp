@@ -196,6 +196,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
         // edge, and the next face would not meet it there.
         std::vector<Index> bottom, top;
         for (const Index v : points) (v < nS ? bottom : top).push_back(v);
+        if (bottom.empty() || top.empty()) return std::nullopt;  // not between the planes
         Eigen::RowVector4d centre = 0.5 * (centre_of(bottom) + centre_of(top));
         centre(3) = 0.5 * P(top[0], 3);
         const Index middle = add(centre);
@@ -239,6 +240,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
     // the frames change topology there only (one cut for live playback).
     std::vector<Index> bottom, top;
     for (const Index v : points) (v < nS ? bottom : top).push_back(v);
+    if (bottom.empty() || top.empty()) return std::nullopt;  // not between the planes
     Eigen::RowVector4d centre = 0.5 * (centre_of(bottom) + centre_of(top));
     centre(3) = 0.5 * P(top[0], 3);
     star(add(centre), triangles);
