@@ -15,6 +15,7 @@ from animanifold import _core, cache
 from shapes import cube, icosphere, polygon, torus
 from test_morph import blob, polygons
 from test_slice import assert_closed_oriented_surface
+from shared_files import shared_mesh
 
 
 def euler(faces: np.ndarray) -> int:
@@ -149,7 +150,7 @@ def test_2d_c_shape_and_ring():
 
 @pytest.mark.data
 def test_torus_800_timing_and_volume(shared_data):
-    v, f = am.read_mesh(shared_data / "meshes" / "torus-800.off")
+    v, f = am.read_mesh(shared_mesh(shared_data, "torus-800.off"))
     start = time.perf_counter()
     H = am.hole_space(v, f)
     seconds = time.perf_counter() - start

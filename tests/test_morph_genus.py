@@ -19,6 +19,7 @@ import animanifold as am
 from shapes import cone, cube, cylinder, genus3_plate, icosphere, torus, uv_sphere, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
+from shared_files import shared_mesh
 
 TIMES = np.linspace(0.0, 1.0, 41)
 
@@ -334,7 +335,7 @@ def test_sphere_to_the_genus_3_model_of_the_shared_data(shared_data):
     """A real genus-3 model (libigl's 3holes, 3,596 vertices; the benchmark's): no frame runs
     through itself, unlike the voxel plate above, whose flat hull edges hold collinear points."""
     from animanifold.meshio import read_mesh
-    target = read_mesh(shared_data / "meshes" / "3holes.off")
+    target = read_mesh(shared_mesh(shared_data, "3holes.off"))
     v, f = icosphere(3)
     centre = target[0].mean(0)
     radius = np.linalg.norm(target[0] - centre, axis=1).max()
@@ -349,10 +350,7 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them(shared_data
     from animanifold.meshio import read_mesh
     from animanifold.morph import BUBBLE_CHECKS
 
-    path = shared_data / "meshes" / "3holes.off"
-    if not path.exists():
-        pytest.skip(f"{path} is not in the shared data")
-    target = read_mesh(path)
+    target = read_mesh(shared_mesh(shared_data, "3holes.off"))
     v, f = icosphere(3)
     centre = target[0].mean(0)
     radius = np.linalg.norm(target[0] - centre, axis=1).max()

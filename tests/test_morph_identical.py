@@ -18,6 +18,7 @@ from shapes import torus
 from test_morph import blob, polygon_area, polygons
 from test_morph_genus import enclosed_volume, euler_characteristic
 from test_slice import assert_closed_oriented_surface
+from shared_files import shared_mesh
 
 # Frames strictly inside the range, some away from any round fraction.
 TIMES = [0.01, 0.1, 0.25, 0.37, 0.5, 0.61, 0.75, 0.9, 0.99]
@@ -67,7 +68,7 @@ def test_identical_tori_morph_into_the_torus_at_every_frame():
 
 
 def test_identical_genus_3_models_morph_into_the_model_at_every_frame(shared_data):
-    check_identical_morph(read_mesh(shared_data / "meshes" / "3holes.off"))
+    check_identical_morph(read_mesh(shared_mesh(shared_data, "3holes.off")))
 
 
 def test_identical_concave_contours_morph_into_the_contour_at_every_frame():

@@ -17,13 +17,14 @@ from animanifold import _core
 from shapes import icosphere
 from test_morph_genus import enclosed_volume, euler_characteristic
 from test_slice import assert_closed_oriented_surface
+from shared_files import shared_mesh
 
 MODELS = ["bunny.off", "decimated-knight.off"]
 TIMES = [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0]
 
 
 def load(shared_data, name):
-    v, f = am.read_mesh(shared_data / "meshes" / name)
+    v, f = am.read_mesh(shared_mesh(shared_data, name))
     return np.ascontiguousarray(v, dtype=np.float64), np.ascontiguousarray(f, dtype=np.int32)
 
 

@@ -13,6 +13,7 @@ import animanifold as am
 from animanifold import skeleton as skel
 
 from shapes import cube, icosphere
+from shared_files import shared_mesh
 
 # ---------------------------------------------------------------- helpers
 
@@ -114,7 +115,7 @@ def mesh_neighbours(faces: np.ndarray, n: int) -> list[set]:
 
 
 def load(shared_data, name):
-    return am.read_mesh(shared_data / "meshes" / name)
+    return am.read_mesh(shared_mesh(shared_data, name))
 
 
 # ---------------------------------------------------------- separability (2D)
