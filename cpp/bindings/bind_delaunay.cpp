@@ -41,7 +41,7 @@ void bind_delaunay(py::module_& m) {
           ConformingDelaunay c;
           {
             py::gil_scoped_release release;
-            c = conforming_delaunay_3d(points, faces);
+            c = conforming_delaunay_3d(points, faces, raise_pending_python_signals);
           }
           return to_dict(c);
         },

@@ -26,6 +26,10 @@ void bind_morph(py::module_& m) {
             py::gil_scoped_acquire acquire;
             return progress(stage, fraction).cast<bool>();
           };
+        options.interrupted = [] {
+          raise_pending_python_signals();
+          return false;
+        };
         Morph result;
         {
           py::gil_scoped_release release;

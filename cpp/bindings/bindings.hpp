@@ -19,6 +19,15 @@ namespace py = pybind11;
 using PointsRef = Eigen::Ref<const PointMatrix>;
 using SimplicesRef = Eigen::Ref<const SimplexMatrix>;
 
+// For long work that runs with the GIL released (TetGen, in its child
+// process): takes the GIL and raises what a signal handler raised meanwhile
+// (Ctrl-C's KeyboardInterrupt) as a C++ exception that pybind11 hands back
+// to Python, so that the work can be interrupted.
+inline void raise_pending_python_signals() {
+  py::gil_scoped_acquire acquire;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
 void bind_complex(py::module_& m);
 void bind_stitch(py::module_& m);
 void bind_slice(py::module_& m);

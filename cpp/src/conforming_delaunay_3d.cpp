@@ -39,7 +39,7 @@ struct TetgenSurface {
 // same marker, so the pieces of one input triangle are one facet again and
 // the edges between them constrain nothing. The refined constraints come
 // back as its subfaces with their markers.
-TetgenSurface run_tetgen(const ConstraintSurface& surface) {
+TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<void()>& while_meshing) {
   const PointMatrix& points = surface.points;
   const auto& faces = surface.faces;
   const Index n = static_cast<Index>(points.rows());
@@ -102,7 +102,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
         put(out.trifacelist, sizeof(int) * 3 * static_cast<size_t>(out.numberoftrifaces));
         put(out.trifacemarkerlist, sizeof(int) * static_cast<size_t>(faces_with_markers));
         return packed;
-      }, timeout_seconds);
+      }, timeout_seconds, while_meshing);
     } catch (const IsolatedFailure& e) {
       fail<std::runtime_error>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
     }
@@ -142,7 +142,8 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface) {
 
 }  // namespace
 
-ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces) {
+ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
+                                          const std::function<void()>& while_meshing) {
   if (points.cols() != 3) fail<InputError>("conforming Delaunay in 3D needs 3D points, got ", points.cols(), "D");
   if (faces.cols() != 3) fail<InputError>("constraints in 3D must be triangles, got ", faces.cols(), " corners");
   const Index n = static_cast<Index>(points.rows());
@@ -178,7 +179,7 @@ ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const Simpl
   IndexVector missing;
   Index rounds = 0, mended = 0;
   for (;; ++rounds) {
-    tetgen = run_tetgen(surface);
+    tetgen = run_tetgen(surface, while_meshing);
     dt = delaunay_exact(tetgen.points);
     missing = missing_facets(dt.simplices, tetgen.subfaces);
     if (missing.size() == 0 || rounds == kMaxMendingRounds) break;

@@ -54,7 +54,8 @@ std::string signal_name(int signal) {
 
 }  // namespace
 
-std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds) {
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds,
+                               const std::function<void()>& while_waiting) {
   int fds[2];
   if (::pipe(fds) != 0) return work();
   const pid_t pid = ::fork();
@@ -80,16 +81,38 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
   char buffer[1 << 16];
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_seconds);
   bool timed_out = false;
+  // The child is stopped and reaped before anything leaves this function.
+  auto stop_child = [&] {
+    ::kill(pid, SIGKILL);
+    ::close(fds[0]);
+    int ignored = 0;
+    while (::waitpid(pid, &ignored, 0) < 0 && errno == EINTR) {
+    }
+  };
   for (;;) {  // read to the end before waiting: a full pipe would block the child
-    if (timeout_seconds > 0) {
-      const double left = std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count();
+    if (timeout_seconds > 0 || while_waiting) {
+      const double left = timeout_seconds > 0
+                              ? std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count()
+                              : kWaitTick;
+      const double wait = while_waiting ? std::min(left, kWaitTick) : left;
       pollfd readable{fds[0], POLLIN, 0};
-      const int ready = left > 0 ? ::poll(&readable, 1, static_cast<int>(std::min(left * 1000.0 + 1.0, 2.0e9))) : 0;
+      const int ready = wait > 0 ? ::poll(&readable, 1, static_cast<int>(std::min(wait * 1000.0 + 1.0, 2.0e9))) : 0;
       if (ready < 0 && errno == EINTR) continue;
-      if (ready == 0) {
+      if (ready == 0 && left <= wait && timeout_seconds > 0) {
         timed_out = true;
         ::kill(pid, SIGKILL);
         break;
+      }
+      if (ready == 0) {  // still running: the caller's turn
+        if (while_waiting) {
+          try {
+            while_waiting();
+          } catch (...) {
+            stop_child();
+            throw;
+          }
+        }
+        continue;
       }
     }
     const ssize_t n = ::read(fds[0], buffer, sizeof buffer);

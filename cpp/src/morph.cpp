@@ -241,6 +241,12 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   Index nS = 0, nT = 0;
   double conform_seconds = 0;
   std::string mesher_error;
+  // Polled while TetGen runs (MorphOptions::interrupted).
+  std::function<void()> while_meshing;
+  if (options.interrupted)
+    while_meshing = [&options] {
+      if (options.interrupted()) throw Cancelled();
+    };
   // §8.4 exactly where both inputs are convex (no exterior skeleton, checked
   // again there by exact predicates): the hull's own faces, no perturbation,
   // no mesher (morph_convex.hpp). Otherwise, or where that construction
@@ -270,9 +276,11 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
     // perturbed further.
     const char* meshing = "source";
     try {
-      S = conform_with_points(perturbed(VS), VS, FS, KS, "source");
+      S = conform_with_points(perturbed(VS), VS, FS, KS, "source", while_meshing);
       meshing = "target";
-      T = conform_with_points(perturbed(VT), VT, FT, KT, "target");
+      T = conform_with_points(perturbed(VT), VT, FT, KT, "target", while_meshing);
+    } catch (const Cancelled&) {
+      throw;  // not a mesher's failure: no retry
     } catch (const std::runtime_error& e) {
       conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
       mesher_error = e.what();

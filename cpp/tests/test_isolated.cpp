@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace animanifold {
@@ -67,6 +70,49 @@ TEST(Isolated, WorkPastItsTimeIsStoppedAndReported) {
   // work that finishes in time, with a big result, comes back whole
   const std::vector<char> big(300000, 'y');
   EXPECT_EQ(run_isolated([&] { return big; }, 30.0), big);
+}
+
+// What the caller's wait throws (a cancel, Ctrl-C) stops the child at once
+// and comes out of the call; work that finishes is waited on in ticks and
+// comes back whole.
+TEST(Isolated, WhatTheWaitThrowsStopsTheChildAndComesOut) {
+  struct Interrupt {};
+  char marker[] = "/tmp/animanifold_isolated_XXXXXX";
+  const int fd = ::mkstemp(marker);
+  ASSERT_GE(fd, 0);
+  ::close(fd);
+  ::unlink(marker);  // the child writes it if it lives past one second
+  const std::string path = marker;
+  int ticks = 0;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(run_isolated(
+                   [&]() -> std::vector<char> {
+                     std::this_thread::sleep_for(std::chrono::seconds(1));
+                     std::FILE* f = std::fopen(path.c_str(), "w");
+                     if (f) std::fclose(f);
+                     std::this_thread::sleep_for(std::chrono::seconds(30));
+                     return {};
+                   },
+                   0, [&] {
+                     if (++ticks == 3) throw Interrupt{};
+                   }),
+               Interrupt);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(ticks, 3);
+  EXPECT_LT(waited, 0.9);  // three ticks of 0.1 s, not the work's 31 s
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_NE(::access(path.c_str(), F_OK), 0) << "the child was still running after the call";
+  ::unlink(path.c_str());
+
+  ticks = 0;
+  const std::vector<char> result = run_isolated(
+      [] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        return std::vector<char>{'o', 'k'};
+      },
+      30.0, [&] { ++ticks; });
+  EXPECT_EQ(result, (std::vector<char>{'o', 'k'}));
+  EXPECT_GE(ticks, 3);
 }
 
 TEST(Isolated, WhatTheWorkChangesStaysInTheChild) {

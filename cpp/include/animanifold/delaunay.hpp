@@ -21,6 +21,7 @@
 
 #include "animanifold/types.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -84,8 +85,11 @@ struct ConformingDelaunay {
 // belong to no face (skeleton vertices, say) are inserted too. `simplices`
 // are CGAL's exact Delaunay triangulation of the result's points. Throws
 // InputError for bad indices or coinciding points and std::runtime_error
-// naming TetGen's failure.
-ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces);
+// naming TetGen's failure. TetGen runs in a child process (isolated.hpp);
+// `while_meshing` is called about every 0.1 s meanwhile, and what it throws
+// stops TetGen and leaves this call (a cancel, an interrupt).
+ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
+                                          const std::function<void()>& while_meshing = {});
 
 // Constraint segments `edges` (#E by 2) over `points` (#P by 2).
 ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const SimplexMatrix& edges);

@@ -31,6 +31,13 @@ struct IsolatedFailure : std::runtime_error {
 // `timeout_seconds` > 0: a child that has not finished by then is killed and
 // IsolatedFailure says so (TetGen 1.5 can loop for ever recovering the facets
 // of a fan of cocircular points; a morph must fail, not hang Blender).
-std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds = 0);
+// `while_waiting`, when given, is called about every kWaitTick seconds while
+// the child runs; what it throws (a Ctrl-C the caller noticed, a cancel) stops
+// the child and is rethrown: long work stays interruptible.
+std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds = 0,
+                               const std::function<void()>& while_waiting = {});
+
+// How often run_isolated calls `while_waiting`, in seconds.
+constexpr double kWaitTick = 0.1;
 
 }  // namespace animanifold

@@ -61,6 +61,11 @@ struct MorphOptions {
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
+  // Polled about every 0.1 s while a mesher runs in its child process (TetGen
+  // takes seconds on large inputs, and on unlucky ones runs until its
+  // timeout); returning true stops it and cancels the morph (Cancelled). The
+  // Python binding checks for a Ctrl-C there.
+  std::function<bool()> interrupted;
 };
 
 // What the checks of §8.3 found, and what each stage cost.
