@@ -75,8 +75,13 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // markers.
   // TetGen 1.5 can loop for ever recovering facets (a fan of 64 cocircular
   // points as a cylinder's cap): stopped after far longer than meshing such
-  // an input takes (~0.5 s for 8,000 faces with a skeleton).
-  const double timeout_seconds = 20.0 + 2e-3 * static_cast<double>(faces.size());
+  // an input takes. Measured: the whole conforming stage of a morph (both
+  // inputs, every mending round, CGAL's checks) is 0.48-0.73 s for the shared
+  // 1,000-7,200-face models with their skeletons, 0.38 s for a 20,480-face
+  // sphere; this allows 5 s + 0.5 ms a face per run (8.6 s for 7,200 faces).
+  // It was 20 s + 2 ms a face: the fan cylinder -> torus froze Blender for
+  // 70 s (three perturbations) before its report; 31 s now.
+  const double timeout_seconds = 5.0 + 5e-4 * static_cast<double>(faces.size());
   const std::vector<char> bytes = [&] {
     try {
       return run_isolated([&] {
