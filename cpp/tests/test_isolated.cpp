@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -77,12 +78,14 @@ TEST(Isolated, WorkPastItsTimeIsStoppedAndReported) {
 // comes back whole.
 TEST(Isolated, WhatTheWaitThrowsStopsTheChildAndComesOut) {
   struct Interrupt {};
-  char marker[] = "/tmp/animanifold_isolated_XXXXXX";
-  const int fd = ::mkstemp(marker);
-  ASSERT_GE(fd, 0);
+  // A fresh name in the temporary folder ($TMPDIR or /tmp); the child writes
+  // the file if it lives past one second.
+  std::string name = (std::filesystem::temp_directory_path() / "animanifold_isolated_XXXXXX").string();
+  const int fd = ::mkstemp(name.data());
+  ASSERT_GE(fd, 0) << name;
   ::close(fd);
-  ::unlink(marker);  // the child writes it if it lives past one second
-  const std::string path = marker;
+  ::unlink(name.c_str());
+  const std::string path = name;
   int ticks = 0;
   const auto start = std::chrono::steady_clock::now();
   EXPECT_THROW(run_isolated(
