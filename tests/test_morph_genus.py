@@ -213,6 +213,12 @@ def test_convex_inputs_take_the_plain_fill_of_section_8_4():
     assert np.abs(heights).min(axis=1).max() < 1e-12 and heights.max() < 1e-12
 
 
+# A rotation about no axis of the coordinates (30 degrees about z after 0.4 radians about x): it
+# bends every flat side of an input by rounding.
+ROTATION = (np.array([[np.cos(np.pi / 6), -np.sin(np.pi / 6), 0], [np.sin(np.pi / 6), np.cos(np.pi / 6), 0], [0, 0, 1]])
+            @ np.array([[1, 0, 0], [0, np.cos(0.4), -np.sin(0.4)], [0, np.sin(0.4), np.cos(0.4)]]))
+
+
 def frame_is_convex(V: np.ndarray, F: np.ndarray) -> bool:
     """Every vertex on or behind the plane of every face."""
     normals = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
@@ -222,7 +228,8 @@ def frame_is_convex(V: np.ndarray, F: np.ndarray) -> bool:
 
 @pytest.mark.parametrize("pair", ["ico sphere (1) -> cube", "ico sphere (3) -> cube", "cube -> cylinder",
                                   "cylinder -> cone", "cylinder (64, fans) -> cube", "subdivided cube -> ico sphere",
-                                  "subdivided cube -> itself turned"])
+                                  "subdivided cube -> itself turned", "cylinder rotated -> cone",
+                                  "cube -> cylinder rotated", "ico sphere (1) -> cube rotated"])
 def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
     """Convex inputs with flat sides (a cube's squares, cylinders' cocircular caps, Blender's
     primitives): on the Delaunay route their fill held simplices flat at the exact coordinates
@@ -232,7 +239,10 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
     perturbed or flat, and every frame is the convex shape (1-s)·S ⊕ s·T, whose volume is that of
     the hull of all the points (1-s)·a + s·b. A subdivided cube (points on its edges and inside
     its faces) checks the 2D faces between facets: triangulated from one of their corners, they
-    spanned the points on that corner's own sides with one edge and the frames were not closed."""
+    spanned the points on that corner's own sides with one edge and the frames were not closed.
+    Rotated inputs (Morph Selected applies matrix_world in float64) have flat sides bent by
+    rounding, ~1e-16: the exact predicates called them reflex and sent them down the Delaunay
+    route, where a rotated cylinder -> cone ran through itself at 4 of 5 checked frames."""
     cube_v, cube_f = cube()
     sub_v, sub_f = voxel_surface(np.ones((2, 2, 2), bool))
     sub_v = sub_v - sub_v.mean(0)
@@ -243,7 +253,10 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
               "cylinder -> cone": (cylinder(32), cone(16)),
               "cylinder (64, fans) -> cube": (cylinder(64), (cube_v, cube_f)),
               "subdivided cube -> ico sphere": ((sub_v, sub_f), icosphere(2)),
-              "subdivided cube -> itself turned": ((sub_v, sub_f), (sub_v @ turn.T, sub_f))}
+              "subdivided cube -> itself turned": ((sub_v, sub_f), (sub_v @ turn.T, sub_f)),
+              "cylinder rotated -> cone": ((cylinder(32)[0] @ ROTATION.T, cylinder(32)[1]), cone(16)),
+              "cube -> cylinder rotated": ((cube_v, cube_f), (cylinder(32)[0] @ ROTATION.T, cylinder(32)[1])),
+              "ico sphere (1) -> cube rotated": (icosphere(1), (0.75 * cube_v @ ROTATION.T, cube_f))}
     source, target = shapes[pair]
     m = am.morph(source, target)
     report = m.validity
@@ -261,6 +274,36 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
         assert frame_is_convex(V, F)
         combinations = ((1 - s) * source[0][:, None, :] + s * target[0][None, :, :]).reshape(-1, 3)
         assert enclosed_volume(V, F) == pytest.approx(ConvexHull(combinations).volume, rel=1e-9)
+
+
+def test_convex_inputs_rotated_in_float32_take_the_hull_too():
+    """A rotation applied to Blender's float32 mesh data bends flat sides by ~6e-8 of the size,
+    beyond what the exact predicates or float64 rounding allow: still convex up to rounding
+    (1e-6 of the size), so the hull's construction, with each bent side one facet. A dented
+    input stays on the Delaunay route (a dent of 1/350 of the size: 3,000 times the allowance)."""
+    def f32(v):
+        return v.astype(np.float32).astype(np.float64)
+
+    for source, target in (((f32(cylinder(32)[0] @ ROTATION.T), cylinder(32)[1]), cone(16)),
+                           ((f32(cube()[0] @ ROTATION.T), cube()[1]), icosphere(2))):
+        m = am.morph(source, target)
+        report = m.validity
+        assert report["exact_convex_fill"] and report["perturbation"] == 0.0
+        assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0
+        assert not report["frames_cross_themselves"] and report["bubble_frames"] == []
+        assert m.check()["is_oriented_manifold"]
+        for s in (0.02, 0.5, 0.98):
+            frame = m.slice(s, honour_holes=False)
+            assert_closed_oriented_surface(frame.faces)
+            combinations = ((1 - s) * source[0][:, None, :] + s * target[0][None, :, :]).reshape(-1, 3)
+            assert enclosed_volume(frame.vertices, frame.faces) == pytest.approx(ConvexHull(combinations).volume, rel=1e-6)
+    v, f = cube()
+    dented = np.vstack([v, [[0, 0, 1 - 1e-2]]])  # the top's centre pushed in by 1/350 of the size
+    top = [i for i, t in enumerate(f) if (v[t, 2] == 1).all()]
+    fan = [[8, a, b] for a, b in ((1, 5), (5, 7), (7, 3), (3, 1))]
+    dented_f = np.vstack([np.delete(f, top, axis=0), fan])
+    m = am.morph((dented, dented_f), icosphere(2))
+    assert not m.validity["exact_convex_fill"] and m.validity["ends_reproduced"]
 
 
 def test_flat_cells_of_a_cylinders_cocircular_caps_are_not_outside_it():

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <set>
@@ -54,12 +55,28 @@ Triangle sorted(Triangle t) {
   return t;
 }
 
+// How far from flat a bend may be, relative to the size, and still count as
+// flat: coordinates that went through a rotation (an object's matrix_world
+// in float64: ~1e-16; a rotation applied to float32 mesh data: ~6e-8) bend
+// a cube's squares and a cylinder's caps by rounding, and the exact predicates alone would call them reflex (or not
+// one facet) and send convex inputs down the Delaunay route, whose
+// perturbed fill folds through itself on flat sides. Nothing relies on the
+// bent faces being flat: the ends are the inputs' own triangles, every
+// simplex is checked positive exactly, and the result must fill the hull.
+constexpr double kRoundingBend = 1e-6;
+
+// The size of P's first `dims` columns (their bounding box's diagonal).
+double size_of(const PointMatrix& P, int dims) {
+  return (P.leftCols(dims).colwise().maxCoeff() - P.leftCols(dims).colwise().minCoeff()).norm();
+}
+
 // Convex at every edge: the far corner of each face beyond an edge on or
 // below the plane of the face on this side (exact orientation, P's first 3
-// columns). With the surface enclosing its hull once (below), a closed
-// surface convex at every edge is convex; O(faces), unlike testing every
-// vertex against every face.
+// columns), or above it by no more than rounding (kRoundingBend). With the
+// surface enclosing its hull once (below), a closed surface convex at every
+// edge is convex; O(faces), unlike testing every vertex against every face.
 bool is_convex_at_every_edge(const PointMatrix& P, const SimplexMatrix& F) {
+  const double bend = kRoundingBend * size_of(P, 3);
   std::map<std::pair<Index, Index>, std::vector<std::pair<Index, Index>>> faces_of_edge;  // (face, far corner)
   for (Index f = 0; f < F.rows(); ++f)
     for (int i = 0; i < 3; ++i) faces_of_edge[std::minmax(F(f, i), F(f, (i + 1) % 3))].push_back({f, F(f, (i + 2) % 3)});
@@ -67,11 +84,43 @@ bool is_convex_at_every_edge(const PointMatrix& P, const SimplexMatrix& F) {
     if (faces.size() != 2) return false;
     for (int side = 0; side < 2; ++side) {
       const Index f = faces[side].first, far = faces[1 - side].second;
-      if (CGAL::orientation(point3(P, F(f, 0)), point3(P, F(f, 1)), point3(P, F(f, 2)), point3(P, far)) == CGAL::POSITIVE)
-        return false;
+      if (CGAL::orientation(point3(P, F(f, 0)), point3(P, F(f, 1)), point3(P, F(f, 2)), point3(P, far)) != CGAL::POSITIVE)
+        continue;
+      const Eigen::Vector3d a = P.row(F(f, 0)).head<3>(), b = P.row(F(f, 1)).head<3>(), c = P.row(F(f, 2)).head<3>();
+      const Eigen::Vector3d normal = (b - a).cross(c - a);
+      const double norm = normal.norm();
+      if (!(norm > 0) || std::abs(normal.dot(Eigen::Vector3d(P.row(far).head<3>()) - a)) > bend * norm) return false;
     }
   }
   return true;
+}
+
+// A tet whose volume is at least this fraction of its longest edge cubed
+// (times 6: the generalised cross product's norm) has a hyperplane its
+// corners determine: moving them by e (of its size) turns it by at most
+// about e / kWellShaped.
+constexpr double kWellShaped = 1e-5;
+
+// The distance of `p` from the hyperplane through the tet `tet` (rows of P
+// in R^4), or infinity for a tet too flat to have a well-determined one.
+double distance_from_hyperplane(const PointMatrix& P, const std::array<Index, 4>& tet, Index p) {
+  Eigen::Matrix<double, 3, 4> edges;
+  for (int r = 0; r < 3; ++r) edges.row(r) = P.row(tet[r + 1]) - P.row(tet[0]);
+  Eigen::Vector4d normal;  // the generalised cross product of the three edges
+  for (int column = 0; column < 4; ++column) {
+    Eigen::Matrix3d minor;
+    for (int c = 0, k = 0; c < 4; ++c)
+      if (c != column) minor.col(k++) = edges.col(c);
+    normal(column) = (column % 2 ? -1.0 : 1.0) * minor.determinant();
+  }
+  // A sliver's hyperplane is not determined by its rounded corners (parallel
+  // edges of both inputs make such tets): not trusted to say what is flat.
+  double longest = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int b = a + 1; b < 4; ++b) longest = std::max(longest, (P.row(tet[a]) - P.row(tet[b])).norm());
+  const double norm = normal.norm();
+  if (!(norm > kWellShaped * std::pow(longest, 3))) return std::numeric_limits<double>::infinity();
+  return std::abs(normal.dot((P.row(p) - P.row(tet[0])).transpose())) / norm;
 }
 
 // Whether the surface encloses its hull once: its enclosed volume (by the
@@ -144,6 +193,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
       tets_of_triangle[sorted(t)].push_back(b);
     }
   UnionFind facets(B);
+  const double flat = kRoundingBend * size_of(P, 4);
   for (const auto& [triangle, tets] : tets_of_triangle) {
     if (tets.size() != 2) return std::nullopt;  // not a closed boundary
     Index opposite = -1;
@@ -151,7 +201,16 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
       if (std::find(triangle.begin(), triangle.end(), boundary(tets[1], c)) == triangle.end()) opposite = boundary(tets[1], c);
     const std::array<Index, 5> five{boundary(tets[0], 0), boundary(tets[0], 1), boundary(tets[0], 2), boundary(tets[0], 3),
                                     opposite};
-    if (orientation4(P, five) == CGAL::ZERO) facets.unite(tets[0], tets[1]);
+    // One facet where the next tet lies in the same hyperplane, exactly or
+    // up to rounding (kRoundingBend).
+    Index other_opposite = -1;
+    for (int c = 0; c < 4; ++c)
+      if (std::find(triangle.begin(), triangle.end(), boundary(tets[0], c)) == triangle.end()) other_opposite = boundary(tets[0], c);
+    if (orientation4(P, five) == CGAL::ZERO ||
+        (distance_from_hyperplane(P, {five[0], five[1], five[2], five[3]}, opposite) <= flat &&
+         distance_from_hyperplane(P, {boundary(tets[1], 0), boundary(tets[1], 1), boundary(tets[1], 2), boundary(tets[1], 3)},
+                                  other_opposite) <= flat))
+      facets.unite(tets[0], tets[1]);
   }
   std::map<Index, std::set<Index>> points_of_facet;  // by the facet's root
   for (Index b = 0; b < B; ++b)
@@ -186,7 +245,11 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
       std::map<std::pair<Index, Index>, int> edge_count;
       for (const Triangle& t : triangles)
         for (int i = 0; i < 3; ++i) ++edge_count[std::minmax(t[i], t[(i + 1) % 3])];
-      if (points.size() == 3) {
+      // A facet that is a simplex is itself (below), so its ridges are its own
+      // triangles: a sliver of a side bent by rounding (the trapezoid
+      // between the parallel faces of a shape and its scaled copy) keeps the
+      // diagonal the Delaunay triangulation gave it.
+      if (points.size() == 3 || points_of_facet.at(pair.first).size() == 4 || points_of_facet.at(pair.second).size() == 4) {
         out = triangles;
       } else {
         // The star of its boundary edges from a point inside it, halfway
@@ -259,7 +322,9 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
   result.target_centre = target_centre;
   const PointMatrix& Q = result.points;
   // Orient every simplex positively; none may be flat. The result must fill
-  // the hull: its volume that of the Delaunay triangulation.
+  // the hull: its volume that of the Delaunay triangulation (less what
+  // facets bent by rounding cut off: 1.3e-8 of it for a cylinder whose
+  // rotated coordinates were stored in float32).
   result.simplices.resize(static_cast<Index>(boundary_tets.size()), 5);
   double volume = 0, hull_volume = 0;
   for (size_t s = 0; s < boundary_tets.size(); ++s) {
@@ -275,7 +340,7 @@ std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const
     for (int c = 0; c < 5; ++c) ids[c] = delaunay.simplices(s, c);
     hull_volume += std::abs(determinant4(P, ids));
   }
-  if (!(std::abs(volume - hull_volume) <= 1e-9 * hull_volume)) return std::nullopt;
+  if (!(std::abs(volume - hull_volume) <= kRoundingBend * hull_volume)) return std::nullopt;
   // And be a triangulation of a ball: oriented, its boundary a closed oriented
   // 3-manifold (faces that did not meet up would show as non-manifold
   // triangles in the frames).

@@ -59,6 +59,12 @@ def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
     morph = bpy.context.active_object
     assert morph.animanifold.is_manifold and morph.name == "Icosphere_to_Cube"
     assert source.hide_get() and target.hide_get()
+    # turned into world space, the cube's squares are bent by rounding: still convex (§8.4), and
+    # no frame runs through itself (on the Delaunay route such pairs could)
+    from animanifold_blender import live
+
+    validity = live.manifold_for(morph).validity
+    assert validity["exact_convex_fill"] and not validity["frames_cross_themselves"], validity
     scene.frame_set(1)
     assert same_points(world_vertices(morph), world_vertices(source))
     scene.frame_set(24)

@@ -40,10 +40,11 @@ struct ConvexFill {
 // target's at time span > 0, as given (no Steiner point). `FS`, `FT` (#F by
 // 3): the closed outward triangles of each, FT over P's rows (offset by nS).
 // Returns the fill, or nothing when an input is not convex (bent inwards at
-// an edge, by exact predicates, or enclosing other than its hull once: in
-// parts, or wound twice) or the
-// construction fails one of its own checks; the caller then takes the
-// Delaunay route.
+// an edge by more than rounding — 1e-6 of its size, so that rotated flat
+// sides count as flat — or enclosing other than its hull once: in parts, or
+// wound twice) or the construction fails one of its own checks; the caller
+// then takes the Delaunay route. Hull facets bent by rounding are grouped
+// as one, like flat ones.
 std::optional<ConvexFill> convex_hull_fill(const PointMatrix& P, Index nS, const SimplexMatrix& FS,
                                            const SimplexMatrix& FT);
 
