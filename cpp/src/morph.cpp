@@ -240,7 +240,7 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
   SimplexMatrix target_constraints;
   Index nS = 0, nT = 0;
   double conform_seconds = 0;
-  std::string mesher_error;
+  std::vector<std::pair<double, std::string>> mesher_errors;  // (perturbation, what failed) of the attempts
   // Polled while TetGen runs (MorphOptions::interrupted).
   std::function<void()> while_meshing;
   if (options.interrupted)
@@ -283,14 +283,13 @@ Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& V
       throw;  // not a mesher's failure: no retry
     } catch (const std::runtime_error& e) {
       conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
-      mesher_error = e.what();
-      if (mesher_error.find(meshing) == std::string::npos) mesher_error = std::string("the ") + meshing + ": " + mesher_error;
-      if (scale == kPerturbations.back())
-        fail<std::runtime_error>(mesher_error, " (with the inputs perturbed by ", kPerturbations.front(), " to ", scale,
-                                 " of their size)");
+      std::string error = e.what();
+      if (error.find(meshing) == std::string::npos) error = std::string("the ") + meshing + ": " + error;
+      mesher_errors.emplace_back(scale, std::move(error));
+      if (scale == kPerturbations.back()) fail<std::runtime_error>(failed_perturbations(mesher_errors));
       continue;
     }
-    mesher_error.clear();
+    mesher_errors.clear();
     conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
     if (options.progress && !options.progress("conforming", 0.3)) throw Cancelled();
     nS = static_cast<Index>(S.fill.points.rows()), nT = static_cast<Index>(T.fill.points.rows());

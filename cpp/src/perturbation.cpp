@@ -1,6 +1,7 @@
 #include "animanifold/perturbation.hpp"
 
 #include <cstring>
+#include <sstream>
 
 namespace animanifold {
 
@@ -35,6 +36,19 @@ PointMatrix perturbed_by_position(const PointMatrix& points, double scale, std::
   for (Index r = 0; r < points.rows(); ++r)
     for (int c = 0; c < d; ++c) out(r, c) += scale * position_hash_offset(points.row(r).data(), d, c, salt);
   return out;
+}
+
+std::string failed_perturbations(const std::vector<std::pair<double, std::string>>& attempts) {
+  std::ostringstream out;
+  for (size_t a = 0; a < attempts.size();) {
+    size_t b = a;  // the run of attempts that failed alike
+    while (b + 1 < attempts.size() && attempts[b + 1].second == attempts[a].second) ++b;
+    out << (a ? "; then " : "") << attempts[a].second << (a ? " at " : " with the inputs perturbed by ");
+    for (size_t k = a; k <= b; ++k) out << (k == a ? "" : k == b ? " and " : ", ") << attempts[k].first;
+    if (a == 0) out << " of their size";
+    a = b + 1;
+  }
+  return out.str();
 }
 
 }  // namespace animanifold

@@ -17,6 +17,10 @@
 
 #include "animanifold/types.hpp"
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace animanifold {
 
 // An offset in [-1, 1] for coordinate `component` of the point `p` (`d`
@@ -25,5 +29,13 @@ double position_hash_offset(const double* p, int d, int component, std::uint64_t
 
 // `points` (#P by d) each moved by scale * position_hash_offset, per coordinate.
 PointMatrix perturbed_by_position(const PointMatrix& points, double scale, std::uint64_t salt);
+
+// What failed at each perturbation a retry tried, as one message: each
+// failure once, with all the perturbations (fractions of the size) it
+// happened at — "the source: TetGen ... (it did not finish within 13 s) with
+// the inputs perturbed by 1e-07 and 1e-06 of their size; then the source:
+// TetGen moved input point 6865 at 1e-05". `attempts`: (perturbation, what
+// failed), in the order tried.
+std::string failed_perturbations(const std::vector<std::pair<double, std::string>>& attempts);
 
 }  // namespace animanifold
