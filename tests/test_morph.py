@@ -171,6 +171,24 @@ def test_ctrl_c_stops_a_morph_while_tetgen_runs():
     assert elapsed < 10.0, elapsed
 
 
+def test_the_callers_interrupted_check_stops_a_morph_while_tetgen_runs():
+    """`interrupted()` (a cancel button; in a worker thread Python's signal handlers never run) is
+    polled while TetGen runs: True after 1 s stops the fan cylinder -> torus, which TetGen keeps
+    busy for ~30 s otherwise, within a tick or two of the mesher's wait."""
+    start = time.perf_counter()
+    checks = []
+
+    def interrupted():
+        checks.append(time.perf_counter() - start)
+        return checks[-1] > 1.0
+
+    with pytest.raises(_core.Cancelled):
+        am.morph(cylinder(64), torus(), interrupted=interrupted)
+    elapsed = time.perf_counter() - start
+    assert elapsed < 3.0, elapsed
+    assert len(checks) >= 5 and max(np.diff(checks)) < 0.5  # polled in ticks, not once per run
+
+
 def test_python_api_keeps_the_validity_report_through_the_cache(tmp_path):
     v, f = icosphere(1)
     m = am.morph((v, f), (v * 1.2 + [0, 0, 0.1], f), t0=1.0, t1=3.0)

@@ -7,7 +7,9 @@ live (slices → meshes), live_nodes (the geometry-nodes modifier that plays a
 topology interval), live_cuts (cuts kept between frames), handlers (frame
 change, load, undo), bake, operators, ui;
 ops_skeleton and ui_tools for the Voronoi skeleton; ops_deform for Laplacian
-deformation (anchor/handle vertex groups and an Empty, also in ui_tools).
+deformation (anchor/handle vertex groups and an Empty, also in ui_tools);
+ops_morph for Morph Selected, which runs the core in morph_job's worker thread
+when invoked from the interface (Esc cancels).
 """
 
 bl_info = {

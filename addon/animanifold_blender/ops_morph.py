@@ -9,6 +9,11 @@ sources are hidden, never changed; on failure nothing is added.
 The core solves every morph over a time span proportional to the shapes'
 size and maps it onto t0..t1 (the frame range here), so the morph is the same
 whatever the range.
+
+Invoked from the interface, the operator is modal: the core runs in a worker
+thread (morph_job), a timer shows its stage in the status bar, Esc cancels,
+and the object is made in the main thread once the job is done. Executed (a
+script, `blender -b`, redo), it blocks with a progress bar.
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ from bpy.types import Operator
 
 from . import live, live_nodes
 from ._lib import am
+from .morph_job import MorphJob
 from .ops_skeleton import closed_triangle_mesh
 from .operators import _unique_object_name
 
@@ -42,6 +48,10 @@ _METHOD_TEXT = {
 METHOD_ITEMS = tuple((m.upper(), *_METHOD_TEXT.get(m, (m.title(), f"The core's '{m}' method")))
                      for m in sorted(METHODS, key=lambda m: m != BEST_METHOD))
 
+
+# Events that only move the view, passed on while a morph runs (morph_job): everything else waits.
+_VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
+                "INBETWEEN_MOUSEMOVE", "MOUSEROTATE", "NDOF_MOTION"}
 
 # End frames this close to the inputs (of the size) are exact for a single-precision mesh.
 SINGLE_PRECISION = 1e-7
@@ -133,45 +143,126 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         row.prop(self, "frame_start")
         row.prop(self, "frame_end")
 
-    def execute(self, context):
+    def _inputs(self, context):
+        """(source, target, start, end, (vs, fs), (vt, ft)), or a report's text when there is nothing to morph."""
         target = context.active_object
         # the other selected mesh (other selected objects, a camera or an empty, play no part)
         source = next(o for o in context.selected_objects if o.type == "MESH" and o is not target)
         scene = context.scene
         start, end = (scene.frame_start, scene.frame_end) if self.use_scene_range else (self.frame_start, self.frame_end)
         if end <= start:
-            self.report({"ERROR"}, f"Morph failed: the frame range {start}–{end} is empty: "
-                                   "the end frame must be after the start")
+            return f"Morph failed: the frame range {start}–{end} is empty: the end frame must be after the start"
+        try:
+            return source, target, start, end, world_mesh(context, source), world_mesh(context, target)
+        except ValueError as e:  # an open or non-manifold input, named
+            return self._input_message(e, source, target)
+
+    @staticmethod
+    def _input_message(e: Exception, source, target) -> str:
+        message = str(e).replace("the source", f"the source '{source.name}'").replace("the target", f"the target '{target.name}'")
+        return f"Morph failed: {message}"
+
+    def execute(self, context):
+        """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
+        inputs = self._inputs(context)
+        if isinstance(inputs, str):
+            self.report({"ERROR"}, inputs)
             return {"CANCELLED"}
-        method = self.method.lower()
-        name = _unique_object_name(f"{source.name}_to_{target.name}")
-        stored, absolute, note = cache_path_for(name)
+        source, target, start, end, source_mesh, target_mesh = inputs
         progress = _Stages(context.window_manager)
-        created = []
         began = time.perf_counter()
         try:
-            vs, fs = world_mesh(context, source)
-            vt, ft = world_mesh(context, target)
             progress.at("in the core's conforming and fill stages", 5.0)
-            manifold = am.morph((vs, fs), (vt, ft), t0=float(start), t1=float(end), method=method, progress=progress)
-            progress.at("saving the cache", 88.0)
-            manifold.metadata.update({"source_object": source.name, "target_object": target.name,
-                                      "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
-            am.save(manifold, absolute)
-            created.append(absolute)
-            progress.at("making the object", 94.0)
-            new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end)
+            manifold = am.morph(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower(),
+                                progress=progress)
         except ValueError as e:  # the core names the input and what is wrong with it
-            self._undo(created)
-            message = str(e).replace("the source", f"the source '{source.name}'").replace("the target", f"the target '{target.name}'")
-            self.report({"ERROR"}, f"Morph failed: {message}")
+            self.report({"ERROR"}, self._input_message(e, source, target))
             return {"CANCELLED"}
         except Exception as e:  # the mesher or Qhull failed, or a bug: report, nothing left behind
-            self._undo(created)
             self.report({"ERROR"}, f"Morph failed {progress.where}: {type(e).__name__}: {e}")
             return {"CANCELLED"}
         finally:
             progress.end()
+        return self._finish(context, source, target, start, end, source_mesh[1], target_mesh[1], manifold, began)
+
+    def invoke(self, context, event):
+        """From the interface: the morph runs in a worker thread (morph_job), the status bar shows its
+        stage, Esc cancels; the interface keeps drawing and the view can be turned meanwhile."""
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        inputs = self._inputs(context)
+        if isinstance(inputs, str):
+            self.report({"ERROR"}, inputs)
+            return {"CANCELLED"}
+        self._running = inputs
+        source, target, start, end, source_mesh, target_mesh = inputs
+        self._job = MorphJob(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower())
+        wm = context.window_manager
+        self._timer = wm.event_timer_add(0.1, window=context.window)
+        wm.progress_begin(0, 100)
+        wm.modal_handler_add(self)
+        self._status(context)
+        return {"RUNNING_MODAL"}
+
+    def _status(self, context) -> None:
+        job = self._job
+        text = "cancelling…" if job.cancelling else f"{job.stage} done"
+        context.workspace.status_text_set(f"Morph Selected: {text} ({time.perf_counter() - job.started:.0f} s) — "
+                                          "Esc to cancel")
+        context.window_manager.progress_update(5.0 + 80.0 * min(max(job.fraction, 0.0), 1.0))
+
+    def _stop_waiting(self, context) -> None:
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+
+    def cancel(self, context):
+        """Blender ends the modal operator itself (a file is opened, the window closes): the job is
+        told to stop and left to end on its own (its thread touches no Blender data)."""
+        self._job.cancel()
+        self._stop_waiting(context)
+
+    def modal(self, context, event):
+        job = self._job
+        if event.type == "ESC" and event.value == "PRESS":
+            job.cancel()
+        if not job.done:
+            if event.type == "TIMER":
+                self._status(context)
+            # only the view may change meanwhile: the inputs must still be there at the end
+            return {"PASS_THROUGH"} if event.type in _VIEW_EVENTS else {"RUNNING_MODAL"}
+        self._stop_waiting(context)
+        source, target, start, end, source_mesh, target_mesh = self._running
+        if job.cancelled:
+            self.report({"WARNING"}, f"Morph cancelled after {time.perf_counter() - job.started:.1f} s: nothing was added")
+            return {"CANCELLED"}
+        if isinstance(job.error, ValueError):
+            self.report({"ERROR"}, self._input_message(job.error, source, target))
+            return {"CANCELLED"}
+        if job.error is not None:
+            self.report({"ERROR"}, f"Morph failed after the core's {job.stage} stage: "
+                                   f"{type(job.error).__name__}: {job.error}")
+            return {"CANCELLED"}
+        return self._finish(context, source, target, start, end, source_mesh[1], target_mesh[1], job.manifold,
+                            job.started)
+
+    def _finish(self, context, source, target, start, end, fs, ft, manifold, began):
+        """Saves the cache, makes the object and reports what the validity checks found."""
+        method = self.method.lower()
+        name = _unique_object_name(f"{source.name}_to_{target.name}")
+        stored, absolute, note = cache_path_for(name)
+        created = []
+        try:
+            manifold.metadata.update({"source_object": source.name, "target_object": target.name,
+                                      "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
+            am.save(manifold, absolute)
+            created.append(absolute)
+            new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end)
+        except Exception as e:  # a full disk, a bug: report, nothing left behind
+            self._undo(created)
+            self.report({"ERROR"}, f"Morph failed while saving the cache or making the object: {type(e).__name__}: {e}")
+            return {"CANCELLED"}
 
         validity = manifold.validity
         if note:

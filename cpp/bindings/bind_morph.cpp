@@ -11,7 +11,7 @@ void bind_morph(py::module_& m) {
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
          py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill,
-         const std::string& perturbation) {
+         const std::string& perturbation, py::object interrupted) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -26,9 +26,13 @@ void bind_morph(py::module_& m) {
             py::gil_scoped_acquire acquire;
             return progress(stage, fraction).cast<bool>();
           };
-        options.interrupted = [] {
+        // Ctrl-C, and the caller's own check (a cancel button: the morph may
+        // run in a worker thread, where Python's signal handlers never run).
+        options.interrupted = [interrupted] {
           raise_pending_python_signals();
-          return false;
+          if (interrupted.is_none()) return false;
+          py::gil_scoped_acquire acquire;
+          return interrupted().cast<bool>();
         };
         Morph result;
         {
@@ -73,8 +77,10 @@ void bind_morph(py::module_& m) {
       py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
       py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
       py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
-      py::arg("perturbation") = MorphOptions{}.perturbation,
-      "Morph between two closed shapes: (manifold Complex, validity report dict).");
+      py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
+      "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
+      "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
+      "True from the other, cancels (raises Cancelled).");
   py::register_exception<Cancelled>(m, "Cancelled");
   m.def(
       "self_intersections",

@@ -28,6 +28,7 @@ def morph(
     fill: str = "cgal",
     hole_checks: int = 5,
     perturbation: str = "auto",
+    interrupted: Callable[[], bool] | None = None,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -35,6 +36,10 @@ def morph(
     oriented meshes — or (vertices (k, 2), edges (l, 2)) closed
     counter-clockwise polygons. `progress(stage, fraction)` is called between
     stages; returning False cancels (raises animanifold._core.Cancelled).
+    `interrupted()` is called about every 0.1 s while a mesher runs (TetGen can
+    take seconds); returning True cancels the same way. Both may be called from
+    the thread the morph runs in (a worker thread: see the add-on's Morph
+    Selected).
 
     method: "skeleton" (§8.6, the default) fills concavities and holes of the
     source just after t0 and opens the target's just before t1, with every
@@ -102,7 +107,7 @@ def morph(
             return user_progress(stage, done[0])
 
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
-                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks))
+                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks), interrupted=interrupted)
     start = time.perf_counter()
     manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
     manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
@@ -145,10 +150,12 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
 
 
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
-                push_safety: float, fill: str, hole_checks: int, perturbation: str) -> AnimationManifold:
+                push_safety: float, fill: str, hole_checks: int, perturbation: str,
+                interrupted: Callable[[], bool] | None) -> AnimationManifold:
     """One morph with the core's `perturbation` (see morph())."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
-                                   max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation)
+                                   max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation,
+                                   interrupted=interrupted)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
 

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import os
+import time
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -421,3 +424,143 @@ def test_an_object_and_its_duplicate_morph_into_the_object_at_every_frame(empty_
         scene.frame_set(int(frame), subframe=frame % 1)
         assert live.last_error(morph) is None, live.last_error(morph)
         assert frame_matches(compare_with(morph, source)), (frame, compare_with(morph, source))
+
+
+def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled(addon):
+    """Morph Selected from the interface runs the core in a worker thread (morph_job), so Blender
+    keeps drawing and Esc can stop it; run as a script (and here) it blocks, as before. The fan
+    cylinder -> torus keeps TetGen busy for ~30 s (it loops, then fails): meanwhile the main thread
+    gets the GIL (the interface can run Python), and a cancel after 1 s ends the job within a
+    second, with nothing built."""
+    from animanifold_blender._lib import am
+    from animanifold_blender.morph_job import MorphJob
+    from shapes import cylinder, icosphere, torus
+
+    job = MorphJob(cylinder(64), torus(), t0=1.0, t1=24.0)
+    ticks, began = 0, time.perf_counter()
+    while time.perf_counter() - began < 1.0:
+        time.sleep(0.01)
+        ticks += 1
+    assert not job.done and ticks > 50, ticks  # the GIL was free for the main thread
+    job.cancel()
+    asked = time.perf_counter()
+    assert job.wait(5.0) and time.perf_counter() - asked < 1.0
+    assert job.cancelled and job.cancelling and job.manifold is None and job.error is None
+
+    # a job left to finish gives what the blocking call gives
+    source, target = icosphere(1), torus()
+    job = MorphJob(source, target, t0=1.0, t1=24.0)
+    assert job.wait(120.0) and not job.cancelled and job.error is None
+    blocking = am.morph(source, target, t0=1.0, t1=24.0)
+    assert np.array_equal(job.manifold.simplices, blocking.simplices)
+    assert np.array_equal(job.manifold.points, blocking.points)
+    assert job.stage == "hole validity" and job.fraction == 1.0
+
+    # an input the core refuses comes back as the job's error, not raised in the thread
+    v, f = icosphere(1)
+    job = MorphJob((v, f[1:]), target)
+    assert job.wait(30.0) and isinstance(job.error, ValueError) and "open" in str(job.error)
+
+
+def test_morph_selected_invoked_without_a_window_runs_at_once(empty_scene):
+    """Invoked (as from a button) where there is no window to run a modal operator in (bpy, `blender
+    -b`), Morph Selected blocks like execute() instead of waiting for events that never come."""
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=1.0)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_cube_add(size=1.5, location=(0.3, 0.0, 0.0))
+    target = bpy.context.active_object
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected("INVOKE_DEFAULT") == {"FINISHED"}
+    assert bpy.context.active_object.name == "Icosphere_to_Cube"
+    assert bpy.context.active_object.animanifold.is_manifold
+
+
+class _FakeWindowManager:
+    """What the modal morph asks of the window manager, recorded (bpy has no window to give one)."""
+
+    def __init__(self, calls):
+        self.calls = calls
+
+    def event_timer_remove(self, timer):
+        self.calls.append(("timer removed", timer))
+
+    def progress_update(self, value):
+        self.calls.append(("progress", value))
+
+    def progress_end(self):
+        self.calls.append(("progress end",))
+
+
+def _modal_operator(job, running):
+    """Morph Selected's modal state (what invoke() leaves on the operator) on a stand-in: Blender
+    operators cannot be made outside an operator call, and modal() needs a window's events."""
+    from animanifold_blender import ops_morph
+
+    cls = ops_morph.ANIMANIFOLD_OT_morph_selected
+    op = SimpleNamespace(_job=job, _running=running, _timer="the timer", method="SKELETON", reports=[])
+    op.report = lambda kind, text: op.reports.append((set(kind), text))
+    for name in ("_status", "_finish", "_stop_waiting", "cancel"):
+        setattr(op, name, functools.partial(getattr(cls, name), op))
+    op._input_message, op._undo, op._create_object = cls._input_message, cls._undo, cls._create_object
+    return functools.partial(cls.modal, op), op
+
+
+def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_main_thread(empty_scene):
+    """modal() while the job runs: timer ticks show the stage in the status bar, view events pass,
+    everything else waits (the inputs must still be there at the end); Esc stops TetGen within a
+    tick and the operator cancels, adding nothing; a finished job's object is made by modal() in
+    the main thread, as execute() makes it."""
+    from animanifold_blender import ops_morph
+    from animanifold_blender.morph_job import MorphJob
+    from shapes import cylinder, torus
+
+    calls = []
+
+    class Context:  # bpy.context, with the window manager and workspace recorded
+        window_manager = _FakeWindowManager(calls)
+        workspace = SimpleNamespace(status_text_set=lambda text: calls.append(("status", text)))
+
+        def __getattr__(self, name):
+            return getattr(bpy.context, name)
+
+    def event(kind, value="NOTHING"):
+        return SimpleNamespace(type=kind, value=value)
+
+    def until_done(modal, seconds):
+        began = time.perf_counter()
+        while time.perf_counter() - began < seconds:
+            result = modal(Context(), event("TIMER"))
+            if result != {"RUNNING_MODAL"}:
+                return result
+            time.sleep(0.05)
+        return None
+
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=1.0)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_cube_add(size=1.5, location=(0.3, 0.0, 0.0))
+    target = bpy.context.active_object
+    objects = len(bpy.data.objects)
+
+    slow = (cylinder(64), torus())  # TetGen loops on its fan caps for ~30 s
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0), (source, target, 1, 24) + slow)
+    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"}
+    assert any(c[0] == "status" and "Esc to cancel" in c[1] for c in calls), calls
+    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
+    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    assert until_done(modal, 2.0) == {"CANCELLED"}
+    assert ("timer removed", "the timer") in calls and ("status", None) in calls and ("progress end",) in calls
+    assert any("cancelled" in text for _, text in op.reports) and len(bpy.data.objects) == objects
+
+    # Blender ending the operator itself (File > Open meanwhile) stops the job too
+    calls.clear()
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0), (source, target, 1, 24) + slow)
+    op.cancel(Context())
+    assert op._job.wait(2.0) and op._job.cancelled and ("timer removed", "the timer") in calls
+
+    inputs = (ops_morph.world_mesh(bpy.context, source), ops_morph.world_mesh(bpy.context, target))
+    modal, op = _modal_operator(MorphJob(*inputs, t0=1.0, t1=24.0), (source, target, 1, 24) + inputs)
+    assert until_done(modal, 120.0) == {"FINISHED"}, op.reports
+    made = bpy.context.active_object
+    assert made.name == "Icosphere_to_Cube" and made.animanifold.is_manifold
+    assert len(bpy.data.objects) == objects + 1 and source.hide_get() and target.hide_get()
