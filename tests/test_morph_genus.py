@@ -339,6 +339,10 @@ def test_a_fill_that_loses_faces_to_the_nudge_is_built_on_the_meshers_points():
     mesher's own points."""
     m = am.morph(cylinder(16), torus())
     report = m.validity
+    # With free points over the torus's caps (hull_cap_points) one free vertex stayed at the plane
+    # and the last frame missed the torus by 2.5e-8 of the size: made again without them.
+    assert report["hull_caps_dropped"] and report["target_cap_points"] == 0
+    assert report["stage_seconds"][0][0] == "with hull caps (ends not exact)"
     assert report["missing_source_faces"] == 0 and report["missing_target_faces"] == 0
     assert report["perturbation"] == 1e-7 and report["unnudged_steiner_points"] > 0
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
@@ -419,3 +423,29 @@ def components_of_faces(vertex_count: int, faces: np.ndarray) -> np.ndarray:
     _, labels = connected_components(graph, directed=False)
     _, per_face = np.unique(labels[faces[:, 0]], return_inverse=True)
     return per_face
+
+
+@pytest.mark.parametrize("direction", ["cube -> torus", "torus -> cube"])
+def test_the_hole_of_a_torus_opens_from_its_caps_without_a_bubble(direction):
+    """The torus's hull has a flat disc over each end of its hole, made of the torus's own top
+    (bottom) ring only. Those vertices stay in the plane, so pushed free points emptied the hole
+    from within while the discs stayed solid: frames before t1 held the hole as a bubble (19.7 %
+    of the volume at 0.9 of the range). A free point over each disc (hull_cap_points) makes the
+    disc a face between outside cells, pushed like the rest: no frame near the end encloses a
+    cavity, and the hole is open before the end."""
+    source, target = (cube(), torus()) if direction == "cube -> torus" else (torus(), cube())
+    m = am.morph(source, target)
+    report = m.validity
+    caps = "target_cap_points" if direction == "cube -> torus" else "source_cap_points"
+    assert report[caps] == 2 and report["source_cap_points"] + report["target_cap_points"] == 2
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
+    assert report["bubble_frames"] == [] and report["largest_bubble_fraction"] == 0.0
+    near_torus = np.linspace(0.8, 0.99, 20) if direction == "cube -> torus" else np.linspace(0.01, 0.2, 20)
+    for t in near_torus:
+        frame = m.slice(float(t), honour_holes=False)
+        labels = components_of_faces(len(frame.vertices), frame.faces)
+        a, b, c = (frame.vertices[frame.faces[:, k]] for k in range(3))
+        volumes = np.bincount(labels, weights=np.einsum("ij,ij->i", a, np.cross(b, c)) / 6)
+        assert (volumes > 0).all(), (float(t), volumes)  # no cavity
+    torus_end = m.slice(0.99 if direction == "cube -> torus" else 0.01, honour_holes=False)
+    assert euler_characteristic(torus_end.faces) == 0  # already a torus

@@ -56,6 +56,9 @@ void bind_morph(py::module_& m) {
         report["inputs_coincide"] = r.inputs_coincide;
         report["source_skeleton_points"] = r.source_skeleton_points;
         report["target_skeleton_points"] = r.target_skeleton_points;
+        report["source_cap_points"] = r.source_cap_points;
+        report["target_cap_points"] = r.target_cap_points;
+        report["hull_caps_dropped"] = r.hull_caps_dropped;
         report["source_free_vertices"] = r.source_free_vertices;
         report["target_free_vertices"] = r.target_free_vertices;
         report["split_faces"] = r.split_faces;

@@ -16,6 +16,10 @@
 #include <CGAL/convex_hull_3.h>
 #include <Eigen/Dense>
 #include <array>
+#include <set>
+#include <numeric>
+#include <map>
+#include <functional>
 #include <limits>
 #include <string>
 #include <cmath>
@@ -65,24 +69,83 @@ std::vector<Index> spread_out(const PointMatrix& points, double gap) {
 
 // The convex hull's facets of 3D points as planes: outward unit normal n and
 // offset c (n·x = c on the facet, n·x < c inside), one per triangle of CGAL's
-// hull (coplanar triangles repeat their plane).
+// hull (coplanar triangles repeat their plane). Each plane is computed from
+// the facet's points, not from the triangle: under bpy CGAL's hull
+// triangulates a flat side (a torus's cap) differently from one call to the
+// next, and planes through different triangles of it differ in the last
+// bits — so did the push's targets (depth_in_hull), and the same morph came
+// out different twice in one Blender session.
 std::vector<std::pair<Eigen::Vector3d, double>> hull_facet_planes(const PointMatrix& V) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   std::vector<K::Point_3> input;
   for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
   CGAL::Surface_mesh<K::Point_3> hull;
   CGAL::convex_hull_3(input.begin(), input.end(), hull);
-  std::vector<std::pair<Eigen::Vector3d, double>> planes;
+  std::map<std::array<double, 3>, Index> index_of;  // the hull's points are V's rows, bit for bit
+  for (Index v = V.rows() - 1; v >= 0; --v) index_of[{V(v, 0), V(v, 1), V(v, 2)}] = v;  // the first of duplicates
+  auto point = [&V](Index v) { return Eigen::Vector3d(V(v, 0), V(v, 1), V(v, 2)); };
+  // Triangles, then flat sides: triangles across an edge in one plane.
+  std::vector<std::array<Index, 3>> triangles;
+  std::vector<Eigen::Vector3d> normals;
   for (const auto f : hull.faces()) {
-    std::array<Eigen::Vector3d, 3> corner;
+    std::array<Index, 3> t{};
     int i = 0;
     for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
       const auto& p = hull.point(v);
-      corner[i++] = Eigen::Vector3d(p.x(), p.y(), p.z());
+      t[i++] = index_of.at({p.x(), p.y(), p.z()});
     }
-    const Eigen::Vector3d normal = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
-    planes.emplace_back(normal, normal.dot(corner[0]));
+    const Eigen::Vector3d a = point(t[0]), b = point(t[1]), c = point(t[2]);
+    triangles.push_back(t);
+    normals.push_back((b - a).cross(c - a));
   }
+  std::vector<Index> side(triangles.size());
+  std::iota(side.begin(), side.end(), Index{0});
+  std::function<Index(Index)> find = [&](Index x) { return side[x] == x ? x : side[x] = find(side[x]); };
+  std::map<std::pair<Index, Index>, Index> by_edge;
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      const auto edge = std::minmax(triangles[t][e], triangles[t][(e + 1) % 3]);
+      const auto [at, fresh] = by_edge.emplace(edge, static_cast<Index>(t));
+      if (fresh) continue;
+      const Index u = at->second;
+      // Exactly coplanar (the opposite corner in the plane): normals of
+      // thin triangles, compared with a tolerance, grouped a flat side one
+      // way or another depending on how the hull triangulated it.
+      Index opposite = triangles[u][0];
+      for (const Index v : triangles[u])
+        if (v != edge.first && v != edge.second) opposite = v;
+      if (CGAL::coplanar(input[triangles[t][0]], input[triangles[t][1]], input[triangles[t][2]], input[opposite]))
+        side[find(static_cast<Index>(t))] = find(u);
+    }
+  // Each side's plane through three of its points chosen by index: the
+  // lowest, the farthest from it, the farthest from the line of those two.
+  std::map<Index, std::pair<Eigen::Vector3d, double>> plane_of;
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    const Index root = find(static_cast<Index>(t));
+    if (plane_of.count(root)) continue;
+    std::set<Index> points;
+    Eigen::Vector3d outward = Eigen::Vector3d::Zero();
+    for (size_t u = 0; u < triangles.size(); ++u)
+      if (find(static_cast<Index>(u)) == root) points.insert(triangles[u].begin(), triangles[u].end()), outward += normals[u];
+    const Index a = *points.begin();
+    const Eigen::Vector3d pa = point(a);
+    Index b = a, c = a;
+    double best = -1;
+    for (const Index v : points)
+      if ((point(v) - pa).squaredNorm() > best) best = (point(v) - pa).squaredNorm(), b = v;
+    const Eigen::Vector3d ab = (point(b) - pa).normalized();
+    best = -1;
+    for (const Index v : points) {
+      const Eigen::Vector3d w = point(v) - pa;
+      const double off = (w - w.dot(ab) * ab).squaredNorm();
+      if (off > best) best = off, c = v;
+    }
+    Eigen::Vector3d normal = (point(b) - pa).cross(point(c) - pa).normalized();
+    if (normal.dot(outward) < 0) normal = -normal;
+    plane_of[root] = {normal, normal.dot(pa)};
+  }
+  std::vector<std::pair<Eigen::Vector3d, double>> planes;
+  for (size_t t = 0; t < triangles.size(); ++t) planes.push_back(plane_of.at(find(static_cast<Index>(t))));
   return planes;
 }
 

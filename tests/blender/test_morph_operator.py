@@ -564,3 +564,24 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     made = bpy.context.active_object
     assert made.name == "Icosphere_to_Cube" and made.animanifold.is_manifold
     assert len(bpy.data.objects) == objects + 1 and source.hide_get() and target.hide_get()
+
+
+def test_the_same_morph_twice_in_one_blender_session_is_the_same(empty_scene):
+    """Under bpy CGAL's convex hull triangulated a flat side (the cap of Blender's torus)
+    differently from one call to the next; planes through different triangles of it differ in the
+    last bits, and so did the push's targets: the same cube -> torus came out with other points
+    each time. The planes are now taken from each side's points."""
+    from animanifold_blender import ops_morph
+    from animanifold_blender._lib import am
+
+    bpy.ops.mesh.primitive_cube_add()
+    cube = ops_morph.world_mesh(bpy.context, bpy.context.active_object)
+    bpy.ops.mesh.primitive_torus_add()
+    torus = ops_morph.world_mesh(bpy.context, bpy.context.active_object)
+    runs = []
+    for k in range(3):
+        m = am.morph(cube, torus)
+        runs.append((np.asarray(m.points).copy(), np.asarray(m.simplices).copy()))
+        _ = [np.random.rand(1000 + 333 * k) for _ in range(50)]  # other allocations in between
+    for points, simplices in runs[1:]:
+        assert np.array_equal(points, runs[0][0]) and np.array_equal(simplices, runs[0][1])

@@ -58,6 +58,12 @@ struct MorphOptions {
   std::string perturbation = "position";
   // Passes of the vertex-by-vertex push (push_free_vertices).
   int push_sweeps = 3;
+  // Skeleton method: free points over the flat sides of each input's hull
+  // that bridge a hole (hull_cap_points, morph_skeleton.hpp), so that a
+  // torus's hole opens from its ends instead of emptying as a bubble. Where
+  // the ends then miss the inputs, the morph is made once more without them
+  // (MorphReport::hull_caps_dropped).
+  bool hull_caps = true;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -97,6 +103,8 @@ struct MorphReport {
   // of t1 - t0: smallest, mean, largest) with the simplices that already had
   // no volume to keep.
   Index source_skeleton_points = 0, target_skeleton_points = 0;
+  Index source_cap_points = 0, target_cap_points = 0;  // of those, over flat sides of the hulls (hull_cap_points)
+  bool hull_caps_dropped = false;  // made again without them: with them an end missed its input
   Index source_free_vertices = 0, target_free_vertices = 0;
   Index split_faces = 0;
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
