@@ -60,6 +60,10 @@ def morph(
     when frames run through themselves (flat-sided inputs), "hull_faces" too, keeping the better
     (report: `perturbation_mode`, `perturbation_retried`).
 
+    Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
+    (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends; where an
+    end would then miss its input, the core morphs once more without them (`hull_caps_dropped`).
+
     Frames near the ends and in the middle (BUBBLE_CHECKS) are checked for bubbles enclosed in
     the solid that neither input has: `bubble_frames` lists [time, bubbles] where there are,
     `largest_bubble_fraction` their largest share of a frame's volume.
