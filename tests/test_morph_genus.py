@@ -449,3 +449,22 @@ def test_the_hole_of_a_torus_opens_from_its_caps_without_a_bubble(direction):
         assert (volumes > 0).all(), (float(t), volumes)  # no cavity
     torus_end = m.slice(0.99 if direction == "cube -> torus" else 0.01, honour_holes=False)
     assert euler_characteristic(torus_end.faces) == 0  # already a torus
+
+
+def test_a_cube_into_the_voxel_plate_facing_it_does_not_run_through_itself():
+    """A 1.2x cube's sides face the voxel plate's parallel sides (x = ±1.2 -> ±1.75): the 4D hull
+    has a flat facet across each pair. Perturbed within their sides, the plate's grid points were
+    no longer parallel to the cube's edges, that facet held tets flat at the exact coordinates, and
+    every checked frame ran through itself (5 of 5). Left where they are (perturbation
+    "hull_faces", which morph() retries with), no frame does."""
+    source, target = (1.2 * cube()[0], cube()[1]), genus3_plate()
+    m = am.morph(source, target)
+    report = m.validity
+    assert report["perturbation_mode"] == "hull_faces" and report["perturbation_retried"]
+    assert not report["frames_cross_themselves"] and report["crossing_frames"] == []
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0
+    assert m.check()["is_oriented_manifold"]
+    for t in (0.1, 0.3, 0.5, 0.7, 0.9):
+        frame = m.slice(t, honour_holes=False)
+        assert_closed_oriented_surface(frame.faces)
+        assert am._core.self_intersections(frame.vertices, frame.faces, 1) == [], t

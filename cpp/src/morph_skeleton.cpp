@@ -196,21 +196,12 @@ PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::
     if (count >= 4) flat.push_back(plane);
   }
   planes = std::move(flat);
-  for (Index v = 0; v < V.rows(); ++v) {
-    const Eigen::Vector3d p = V.row(v).transpose();
-    Eigen::Vector3d offset = out.row(v).transpose() - p;
-    // Orthonormal normals of the planes through p; the offset keeps only
-    // what lies within all of them.
-    std::vector<Eigen::Vector3d> basis;
-    for (const auto& [n, c] : planes) {
-      if (std::abs(n.dot(p) - c) > 1e-12 * size) continue;
-      Eigen::Vector3d q = n;
-      for (const Eigen::Vector3d& b : basis) q -= q.dot(b) * b;
-      if (q.norm() > 1e-6) basis.push_back(q.normalized());
-    }
-    for (const Eigen::Vector3d& b : basis) offset -= offset.dot(b) * b;
-    out.row(v) = (p + offset).transpose();
-  }
+  for (Index v = 0; v < V.rows(); ++v)
+    for (const auto& [n, c] : planes)
+      if (std::abs(n.dot(Eigen::Vector3d(V.row(v).transpose())) - c) <= 1e-12 * size) {
+        out.row(v) = V.row(v);  // on a flat side: where it is
+        break;
+      }
   return out;
 }
 

@@ -47,14 +47,18 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
 PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F);
 
 // perturbed_by_position, except that points on the flat sides of the convex
-// hull (facet planes that hold four points or more) move only within them (a
-// point on an edge between two such sides along the edge, a corner of three
-// not at all): flat sides of the hull stay flat. With the
-// plain perturbation, points of a flat side (a voxel plate's top, collinear
-// points along its hull edges) bump in and out of the hull, and the fill's
-// lateral boundary holds slivers there that fold once the exact coordinates
-// are back: frames that run through themselves. Not the default (a cube's
-// corners then stay exact and its fill's ties are not broken: see
+// hull (facet planes that hold four points or more) do not move: flat sides
+// of the hull stay flat, and segments in them stay parallel to each other.
+// With the plain perturbation, points of a flat side (a voxel plate's top,
+// collinear points along its hull edges) bump in and out of the hull, and
+// the fill's lateral boundary holds slivers there that fold once the exact
+// coordinates are back: frames that run through themselves. Moved within
+// their sides (as this did until session 7), they still broke the parallels
+// between a cube's side and a voxel plate's side facing it: the 4D hull's
+// facet across the two held tets flat at the exact coordinates, and a 1.2x
+// cube -> the voxel plate ran through itself at 5 of 5 checked frames (0
+// now); the exact Delaunay fill resolves such ties itself. Not the default
+// (a cube's corners then stay exact and its fill's ties are not broken: see
 // MorphOptions::perturbation).
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt);
 
