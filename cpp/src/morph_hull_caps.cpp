@@ -2,8 +2,6 @@
 // sides of an input's convex hull that bridge what lies outside it.
 #include "animanifold/morph_skeleton.hpp"
 
-#include "animanifold/surface_distance.hpp"
-
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
@@ -28,8 +26,8 @@ constexpr double kCapHeight = 0.3;
 // Hull triangles in one plane to this fraction of the size are one side.
 constexpr double kCoplanar = 1e-9;
 
-// A point of a side this close to the input (fraction of the size) lies on
-// it: a bent quad that the hull triangulates by its other diagonal.
+// An input face this close to a side's plane (fraction of the size) lies in
+// it: float32 bends a quad by ~1e-8 of the size.
 constexpr double kOnSurface = 1e-6;
 
 // Lower than this (of the size) a cap point would make slivers with its
@@ -99,33 +97,48 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
         triangles[b].side = sides;
     ++sides;
   }
-  // A side bridges something when a point spread over it lies off the input.
-  const std::array<std::array<double, 3>, 4> spread{{{1. / 3, 1. / 3, 1. / 3}, {0.6, 0.2, 0.2}, {0.2, 0.6, 0.2}, {0.2, 0.2, 0.6}}};
+  // A side bridges something where the input's faces in its plane do not
+  // cover it (faces in the plane lie in the side: it is the hull's part of
+  // the plane). A bent quad the hull triangulates by its other diagonal, or
+  // a voxel model's full side, is covered; a torus's disc has none, and a
+  // voxel ring's top only its frame. (Points spread over the side, tested
+  // for lying on the input, missed the ring's hole between them.)
+  std::vector<double> side_area(static_cast<size_t>(sides), 0.0), covered(static_cast<size_t>(sides), 0.0);
+  std::vector<int> count(static_cast<size_t>(sides), 0);
+  std::vector<size_t> first(static_cast<size_t>(sides), 0);
+  for (size_t t = triangles.size(); t-- > 0;)
+    if (triangles[t].side >= 0) {
+      const size_t s = static_cast<size_t>(triangles[t].side);
+      side_area[s] += triangles[t].area, ++count[s], first[s] = t;
+    }
+  // Flat sides only (two triangles or more: four points or more in one
+  // plane). Single bridging triangles of a curved hull (3holes: thousands)
+  // gained nothing, and their points on the hull let frames run through
+  // themselves (5 of 5 checked).
+  std::vector<int> flat_sides;
+  for (int s = 0; s < sides; ++s)
+    if (count[static_cast<size_t>(s)] >= 2) flat_sides.push_back(s);
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
+    for (const int s : flat_sides) {
+      const HullTriangle& h = triangles[first[static_cast<size_t>(s)]];
+      const double tolerance = kOnSurface * size;
+      if (std::abs(h.normal.dot(a - h.corner[0])) <= tolerance && std::abs(h.normal.dot(b - h.corner[0])) <= tolerance &&
+          std::abs(h.normal.dot(c - h.corner[0])) <= tolerance)
+        covered[static_cast<size_t>(s)] += 0.5 * (b - a).cross(c - a).norm();
+    }
+  }
+  std::vector<bool> bridges(static_cast<size_t>(sides), false);
+  for (const int s : flat_sides)
+    bridges[static_cast<size_t>(s)] = covered[static_cast<size_t>(s)] < (1 - 1e-3) * side_area[static_cast<size_t>(s)];
   std::vector<size_t> bridging;
   for (size_t t = 0; t < triangles.size(); ++t)
     if (triangles[t].side >= 0) bridging.push_back(t);
-  PointMatrix samples(static_cast<Index>(bridging.size() * spread.size()), 3);
-  for (size_t b = 0; b < bridging.size(); ++b)
-    for (size_t w = 0; w < spread.size(); ++w) {
-      const HullTriangle& t = triangles[bridging[b]];
-      samples.row(static_cast<Index>(b * spread.size() + w)) =
-          (spread[w][0] * t.corner[0] + spread[w][1] * t.corner[1] + spread[w][2] * t.corner[2]).transpose();
-    }
-  const Eigen::VectorXd off = samples.rows() ? distances_to_surface(samples, V, F) : Eigen::VectorXd();
-  std::vector<bool> bridges(static_cast<size_t>(sides), false);
-  std::vector<int> count(static_cast<size_t>(sides), 0);
-  for (const size_t t : bridging) ++count[static_cast<size_t>(triangles[t].side)];
-  for (Index r = 0; r < samples.rows(); ++r)
-    if (off(r) > kOnSurface * size) bridges[static_cast<size_t>(triangles[bridging[static_cast<size_t>(r) / spread.size()]].side)] = true;
 
   PointMatrix out(sides, 3);
   Index kept = 0;
   for (int s = 0; s < sides; ++s) {
-    // Flat sides only (two triangles or more: four points or more in one
-    // plane). Single bridging triangles of a curved hull (3holes: thousands)
-    // gained nothing, and their points on the hull let frames run through
-    // themselves (5 of 5 checked).
-    if (!bridges[static_cast<size_t>(s)] || count[static_cast<size_t>(s)] < 2) continue;
+    if (!bridges[static_cast<size_t>(s)]) continue;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
     double area = 0;
     for (const size_t t : bridging)
