@@ -115,6 +115,7 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
   // plane). Single bridging triangles of a curved hull (3holes: thousands)
   // gained nothing, and their points on the hull let frames run through
   // themselves (5 of 5 checked).
+  std::vector<std::vector<Index>> in_plane(static_cast<size_t>(sides));  // the input's faces in each flat side
   std::vector<int> flat_sides;
   for (int s = 0; s < sides; ++s)
     if (count[static_cast<size_t>(s)] >= 2) flat_sides.push_back(s);
@@ -124,8 +125,10 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
       const HullTriangle& h = triangles[first[static_cast<size_t>(s)]];
       const double tolerance = kOnSurface * size;
       if (std::abs(h.normal.dot(a - h.corner[0])) <= tolerance && std::abs(h.normal.dot(b - h.corner[0])) <= tolerance &&
-          std::abs(h.normal.dot(c - h.corner[0])) <= tolerance)
+          std::abs(h.normal.dot(c - h.corner[0])) <= tolerance) {
         covered[static_cast<size_t>(s)] += 0.5 * (b - a).cross(c - a).norm();
+        in_plane[static_cast<size_t>(s)].push_back(f);
+      }
     }
   }
   std::vector<bool> bridges(static_cast<size_t>(sides), false);
@@ -135,21 +138,12 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
   for (size_t t = 0; t < triangles.size(); ++t)
     if (triangles[t].side >= 0) bridging.push_back(t);
 
-  PointMatrix out(sides, 3);
-  Index kept = 0;
-  for (int s = 0; s < sides; ++s) {
-    if (!bridges[static_cast<size_t>(s)]) continue;
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
-    double area = 0;
-    for (const size_t t : bridging)
-      if (triangles[t].side == s) {
-        const HullTriangle& h = triangles[t];
-        centre += h.area * (h.corner[0] + h.corner[1] + h.corner[2]) / 3;
-        normal += h.area * h.normal;
-        area += h.area;
-      }
-    centre /= area;
-    normal.normalize();
+  // One point over each hole in a side's covered part (a voxel plate's top
+  // has three: one point over the middle left the outer two closed), and
+  // one over the side's centre where uncovered area is left beyond them (a
+  // torus's disc, covered nowhere).
+  std::vector<Eigen::Vector3d> points;
+  auto place = [&](int s, const Eigen::Vector3d& centre, const Eigen::Vector3d& normal, double area) {
     // Low enough to see only its own side: half way to the nearest other
     // hull plane it would rise through, so that its hull faces end at the
     // side's rim. Standing higher, they lean on the curved input beyond the
@@ -164,9 +158,56 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
       if (rise > 1 - kOnSurface && std::abs(room) <= kOnSurface * size) continue;  // the side's own plane
       height = std::min(height, 0.5 * room / rise);
     }
-    if (!(height > kLowest * size)) continue;  // no room: leave the side as it is
-    out.row(kept++) = (centre + height * normal).transpose();
+    if (height > kLowest * size) points.push_back(centre + height * normal);  // else no room: left as it is
+  };
+  for (const int s : flat_sides) {
+    if (!bridges[static_cast<size_t>(s)]) continue;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+    double area = 0;
+    for (const size_t t : bridging)
+      if (triangles[t].side == s) {
+        const HullTriangle& h = triangles[t];
+        centre += h.area * (h.corner[0] + h.corner[1] + h.corner[2]) / 3;
+        normal += h.area * h.normal;
+        area += h.area;
+      }
+    centre /= area;
+    normal.normalize();
+    // The covered part's boundary: edges of its faces without their twin,
+    // chained into loops; holes turn clockwise seen from outside.
+    std::map<Index, Index> next;
+    std::set<std::pair<Index, Index>> directed;
+    for (const Index f : in_plane[static_cast<size_t>(s)])
+      for (int e = 0; e < 3; ++e) directed.insert({F(f, e), F(f, (e + 1) % 3)});
+    for (const auto& [a, b] : directed)
+      if (!directed.count({b, a})) next[a] = b;
+    double holes = 0;
+    while (!next.empty()) {
+      std::vector<Index> loop{next.begin()->first};
+      while (next.count(loop.back()) && (loop.size() == 1 || loop.back() != loop.front())) {
+        const Index v = loop.back();
+        loop.push_back(next.at(v));
+        next.erase(v);
+      }
+      if (loop.size() < 4 || loop.back() != loop.front()) continue;  // not closed: nothing to place
+      loop.pop_back();
+      Eigen::Vector3d twice_area = Eigen::Vector3d::Zero(), middle = Eigen::Vector3d::Zero();
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const Eigen::Vector3d p = V.row(loop[i]).transpose(), q = V.row(loop[(i + 1) % loop.size()]).transpose();
+        twice_area += p.cross(q);
+        middle += p;
+      }
+      const double signed_area = 0.5 * twice_area.dot(normal);
+      if (signed_area >= 0) continue;  // the outer rim
+      holes -= signed_area;
+      place(s, middle / static_cast<double>(loop.size()), normal, -signed_area);
+    }
+    if (side_area[static_cast<size_t>(s)] - covered[static_cast<size_t>(s)] - holes > 1e-3 * side_area[static_cast<size_t>(s)])
+      place(s, centre, normal, area);
   }
+  PointMatrix out(static_cast<Index>(points.size()), 3);
+  for (size_t p = 0; p < points.size(); ++p) out.row(static_cast<Index>(p)) = points[p].transpose();
+  const Index kept = out.rows();
   // On a grid (a power of two near 1e-7 of the size): the hull's
   // triangulation of a flat side changes from call to call (CGAL), the sums
   // above round differently, and a point one unit in the last place off is
@@ -175,7 +216,6 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
   const double step = std::exp2(std::floor(std::log2(1e-7 * size)));
   for (Index r = 0; r < kept; ++r)
     for (int c = 0; c < 3; ++c) out(r, c) = std::round(out(r, c) / step) * step;
-  out.conservativeResize(kept, 3);
   return out;
 }
 

@@ -34,8 +34,10 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
 
 // Free points for the flat sides of the convex hull of the closed outward
 // shape (V, F) (#V by 3) that bridge what lies outside it — a torus's top
-// and bottom discs over its hole — one per side, over its centre and just
-// outside the hull. Without them such a side is made of the input's vertices
+// and bottom discs over its hole — just outside the hull: one over each
+// hole in the part of a side the shape's own faces cover (a voxel plate's
+// top: three), and one over the side's centre where more is uncovered (a
+// torus's disc). Without them such a side is made of the input's vertices
 // only, which stay in the plane: the pushed free points inside empty the
 // hole from within while the discs stay solid, and the frames before t1 hold
 // the hole as a bubble (Blender's cube -> torus: 23 % of the frame's volume
