@@ -119,14 +119,13 @@ std::vector<std::pair<Eigen::Vector3d, double>> hull_facet_planes(const PointMat
     }
   // Each side's plane through three of its points chosen by index: the
   // lowest, the farthest from it, the farthest from the line of those two.
+  std::map<Index, std::vector<Index>> triangles_of;  // by side
+  for (size_t t = 0; t < triangles.size(); ++t) triangles_of[find(static_cast<Index>(t))].push_back(static_cast<Index>(t));
   std::map<Index, std::pair<Eigen::Vector3d, double>> plane_of;
-  for (size_t t = 0; t < triangles.size(); ++t) {
-    const Index root = find(static_cast<Index>(t));
-    if (plane_of.count(root)) continue;
+  for (const auto& [root, members] : triangles_of) {
     std::set<Index> points;
     Eigen::Vector3d outward = Eigen::Vector3d::Zero();
-    for (size_t u = 0; u < triangles.size(); ++u)
-      if (find(static_cast<Index>(u)) == root) points.insert(triangles[u].begin(), triangles[u].end()), outward += normals[u];
+    for (const Index u : members) points.insert(triangles[u].begin(), triangles[u].end()), outward += normals[u];
     const Index a = *points.begin();
     const Eigen::Vector3d pa = point(a);
     Index b = a, c = a;
