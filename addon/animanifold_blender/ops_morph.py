@@ -156,6 +156,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return source, target, start, end, world_mesh(context, source), world_mesh(context, target)
         except ValueError as e:  # an open or non-manifold input, named
             return self._input_message(e, source, target)
+        except Exception as e:  # the evaluated mesh could not be read: a report, not a traceback
+            return f"Morph failed reading the inputs: {type(e).__name__}: {e}"
 
     @staticmethod
     def _input_message(e: Exception, source, target) -> str:
