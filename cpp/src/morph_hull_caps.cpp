@@ -2,9 +2,6 @@
 // sides of an input's convex hull that bridge what lies outside it.
 #include "animanifold/morph_skeleton.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/convex_hull_3.h>
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
@@ -41,47 +38,31 @@ struct HullTriangle {
   double area = 0;
   bool input_face = false;  // one of the input's own triangles
   int side = -1;            // the flat side it belongs to (bridging triangles only)
-  std::array<Index, 3> ids{};  // its corners, sorted (-1 where not an input vertex)
+  std::array<Index, 3> ids{};  // its corners, sorted
 };
 
 }  // namespace
 
 PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F) {
   if (V.cols() != 3 || V.rows() < 4) return PointMatrix(0, V.cols());
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  std::vector<K::Point_3> input;
-  std::map<std::array<double, 3>, Index> index_of;  // the hull's points are the input's, bit for bit
-  for (Index v = 0; v < V.rows(); ++v) {
-    input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
-    index_of.emplace(std::array<double, 3>{V(v, 0), V(v, 1), V(v, 2)}, v);
-  }
   std::set<std::array<Index, 3>> faces;
   for (Index f = 0; f < F.rows(); ++f) {
     std::array<Index, 3> t{F(f, 0), F(f, 1), F(f, 2)};
     std::sort(t.begin(), t.end());
     faces.insert(t);
   }
-  CGAL::Surface_mesh<K::Point_3> hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
   std::vector<HullTriangle> triangles;
-  for (const auto f : hull.faces()) {
+  for (const std::array<Index, 3>& ids : convex_hull_triangles(V)) {
     HullTriangle t;
-    std::array<Index, 3> ids{};
-    int i = 0;
-    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-      const auto& p = hull.point(v);
-      t.corner[i] = Eigen::Vector3d(p.x(), p.y(), p.z());
-      const auto found = index_of.find({p.x(), p.y(), p.z()});
-      ids[i++] = found == index_of.end() ? -1 : found->second;
-    }
+    for (int i = 0; i < 3; ++i) t.corner[i] = V.row(ids[i]).transpose();
     const Eigen::Vector3d cross = (t.corner[1] - t.corner[0]).cross(t.corner[2] - t.corner[0]);
     t.area = 0.5 * cross.norm();
     if (!(t.area > 0)) continue;
     t.normal = cross.normalized();
-    std::sort(ids.begin(), ids.end());
-    t.input_face = faces.count(ids) > 0;
     t.ids = ids;
+    std::sort(t.ids.begin(), t.ids.end());
+    t.input_face = faces.count(t.ids) > 0;
     triangles.push_back(t);
   }
   // In an order of their own (CGAL's changes from call to call).

@@ -77,27 +77,13 @@ std::vector<Index> spread_out(const PointMatrix& points, double gap) {
 // out different twice in one Blender session.
 std::vector<std::pair<Eigen::Vector3d, double>> hull_facet_planes(const PointMatrix& V) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  std::vector<K::Point_3> input;
+  std::vector<K::Point_3> input;  // for the exact coplanarity test below
   for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
-  CGAL::Surface_mesh<K::Point_3> hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
-  std::map<std::array<double, 3>, Index> index_of;  // the hull's points are V's rows, bit for bit
-  for (Index v = V.rows() - 1; v >= 0; --v) index_of[{V(v, 0), V(v, 1), V(v, 2)}] = v;  // the first of duplicates
   auto point = [&V](Index v) { return Eigen::Vector3d(V(v, 0), V(v, 1), V(v, 2)); };
   // Triangles, then flat sides: triangles across an edge in one plane.
-  std::vector<std::array<Index, 3>> triangles;
+  const std::vector<std::array<Index, 3>> triangles = convex_hull_triangles(V);
   std::vector<Eigen::Vector3d> normals;
-  for (const auto f : hull.faces()) {
-    std::array<Index, 3> t{};
-    int i = 0;
-    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-      const auto& p = hull.point(v);
-      t[i++] = index_of.at({p.x(), p.y(), p.z()});
-    }
-    const Eigen::Vector3d a = point(t[0]), b = point(t[1]), c = point(t[2]);
-    triangles.push_back(t);
-    normals.push_back((b - a).cross(c - a));
-  }
+  for (const auto& t : triangles) normals.push_back((point(t[1]) - point(t[0])).cross(point(t[2]) - point(t[0])));
   std::vector<Index> side(triangles.size());
   std::iota(side.begin(), side.end(), Index{0});
   std::function<Index(Index)> find = [&](Index x) { return side[x] == x ? x : side[x] = find(side[x]); };
@@ -149,6 +135,27 @@ std::vector<std::pair<Eigen::Vector3d, double>> hull_facet_planes(const PointMat
 }
 
 }  // namespace
+
+std::vector<std::array<Index, 3>> convex_hull_triangles(const PointMatrix& V) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K::Point_3> input;
+  for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
+  CGAL::Surface_mesh<K::Point_3> hull;
+  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  std::map<std::array<double, 3>, Index> index_of;  // the hull's points are V's rows, bit for bit
+  for (Index v = V.rows() - 1; v >= 0; --v) index_of[{V(v, 0), V(v, 1), V(v, 2)}] = v;  // the first of duplicates
+  std::vector<std::array<Index, 3>> triangles;
+  for (const auto f : hull.faces()) {
+    std::array<Index, 3> t{};
+    int i = 0;
+    for (const auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+      const auto& p = hull.point(v);
+      t[i++] = index_of.at({p.x(), p.y(), p.z()});
+    }
+    triangles.push_back(t);
+  }
+  return triangles;
+}
 
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;

@@ -17,6 +17,7 @@
 
 #include <limits>
 #include <string>
+#include <array>
 #include <vector>
 
 namespace animanifold {
@@ -31,6 +32,11 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 // the distance to the nearest hull facet's plane (line in 2D), negative
 // outside. CGAL's convex hull.
 Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
+
+// The convex hull of the 3D points `V` (CGAL's) as outward triangles over
+// V's rows (the first of duplicate points), in CGAL's order: a flat side's
+// triangulation, and that order, can change from one call to the next.
+std::vector<std::array<Index, 3>> convex_hull_triangles(const PointMatrix& V);
 
 // Free points for the flat sides of the convex hull of the closed outward
 // shape (V, F) (#V by 3) that bridge what lies outside it — a torus's top
