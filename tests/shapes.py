@@ -56,6 +56,23 @@ def cylinder(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.n
     return v, np.concatenate([sides, bottom, top]).astype(np.int32)
 
 
+def strip_capped_cylinder(n: int = 64, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
+    """A cylinder whose n-gon caps are split into triangles between rim points only, as Blender's
+    "N-Gon" cap fill comes out of its triangulation: a zigzag strip across each cap (ears at the
+    two ends), outward."""
+    v, f = cylinder(n, radius, depth)
+    sides = f[:2 * n]
+    strip = [[0, n - 1, 1]]
+    low, high, turn = 1, n - 1, 0
+    while high - low > 1:
+        strip.append([low, high, low + 1] if turn == 0 else [low, high, high - 1])
+        low, high = (low + 1, high) if turn == 0 else (low, high - 1)
+        turn ^= 1
+    bottom = np.array(strip)  # facing down: clockwise seen from above
+    top = bottom[:, ::-1] + n
+    return v, np.concatenate([sides, bottom, top]).astype(np.int32)
+
+
 def cone(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
     """Blender's cone primitive: n cocircular points at the base (a fan), one at the tip, outward."""
     a = 2 * np.pi * np.arange(n) / n

@@ -11,7 +11,7 @@ void bind_morph(py::module_& m) {
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
          py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill,
-         const std::string& perturbation, py::object interrupted) {
+         const std::string& perturbation, py::object interrupted, bool fan_flat_polygons) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -21,6 +21,7 @@ void bind_morph(py::module_& m) {
         options.push_sweeps = push_sweeps;
         options.fill = fill;
         options.perturbation = perturbation;
+        options.fan_flat_polygons = fan_flat_polygons;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -59,6 +60,8 @@ void bind_morph(py::module_& m) {
         report["source_cap_points"] = r.source_cap_points;
         report["target_cap_points"] = r.target_cap_points;
         report["hull_caps_dropped"] = r.hull_caps_dropped;
+        report["source_fanned_polygons"] = r.source_fanned_polygons;
+        report["target_fanned_polygons"] = r.target_fanned_polygons;
         report["source_free_vertices"] = r.source_free_vertices;
         report["target_free_vertices"] = r.target_free_vertices;
         report["split_faces"] = r.split_faces;
@@ -81,6 +84,7 @@ void bind_morph(py::module_& m) {
       py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
       py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
       py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
+      py::arg("fan_flat_polygons") = MorphOptions{}.fan_flat_polygons,
       "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
       "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
       "True from the other, cancels (raises Cancelled).");

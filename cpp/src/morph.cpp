@@ -2,6 +2,7 @@
 
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/flat_polygons.hpp"
 #include "animanifold/morph_convex.hpp"
 #include "animanifold/morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
@@ -169,8 +170,8 @@ void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char
 }  // namespace
 
 // One morph, with the hull caps or without (see morph() below).
-static Morph morph_with(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
-                        const MorphOptions& options) {
+static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& source_faces,
+                        const PointMatrix& target_points, const SimplexMatrix& target_faces, const MorphOptions& options) {
   using Clock = std::chrono::steady_clock;
   Morph result;
   MorphReport& report = result.report;
@@ -182,9 +183,9 @@ static Morph morph_with(const PointMatrix& VS, const SimplexMatrix& FS, const Po
     if (options.progress && !options.progress(name, fraction)) throw Cancelled();
   };
 
-  check_closed_shape(VS, FS, "source");
-  check_closed_shape(VT, FT, "target");
-  if (VS.cols() != VT.cols()) fail<InputError>("source and target must both be 2D or both 3D");
+  check_closed_shape(source_points, source_faces, "source");
+  check_closed_shape(target_points, target_faces, "target");
+  if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
   if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
   const bool skeleton_method = options.method == "skeleton";
   if (!skeleton_method && options.method != "strip")
@@ -196,7 +197,19 @@ static Morph morph_with(const PointMatrix& VS, const SimplexMatrix& FS, const Po
   if (!(options.max_push > 0 && options.max_push < 1)) fail<InputError>("max_push must lie in (0, 1), got ", options.max_push);
   if (!(options.push_safety > 0 && options.push_safety < 1))
     fail<InputError>("push_safety must lie in (0, 1), got ", options.push_safety);
-  const int d = static_cast<int>(VS.cols());
+  const int d = static_cast<int>(source_points.cols());
+  // What the morph is built on: the inputs, their flat polygons fanned from
+  // their centres (MorphOptions::fan_flat_polygons) — the same surfaces.
+  // The ends are checked against the inputs as given (validity 2 below).
+  FannedMesh source{source_points, source_faces}, target{target_points, target_faces};
+  if (options.fan_flat_polygons && d == 3) {
+    source = fan_flat_polygons(source_points, source_faces);
+    target = fan_flat_polygons(target_points, target_faces);
+  }
+  report.source_fanned_polygons = source.polygons;
+  report.target_fanned_polygons = target.polygons;
+  const PointMatrix &VS = source.V, &VT = target.V;
+  const SimplexMatrix &FS = source.F, &FT = target.F;
 
   // Inputs in general position. Cospherical points (a cube's square faces, a
   // regular torus) make the Delaunay fill ambiguous and Qhull merges such
@@ -537,8 +550,8 @@ static Morph morph_with(const PointMatrix& VS, const SimplexMatrix& FS, const Po
                     max_distance_to_surface(with_face_centres(V, F), s.vertices, s.faces)) / diagonal;
   };
   const Slice start = slice(result.manifold, d, options.t0), end = slice(result.manifold, d, options.t1);
-  report.source_distance = two_sided(start, VS, FS);
-  report.target_distance = two_sided(end, VT, FT);
+  report.source_distance = two_sided(start, source_points, source_faces);
+  report.target_distance = two_sided(end, target_points, target_faces);
   report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
   stage("validity", 1.0);
   return result;

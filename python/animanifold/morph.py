@@ -29,6 +29,7 @@ def morph(
     hole_checks: int = 5,
     perturbation: str = "auto",
     interrupted: Callable[[], bool] | None = None,
+    fan_flat_polygons: bool = True,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -59,6 +60,13 @@ def morph(
     of the inputs' convex hulls move only within them), or "auto" (the default): "position", and
     when frames run through themselves (flat-sided inputs), "hull_faces" too, keeping the better
     (report: `perturbation_mode`, `perturbation_retried`).
+
+    fan_flat_polygons: flat convex polygons of six corners or more (a cylinder's and a cone's caps)
+    are triangulated again as fans from their centre before meshing (report:
+    `source_fanned_polygons`, `target_fanned_polygons`): Blender's chords between their
+    cocircular rim points are what the conforming mesher cannot settle (a 64-sided cylinder ->
+    a torus ran through itself). The surface and the ends are the same; False keeps the input's
+    triangulation, for comparison.
 
     Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
     (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends; where an
@@ -111,7 +119,8 @@ def morph(
             return user_progress(stage, done[0])
 
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
-                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks), interrupted=interrupted)
+                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
+                fan_flat_polygons=bool(fan_flat_polygons))
     start = time.perf_counter()
     manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
     manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
@@ -155,11 +164,11 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
 
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
                 push_safety: float, fill: str, hole_checks: int, perturbation: str,
-                interrupted: Callable[[], bool] | None) -> AnimationManifold:
+                interrupted: Callable[[], bool] | None, fan_flat_polygons: bool) -> AnimationManifold:
     """One morph with the core's `perturbation` (see morph())."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
                                    max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation,
-                                   interrupted=interrupted)
+                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
 

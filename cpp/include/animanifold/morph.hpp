@@ -64,6 +64,11 @@ struct MorphOptions {
   // the ends then miss the inputs, the morph is made once more without them
   // (MorphReport::hull_caps_dropped).
   bool hull_caps = true;
+  // 3D: flat convex polygons of six corners or more (a cylinder's or a cone's
+  // caps) are triangulated again as fans from their centre before meshing
+  // (fan_flat_polygons, flat_polygons.hpp): their chords between cocircular
+  // rim points are what the conforming mesher cannot settle.
+  bool fan_flat_polygons = true;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -105,6 +110,7 @@ struct MorphReport {
   Index source_skeleton_points = 0, target_skeleton_points = 0;
   Index source_cap_points = 0, target_cap_points = 0;  // of those, over flat sides of the hulls (hull_cap_points)
   bool hull_caps_dropped = false;  // made again without them: with them an end missed its input
+  Index source_fanned_polygons = 0, target_fanned_polygons = 0;  // MorphOptions::fan_flat_polygons
   Index source_free_vertices = 0, target_free_vertices = 0;
   Index split_faces = 0;
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
