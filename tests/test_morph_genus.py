@@ -113,6 +113,22 @@ def test_sphere_to_genus_3():
     assert m.validity["stage_seconds"][0][0] == "first perturbation (frames crossed)"
 
 
+@pytest.mark.parametrize("target", ["plate", "ring"])
+def test_a_sphere_the_voxel_model_sticks_out_of_keeps_its_hull_points_in_place(target):
+    """An icosphere of radius 1 into the voxel plate (3.5 long) or ring (3 wide) that sticks out of
+    it: two mirror-image corners of the sphere and an edge of the voxel model parallel to their
+    chord lie in one hyperplane of R^4, a facet of the fill's hull. Perturbed, the sphere's corners
+    bent it and the slivers across it folded at the exact coordinates: the frames ran through
+    themselves at 5 of 5 checked times with either perturbation (35 pairs of faces at each, with
+    the plate). The retry ("hull_faces") now keeps every point on the inputs' hulls in place."""
+    ring = np.ones((3, 3, 1), dtype=bool)
+    ring[1, 1, 0] = False
+    shape, euler = (genus3_plate(), -4) if target == "plate" else (voxel_surface(ring), 0)
+    m = check_topology_changing_morph(icosphere(3), shape, 2, euler)
+    assert m.validity["perturbation_mode"] == "hull_faces" and m.validity["perturbation_retried"]
+    assert m.validity["crossing_frames"] == []
+
+
 def test_sphere_to_a_ring_of_voxels_keeps_its_flat_sides_flat():
     """A 3x3 ring of unit voxels (genus 1, flat sides with collinear points along every hull edge)."""
     ring = np.ones((3, 3, 1), dtype=bool)

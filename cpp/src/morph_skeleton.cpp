@@ -181,31 +181,15 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
   PointMatrix out = perturbed_by_position(V, scale, salt);
   if (V.cols() != 3 || V.rows() < 4) return out;
-  // The hull's facet planes, one per direction (coplanar triangles share one).
-  std::vector<std::pair<Eigen::Vector3d, double>> planes;
-  for (const auto& [normal, offset] : hull_facet_planes(V)) {
-    bool known = false;
-    for (const auto& [n, c] : planes) known = known || (n.dot(normal) > 1 - 1e-12 && std::abs(c - offset) <= 1e-12 * (1 + std::abs(c)));
-    if (!known) planes.emplace_back(normal, offset);
-  }
+  const std::vector<std::pair<Eigen::Vector3d, double>> planes = hull_facet_planes(V);
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  auto on = [&](const std::pair<Eigen::Vector3d, double>& plane, Index v) {
-    return std::abs(plane.first.dot(Eigen::Vector3d(V.row(v).transpose())) - plane.second) <= 1e-12 * size;
-  };
-  // Only flat sides: planes that hold four points or more. A plane through
-  // three (every facet of a sphere's hull) is no degeneracy, and its corners
-  // left unperturbed would be (cospherical points, then ties everywhere).
-  std::vector<std::pair<Eigen::Vector3d, double>> flat;
-  for (const auto& plane : planes) {
-    int count = 0;
-    for (Index v = 0; v < V.rows() && count < 4; ++v) count += on(plane, v);
-    if (count >= 4) flat.push_back(plane);
-  }
-  planes = std::move(flat);
+  // A point in a facet's plane lies on the hull (the plane supports it):
+  // where it is. (Until session 8 only flat sides, planes of four points or
+  // more, kept theirs.)
   for (Index v = 0; v < V.rows(); ++v)
     for (const auto& [n, c] : planes)
       if (std::abs(n.dot(Eigen::Vector3d(V.row(v).transpose())) - c) <= 1e-12 * size) {
-        out.row(v) = V.row(v);  // on a flat side: where it is
+        out.row(v) = V.row(v);
         break;
       }
   return out;

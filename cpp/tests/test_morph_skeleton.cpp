@@ -104,6 +104,25 @@ TEST(MorphSkeleton, PerturbationAlongHullFacesLeavesFlatSidesAlone) {
   EXPECT_LE((P - V).cwiseAbs().maxCoeff(), scale);
 }
 
+TEST(MorphSkeleton, PerturbationAlongHullFacesLeavesCurvedHullCornersAlone) {
+  // An octahedron's corners (every hull facet a triangle of three: no flat
+  // side) and two points inside it. The corners stay (a sphere's corners
+  // moved bent the hyperplane they share with a voxel plate's edge in R^4);
+  // the inner points take the plain perturbation.
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  PointMatrix W(8, 3);
+  W << V, 0.1, 0.2, 0.3, -0.2, 0.1, 0.0;
+  const double scale = 1e-3;
+  const PointMatrix P = perturbed_along_hull_faces(W, scale, 7);
+  for (int v = 0; v < 6; ++v) EXPECT_EQ(P.row(v), W.row(v)) << "corner " << v;
+  for (int v : {6, 7}) {
+    EXPECT_EQ(P.row(v), perturbed_by_position(W, scale, 7).row(v));
+    EXPECT_NE(P.row(v), W.row(v));
+  }
+}
+
 TEST(MorphSkeleton, DepthInHullIsTheDistanceToTheNearestFacet) {
   PointMatrix V, points(3, 3);
   SimplexMatrix F;

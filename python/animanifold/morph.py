@@ -56,10 +56,10 @@ def morph(
     the end frames are from the inputs (relative to the bounding box).
 
     perturbation: how the inputs are put in general position — "position" (each point by an
-    offset that is a function of its position), "hull_faces" (the same, but points on flat sides
-    of the inputs' convex hulls move only within them), or "auto" (the default): "position", and
-    when frames run through themselves (flat-sided inputs), "hull_faces" too, keeping the better
-    (report: `perturbation_mode`, `perturbation_retried`).
+    offset that is a function of its position), "hull_faces" (the same, but points on the inputs'
+    convex hulls stay where they are), or "auto" (the default): "position", and when frames run
+    through themselves (flat-sided inputs, or an input's hull meeting the other's flat sides),
+    "hull_faces" too, keeping the better (report: `perturbation_mode`, `perturbation_retried`).
 
     fan_flat_polygons: flat convex polygons of six corners or more (a cylinder's and a cone's caps)
     are triangulated again as fans from their centre before meshing (report:
@@ -127,9 +127,10 @@ def morph(
     if perturbation != "auto" or not manifold.validity["frames_cross_themselves"]:
         return manifold
     # Frames that run through themselves come from slivers of flat sides of the inputs' hulls
-    # (a voxel model's flat faces, collinear points along its hull edges), which the default
-    # perturbation bumps in and out of the hull: once more with those sides kept flat, and the
-    # better of the two is kept.
+    # (a voxel model's flat faces, collinear points along its hull edges) and of facets of the
+    # fill's hull that span both inputs in one hyperplane, which the default perturbation bends:
+    # once more with the points on the inputs' hulls kept where they are, and the better of the
+    # two is kept.
     first_seconds = time.perf_counter() - start
     try:
         retry = _morph_once(arrays, perturbation="hull_faces", **once)

@@ -231,6 +231,32 @@ def test_a_64_sided_cylinder_with_fan_caps_morphs_into_a_torus(empty_scene):
         assert frame_matches(report), (frame, report)
 
 
+def test_blenders_default_uv_sphere_into_its_default_torus_has_clean_frames(empty_scene):
+    """Both primitives as Blender adds them, at the origin, over a new scene's frames 1-250: the
+    sphere's corners perturbed bent the hyperplanes of R^4 they share with the torus's, the frames
+    ran through themselves at 1 of 5 checked times (the retry no better) and held a bubble of
+    24 % of the volume before the end. The retry keeps every point on the inputs' hulls in place.
+    (Over frames 1-24 the old retry happened to come out clean: the checks fall elsewhere.)"""
+    from animanifold_blender import live
+
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 250
+    bpy.ops.mesh.primitive_uv_sphere_add()
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add()
+    target = bpy.context.active_object
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    morph = bpy.context.active_object
+    validity = live.manifold_for(morph).validity
+    assert validity["ends_reproduced"] and validity["perturbation_mode"] == "hull_faces", validity
+    assert not validity["frames_cross_themselves"] and validity["bubble_frames"] == [], validity
+    for frame, obj in ((1, source), (250, target)):
+        scene.frame_set(frame)
+        report = compare_with(morph, obj)
+        assert frame_matches(report), (frame, report)
+
+
 def test_only_the_selected_meshes_take_part(empty_scene):
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2)
     source = bpy.context.active_object

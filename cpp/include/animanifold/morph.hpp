@@ -53,8 +53,9 @@ struct MorphOptions {
   std::string fill = "cgal";
   // How the inputs are put in general position (see morph.cpp): "position"
   // (perturbed_by_position, the default) or "hull_faces"
-  // (perturbed_along_hull_faces: flat sides of the inputs' hulls stay flat;
-  // the Python morph() retries with it when frames run through themselves).
+  // (perturbed_along_hull_faces: points on the inputs' hulls stay where they
+  // are; the Python morph() retries with it when frames run through
+  // themselves).
   std::string perturbation = "position";
   // Passes of the vertex-by-vertex push (push_free_vertices).
   int push_sweeps = 3;

@@ -54,19 +54,26 @@ std::vector<std::array<Index, 3>> convex_hull_triangles(const PointMatrix& V);
 // that is the input's own face).
 PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F);
 
-// perturbed_by_position, except that points on the flat sides of the convex
-// hull (facet planes that hold four points or more) do not move: flat sides
-// of the hull stay flat, and segments in them stay parallel to each other.
-// With the plain perturbation, points of a flat side (a voxel plate's top,
-// collinear points along its hull edges) bump in and out of the hull, and
-// the fill's lateral boundary holds slivers there that fold once the exact
-// coordinates are back: frames that run through themselves. Moved within
-// their sides (as this did until session 7), they still broke the parallels
-// between a cube's side and a voxel plate's side facing it: the 4D hull's
-// facet across the two held tets flat at the exact coordinates, and a 1.2x
-// cube -> the voxel plate ran through itself at 5 of 5 checked frames (0
-// now); the exact Delaunay fill resolves such ties itself. Not the default
-// (a cube's corners then stay exact and its fill's ties are not broken: see
+// perturbed_by_position, except that points on the convex hull's boundary
+// do not move: flat sides of the hull stay flat, segments in them stay
+// parallel to each other, and a facet of the fill's hull in R^4 that spans
+// both inputs in one hyperplane stays in it. With the plain perturbation,
+// points of a flat side (a voxel plate's top, collinear points along its
+// hull edges) bump in and out of the hull, and the fill's lateral boundary
+// holds slivers there that fold once the exact coordinates are back: frames
+// that run through themselves. Moved within their sides (as this did until
+// session 7), they still broke the parallels between a cube's side and a
+// voxel plate's side facing it: a 1.2x cube -> the voxel plate ran through
+// itself at 5 of 5 checked frames (0 since). Keeping only the flat sides'
+// points (until session 8) left a sphere's hull corners perturbed: where two
+// mirror-image corners of an icosphere and an edge of the voxel plate
+// parallel to their chord lie in one hyperplane of R^4 (a facet of the
+// fill's hull), the perturbation bent it and the slivers across it folded at
+// the exact coordinates — an icosphere -> the voxel plate sticking out of it
+// ran through itself at 5 of 5 frames, Blender's UV sphere -> its torus at 1
+// with a bubble of 24 % (0 and none now). The exact Delaunay fill resolves
+// the ties of unmoved points itself. Not the default (a cube's corners then
+// stay exact and its fill's ties are not broken: see
 // MorphOptions::perturbation).
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt);
 
