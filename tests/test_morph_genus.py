@@ -129,6 +129,18 @@ def test_a_sphere_the_voxel_model_sticks_out_of_keeps_its_hull_points_in_place(t
     assert m.validity["crossing_frames"] == []
 
 
+def test_a_cylinder_into_the_voxel_plate_keeps_the_steiner_points_on_its_hull_edges():
+    """TetGen splits the cylinder's vertical hull edges; nudged off them (as the other Steiner
+    points are, see morph.cpp), those points made slivers with the edges' ends that folded once
+    restored: the frames ran through themselves at 5 of 5 checked times with either perturbation,
+    52 free vertices were held back and a bubble of 5.8 % of the volume formed. With the retry
+    ("hull_faces") they stay on the edges (two bubbles of 5.7e-5 of the volume remain at 0.9)."""
+    m = check_topology_changing_morph(cylinder(64), genus3_plate(), 2, -4)
+    report = m.validity
+    assert report["perturbation_mode"] == "hull_faces" and report["crossing_frames"] == []
+    assert report["largest_bubble_fraction"] < 1e-3 and report["held_back_vertices"] <= 5, report
+
+
 def test_sphere_to_a_ring_of_voxels_keeps_its_flat_sides_flat():
     """A 3x3 ring of unit voxels (genus 1, flat sides with collinear points along every hull edge)."""
     ring = np.ones((3, 3, 1), dtype=bool)
@@ -509,8 +521,11 @@ def test_a_cube_into_the_voxel_plate_facing_it_does_not_run_through_itself():
     assert not report["frames_cross_themselves"] and report["crossing_frames"] == []
     # A free point over each of the plate's three holes, top and bottom (hull_cap_points): with
     # one over the middle of each side only, the outer holes stayed closed and the frames near the
-    # end held them as bubbles (12 % of the volume); none now.
-    assert report["target_cap_points"] == 6 and report["bubble_frames"] == []
+    # end held them as bubbles (12 % of the volume). Since the Steiner points on the hulls stay
+    # where the mesher put them (session 8), one bubble of 1.3e-5 of the volume at 0.9 (none
+    # before: the trade for the folds those nudged points made elsewhere, see morph.cpp).
+    assert report["target_cap_points"] == 6 and len(report["bubble_frames"]) <= 1
+    assert report["largest_bubble_fraction"] < 1e-4, report["largest_bubble_fraction"]
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
     assert m.check()["is_oriented_manifold"]
     for t in (0.1, 0.3, 0.5, 0.7, 0.9):

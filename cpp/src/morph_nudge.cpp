@@ -8,11 +8,13 @@
 
 namespace animanifold {
 
-PointMatrix nudged_steiner_points(const ConformingDelaunay& c, Index first, double amount, Index& unnudged) {
+PointMatrix nudged_steiner_points(const ConformingDelaunay& c, Index first, double amount, Index& unnudged,
+                                  const std::vector<bool>& stay) {
   const int d = static_cast<int>(c.points.cols());
   PointMatrix P = c.points;
   std::vector<bool> nudged(P.rows(), false);
   for (Index v = first; v < P.rows(); ++v) {
+    if (static_cast<size_t>(v) < stay.size() && stay[v]) continue;
     // One coordinate after the other, each offset keyed by the point as far
     // as it has moved (as the morph always did: the same points, the same nudge).
     for (int k = 0; k < d; ++k) P(v, k) += amount * position_hash_offset(P.row(v).data(), d, k, 777);

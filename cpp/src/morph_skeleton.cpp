@@ -178,20 +178,27 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   return depth;
 }
 
-PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
-  PointMatrix out = perturbed_by_position(V, scale, salt);
-  if (V.cols() != 3 || V.rows() < 4) return out;
+std::vector<bool> on_convex_hull(const PointMatrix& points, const PointMatrix& V) {
+  std::vector<bool> on(static_cast<size_t>(points.rows()), false);
+  if (V.cols() != 3 || points.cols() != 3 || V.rows() < 4) return on;
   const std::vector<std::pair<Eigen::Vector3d, double>> planes = hull_facet_planes(V);
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  // A point in a facet's plane lies on the hull (the plane supports it):
-  // where it is. (Until session 8 only flat sides, planes of four points or
-  // more, kept theirs.)
-  for (Index v = 0; v < V.rows(); ++v)
+  for (Index v = 0; v < points.rows(); ++v)
     for (const auto& [n, c] : planes)
-      if (std::abs(n.dot(Eigen::Vector3d(V.row(v).transpose())) - c) <= 1e-12 * size) {
-        out.row(v) = V.row(v);
+      if (std::abs(n.dot(Eigen::Vector3d(points.row(v).transpose())) - c) <= 1e-12 * size) {
+        on[v] = true;
         break;
       }
+  return on;
+}
+
+PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
+  PointMatrix out = perturbed_by_position(V, scale, salt);
+  // Points on the hull where they are. (Until session 8 only those of flat
+  // sides, planes of four points or more.)
+  const std::vector<bool> on = on_convex_hull(V, V);
+  for (Index v = 0; v < V.rows(); ++v)
+    if (on[v]) out.row(v) = V.row(v);
   return out;
 }
 

@@ -123,6 +123,20 @@ TEST(MorphSkeleton, PerturbationAlongHullFacesLeavesCurvedHullCornersAlone) {
   }
 }
 
+TEST(MorphSkeleton, OnConvexHullFlagsCornersEdgeAndFacePointsOnly) {
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  PointMatrix points(5, 3);
+  points << V.row(0), 0.5, 0.5, 0.0,  // a corner, the middle of an edge
+      1.0 / 3, 1.0 / 3, 1.0 / 3,      // the centre of a facet
+      0.1, 0.1, 0.1,                  // inside
+      1.0, 1.0, 0.0;                  // outside, in no facet's plane
+  const std::vector<bool> on = on_convex_hull(points, V);
+  EXPECT_EQ(on, (std::vector<bool>{true, true, true, false, false}));
+  EXPECT_EQ(on_convex_hull(PointMatrix::Zero(2, 2), PointMatrix::Zero(4, 2)), (std::vector<bool>{false, false}));
+}
+
 TEST(MorphSkeleton, DepthInHullIsTheDistanceToTheNearestFacet) {
   PointMatrix V, points(3, 3);
   SimplexMatrix F;

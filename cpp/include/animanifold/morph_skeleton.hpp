@@ -38,6 +38,11 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V);
 // triangulation, and that order, can change from one call to the next.
 std::vector<std::array<Index, 3>> convex_hull_triangles(const PointMatrix& V);
 
+// Per row of `points` (#P by 3): whether it lies in the plane of a facet of
+// the convex hull of `V` (#V by 3), within 1e-12 of V's size — on the hull's
+// boundary, for points of V or on its surface. All false outside 3D.
+std::vector<bool> on_convex_hull(const PointMatrix& points, const PointMatrix& V);
+
 // Free points for the flat sides of the convex hull of the closed outward
 // shape (V, F) (#V by 3) that bridge what lies outside it — a torus's top
 // and bottom discs over its hole — just outside the hull: one over each
@@ -104,7 +109,9 @@ ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_e
 // corners (a cyclic trapezoid), whose diagonal only the exact predicate on
 // the mesher's own coordinates settles the mesher's way: TetGen's first run
 // on bunny.off has 10 such faces that the nudge alone would lose.
-PointMatrix nudged_steiner_points(const ConformingDelaunay& c, Index first, double amount, Index& unnudged);
+// Points flagged in `stay` (per point of c; empty: none) are not nudged.
+PointMatrix nudged_steiner_points(const ConformingDelaunay& c, Index first, double amount, Index& unnudged,
+                                  const std::vector<bool>& stay = {});
 
 // The fill `c` was built on `perturbed` input: input vertices get their exact
 // coordinates `V` back, and every point the mesher added on an input face is
