@@ -58,8 +58,9 @@ def morph(
     perturbation: how the inputs are put in general position — "position" (each point by an
     offset that is a function of its position), "hull_faces" (the same, but points on the inputs'
     convex hulls stay where they are), or "auto" (the default): "position", and when frames run
-    through themselves (flat-sided inputs, or an input's hull meeting the other's flat sides),
-    "hull_faces" too, keeping the better (report: `perturbation_mode`, `perturbation_retried`).
+    through themselves (flat-sided inputs, or an input's hull meeting the other's flat sides) or
+    hold bubbles, "hull_faces" too, keeping the better — fewer crossing frames, then a smaller
+    largest bubble (report: `perturbation_mode`, `perturbation_retried`).
 
     fan_flat_polygons: flat convex polygons of six corners or more (a cylinder's and a cone's caps)
     are triangulated again as fans from their centre before meshing (report:
@@ -124,24 +125,32 @@ def morph(
     start = time.perf_counter()
     manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
     manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
-    if perturbation != "auto" or not manifold.validity["frames_cross_themselves"]:
+    first = manifold.validity
+    if perturbation != "auto" or not (first["frames_cross_themselves"] or first["bubble_frames"]):
         return manifold
     # Frames that run through themselves come from slivers of flat sides of the inputs' hulls
     # (a voxel model's flat faces, collinear points along its hull edges) and of facets of the
-    # fill's hull that span both inputs in one hyperplane, which the default perturbation bends:
-    # once more with the points on the inputs' hulls kept where they are, and the better of the
-    # two is kept.
+    # fill's hull that span both inputs in one hyperplane, which the default perturbation bends;
+    # the slivers also hold free vertices back, and those leave bubbles (the demo's UV sphere ->
+    # torus: 2.6 % of the volume at 0.9 of the range, none with the retry). Once more with the
+    # points on the inputs' hulls kept where they are, and the better of the two is kept: fewer
+    # crossing frames, then a smaller largest bubble.
     first_seconds = time.perf_counter() - start
     try:
         retry = _morph_once(arrays, perturbation="hull_faces", **once)
     except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
         manifold.validity["perturbation_retried"] = True
         return manifold
-    first, second = manifold.validity, retry.validity
-    if (second["ends_reproduced"] and second["inverted_simplices"] == 0
-            and len(second["crossing_frames"]) < len(first["crossing_frames"]) and retry.check()["is_oriented_manifold"]):
+    second = retry.validity
+
+    def flaws(report: dict) -> tuple[int, float]:
+        return len(report["crossing_frames"]), report["largest_bubble_fraction"]
+
+    if (second["ends_reproduced"] and second["inverted_simplices"] == 0 and flaws(second) < flaws(first)
+            and retry.check()["is_oriented_manifold"]):
         second["perturbation_mode"] = "hull_faces"
-        second["stage_seconds"].insert(0, ["first perturbation (frames crossed)", first_seconds])
+        why = "frames crossed" if first["frames_cross_themselves"] else "bubbles"
+        second["stage_seconds"].insert(0, [f"first perturbation ({why})", first_seconds])
         manifold = retry
     manifold.validity["perturbation_retried"] = True
     return manifold
