@@ -2,7 +2,11 @@
 dissertation's seed figures and, in the same run, OpenVDB's level-set morph.
 
     python3 bench/bench_morph.py [--method skeleton|strip] [--vdb-resolutions 128,192]
-                                 [--no-peer] [--target path.off]
+                                 [--no-peer] [--target path.off|procedural]
+
+The target is ../shared/data/meshes/3holes.off (libigl's genus-3 model, 3,596 vertices) when the
+shared data has it, else (or with --target procedural) animanifold.procedural.smooth_genus3(): a
+curved genus-3 slab of 1,596 vertices, a stand-in whose figures are not the 3holes figures.
 
 What is compared
 ----------------
@@ -70,7 +74,7 @@ sys.path.insert(0, str(ROOT / "python"))
 
 import animanifold as am  # noqa: E402
 from animanifold.morph import METHODS  # noqa: E402  (am.morph is the function)
-from animanifold.procedural import icosphere  # noqa: E402
+from animanifold.procedural import icosphere, smooth_genus3  # noqa: E402
 
 # §8.7.1, keyed by our stage names where there is a counterpart.
 SEED_SECONDS = {"conforming": 6.6, "find": 559.5, "fill": 12.24, "strip": 227.1}
@@ -395,7 +399,10 @@ def main() -> int:
     parser.add_argument("--method", default=default_method,
                         help=f"am.morph method (default here: {default_method}; available: "
                              f"{', '.join(METHODS)})")
-    parser.add_argument("--target", type=Path, default=ROOT.parent / "shared" / "data" / "meshes" / "3holes.off")
+    shared_target = ROOT.parent / "shared" / "data" / "meshes" / "3holes.off"
+    parser.add_argument("--target", default=None,
+                        help=f"an OFF/OBJ genus-3 model, or 'procedural' (default: {shared_target} when present, "
+                             "else procedural)")
     parser.add_argument("--sphere-subdivisions", type=int, default=4, help="icosphere level (4: 2,562 vertices)")
     parser.add_argument("--vdb-resolutions", default="128,192",
                         help="voxels per bbox diagonal of the target, comma separated (peer cost ~ N^3)")
@@ -403,10 +410,21 @@ def main() -> int:
     parser.add_argument("--build", type=Path, default=ROOT / "build")
     args = parser.parse_args()
 
-    if not args.target.exists():
-        print(f"bench_morph: {args.target} is absent (it comes with the project's shared/ folder)")
-        return 1
-    target = am.read_mesh(args.target)
+    work = Path(tempfile.mkdtemp(prefix="bench_morph_"))
+    if args.target is None and not shared_target.exists():
+        print(f"bench_morph: {shared_target} is absent (it comes with the project's shared/ folder): "
+              "the procedural stand-in instead (figures not comparable with 3holes')", flush=True)
+    if args.target == "procedural" or (args.target is None and not shared_target.exists()):
+        target = smooth_genus3()
+        args.target = work / "smooth_genus3.off"
+        am.write_mesh(args.target, *target)
+    else:
+        args.target = Path(args.target) if args.target else shared_target
+        if not args.target.exists():
+            print(f"bench_morph: {args.target} does not exist")
+            shutil.rmtree(work, ignore_errors=True)
+            return 1
+        target = am.read_mesh(args.target)
     lo, hi = target[0].min(0), target[0].max(0)
     diagonal = float(np.linalg.norm(hi - lo))
     sphere = covering_sphere(target[0], args.sphere_subdivisions)
@@ -420,7 +438,6 @@ def main() -> int:
 
     peers = []
     if not args.no_peer:
-        work = Path(tempfile.mkdtemp(prefix="bench_morph_"))
         sphere_path = work / "sphere.off"
         am.write_mesh(sphere_path, *sphere)
         exe, why = vdb_executable(args.build)
@@ -432,8 +449,8 @@ def main() -> int:
             peers.append(run_peer(exe, sphere_path, args.target, resolution, sphere, target, diagonal, work))
             if "wall" in peers[-1]:
                 print(f"bench_morph: peer done in {peers[-1]['wall']:.1f} s", flush=True)
-        shutil.rmtree(work, ignore_errors=True)
     print_report(args.method, ours, peers, inputs)
+    shutil.rmtree(work, ignore_errors=True)
     return 0
 
 

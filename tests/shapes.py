@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from animanifold.procedural import voxel_surface  # noqa: F401  (the tests' voxel models)
+
 
 def icosahedron() -> tuple[np.ndarray, np.ndarray]:
     p = (1 + 5**0.5) / 2
@@ -150,35 +152,6 @@ def torus(major_radius: float = 1.0, minor_radius: float = 0.3, major: int = 24,
         np.where(convex_ac[:, None], np.stack([a, c, d], 1), np.stack([b, c, d], 1)),
     ])
     return v, f.astype(np.int32)
-
-
-def voxel_surface(filled: np.ndarray, size: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """Boundary of a union of unit voxels (`filled`: a 3D bool array) as outward triangles.
-
-    The caller keeps voxels from touching along an edge or a corner only (the
-    surface would not be a manifold there)."""
-    filled = np.pad(np.asarray(filled, bool), 1)
-    ids: dict[tuple[int, int, int], int] = {}
-    faces = []
-
-    def vertex(p):
-        return ids.setdefault(tuple(int(x) for x in p), len(ids))
-
-    for axis in range(3):
-        step = np.eye(3, dtype=int)[axis]
-        u, w = np.eye(3, dtype=int)[(axis + 1) % 3], np.eye(3, dtype=int)[(axis + 2) % 3]
-        for cell in np.argwhere(filled):
-            for sign in (1, -1):
-                if filled[tuple(cell + sign * step)]:
-                    continue
-                base = cell + (step if sign > 0 else 0)
-                quad = [base, base + u, base + u + w, base + w]  # counter-clockwise seen from +axis
-                if sign < 0:
-                    quad = quad[::-1]
-                q = [vertex(p) for p in quad]
-                faces += [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]
-    v = np.array(sorted(ids, key=ids.get), float) * size
-    return v, np.array(faces, np.int32)
 
 
 def genus3_plate() -> tuple[np.ndarray, np.ndarray]:
