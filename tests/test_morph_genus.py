@@ -157,6 +157,7 @@ def test_sphere_to_the_curved_genus_3_stand_in_of_the_benchmark():
     m = check_topology_changing_morph(icosphere(4), (v, f), 2, -4, frames_cross=True)
     report = m.validity
     assert report["perturbation_retried"] and report["perturbation_mode"] == "position"
+    assert report["stage_seconds"][-1][0] == "retry, hull points in place (not kept)"
     assert report["held_back_vertices"] > 0.5 * report["target_free_vertices"]
     assert 0 < report["largest_bubble_fraction"] < 0.15
 

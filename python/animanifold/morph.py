@@ -139,7 +139,8 @@ def morph(
     try:
         retry = _morph_once(arrays, perturbation="hull_faces", **once)
     except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
-        manifold.validity["perturbation_retried"] = True
+        first["stage_seconds"].append(["retry, hull points in place (failed)", time.perf_counter() - start - first_seconds])
+        first["perturbation_retried"] = True
         return manifold
     second = retry.validity
 
@@ -152,6 +153,8 @@ def morph(
         why = "frames crossed" if first["frames_cross_themselves"] else "bubbles"
         second["stage_seconds"].insert(0, [f"first perturbation ({why})", first_seconds])
         manifold = retry
+    else:  # its time still counts (3holes.off: 3 s for a retry that was no better)
+        first["stage_seconds"].append(["retry, hull points in place (not kept)", time.perf_counter() - start - first_seconds])
     manifold.validity["perturbation_retried"] = True
     return manifold
 
