@@ -8,6 +8,7 @@ APT_PACKAGES=(
   pybind11-dev libeigen3-dev libsuitesparse-dev libcgal-dev
   libtet1.5-dev libqhull-dev libosd-dev libgtest-dev
   blender python3-numpy
+  xvfb  # a virtual screen for the test that runs Morph Selected in a real Blender window
   libopenvdb-dev  # only for the opt-in peer of bench/bench_morph.py (~5 MB with its -dev deps)
 )
 PIP_PACKAGES=(

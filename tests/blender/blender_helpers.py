@@ -29,6 +29,15 @@ def eval_corners(obj, frame=None) -> np.ndarray:
         ob_eval.to_mesh_clear()
 
 
+def select_pair(source, target) -> None:
+    """Only `source` and `target` selected, `target` active (Morph Selected's inputs)."""
+    for o in bpy.context.view_layer.objects:
+        o.select_set(False)
+    source.select_set(True)
+    target.select_set(True)
+    bpy.context.view_layer.objects.active = target
+
+
 def shown(obj):
     """The mesh `obj` shows (and renders, exports) at the current frame: its evaluated
     mesh. A live manifold object's own mesh holds its topology interval's middle frame;
@@ -101,10 +110,9 @@ BLENDER = shutil.which("blender") or "/usr/bin/blender"
 NO_BLENDER_BINARY = "Debian's blender binary (/usr/bin/blender) is not installed"
 
 
-def run_blender_binary_smoke(tmp_path: Path, script: str) -> subprocess.CompletedProcess:
-    """Packs the add-on zip and runs tests/blender/scripts/<script> under Debian's
-    `blender -b --factory-startup --python-exit-code 1` with arguments
-    (zip, blender_scenes/, tmp_path); returns the finished process."""
+def _packed_addon_and_env(tmp_path: Path) -> tuple[Path, dict]:
+    """The add-on zip (scripts/package_addon.py) and an environment for Debian's Blender that
+    keeps its user folders in tmp_path and its embedded Python away from ours."""
     zip_path = tmp_path / "animanifold_blender.zip"
     subprocess.run([sys.executable, str(ROOT / "scripts" / "package_addon.py"), "--output", str(zip_path)],
                    check=True, capture_output=True, text=True)
@@ -116,8 +124,45 @@ def run_blender_binary_smoke(tmp_path: Path, script: str) -> subprocess.Complete
                                   if ".pyenv" not in p and "/venv" not in p and "/.venv" not in p)
     for key in [k for k in env if k.startswith("PYENV") or k == "VIRTUAL_ENV"]:
         env.pop(key)
+    return zip_path, env
+
+
+def run_blender_binary_smoke(tmp_path: Path, script: str) -> subprocess.CompletedProcess:
+    """Packs the add-on zip and runs tests/blender/scripts/<script> under Debian's
+    `blender -b --factory-startup --python-exit-code 1` with arguments
+    (zip, blender_scenes/, tmp_path); returns the finished process."""
+    zip_path, env = _packed_addon_and_env(tmp_path)
     return subprocess.run(
         [BLENDER, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
          str(ROOT / "tests" / "blender" / "scripts" / script), "--", str(zip_path), str(SCENES), str(tmp_path)],
         capture_output=True, text=True, env=env, timeout=300,
     )
+
+
+XVFB = shutil.which("Xvfb")
+NO_XVFB = "Xvfb (Debian's xvfb, a virtual screen) is not installed"
+
+
+def run_blender_in_window(tmp_path: Path, script: str) -> subprocess.CompletedProcess:
+    """Runs tests/blender/scripts/<script> in Debian's Blender with a real window, on a virtual
+    screen of its own (Xvfb on a free display), with simulated events enabled; arguments (zip,
+    tmp_path). The script quits Blender itself (os._exit) with its verdict."""
+    zip_path, env = _packed_addon_and_env(tmp_path)
+    read, write = os.pipe()
+    screen = subprocess.Popen([XVFB, "-displayfd", str(write), "-screen", "0", "1280x800x24", "-nolisten", "tcp"],
+                              pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    try:
+        with os.fdopen(read) as display:
+            number = display.readline().strip()
+        if not number:
+            raise RuntimeError("Xvfb did not start")
+        env["DISPLAY"] = f":{number}"
+        return subprocess.run(
+            [BLENDER, "--factory-startup", "--enable-event-simulate", "--python",
+             str(ROOT / "tests" / "blender" / "scripts" / script), "--", str(zip_path), str(tmp_path)],
+            capture_output=True, text=True, env=env, timeout=300,
+        )
+    finally:
+        screen.terminate()
+        screen.wait(timeout=10)

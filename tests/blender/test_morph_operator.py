@@ -13,8 +13,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from blender_helpers import (BLENDER, NO_BLENDER_BINARY, mesh_corners, mesh_vertices,  # noqa: E402
-                             run_blender_binary_smoke, scene_state, shown)
+from blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, mesh_corners, mesh_vertices,  # noqa: E402
+                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown)
+from blender_helpers import select_pair as select  # noqa: E402
 from surface_checks import compare_frame, frame_matches  # noqa: E402
 
 pytestmark = pytest.mark.blender
@@ -38,14 +39,6 @@ def same_points(a, b, tol=1e-5):
     """Every point of a is within tol of a point of b and vice versa."""
     d = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
     return d.min(axis=1).max() < tol and d.min(axis=0).max() < tol
-
-
-def select(source, target):
-    for o in bpy.context.selected_objects:
-        o.select_set(False)
-    source.select_set(True)
-    target.select_set(True)
-    bpy.context.view_layer.objects.active = target
 
 
 def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
@@ -517,6 +510,21 @@ def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled(addon):
     v, f = icosphere(1)
     job = MorphJob((v, f[1:]), target)
     assert job.wait(30.0) and isinstance(job.error, ValueError) and "open" in str(job.error)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not os.path.exists(BLENDER), reason=NO_BLENDER_BINARY)
+@pytest.mark.skipif(XVFB is None, reason=NO_XVFB)
+def test_morph_selected_in_a_real_window_goes_modal_and_esc_cancels_it(tmp_path):
+    """Debian's Blender 3.4 with a window on a virtual screen (tests/blender/scripts/
+    window_morph_blender34.py): invoked from the 3D view, Morph Selected returns RUNNING_MODAL, the
+    main thread's timers and the view's redraws go on while the job runs, and it ends with the
+    manifold object, its ends exact; a larger pair cancelled with a simulated Esc adds nothing."""
+    proc = run_blender_in_window(tmp_path, "window_morph_blender34.py")
+    lines = proc.stdout.strip().splitlines()
+    assert proc.returncode == 0 and lines and lines[-1].startswith("WINDOW MORPH OK"), \
+        (proc.returncode, proc.stdout[-3000:], proc.stderr[-3000:])
+    assert "nothing added" in lines[-1] and " 0 timer ticks" not in lines[-1], lines[-1]
 
 
 def test_morph_selected_invoked_without_a_window_runs_at_once(empty_scene):

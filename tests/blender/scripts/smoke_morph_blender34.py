@@ -21,6 +21,7 @@ import numpy as np
 
 zip_path, scenes_dir, out_dir = sys.argv[sys.argv.index("--") + 1:][:3]
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tests/blender
+from blender_helpers import select_pair as select  # noqa: E402
 from surface_checks import compare_frame, frame_matches  # noqa: E402
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -58,14 +59,6 @@ def compare_with(morph, obj):
     if np.linalg.det(m[:3, :3]) < 0:
         corners = corners[:, ::-1]
     return compare_frame(frame_vertices, frame_corners, vertices, corners)
-
-
-def select(source, target):
-    for o in bpy.context.view_layer.objects:
-        o.select_set(False)
-    source.select_set(True)
-    target.select_set(True)
-    bpy.context.view_layer.objects.active = target
 
 
 scene = bpy.context.scene
