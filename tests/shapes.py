@@ -60,8 +60,8 @@ def cylinder(n: int = 32, radius: float = 1.0, depth: float = 2.0) -> tuple[np.n
 
 def strip_capped_cylinder(n: int = 64, radius: float = 1.0, depth: float = 2.0) -> tuple[np.ndarray, np.ndarray]:
     """A cylinder whose n-gon caps are split into triangles between rim points only, as Blender's
-    "N-Gon" cap fill comes out of its triangulation: a zigzag strip across each cap (ears at the
-    two ends), outward."""
+    "N-Gon" cap fill is once triangulated (Blender's own split differs in detail): a zigzag strip
+    across each cap (ears at the two ends), outward."""
     v, f = cylinder(n, radius, depth)
     sides = f[:2 * n]
     strip = [[0, n - 1, 1]]
