@@ -11,7 +11,8 @@ void bind_morph(py::module_& m) {
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
          py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill,
-         const std::string& perturbation, py::object interrupted, bool fan_flat_polygons) {
+         const std::string& perturbation, py::object interrupted, bool fan_flat_polygons,
+         bool level_enclosed_peaks) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -22,6 +23,7 @@ void bind_morph(py::module_& m) {
         options.fill = fill;
         options.perturbation = perturbation;
         options.fan_flat_polygons = fan_flat_polygons;
+        options.level_enclosed_peaks = level_enclosed_peaks;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -69,6 +71,7 @@ void bind_morph(py::module_& m) {
         report["target_push"] = r.target_push;
         report["push_degenerate"] = r.push_degenerate;
         report["held_back_vertices"] = r.held_back_vertices;
+        report["levelled_vertices"] = r.levelled_vertices;
         report["min_volume"] = r.min_volume;
         report["min_relative_volume"] = r.min_relative_volume;
         report["inverted_simplices"] = r.inverted_simplices;
@@ -85,6 +88,7 @@ void bind_morph(py::module_& m) {
       py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
       py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
       py::arg("fan_flat_polygons") = MorphOptions{}.fan_flat_polygons,
+      py::arg("level_enclosed_peaks") = MorphOptions{}.level_enclosed_peaks,
       "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
       "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
       "True from the other, cancels (raises Cancelled).");

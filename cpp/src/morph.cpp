@@ -482,13 +482,14 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
     // The pushes move points, not simplices: A's boundary is the same throughout.
     boundary = boundary_facets(A);
     const PushReport forward = push_free_vertices(P, A, source_free, +1.0, source_target, options.push_safety,
-                                                  options.push_sweeps, &boundary);
+                                                  options.push_sweeps, &boundary, options.level_enclosed_peaks);
     const PushReport back = push_free_vertices(P, A, target_free, -1.0, target_target, options.push_safety,
-                                               options.push_sweeps, &boundary);
+                                               options.push_sweeps, &boundary, options.level_enclosed_peaks);
     report.source_push = {forward.smallest / span, forward.mean / span, forward.largest / span};
     report.target_push = {back.smallest / span, back.mean / span, back.largest / span};
     report.push_degenerate = forward.degenerate + back.degenerate;
     report.held_back_vertices = forward.held_back + back.held_back;
+    report.levelled_vertices = forward.levelled + back.levelled;
     for (Index v = 0; v < nS + nT; ++v) {
       if (source_free[v] || target_free[v]) in_source[v] = in_target[v] = false;  // off the planes now
       else P.row(v).head(d) = exact.row(v).head(d);

@@ -101,11 +101,71 @@ std::pair<double, double> affine_volume(const PointMatrix& P, const PushConstrai
   return {value, rate};
 }
 
+// Rounds of bringing enclosed peaks down (push_free_vertices).
+constexpr int LEVELLING_ROUNDS = 4;
+// What each constraint keeps while they come down: a share of its value
+// when the levelling began (push_free_vertices).
+constexpr double LEVELLING_FLOOR = 0.01;
+
+// How low each free vertex of one plane must come for the frames to hold no
+// bubble, in units of the last axis from the plane: the pushed free
+// vertices make a height field over the plane's cells outside the input
+// (the frame at height h crosses them where the field is h), and the space
+// above the field at h is a bubble where it does not reach the convex
+// hull's boundary, whose vertices are the free corners of the facets that
+// leave the plane (sinks). A peak enclosed by vertices a sliver held back
+// is one. Its level is the best over paths to a sink of the lowest height
+// on the path (a widest-path search from the sinks, highest first): every
+// vertex above a height then reaches a sink above it. Each level is at most
+// the vertex's own height; vertices no path reaches keep theirs.
+std::vector<double> enclosed_peak_levels(const SimplexMatrix& boundary, const std::vector<bool>& moved,
+                                         const Eigen::VectorXd& start, const std::vector<double>& height) {
+  const Index n = static_cast<Index>(moved.size());
+  std::vector<double> level(height);
+  double plane = 0;
+  for (Index v = 0; v < n; ++v)
+    if (moved[v]) {
+      plane = start(v);
+      break;
+    }
+  const double span = start.size() ? start.maxCoeff() - start.minCoeff() : 0.0;
+  auto in_plane = [&](Index v) { return std::abs(start(v) - plane) <= 1e-12 * std::max(span, 1.0); };
+  std::vector<std::vector<Index>> neighbours(n);
+  std::vector<bool> sink(n, false);
+  for (Index f = 0; f < boundary.rows(); ++f) {
+    const Index* corner = boundary.row(f).data();
+    const int count = static_cast<int>(boundary.cols());
+    bool flat = true;
+    for (int c = 0; c < count; ++c) flat = flat && in_plane(corner[c]);
+    for (int a = 0; a < count; ++a) {
+      if (!moved[corner[a]]) continue;
+      if (!flat) sink[corner[a]] = true;
+      else
+        for (int b = 0; b < count; ++b)
+          if (b != a && moved[corner[b]]) neighbours[corner[a]].push_back(corner[b]);
+    }
+  }
+  std::vector<bool> reached(n, false);
+  std::priority_queue<std::pair<double, Index>> widest;  // (level, vertex), highest first
+  for (Index v = 0; v < n; ++v)
+    if (sink[v]) reached[v] = true, widest.emplace(height[v], v);
+  while (!widest.empty()) {
+    const auto [at, v] = widest.top();
+    widest.pop();
+    if (at < level[v]) continue;  // a better path came first
+    for (const Index u : neighbours[v]) {
+      const double through = std::min(height[u], at);
+      if (!reached[u] || through > level[u]) reached[u] = true, level[u] = through, widest.emplace(through, u);
+    }
+  }
+  return level;
+}
+
 }  // namespace
 
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
                               const Eigen::VectorXd& target, double safety, int sweeps,
-                              const SimplexMatrix* given_boundary) {
+                              const SimplexMatrix* given_boundary, bool level_enclosed_peaks) {
   const int D = static_cast<int>(P.cols());
   if (A.cols() != D + 1) fail<InputError>("pushing needs ", D, "-simplices in R^", D, ", got ", A.cols(), " corners");
   PushReport report;
@@ -143,13 +203,14 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
     for (int c = 0; c < constraints[i].count; ++c)
       if (moved[constraints[i].corners[c]]) star[constraints[i].corners[c]].push_back(static_cast<Index>(i));
   std::vector<double> travelled(P.rows(), 0.0);
+  const Eigen::VectorXd start = P.col(D - 1);
   // How far v may go before a constraint of its star goes flat, the others
   // where they are now: value(δ) = before + δ·rate (v's last coordinate sits
   // in the last column only, and the determinant is linear in that column).
-  auto limit_of = [&](Index v, bool count_degenerate) {
+  auto limit_of = [&](Index v, bool count_degenerate, double way) {
     double limit = std::numeric_limits<double>::infinity();
     for (const Index i : star[v]) {
-      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? direction : 0.0; });
+      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? way : 0.0; });
       if (!(before > 0)) {
         report.degenerate += count_degenerate;
         continue;
@@ -231,18 +292,56 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
     for (Index v = 0; v < P.rows(); ++v) {
       const double height = moved[v] ? target(v) * std::min(level, levels) / levels : 0.0;
       if (!moved[v] || travelled[v] >= height) continue;
-      const double step = std::min(height - travelled[v], safety * limit_of(v, level == 1));
+      const double step = std::min(height - travelled[v], safety * limit_of(v, level == 1, direction));
       if (!(step > 0)) continue;
       P(v, D - 1) += direction * step;
       travelled[v] += step;
     }
   }
+  for (Index v = 0; v < P.rows(); ++v) report.held_back += moved[v] && travelled[v] < 0.1 * target(v);
+  // Last, the peaks that held-back vertices enclose come down towards them
+  // (see enclosed_peak_levels), each vertex alone and as far as its
+  // constraints allow, in the same steps. Steps of a share of the room left
+  // would take a constraint that stops several vertices, round after round,
+  // to a few ulps above zero, and the exact coordinates would invert it:
+  // instead every constraint keeps LEVELLING_FLOOR of what it had when the
+  // levelling began. A vertex that cannot come all the way is a lower wall
+  // for those behind it: the levels are found again from where everything
+  // is then.
+  std::vector<double> floor_of(constraints.size(), 0.0);
+  for (size_t i = 0; i < constraints.size(); ++i)
+    floor_of[i] = LEVELLING_FLOOR * affine_volume(P, constraints[i], [](Index) { return 0.0; }).first;
+  auto room_down = [&](Index v) {  // how far v may come down, the others where they are
+    double room = std::numeric_limits<double>::infinity();
+    for (const Index i : star[v]) {
+      const auto [value, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? -direction : 0.0; });
+      if (rate < 0) room = std::min(room, std::max(0.0, (value - floor_of[i]) / -rate));
+    }
+    return room;
+  };
+  const std::vector<double> pushed = travelled;
+  for (int round = 0; level_enclosed_peaks && round < LEVELLING_ROUNDS; ++round) {
+    const std::vector<double> level_of = enclosed_peak_levels(boundary, moved, start, travelled);
+    bool lowered = false;
+    for (int level = 1; level <= levels + 2; ++level) {
+      for (Index v = 0; v < P.rows(); ++v) {
+        if (!moved[v] || travelled[v] <= level_of[v]) continue;
+        const double wanted = travelled[v] - (travelled[v] - level_of[v]) / std::max(1, levels + 1 - level);
+        const double step = std::min(travelled[v] - wanted, room_down(v));
+        if (!(step > 0)) continue;
+        P(v, D - 1) -= direction * step;
+        travelled[v] -= step;
+        lowered = true;
+      }
+    }
+    if (!lowered) break;
+  }
+  for (Index v = 0; v < P.rows(); ++v) report.levelled += moved[v] && travelled[v] < pushed[v];
   double sum = 0;
   report.smallest = std::numeric_limits<double>::infinity();
   for (Index v = 0; v < P.rows(); ++v) {
     if (!moved[v]) continue;
     ++report.vertices;
-    report.held_back += travelled[v] < 0.1 * target(v);
     sum += travelled[v];
     report.smallest = std::min(report.smallest, travelled[v]);
     report.largest = std::max(report.largest, travelled[v]);

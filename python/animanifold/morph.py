@@ -30,6 +30,7 @@ def morph(
     perturbation: str = "auto",
     interrupted: Callable[[], bool] | None = None,
     fan_flat_polygons: bool = True,
+    level_enclosed_peaks: bool = True,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -69,6 +70,12 @@ def morph(
     cocircular rim points are what the conforming mesher cannot settle (a 64-sided cylinder ->
     a torus ran through itself). The surface and the ends are the same; False keeps the input's
     triangulation, for comparison.
+
+    level_enclosed_peaks: free points that slivers of the fill hold back near the plane enclose
+    the points around them, and the frames hold a bubble there until those come down; after the
+    push they are brought down towards the held-back ones, as far as their simplices stay
+    positive (report: `held_back_vertices`, `levelled_vertices`). False leaves them where the push
+    left them, for comparison.
 
     Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
     (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends; where an
@@ -122,7 +129,7 @@ def morph(
 
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
                 push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
-                fan_flat_polygons=bool(fan_flat_polygons))
+                fan_flat_polygons=bool(fan_flat_polygons), level_enclosed_peaks=bool(level_enclosed_peaks))
     start = time.perf_counter()
     manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
     manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
@@ -183,11 +190,13 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
 
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
                 push_safety: float, fill: str, hole_checks: int, perturbation: str,
-                interrupted: Callable[[], bool] | None, fan_flat_polygons: bool) -> AnimationManifold:
+                interrupted: Callable[[], bool] | None, fan_flat_polygons: bool,
+                level_enclosed_peaks: bool) -> AnimationManifold:
     """One morph with the core's `perturbation` (see morph())."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
                                    max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation,
-                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons)
+                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons,
+                                   level_enclosed_peaks=level_enclosed_peaks)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
 

@@ -70,6 +70,10 @@ struct MorphOptions {
   // (fan_flat_polygons, flat_polygons.hpp): their chords between cocircular
   // rim points are what the conforming mesher cannot settle.
   bool fan_flat_polygons = true;
+  // Skeleton method: after the push, free vertices that held-back ones
+  // enclose come down towards them (push_free_vertices), so that frames
+  // hold no bubble there; false keeps them where the push left them.
+  bool level_enclosed_peaks = true;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -117,6 +121,7 @@ struct MorphReport {
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
   Index push_degenerate = 0;
   Index held_back_vertices = 0;  // free vertices held below a tenth of their target (PushReport::held_back)
+  Index levelled_vertices = 0;   // free vertices brought down towards held-back ones (PushReport::levelled)
   // Validity 1, at the exact coordinates: the smallest signed hypervolume of
   // the kept simplices, the smallest relative to its longest edge L (the
   // determinant over L^(n+1): 1 for a cube's corner, 0 for a flat one), how

@@ -201,6 +201,9 @@ struct PushReport {
   // fill held them near the plane, and the frames next to it show a thin
   // strand or bubble there that lasts until the plane.
   Index held_back = 0;
+  // Vertices brought down afterwards towards held-back neighbours that
+  // enclosed them (the bubbles they made would last longer).
+  Index levelled = 0;
 };
 
 // The push of §8.6.3. The free vertices (`moved`) of the positively oriented
@@ -216,8 +219,12 @@ struct PushReport {
 // plane; but together (see the .cpp).
 // `boundary`: boundary_facets(A), when the caller has it (it costs a sort of
 // every facet of A).
+// `level_enclosed_peaks`: afterwards, vertices that held-back neighbours
+// enclose (the frames hold a bubble over them until they come down) are
+// brought down towards them, the same way, as far as their constraints
+// allow (PushReport::levelled).
 PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
                               const Eigen::VectorXd& target, double safety, int sweeps = 3,
-                              const SimplexMatrix* boundary = nullptr);
+                              const SimplexMatrix* boundary = nullptr, bool level_enclosed_peaks = true);
 
 }  // namespace animanifold
