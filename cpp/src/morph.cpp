@@ -462,7 +462,8 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
     // neighbours would be the last of its region to fill (a bubble enclosed
     // in the frames), one left lower the first (an island), and one height
     // for all would fill big cells first wherever they are. Free vertices a
-    // sliver holds back (held_back_vertices) still make such bubbles.
+    // sliver holds back (held_back_vertices) enclose such bubbles, until the
+    // ones they ring come down to them (levelled_vertices, push_free_vertices).
     auto targets = [&](const std::vector<bool>& free, const PointMatrix& V, const SimplexMatrix& F) {
       std::vector<Index> ids;
       for (Index v = 0; v < P.rows(); ++v)

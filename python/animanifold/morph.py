@@ -140,8 +140,9 @@ def morph(
     # Frames that run through themselves come from slivers of flat sides of the inputs' hulls
     # (a voxel model's flat faces, collinear points along its hull edges) and of facets of the
     # fill's hull that span both inputs in one hyperplane, which the default perturbation bends;
-    # the slivers also hold free vertices back, and those leave bubbles (the demo's UV sphere ->
-    # torus: 2.6 % of the volume at 0.9 of the range, none with the retry). Once more with the
+    # the slivers also hold free vertices back, and those leave bubbles where the push cannot
+    # bring the points they enclose down to them (level_enclosed_peaks; the demo's UV sphere ->
+    # torus held 2.6 % of the volume at 0.9 of the range before that, none now). Once more with the
     # points on the inputs' hulls kept where they are, and the better of the two is kept: fewer
     # crossing frames, then a smaller largest bubble.
     first_seconds = time.perf_counter() - start
