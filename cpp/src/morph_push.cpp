@@ -207,10 +207,10 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   // How far v may go before a constraint of its star goes flat, the others
   // where they are now: value(δ) = before + δ·rate (v's last coordinate sits
   // in the last column only, and the determinant is linear in that column).
-  auto limit_of = [&](Index v, bool count_degenerate, double way) {
+  auto limit_of = [&](Index v, bool count_degenerate) {
     double limit = std::numeric_limits<double>::infinity();
     for (const Index i : star[v]) {
-      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? way : 0.0; });
+      const auto [before, rate] = affine_volume(P, constraints[i], [&](Index w) { return w == v ? direction : 0.0; });
       if (!(before > 0)) {
         report.degenerate += count_degenerate;
         continue;
@@ -292,7 +292,7 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
     for (Index v = 0; v < P.rows(); ++v) {
       const double height = moved[v] ? target(v) * std::min(level, levels) / levels : 0.0;
       if (!moved[v] || travelled[v] >= height) continue;
-      const double step = std::min(height - travelled[v], safety * limit_of(v, level == 1, direction));
+      const double step = std::min(height - travelled[v], safety * limit_of(v, level == 1));
       if (!(step > 0)) continue;
       P(v, D - 1) += direction * step;
       travelled[v] += step;
@@ -307,9 +307,10 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
   // instead every constraint keeps LEVELLING_FLOOR of what it had when the
   // levelling began. A vertex that cannot come all the way is a lower wall
   // for those behind it: the levels are found again from where everything
-  // is then.
-  std::vector<double> floor_of(constraints.size(), 0.0);
-  for (size_t i = 0; i < constraints.size(); ++i)
+  // is then. (A constraint that is not positive when it begins, which the
+  // push ignored, stops any move that would lower it further.)
+  std::vector<double> floor_of(level_enclosed_peaks ? constraints.size() : 0, 0.0);
+  for (size_t i = 0; i < floor_of.size(); ++i)
     floor_of[i] = LEVELLING_FLOOR * affine_volume(P, constraints[i], [](Index) { return 0.0; }).first;
   auto room_down = [&](Index v) {  // how far v may come down, the others where they are
     double room = std::numeric_limits<double>::infinity();
