@@ -320,10 +320,50 @@ PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std:
     }
     return room;
   };
+  // Vertices whose simplices stop each other alone (a sliver with two or
+  // three of them) come down together first: each by the same share of the
+  // way to its level, the largest share that keeps every floor (exact: the
+  // constraints are affine in the share), then without the corners of the
+  // constraints that stopped it, and so on.
+  auto come_down_together = [&](const std::vector<double>& level_of) {
+    std::vector<bool> going(P.rows(), false);
+    for (Index v = 0; v < P.rows(); ++v) going[v] = moved[v] && travelled[v] > level_of[v];
+    auto share = [&](Index w) { return going[w] ? -direction * (travelled[w] - level_of[w]) : 0.0; };
+    bool lowered = false;
+    for (int round = 0; round < 4 * LEVELLING_ROUNDS; ++round) {
+      std::vector<std::pair<double, size_t>> stops;  // (share at which it reaches its floor, constraint)
+      double best = 1.0;
+      for (size_t i = 0; i < floor_of.size(); ++i) {
+        bool touched = false;
+        for (int c = 0; c < constraints[i].count && !touched; ++c) touched = going[constraints[i].corners[c]];
+        if (!touched) continue;
+        const auto [value, rate] = affine_volume(P, constraints[i], share);
+        if (rate >= 0) continue;
+        const double at = std::max(0.0, (value - floor_of[i]) / -rate);
+        if (at < 1.0) stops.emplace_back(at, i);
+        best = std::min(best, at);
+      }
+      if (best > 0) {
+        for (Index v = 0; v < P.rows(); ++v)
+          if (going[v]) {
+            const double step = best * (travelled[v] - level_of[v]);
+            P(v, D - 1) -= direction * step;
+            travelled[v] -= step;
+          }
+        lowered = true;
+      }
+      if (stops.empty()) break;
+      for (const auto& [at, i] : stops)  // those that stop it now or soon after
+        if (at <= 2 * best)
+          for (int c = 0; c < constraints[i].count; ++c) going[constraints[i].corners[c]] = false;
+      if (std::find(going.begin(), going.end(), true) == going.end()) break;
+    }
+    return lowered;
+  };
   const std::vector<double> pushed = travelled;
   for (int round = 0; level_enclosed_peaks && round < LEVELLING_ROUNDS; ++round) {
     const std::vector<double> level_of = enclosed_peak_levels(boundary, moved, start, travelled);
-    bool lowered = false;
+    bool lowered = come_down_together(level_of);
     for (int level = 1; level <= levels + 2; ++level) {
       for (Index v = 0; v < P.rows(); ++v) {
         if (!moved[v] || travelled[v] <= level_of[v]) continue;
