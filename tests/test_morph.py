@@ -147,8 +147,8 @@ def test_ctrl_c_stops_a_morph_while_tetgen_runs():
     """TetGen runs in a child process with the GIL released; a signal raised meanwhile (Ctrl-C
     in `python3 -m animanifold morph`) stops it within a tick instead of after the run. The input:
     a 64-sided cylinder whose caps are fans from one rim vertex, kept as they are
-    (fan_flat_polygons=False): Debian's TetGen 1.5 loops on them until its timeout (about 22 s
-    for the whole morph, three perturbations, without the interrupt)."""
+    (fan_flat_polygons=False), every point perturbed: Debian's TetGen 1.5 loops on them until its
+    timeout (about 22 s for the whole morph, three perturbations, without the interrupt)."""
 
     class Interrupted(Exception):
         pass
@@ -162,7 +162,7 @@ def test_ctrl_c_stops_a_morph_while_tetgen_runs():
     try:
         timer.start()
         with pytest.raises(Interrupted) as raised:
-            am.morph(cylinder(64), torus(), fan_flat_polygons=False)
+            am.morph(cylinder(64), torus(), fan_flat_polygons=False, perturbation="position")
         elapsed = time.perf_counter() - start
     finally:
         timer.cancel()
@@ -175,8 +175,8 @@ def test_ctrl_c_stops_a_morph_while_tetgen_runs():
 def test_the_callers_interrupted_check_stops_a_morph_while_tetgen_runs():
     """`interrupted()` (a cancel button; in a worker thread Python's signal handlers never run) is
     polled while TetGen runs: True after 1 s stops the fan cylinder -> torus (its caps kept as
-    they are), which TetGen keeps busy for ~22 s otherwise, within a tick or two of the mesher's
-    wait."""
+    they are, every point perturbed), which TetGen keeps busy for ~22 s otherwise, within a tick or
+    two of the mesher's wait."""
     start = time.perf_counter()
     checks = []
 
@@ -185,7 +185,7 @@ def test_the_callers_interrupted_check_stops_a_morph_while_tetgen_runs():
         return checks[-1] > 1.0
 
     with pytest.raises(_core.Cancelled):
-        am.morph(cylinder(64), torus(), interrupted=interrupted, fan_flat_polygons=False)
+        am.morph(cylinder(64), torus(), interrupted=interrupted, fan_flat_polygons=False, perturbation="position")
     elapsed = time.perf_counter() - start
     assert elapsed < 3.0, elapsed
     assert len(checks) >= 5 and max(np.diff(checks)) < 0.5  # polled in ticks, not once per run
@@ -230,8 +230,8 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
         def __init__(self, perturbation):
             self.validity = {"frames_cross_themselves": False, "crossing_frames": [], "ends_reproduced": True,
                              "inverted_simplices": 0, "stage_seconds": [],
-                             "bubble_frames": [[0.9, 1]] if perturbation == "position" else [],
-                             "largest_bubble_fraction": bubble if perturbation == "position" else 0.0}
+                             "bubble_frames": [[0.9, 1]] if perturbation == "hull_faces" else [],
+                             "largest_bubble_fraction": bubble if perturbation == "hull_faces" else 0.0}
 
         def check(self):
             return {"is_oriented_manifold": True}
@@ -242,6 +242,43 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
 
     monkeypatch.setattr(morph_module, "_morph_once", made_once)
     m = am.morph(icosphere(1), icosphere(1))
-    assert calls == (["position", "hull_faces"] if retried else ["position"])
-    assert m.validity["perturbation_mode"] == ("hull_faces" if retried else "position")
+    assert calls == (["hull_faces", "position"] if retried else ["hull_faces"])
+    assert m.validity["perturbation_mode"] == ("position" if retried else "hull_faces")
     assert m.validity.get("perturbation_retried", False) == retried
+
+
+@pytest.mark.parametrize("failure, falls_back", [(RuntimeError("TetGen failed"), True),
+                                                 (am.BooleanError("no hole space"), False)])
+def test_the_auto_perturbation_falls_back_when_the_hulls_exact_points_fail(monkeypatch, failure, falls_back):
+    """Keeping the hulls' points exact ("hull_faces", the first try) can leave a mesher or the fill
+    a tie it cannot settle: "auto" then morphs with every point perturbed and says so, its first
+    try's time included. A failure that is not the mesher's (the hole spaces' booleans, a cancel)
+    is not retried. Stand-in morphs: the decision is what is tested."""
+    import sys
+
+    morph_module = sys.modules["animanifold.morph"]
+    calls = []
+
+    class Made:
+        def __init__(self):
+            self.validity = {"frames_cross_themselves": False, "crossing_frames": [], "stage_seconds": [],
+                             "largest_bubble_fraction": 0.0}
+
+    def made_once(arrays, perturbation, **once):
+        calls.append(perturbation)
+        if perturbation == "hull_faces":
+            raise failure
+        return Made()
+
+    monkeypatch.setattr(morph_module, "_morph_once", made_once)
+    if not falls_back:
+        with pytest.raises(type(failure)):
+            am.morph(icosphere(1), icosphere(1))
+        assert calls == ["hull_faces"]
+        return
+    m = am.morph(icosphere(1), icosphere(1))
+    assert calls == ["hull_faces", "position"]
+    assert m.validity["perturbation_mode"] == "position" and m.validity["perturbation_retried"]
+    assert m.validity["stage_seconds"][0][0] == "hull points in place (failed: TetGen failed)"
+    with pytest.raises(RuntimeError):  # asked for by name: no fallback
+        am.morph(icosphere(1), icosphere(1), perturbation="hull_faces")

@@ -10,20 +10,16 @@ void bind_morph(py::module_& m) {
   m.def(
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
-         py::object progress, double max_push, double push_safety, int push_sweeps, const std::string& fill,
-         const std::string& perturbation, py::object interrupted, bool fan_flat_polygons,
-         bool level_enclosed_peaks) {
+         py::object progress, double max_push, const std::string& fill, const std::string& perturbation,
+         py::object interrupted, bool fan_flat_polygons) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
         options.method = method;
         options.max_push = max_push;
-        options.push_safety = push_safety;
-        options.push_sweeps = push_sweeps;
         options.fill = fill;
         options.perturbation = perturbation;
         options.fan_flat_polygons = fan_flat_polygons;
-        options.level_enclosed_peaks = level_enclosed_peaks;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -55,23 +51,24 @@ void bind_morph(py::module_& m) {
         report["unnudged_steiner_points"] = r.unnudged_steiner_points;
         report["fill_simplices"] = r.fill_simplices;
         report["stripped_simplices"] = r.stripped_simplices;
+        report["simplices"] = r.simplices;
         report["shared_stripped_simplices"] = r.shared_stripped_simplices;
         report["inputs_coincide"] = r.inputs_coincide;
         report["source_skeleton_points"] = r.source_skeleton_points;
         report["target_skeleton_points"] = r.target_skeleton_points;
         report["source_cap_points"] = r.source_cap_points;
         report["target_cap_points"] = r.target_cap_points;
-        report["hull_caps_dropped"] = r.hull_caps_dropped;
         report["source_fanned_polygons"] = r.source_fanned_polygons;
         report["target_fanned_polygons"] = r.target_fanned_polygons;
         report["source_free_vertices"] = r.source_free_vertices;
         report["target_free_vertices"] = r.target_free_vertices;
         report["split_faces"] = r.split_faces;
+        report["refinement_points"] = r.refinement_points;
+        report["peeled_slivers"] = r.peeled_slivers;
         report["source_push"] = r.source_push;
         report["target_push"] = r.target_push;
-        report["push_degenerate"] = r.push_degenerate;
-        report["held_back_vertices"] = r.held_back_vertices;
         report["levelled_vertices"] = r.levelled_vertices;
+        report["sealed_vertices"] = r.sealed_vertices;
         report["min_volume"] = r.min_volume;
         report["min_relative_volume"] = r.min_relative_volume;
         report["inverted_simplices"] = r.inverted_simplices;
@@ -84,25 +81,24 @@ void bind_morph(py::module_& m) {
       },
       py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
       py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
-      py::arg("max_push") = MorphOptions{}.max_push, py::arg("push_safety") = MorphOptions{}.push_safety,
-      py::arg("push_sweeps") = MorphOptions{}.push_sweeps, py::arg("fill") = MorphOptions{}.fill,
+      py::arg("max_push") = MorphOptions{}.max_push, py::arg("fill") = MorphOptions{}.fill,
       py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
       py::arg("fan_flat_polygons") = MorphOptions{}.fan_flat_polygons,
-      py::arg("level_enclosed_peaks") = MorphOptions{}.level_enclosed_peaks,
       "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
       "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
       "True from the other, cancels (raises Cancelled).");
   py::register_exception<Cancelled>(m, "Cancelled");
   m.def(
       "self_intersections",
-      [](PointsRef V, SimplicesRef F, std::size_t max_pairs) {
+      [](PointsRef V, SimplicesRef F, std::size_t max_pairs, double tolerance) {
         const PointMatrix v = V;
         const SimplexMatrix f = F;
         py::gil_scoped_release release;
-        return self_intersections(v, f, max_pairs);
+        return self_intersections(v, f, max_pairs, tolerance);
       },
-      py::arg("vertices"), py::arg("faces"), py::arg("max_pairs") = 1,
-      "Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all.");
+      py::arg("vertices"), py::arg("faces"), py::arg("max_pairs") = 1, py::arg("tolerance") = 0.0,
+      "Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all. "
+      "tolerance > 0: only pairs that pass through each other by more than that (rounding left out).");
   m.def(
       "distances_to_surface",
       [](PointsRef points, PointsRef V, SimplicesRef F) {

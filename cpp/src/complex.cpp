@@ -179,6 +179,16 @@ Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S) {
   return volumes;
 }
 
+double relative_volume(const PointMatrix& V, const Index* corners) {
+  const int D = static_cast<int>(V.cols());
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4> edges(D, D);
+  double longest = 0;
+  for (int i = 0; i < D; ++i) edges.row(i) = V.row(corners[i + 1]) - V.row(corners[0]);
+  for (int a = 0; a <= D; ++a)
+    for (int b = a + 1; b <= D; ++b) longest = std::max(longest, (V.row(corners[a]) - V.row(corners[b])).squaredNorm());
+  return longest > 0 ? std::abs(edges.determinant()) / std::pow(longest, 0.5 * D) : 0.0;
+}
+
 Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S) {
   const int n = static_cast<int>(S.cols()) - 1;
   double factorial = 1;

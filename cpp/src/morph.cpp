@@ -4,6 +4,7 @@
 #include "animanifold/errors.hpp"
 #include "animanifold/flat_polygons.hpp"
 #include "animanifold/morph_convex.hpp"
+#include "animanifold/morph_layers.hpp"
 #include "animanifold/morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
@@ -24,6 +25,7 @@
 #include <set>
 #include <tuple>
 #include <unordered_map>
+
 
 namespace animanifold {
 
@@ -169,9 +171,8 @@ void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char
 
 }  // namespace
 
-// One morph, with the hull caps or without (see morph() below).
-static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& source_faces,
-                        const PointMatrix& target_points, const SimplexMatrix& target_faces, const MorphOptions& options) {
+Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
+            const SimplexMatrix& target_faces, const MorphOptions& options) {
   using Clock = std::chrono::steady_clock;
   Morph result;
   MorphReport& report = result.report;
@@ -195,8 +196,6 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
   if (options.fill != "cgal" && options.fill != "qhull")
     fail<InputError>("unknown fill triangulation '", options.fill, "': use 'cgal' or 'qhull'");
   if (!(options.max_push > 0 && options.max_push < 1)) fail<InputError>("max_push must lie in (0, 1), got ", options.max_push);
-  if (!(options.push_safety > 0 && options.push_safety < 1))
-    fail<InputError>("push_safety must lie in (0, 1), got ", options.push_safety);
   const int d = static_cast<int>(source_points.cols());
   // What the morph is built on: the inputs, their flat polygons fanned from
   // their centres (MorphOptions::fan_flat_polygons) — the same surfaces.
@@ -239,7 +238,7 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
     for (auto [K, V, F, count] : {std::tuple<PointMatrix&, const PointMatrix&, const SimplexMatrix&, Index&>{
                                      KS, VS, FS, report.source_cap_points},
                                  {KT, VT, FT, report.target_cap_points}}) {
-      if (K.rows() == 0 || !options.hull_caps) continue;
+      if (K.rows() == 0) continue;
       const PointMatrix caps = hull_cap_points(V, F);
       count = caps.rows();
       PointMatrix both(K.rows() + caps.rows(), d);
@@ -444,57 +443,53 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
       source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
       target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);
     }
-    std::vector<bool> source_free = source_plane.free, target_free = target_plane.free;
-    std::vector<std::vector<Index>> faces = uncovered_outside_faces(source_plane);
-    const size_t source_faces = faces.size();
-    for (std::vector<Index>& face : uncovered_outside_faces(target_plane)) faces.push_back(std::move(face));
-    const IndexVector added = split_faces(P, A, faces);
-    for (std::vector<bool>* mask : {&in_source, &in_target, &source_free, &target_free}) mask->resize(P.rows(), false);
-    for (Index a = 0; a < added.size(); ++a) (static_cast<size_t>(a) < source_faces ? source_free : target_free)[added(a)] = true;
-    report.split_faces = static_cast<Index>(added.size());
+    const std::vector<bool>& source_free = source_plane.free;
+    const std::vector<bool>& target_free = target_plane.free;
     report.source_free_vertices = std::count(source_free.begin(), source_free.end(), true);
     report.target_free_vertices = std::count(target_free.begin(), target_free.end(), true);
-    // Targets go from 0 on the input to max_push on its convex hull's
-    // boundary, as d_S / (d_S + d_H) with d_S the distance from the input and
-    // d_H that from the hull's boundary. The region they sweep then fills
-    // from the input outwards and empties from the hull's boundary inwards,
-    // as far as the targets are reached: a point left higher than its
-    // neighbours would be the last of its region to fill (a bubble enclosed
-    // in the frames), one left lower the first (an island), and one height
-    // for all would fill big cells first wherever they are. Free vertices a
-    // sliver holds back (held_back_vertices) enclose such bubbles, until the
-    // ones they ring come down to them (levelled_vertices, push_free_vertices).
-    auto targets = [&](const std::vector<bool>& free, const PointMatrix& V, const SimplexMatrix& F) {
-      std::vector<Index> ids;
-      for (Index v = 0; v < P.rows(); ++v)
-        if (free[v]) ids.push_back(v);
-      PointMatrix where(static_cast<Index>(ids.size()), d);
-      for (size_t i = 0; i < ids.size(); ++i) where.row(static_cast<Index>(i)) = P.row(ids[i]).head(d);
-      const Eigen::VectorXd from_input = distances_to_surface(where, V, F);
-      const Eigen::VectorXd from_hull = depth_in_hull(where, V).cwiseMax(0.0);
-      Eigen::VectorXd target = Eigen::VectorXd::Zero(P.rows());
-      for (size_t i = 0; i < ids.size(); ++i) {
-        const double s = from_input(static_cast<Index>(i)), h = from_hull(static_cast<Index>(i));
-        target(ids[i]) = options.max_push * span * (s + h > 0 ? s / (s + h) : 1.0);
-      }
-      return target;
+    // §8.6.3: each plane with free vertices moves into time by the layer's
+    // thickness (an affine map of the last axis: the fill stays positive),
+    // and the layer between it and the end holds the push (morph_layers.hpp).
+    // The fill's points get their exact coordinates back now; the layers are
+    // built on them.
+    const double thickness = options.max_push * span;
+    // A plane needs a layer where any of its cells lies outside its input,
+    // with a free vertex or not (the faces of those without are split).
+    auto any_outside = [](const PlaneCells& plane) {
+      return std::find(plane.outside.begin(), plane.outside.end(), true) != plane.outside.end();
     };
-    const Eigen::VectorXd source_target = targets(source_free, VS, FS), target_target = targets(target_free, VT, FT);
-    // The pushes move points, not simplices: A's boundary is the same throughout.
-    boundary = boundary_facets(A);
-    const PushReport forward = push_free_vertices(P, A, source_free, +1.0, source_target, options.push_safety,
-                                                  options.push_sweeps, &boundary, options.level_enclosed_peaks);
-    const PushReport back = push_free_vertices(P, A, target_free, -1.0, target_target, options.push_safety,
-                                               options.push_sweeps, &boundary, options.level_enclosed_peaks);
-    report.source_push = {forward.smallest / span, forward.mean / span, forward.largest / span};
-    report.target_push = {back.smallest / span, back.mean / span, back.largest / span};
-    report.push_degenerate = forward.degenerate + back.degenerate;
-    report.held_back_vertices = forward.held_back + back.held_back;
-    report.levelled_vertices = forward.levelled + back.levelled;
+    const bool source_layer = any_outside(source_plane), target_layer = any_outside(target_plane);
+    const double fill_t0 = source_layer ? thickness : 0.0, fill_t1 = target_layer ? span - thickness : span;
+    const PointMatrix fill_points = P;
     for (Index v = 0; v < nS + nT; ++v) {
-      if (source_free[v] || target_free[v]) in_source[v] = in_target[v] = false;  // off the planes now
-      else P.row(v).head(d) = exact.row(v).head(d);
+      P.row(v).head(d) = exact.row(v).head(d);
+      P(v, d) = v < nS ? fill_t0 : fill_t1;
     }
+    std::vector<SimplexMatrix> parts{A};
+    for (auto [has_layer, plane, V, F, end, fill_time, ends, push] :
+         {std::tuple<bool, const PlaneCells*, const PointMatrix*, const SimplexMatrix*, double, double, std::vector<bool>*,
+                     std::array<double, 3>*>{source_layer, &source_plane, &VS, &FS, 0.0, fill_t0, &in_source,
+                                             &report.source_push},
+          {target_layer, &target_plane, &VT, &FT, span, fill_t1, &in_target, &report.target_push}}) {
+      if (!has_layer) continue;
+      const PlaneLayer layer = plane_layer(P, fill_points, *plane, *V, *F, end, fill_time);
+      report.levelled_vertices += layer.levelled_vertices;
+      report.split_faces += layer.split_faces;
+      report.refinement_points += layer.refinement_points;
+      report.peeled_slivers += layer.peeled_slivers;
+      ends->assign(P.rows(), false);
+      for (const Index v : layer.end_copies) (*ends)[v] = true;
+      *push = {layer.smallest / span, layer.mean / span, layer.largest / span};
+      report.sealed_vertices += layer.sealed_vertices;
+      parts.push_back(layer.simplices);
+    }
+    in_source.resize(P.rows(), false), in_target.resize(P.rows(), false);
+    Index rows = 0;
+    for (const SimplexMatrix& part : parts) rows += part.rows();
+    A.resize(rows, d + 2);
+    rows = 0;
+    for (const SimplexMatrix& part : parts) A.middleRows(rows, part.rows()) = part, rows += part.rows();
+    boundary = boundary_facets(A);
     stage("push", 0.8);
   }
 
@@ -503,6 +498,7 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
   // inputs' degenerate configurations (four coplanar or cocircular points)
   // whose sign the perturbation decided, as in simulation of simplicity.
   // Below it a simplex is inverted, which no rounding explains.
+  report.simplices = static_cast<Index>(A.rows());
   const Eigen::VectorXd volumes = signed_volumes(P, A);
   report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
   const double moved = restored_distance(d, report.perturbation, size);
@@ -570,26 +566,6 @@ static Morph morph_with(const PointMatrix& source_points, const SimplexMatrix& s
   report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
   stage("validity", 1.0);
   return result;
-}
-
-Morph morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
-            const MorphOptions& options) {
-  Morph first = morph_with(VS, FS, VT, FT, options);
-  const MorphReport& r = first.report;
-  if (!options.hull_caps || r.source_cap_points + r.target_cap_points == 0 ||
-      (r.ends_reproduced && r.inverted_simplices == 0))
-    return first;
-  // A free vertex the caps' cells hold at the plane can leave an end off
-  // the input (a fan-capped cylinder -> torus: 2.5e-8 of the size): the
-  // ends come first, so once more without the caps, as before them.
-  MorphOptions without = options;
-  without.hull_caps = false;
-  Morph second = morph_with(VS, FS, VT, FT, without);
-  double first_seconds = 0;
-  for (const auto& [stage, seconds] : r.stage_seconds) first_seconds += seconds;
-  second.report.hull_caps_dropped = true;
-  second.report.stage_seconds.insert(second.report.stage_seconds.begin(), {"with hull caps (ends not exact)", first_seconds});
-  return second;
 }
 
 }  // namespace animanifold

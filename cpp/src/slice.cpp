@@ -263,6 +263,10 @@ void cut_triangle(const Index* t, const bool* above, int above_count, Index sour
   faces.add(seg, source);
 }
 
+// Values this share of the manifold's extent along the axis away from a
+// vertex's coordinate slice at the vertex's (see slice()).
+constexpr double kSnapToVertices = 1e-12;
+
 }  // namespace
 
 Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
@@ -276,11 +280,15 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
     fail<InputError>("interval index was built for axis ", index->axis(), ", not ", axis);
 
   std::vector<Index> candidates;
-  double highest;
-  if (index) {
-    index->stab(value, candidates);
-    highest = index->highest();
-  } else {
+  double lowest, highest;
+  auto stab = [&](double at) {
+    candidates.clear();
+    if (index) {
+      index->stab(at, candidates);
+      lowest = index->lowest(), highest = index->highest();
+      return;
+    }
+    lowest = m.V.rows() ? m.V.col(axis).minCoeff() : 0.0;
     highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
     candidates.reserve(1024);
     for (Index s = 0; s < m.S.rows(); ++s) {
@@ -289,9 +297,22 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
         const double x = m.V(m.S(s, c), axis);
         low = std::min(low, x), high = std::max(high, x);
       }
-      if (low <= value && value <= high) candidates.push_back(s);
+      if (low <= at && at <= high) candidates.push_back(s);
     }
-  }
+  };
+  stab(value);
+  // A value a rounding away from vertices (a frame's time computed as
+  // t0 + k·dt next to a keyframe, or a layer of a morph) is taken as theirs:
+  // cut a hair off them, edges from each vertex would give slice vertices
+  // of their own within an ulp of it, and faces between them that fold.
+  const double snap = kSnapToVertices * (highest - lowest);
+  double nearest = value, distance = std::numeric_limits<double>::infinity();
+  for (const Index s : candidates)
+    for (int c = 0; c < k; ++c) {
+      const double x = m.V(m.S(s, c), axis), d = std::abs(x - value);
+      if (d <= snap && d < distance) nearest = x, distance = d;
+    }
+  if (nearest != value) value = nearest, stab(value);
   // On-plane vertices count as below, except at the very top of the manifold.
   const bool on_plane_is_above = value >= highest;
 

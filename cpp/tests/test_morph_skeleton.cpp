@@ -64,25 +64,6 @@ TEST(MorphSkeleton, SplittingFacesKeepsTheFillPositiveAndItsVolume) {
   EXPECT_GT(boundary_facets(A).rows(), boundary_before.rows());  // the cell lay on the boundary
 }
 
-TEST(MorphSkeleton, PushKeepsEverySimplexPositiveAndStaysWithinTheTargets) {
-  PointMatrix P = two_planes(40, 2);
-  const SimplexMatrix A = delaunay_exact(P).simplices;
-  std::vector<bool> moved(P.rows(), false);
-  Eigen::VectorXd target = Eigen::VectorXd::Zero(P.rows());
-  for (Index v = 40; v < 80; v += 3) moved[v] = true, target(v) = 0.4;  // points of the t = 1 plane, downwards
-  const PointMatrix before = P;
-  const PushReport report = push_free_vertices(P, A, moved, -1.0, target, 0.5);
-  EXPECT_GT(signed_volumes(P, A).minCoeff(), 0.0);
-  EXPECT_EQ(report.vertices, 14);
-  EXPECT_GT(report.largest, 0.0);
-  EXPECT_LE(report.largest, 0.4 + 1e-12);
-  for (Index v = 0; v < P.rows(); ++v) {
-    EXPECT_EQ(P.row(v).head(3), before.row(v).head(3));  // only time changes
-    if (!moved[v]) EXPECT_EQ(P(v, 3), before(v, 3));
-    else EXPECT_LE(P(v, 3), 1.0);
-  }
-}
-
 TEST(MorphSkeleton, PerturbationAlongHullFacesLeavesFlatSidesAlone) {
   // A 2x2x2 box's corners, a point inside its top face, one on its edge along
   // x at y = z = 0, and one inside the box.

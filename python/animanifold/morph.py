@@ -24,13 +24,11 @@ def morph(
     method: str = "skeleton",
     progress: Callable[[str, float], bool] | None = None,
     max_push: float = 0.45,
-    push_safety: float = 0.5,
     fill: str = "cgal",
     hole_checks: int = 5,
     perturbation: str = "auto",
     interrupted: Callable[[], bool] | None = None,
     fan_flat_polygons: bool = True,
-    level_enclosed_peaks: bool = True,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -44,25 +42,30 @@ def morph(
     Selected).
 
     method: "skeleton" (§8.6, the default) fills concavities and holes of the
-    source just after t0 and opens the target's just before t1, with every
-    frame a closed surface; "strip" (§8.5) removes what lies outside either
-    shape — ambiguous where the genus changes (frames can pinch). Skeleton
-    options: free points move up to `max_push` of the time span into the
-    morph, each as far as `push_safety` of the move that would flatten one of
-    its simplices. fill: the Delaunay triangulation of the fill, "cgal" (fast)
-    or "qhull".
+    source over the first `max_push` of the range and opens the target's over
+    the last, with every frame a closed surface; "strip" (§8.5) removes what
+    lies outside either shape — ambiguous where the genus changes (frames can
+    pinch). The skeleton method pushes its free points into time in a layer
+    of prisms between each input and the fill (the core's morph_layers.hpp):
+    their heights are harmonic between the input (0) and the external
+    skeleton and hull (the layer's height; less where those lie close to the
+    input), levelled so that a frame holds neither a bubble nor an island
+    (report: `source_push`, `target_push` as fractions of the range,
+    `levelled_vertices`, `split_faces`, `refinement_points`, `peeled_slivers`,
+    `sealed_vertices`). fill: the Delaunay triangulation of the fill, "cgal"
+    (fast) or "qhull".
 
     The result's `validity` (also kept in its metadata) is the report of §8.3:
     Theorem 5.2.1's missing faces, inverted/degenerate simplices, and how far
     the end frames are from the inputs (relative to the bounding box).
 
-    perturbation: how the inputs are put in general position — "position" (each point by an
-    offset that is a function of its position), "hull_faces" (the same, but points on the inputs'
-    convex hulls stay where they are), or "auto" (the default): "position", and when frames run
-    through themselves (flat-sided inputs, or an input's hull meeting the other's flat sides) or
-    hold bubbles of more than RETRY_BUBBLE_FRACTION (1e-4) of their volume, "hull_faces" too,
-    keeping the better — fewer crossing frames, then a smaller largest bubble (report:
-    `perturbation_mode`, `perturbation_retried`).
+    perturbation: how the inputs are put in general position — "hull_faces" (each point by an
+    offset that is a function of its position, except points on the inputs' convex hulls, which
+    stay exact), "position" (every point), or "auto" (the default): "hull_faces", and when that
+    fails in a mesher or its frames run through themselves or hold bubbles of more than
+    RETRY_BUBBLE_FRACTION (1e-4) of their volume, "position" too, keeping the better — fewer
+    crossing frames, then a smaller largest bubble (report: `perturbation_mode`,
+    `perturbation_retried`).
 
     fan_flat_polygons: flat convex polygons of six corners or more (a cylinder's and a cone's caps)
     are triangulated again as fans from their centre before meshing (report:
@@ -71,15 +74,8 @@ def morph(
     a torus ran through itself). The surface and the ends are the same; False keeps the input's
     triangulation, for comparison.
 
-    level_enclosed_peaks: free points that slivers of the fill hold back near the plane enclose
-    the points around them, and the frames hold a bubble there until those come down; after the
-    push they are brought down towards the held-back ones, as far as their simplices stay
-    positive (report: `held_back_vertices`, `levelled_vertices`). False leaves them where the push
-    left them, for comparison.
-
     Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
-    (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends; where an
-    end would then miss its input, the core morphs once more without them (`hull_caps_dropped`).
+    (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends.
 
     Frames near the ends and in the middle (BUBBLE_CHECKS) are checked for bubbles enclosed in
     the solid that neither input has: `bubble_frames` lists [time, bubbles] where there are,
@@ -128,28 +124,38 @@ def morph(
             return user_progress(stage, done[0])
 
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
-                push_safety=float(push_safety), fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
-                fan_flat_polygons=bool(fan_flat_polygons), level_enclosed_peaks=bool(level_enclosed_peaks))
+                fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
+                fan_flat_polygons=bool(fan_flat_polygons))
     start = time.perf_counter()
-    manifold = _morph_once(arrays, perturbation="hull_faces" if perturbation == "hull_faces" else "position", **once)
-    manifold.validity["perturbation_mode"] = "hull_faces" if perturbation == "hull_faces" else "position"
+    mode = "position" if perturbation == "position" else "hull_faces"
+    try:
+        manifold = _morph_once(arrays, perturbation=mode, **once)
+    except RuntimeError as e:  # a mesher or the fill refused the hulls' exact points: the plain perturbation
+        if perturbation != "auto" or isinstance(e, (_core.Cancelled, BooleanError)):
+            raise
+        failed_seconds = time.perf_counter() - start
+        manifold = _morph_once(arrays, perturbation="position", **once)
+        manifold.validity["perturbation_mode"] = "position"
+        manifold.validity["perturbation_retried"] = True
+        manifold.validity["stage_seconds"].insert(0, [f"hull points in place (failed: {e})", failed_seconds])
+        return manifold
+    manifold.validity["perturbation_mode"] = mode
     first = manifold.validity
     if perturbation != "auto" or not (first["frames_cross_themselves"]
                                       or first["largest_bubble_fraction"] > RETRY_BUBBLE_FRACTION):
         return manifold
-    # Frames that run through themselves come from slivers of flat sides of the inputs' hulls
-    # (a voxel model's flat faces, collinear points along its hull edges) and of facets of the
-    # fill's hull that span both inputs in one hyperplane, which the default perturbation bends;
-    # the slivers also hold free vertices back, and those leave bubbles where the push cannot
-    # bring the points they enclose down to them (level_enclosed_peaks; the demo's UV sphere ->
-    # torus held 2.6 % of the volume at 0.9 of the range before that, none now). Once more with the
-    # points on the inputs' hulls kept where they are, and the better of the two is kept: fewer
-    # crossing frames, then a smaller largest bubble.
+    # Frames that run through themselves come from cells of the fill flat at the exact coordinates;
+    # keeping the hulls' points exact avoids most (a voxel model's flat sides, collinear points along
+    # its hull edges, Blender's primitives), and the plain perturbation is the second opinion.
+    # Once more with every point perturbed, and the better of the two is kept: fewer crossing
+    # frames, then a smaller largest bubble.
     first_seconds = time.perf_counter() - start
     try:
-        retry = _morph_once(arrays, perturbation="hull_faces", **once)
-    except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
-        first["stage_seconds"].append(["retry, hull points in place (failed)", time.perf_counter() - start - first_seconds])
+        retry = _morph_once(arrays, perturbation="position", **once)
+    except (RuntimeError, ValueError) as e:  # a mesher or the fill refused it: keep the first
+        if isinstance(e, _core.Cancelled):
+            raise
+        first["stage_seconds"].append(["retry, every point perturbed (failed)", time.perf_counter() - start - first_seconds])
         first["perturbation_retried"] = True
         return manifold
     second = retry.validity
@@ -159,20 +165,20 @@ def morph(
 
     if (second["ends_reproduced"] and second["inverted_simplices"] == 0 and flaws(second) < flaws(first)
             and retry.check()["is_oriented_manifold"]):
-        second["perturbation_mode"] = "hull_faces"
+        second["perturbation_mode"] = "position"
         why = "frames crossed" if first["frames_cross_themselves"] else "bubbles"
         second["stage_seconds"].insert(0, [f"first perturbation ({why})", first_seconds])
         manifold = retry
-    else:  # its time still counts (3holes.off: 3 s for a retry that was no better)
-        first["stage_seconds"].append(["retry, hull points in place (not kept)", time.perf_counter() - start - first_seconds])
+    else:  # its time still counts
+        first["stage_seconds"].append(["retry, every point perturbed (not kept)", time.perf_counter() - start - first_seconds])
     manifold.validity["perturbation_retried"] = True
     return manifold
 
 
 PERTURBATIONS = ("auto", "position", "hull_faces")
-# Bubbles smaller than this share of a frame's volume are reported but not worth a second morph
-# (a 1.2x cube -> the voxel plate: 1.3e-5 under "hull_faces"); near zero, whether a checked frame
-# holds one at all can come down to rounding, and the choice of perturbation should not.
+# Bubbles smaller than this share of a frame's volume are reported but not worth a second morph;
+# near zero, whether a checked frame holds one at all can come down to rounding, and the choice of
+# perturbation should not.
 RETRY_BUBBLE_FRACTION = 1e-4
 
 
@@ -190,14 +196,12 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
 
 
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
-                push_safety: float, fill: str, hole_checks: int, perturbation: str,
-                interrupted: Callable[[], bool] | None, fan_flat_polygons: bool,
-                level_enclosed_peaks: bool) -> AnimationManifold:
+                fill: str, hole_checks: int, perturbation: str, interrupted: Callable[[], bool] | None,
+                fan_flat_polygons: bool) -> AnimationManifold:
     """One morph with the core's `perturbation` (see morph())."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
-                                   max_push=max_push, push_safety=push_safety, fill=fill, perturbation=perturbation,
-                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons,
-                                   level_enclosed_peaks=level_enclosed_peaks)
+                                   max_push=max_push, fill=fill, perturbation=perturbation,
+                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons)
     report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
               for k, v in report.items()}
 
@@ -233,10 +237,10 @@ BUBBLE_CHECKS = (0.01, 0.05, 0.1, 0.5, 0.9, 0.95, 0.99)
 
 
 def _bubble_validity(manifold: AnimationManifold, arrays: list[np.ndarray], t0: float, t1: float) -> dict:
-    """Frames that hold more cavities (bubbles enclosed in the solid) than either input: a known
-    limit of the skeleton push, where free vertices held back by slivers leave the space outside
-    the target emptying around the others, inside out. Hidden under opaque materials, they show
-    through glass and in booleans. 3D only (holes of 2D frames are not cavities)."""
+    """Frames that hold more cavities (bubbles enclosed in the solid) than either input. The
+    layers' levelled heights leave none by construction; this checks it. Hidden under opaque
+    materials, a bubble would show through glass and in booleans. 3D only (holes of 2D frames are
+    not cavities)."""
     if arrays[0].shape[1] != 3:
         return {"bubble_frames": [], "bubble_frames_checked": 0, "largest_bubble_fraction": 0.0}
     allowed = max(len(cavities(arrays[0], arrays[1])), len(cavities(arrays[2], arrays[3])))
@@ -268,16 +272,26 @@ def _shared_hole_space(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
         raise BooleanError(f"the holes the source and target share cannot be computed: {e}") from None
 
 
+# Faces of a frame that pass through each other by less than this share of the manifold's size
+# (the diagonal of its bounding box in space) are rounding, not crossing: its coordinates are
+# rounded, and next to cells flat to rounding (inputs with exactly coplanar or cocircular points:
+# a torus's rings, an icosphere's) the exact test finds neighbours crossing by ~1e-16 of the size.
+# The same share bounds how far the ends may be from the inputs (validity 2).
+CROSSING_TOLERANCE = 1e-9
+
+
 def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int) -> dict:
     """Validity 1 beyond positive simplices: the raw frames at `checks` times strictly inside (t0, t1)
-    do not run through themselves. Positive simplices rule out local folds only; the push can still
+    do not run through themselves (by more than CROSSING_TOLERANCE of the size). Positive simplices rule out local folds only; the push can still
     let a part of the boundary pass through another (seen where free vertices lie on the convex
     hull of an input whose hull is larger than the other's)."""
     crossing = []
+    low, high = manifold.bounding_box
+    tolerance = CROSSING_TOLERANCE * float(np.linalg.norm((high - low)[:-1]))
     for t in t0 + (t1 - t0) * np.arange(1, checks + 1) / (checks + 1):
         frame = manifold.slice(float(t), honour_holes=False)
         try:
-            if _core.self_intersections(frame.vertices, frame.faces, 1):
+            if _core.self_intersections(frame.vertices, frame.faces, 1, tolerance):
                 crossing.append(float(t))
         except ValueError:  # not even a manifold there (the strip method's pinches)
             crossing.append(float(t))

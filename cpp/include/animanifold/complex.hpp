@@ -77,6 +77,11 @@ Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S);
 // volume, ...), from the Gram determinant. #S vector.
 Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S);
 
+// How far from flat the full-dimensional simplex `corners` (D+1 rows of V,
+// #V by D, D <= 4) is: |det[v1 - v0, ...]| over its longest edge to the
+// power D — 1 for a cube's corner, 0 for a flat simplex, whatever its size.
+double relative_volume(const PointMatrix& V, const Index* corners);
+
 // Vertex-to-simplex incidence in compressed form: the simplices incident to
 // vertex v are `simplices[offsets[v] .. offsets[v+1])`.
 struct VertexStar {

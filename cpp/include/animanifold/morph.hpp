@@ -11,14 +11,15 @@
 //    T lies outside the shape are removed. Ambiguous (Figure 8.8): frames in
 //    between can pinch into non-manifold shapes when the genus changes.
 //  - "skeleton" (§8.6, the default): each conforming fill also holds free
-//    points outside the shape (its external Voronoi skeleton, plus a point in
-//    any outside cell left without one), and after the fill those points are
-//    pushed into time (§8.6.3) as far as every simplex keeps a positive
-//    hypervolume. Nothing is left outside the shapes at t0 and t1, A stays a
-//    proper triangulation of a ball, and every frame in between is a closed
-//    surface: concavities and holes of S close soon after t0, those of T
-//    open just before t1 (holes both share are the hole spaces' business,
-//    §8.6.5).
+//    points outside the shape (its external Voronoi skeleton, plus points on
+//    any outside face left without one), and those points are pushed into
+//    time (§8.6.3) with every simplex positive: in a layer of prisms between
+//    each input's plane and the fill (morph_layers.hpp), where the push is
+//    never held back. Nothing is left outside the shapes at t0 and t1, A
+//    stays a proper triangulation of a ball, and every frame in between is a
+//    closed surface: concavities and holes of S close over the first part of
+//    the range, those of T open over the last (holes both share are the
+//    hole spaces' business, §8.6.5).
 //
 // Shapes are closed, outward-oriented triangle meshes in R^3 (manifold: tets
 // in R^4) or closed polygons in R^2 given as oriented edges (manifold:
@@ -43,37 +44,25 @@ struct MorphOptions {
   // "skeleton" (§8.6) or "strip" (§8.5). Convex inputs need neither (§8.4):
   // both then reduce to the plain fill (no free points, nothing stripped).
   std::string method = "skeleton";
-  // Skeleton method: how far free points may be pushed, as a fraction of
-  // t1 - t0, and which fraction of the largest safe push to take (below 1 so
-  // that no simplex is left nearly flat).
+  // Skeleton method: the thickness of each layer the free points are pushed
+  // in (morph_layers.hpp), as a fraction of t1 - t0: the source's concavities
+  // close within it after t0, the target's open within it before t1.
   double max_push = 0.45;
-  double push_safety = 0.5;
   // The fill's Delaunay triangulation: "cgal" (delaunay_exact, the default:
   // 10-20 times faster on the fill's two planes of points) or "qhull".
   std::string fill = "cgal";
-  // How the inputs are put in general position (see morph.cpp): "position"
-  // (perturbed_by_position, the default) or "hull_faces"
-  // (perturbed_along_hull_faces: points on the inputs' hulls stay where they
-  // are; the Python morph() retries with it when frames run through
-  // themselves).
-  std::string perturbation = "position";
-  // Passes of the vertex-by-vertex push (push_free_vertices).
-  int push_sweeps = 3;
-  // Skeleton method: free points over the flat sides of each input's hull
-  // that bridge a hole (hull_cap_points, morph_skeleton.hpp), so that a
-  // torus's hole opens from its ends instead of emptying as a bubble. Where
-  // the ends then miss the inputs, the morph is made once more without them
-  // (MorphReport::hull_caps_dropped).
-  bool hull_caps = true;
+  // How the inputs are put in general position (see morph.cpp):
+  // "hull_faces" (perturbed_along_hull_faces, the default: points on the
+  // inputs' hulls stay where they are, so the hulls' flat sides and
+  // collinear edges stay exact and the exact fill resolves their ties) or
+  // "position" (perturbed_by_position: every point; the Python morph()
+  // retries with it when frames run through themselves).
+  std::string perturbation = "hull_faces";
   // 3D: flat convex polygons of six corners or more (a cylinder's or a cone's
   // caps) are triangulated again as fans from their centre before meshing
   // (fan_flat_polygons, flat_polygons.hpp): their chords between cocircular
   // rim points are what the conforming mesher cannot settle.
   bool fan_flat_polygons = true;
-  // Skeleton method: after the push, free vertices that held-back ones
-  // enclose come down towards them (push_free_vertices), so that frames
-  // hold no bubble there; false keeps them where the push left them.
-  bool level_enclosed_peaks = true;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -99,6 +88,7 @@ struct MorphReport {
   // their edges and faces would lose a refined face (nudged_steiner_points).
   Index unnudged_steiner_points = 0;
   Index fill_simplices = 0, stripped_simplices = 0;
+  Index simplices = 0;  // of the filled shape A: what is kept of the fill, and the layers
   // Skeleton method: simplices removed from prisms over cells both inputs
   // share and that lie outside both (shared_outside_prisms).
   Index shared_stripped_simplices = 0;
@@ -108,20 +98,18 @@ struct MorphReport {
   bool inputs_coincide = false;
   // Skeleton method: skeleton points given per input, free vertices of the
   // conforming fills (skeleton points and the mesher's Steiner points off the
-  // surface), faces outside an input without a free vertex split after the
-  // fill (split_faces), and how far the free vertices were pushed (fractions
-  // of t1 - t0: smallest, mean, largest) with the simplices that already had
-  // no volume to keep.
+  // surface), and in the layers (PlaneLayer): faces outside an input without
+  // a free vertex split, long edges outside it split, cells flat to rounding
+  // on a hull left out, how far the free vertices were pushed (fractions of
+  // t1 - t0: smallest, mean, largest), how many the levelling moved off their
+  // harmonic heights, and how many lie in regions that do not reach a hull.
   Index source_skeleton_points = 0, target_skeleton_points = 0;
   Index source_cap_points = 0, target_cap_points = 0;  // of those, over flat sides of the hulls (hull_cap_points)
-  bool hull_caps_dropped = false;  // made again without them: with them an end missed its input
   Index source_fanned_polygons = 0, target_fanned_polygons = 0;  // MorphOptions::fan_flat_polygons
   Index source_free_vertices = 0, target_free_vertices = 0;
-  Index split_faces = 0;
+  Index split_faces = 0, refinement_points = 0, peeled_slivers = 0;
   std::array<double, 3> source_push{0, 0, 0}, target_push{0, 0, 0};
-  Index push_degenerate = 0;
-  Index held_back_vertices = 0;  // free vertices held below a tenth of their target (PushReport::held_back)
-  Index levelled_vertices = 0;   // free vertices brought down towards held-back ones (PushReport::levelled)
+  Index levelled_vertices = 0, sealed_vertices = 0;
   // Validity 1, at the exact coordinates: the smallest signed hypervolume of
   // the kept simplices, the smallest relative to its longest edge L (the
   // determinant over L^(n+1): 1 for a cube's corner, 0 for a flat one), how

@@ -191,40 +191,21 @@ std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& plane)
 // before t1). A stellar split keeps the fill a triangulation without another
 // run of the mesher (whose conforming result can fail once points are added
 // near the surface). Returns the new vertices, appended to `P`.
-IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std::vector<Index>>& faces);
-
-struct PushReport {
-  Index vertices = 0;    // free vertices
-  Index degenerate = 0;  // simplices of their stars already without positive volume (ignored)
-  double smallest = 0, mean = 0, largest = 0;  // how far they went, in units of the last axis
-  // Vertices that went less than a tenth of their target: a sliver of the
-  // fill held them near the plane, and the frames next to it show a thin
-  // strand or bubble there that lasts until the plane.
-  Index held_back = 0;
-  // Vertices brought down afterwards towards held-back neighbours that
-  // enclosed them (the bubbles they made would last longer).
-  Index levelled = 0;
+struct SplitOptions {
+  // #faces by P's columns: where each split point goes, instead of a point
+  // drawn near the centroid (the caller keeps it on its face).
+  const PointMatrix* positions = nullptr;
+  // A face none of whose trial points keeps every simplex of its star
+  // positive (by the exact predicate) is left unsplit (its entry of the
+  // result is -1) instead of split at the best of them.
+  bool skip_unsafe = false;
+  // With it, a new simplex thinner than this (|det| over its longest edge to
+  // the power of the dimension) counts as inverted too.
+  double thinnest = 0.0;
+  // Filled with the row of `A` each row of the result was split from.
+  std::vector<Index>* parents = nullptr;
 };
-
-// The push of §8.6.3. The free vertices (`moved`) of the positively oriented
-// simplices `A` (#A by n+2 over `P`, #P by n+1) move along the last axis in
-// `direction` (+1 or -1) up to their `target` (per point, in units of the
-// last axis), all rising together in 4·sweeps steps; at each step every
-// vertex goes towards its share of the target, one at a time, as far as `safety` (in (0, 1)) of the move at which a simplex of
-// its star would go flat. The volume of a simplex is affine in the move of
-// one of its corners along an axis, so that move is exact, no search needed;
-// one vertex at a time keeps every simplex positive whatever the others do.
-// Per vertex, not one ε for all (as in the dissertation): a free point in a
-// sliver next to the surface would otherwise hold every other back at the
-// plane; but together (see the .cpp).
-// `boundary`: boundary_facets(A), when the caller has it (it costs a sort of
-// every facet of A).
-// `level_enclosed_peaks`: afterwards, vertices that held-back neighbours
-// enclose (the frames hold a bubble over them until they come down) are
-// brought down towards them, the same way, as far as their constraints
-// allow (PushReport::levelled).
-PushReport push_free_vertices(PointMatrix& P, const SimplexMatrix& A, const std::vector<bool>& moved, double direction,
-                              const Eigen::VectorXd& target, double safety, int sweeps = 3,
-                              const SimplexMatrix* boundary = nullptr, bool level_enclosed_peaks = true);
+IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std::vector<Index>>& faces,
+                        const SplitOptions& options = {});
 
 }  // namespace animanifold

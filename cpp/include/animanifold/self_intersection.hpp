@@ -13,7 +13,16 @@ namespace animanifold {
 // Polygon_mesh_processing::self_intersections on a Surface_mesh) or
 // segments in R^2 (pairwise, with CGAL's exact predicates). At most
 // `max_pairs` pairs are returned (0: all). Empty when the shape is simple.
+//
+// `tolerance` > 0 leaves out pairs that pass through each other by no more
+// than that: the smaller of each face's depth through the other's plane
+// (line), or, for two faces in one plane to within it, how wide their
+// overlap is (twice its area over its perimeter; in 2D its length). A
+// frame's coordinates are rounded: where a cell of the manifold is flat to
+// rounding, neighbouring faces touch, and the exact test finds them crossing
+// by 1e-16 of the size. 0 keeps every pair the exact test finds (what an
+// input is held to).
 std::vector<std::pair<Index, Index>> self_intersections(const PointMatrix& V, const SimplexMatrix& F,
-                                                        std::size_t max_pairs = 1);
+                                                        std::size_t max_pairs = 1, double tolerance = 0.0);
 
 }  // namespace animanifold
