@@ -13,7 +13,6 @@
 #include <numeric>
 #include <queue>
 #include <limits>
-#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -173,21 +172,30 @@ Eigen::VectorXd free_vertex_levels(const PointMatrix& spatial, const SimplexMatr
 std::vector<std::vector<Index>> long_outside_edges(const PointMatrix& spatial, const SimplexMatrix& cells,
                                                    const std::vector<bool>& outside, double longest) {
   const int corners = static_cast<int>(cells.cols());
-  auto key = [](Index a, Index b) { return std::pair<Index, Index>(std::min(a, b), std::max(a, b)); };
-  std::set<std::pair<Index, Index>> covered, candidates;
+  // Edges as (smaller id, larger id) in one 64-bit key.
+  auto key = [](Index a, Index b) {
+    return static_cast<std::uint64_t>(static_cast<std::uint32_t>(std::min(a, b))) << 32 |
+           static_cast<std::uint32_t>(std::max(a, b));
+  };
+  std::vector<std::uint64_t> covered, candidates;
   for (Index c = 0; c < cells.rows(); ++c)
     for (int a = 0; a < corners; ++a)
-      for (int b = a + 1; b < corners; ++b)
-        (outside[c] ? candidates : covered).insert(key(cells(c, a), cells(c, b)));
-  std::vector<std::pair<double, std::pair<Index, Index>>> edges;
-  for (const auto& e : candidates) {
-    if (covered.count(e)) continue;
-    const double length = (spatial.row(e.first) - spatial.row(e.second)).norm();
-    if (length > longest) edges.emplace_back(length, e);
+      for (int b = a + 1; b < corners; ++b) (outside[c] ? candidates : covered).push_back(key(cells(c, a), cells(c, b)));
+  for (std::vector<std::uint64_t>* keys : {&covered, &candidates}) {
+    std::sort(keys->begin(), keys->end());
+    keys->erase(std::unique(keys->begin(), keys->end()), keys->end());
   }
-  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first > y.first || (x.first == y.first && x.second < y.second); });
+  std::vector<std::pair<double, std::uint64_t>> edges;
+  for (const std::uint64_t e : candidates) {
+    if (std::binary_search(covered.begin(), covered.end(), e)) continue;
+    const Index a = static_cast<Index>(e >> 32), b = static_cast<Index>(e & 0xffffffffu);
+    const double length = (spatial.row(a) - spatial.row(b)).norm();
+    if (length > longest) edges.emplace_back(-length, e);  // longest first, then by ids
+  }
+  std::sort(edges.begin(), edges.end());
   std::vector<std::vector<Index>> out;
-  for (const auto& [length, e] : edges) out.push_back({e.first, e.second});
+  out.reserve(edges.size());
+  for (const auto& [length, e] : edges) out.push_back({static_cast<Index>(e >> 32), static_cast<Index>(e & 0xffffffffu)});
   return out;
 }
 

@@ -58,11 +58,13 @@ std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& shape)
   for (int size = 2; size <= corners; ++size)
     for (Index c = 0; c < cells.rows(); ++c) {
       if (!shape.outside[c] || shape.flat[c]) continue;
-      bool has_free = false;
-      for (int i = 0; i < corners; ++i) has_free = has_free || shape.free[cells(c, i)];
-      if (has_free) continue;
       for (unsigned mask = 1; mask < (1u << corners); ++mask) {
         if (size_of(mask) != size) continue;
+        // A face with a free vertex leaves the plane with it; one without
+        // stays there, whatever the cell's other corners do.
+        bool has_free = false;
+        for (int i = 0; i < corners; ++i) has_free = has_free || ((mask & (1u << i)) && shape.free[cells(c, i)]);
+        if (has_free) continue;
         const FaceKey key = key_of(c, mask);
         if (covered.count(key) || listed.count(key)) continue;
         bool split_below = false;  // one of its own faces is listed: it gets a free vertex from that split
@@ -112,6 +114,7 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
   std::mt19937_64 rng(4242);
   std::uniform_real_distribution<double> weight(1.0, 2.0);
   std::vector<Index> star;
+  std::vector<bool> positive;
   Index made = 0;  // split points so far
   for (size_t f = 0; f < faces.size(); ++f) {
     const std::vector<Index>& face = faces[f];
@@ -135,14 +138,19 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
     // its corners share stay exact: a face in a flat side, a chord along a
     // hull edge), and every new simplex is checked by the exact predicate;
     // other weights are drawn while one fails (kept: the fewest failures).
-    auto inverted_by = [&](const Eigen::RowVectorXd& point) {
+    // Simplices of the star that are not positive before have nothing to keep.
+    positive.clear();
+    for (const Index s : star) positive.push_back(exact_orientation(Q, row_of(s).data()) > 0);
+    Eigen::RowVectorXd best;
+    int best_inverted = std::numeric_limits<int>::max();
+    auto inverted_by = [&](const Eigen::RowVectorXd& point) {  // stops counting at the best so far
       Q.row(m) = point;
       int inverted = 0;
-      for (const Index s : star) {
-        auto row = row_of(s);
-        if (exact_orientation(Q, row.data()) <= 0) continue;  // not positive before: nothing to keep
-        for (size_t i = 0; i < face.size(); ++i) {
-          auto split = row;
+      for (size_t k = 0; k < star.size() && inverted < best_inverted; ++k) {
+        if (!positive[k]) continue;
+        const Row row = row_of(star[k]);
+        for (size_t i = 0; i < face.size() && inverted < best_inverted; ++i) {
+          Row split = row;
           *std::find(split.data(), split.data() + D + 1, face[i]) = m;
           inverted += exact_orientation(Q, split.data()) <= 0 ||
                       (options.thinnest > 0 && relative_volume(Q, split.data()) < options.thinnest);
@@ -150,8 +158,6 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
       }
       return inverted;
     };
-    Eigen::RowVectorXd best;
-    int best_inverted = std::numeric_limits<int>::max();
     if (positions) best = positions->row(static_cast<Index>(f)), best_inverted = 0;
     for (int attempt = 0; attempt < kSplitAttempts && best_inverted > 0; ++attempt) {
       std::vector<double> w(face.size());

@@ -60,9 +60,9 @@ double coplanar_overlap(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
     polygon = std::move(kept);
   }
   if (polygon.size() < 3) return 0.0;
-  double area = 0, perimeter = 0;
+  double area = 0, perimeter = 0;  // (twice the area, from its first corner: a tiny polygon far out stays exact)
   for (size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector2d x = polygon[i], y = polygon[(i + 1) % polygon.size()];
+    const Eigen::Vector2d x = polygon[i] - polygon[0], y = polygon[(i + 1) % polygon.size()] - polygon[0];
     area += x.x() * y.y() - y.x() * x.y();
     perimeter += (y - x).norm();
   }

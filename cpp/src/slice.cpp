@@ -281,15 +281,18 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
 
   std::vector<Index> candidates;
   double lowest, highest;
+  if (index) {
+    lowest = index->lowest(), highest = index->highest();
+  } else {
+    lowest = m.V.rows() ? m.V.col(axis).minCoeff() : 0.0;
+    highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
+  }
   auto stab = [&](double at) {
     candidates.clear();
     if (index) {
       index->stab(at, candidates);
-      lowest = index->lowest(), highest = index->highest();
       return;
     }
-    lowest = m.V.rows() ? m.V.col(axis).minCoeff() : 0.0;
-    highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
     candidates.reserve(1024);
     for (Index s = 0; s < m.S.rows(); ++s) {
       double low = m.V(m.S(s, 0), axis), high = low;
@@ -300,12 +303,15 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
       if (low <= at && at <= high) candidates.push_back(s);
     }
   };
-  stab(value);
   // A value a rounding away from vertices (a frame's time computed as
   // t0 + k·dt next to a keyframe, or a layer of a morph) is taken as theirs:
   // cut a hair off them, edges from each vertex would give slice vertices
   // of their own within an ulp of it, and faces between them that fold.
+  // Just outside the manifold's ends, the ends' own.
   const double snap = kSnapToVertices * (highest - lowest);
+  if (value < lowest && lowest - value <= snap) value = lowest;
+  if (value > highest && value - highest <= snap) value = highest;
+  stab(value);
   double nearest = value, distance = std::numeric_limits<double>::infinity();
   for (const Index s : candidates)
     for (int c = 0; c < k; ++c) {

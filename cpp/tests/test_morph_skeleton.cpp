@@ -152,6 +152,72 @@ TEST(SelfIntersection, FindsCrossingFacesAndNotNeighbours) {
   EXPECT_FALSE(self_intersections(star, loop).empty());
 }
 
+TEST(SelfIntersection, ATolerancePassesRoundingButNotCrossings) {
+  // Two triangles of a closed shape's worth (only the pair matters): one pierces the other by
+  // `depth` along z.
+  auto pierced = [](double depth) {
+    PointMatrix V(6, 3);
+    V << 0, 0, 0, 2, 0, 0, 0, 2, 0,  // in z = 0
+        0.5, 0.5, -depth, 0.6, 0.5, 1, 0.5, 0.6, 1;  // one corner below it
+    SimplexMatrix F(2, 3);
+    F << 0, 1, 2, 3, 4, 5;
+    return std::make_pair(V, F);
+  };
+  const auto [shallow, shallow_faces] = pierced(1e-13);
+  EXPECT_EQ(self_intersections(shallow, shallow_faces, 0).size(), 1u);        // the exact test finds it
+  EXPECT_TRUE(self_intersections(shallow, shallow_faces, 0, 1e-9).empty());  // rounding: left out
+  const auto [deep, deep_faces] = pierced(0.1);
+  EXPECT_EQ(self_intersections(deep, deep_faces, 0, 1e-9).size(), 1u);
+  // Two triangles in one plane overlapping over a wide region: a fold, whatever the tolerance.
+  PointMatrix V(6, 3);
+  V << 0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0, 2.5, 0.5, 0, 0.5, 2.5, 0;
+  SimplexMatrix F(2, 3);
+  F << 0, 1, 2, 3, 4, 5;
+  EXPECT_EQ(self_intersections(V, F, 0, 1e-9).size(), 1u);
+  // ... and barely overlapping (a sliver 1e-13 wide): rounding.
+  V.row(3) << 1 - 1e-13, 1 - 1e-13, 0;
+  V.row(4) << 3, 0, 0;
+  V.row(5) << 0, 3, 0;
+  EXPECT_EQ(self_intersections(V, F, 0).size(), 1u);
+  EXPECT_TRUE(self_intersections(V, F, 0, 1e-9).empty());
+}
+
+TEST(MorphSkeleton, SplitsAtGivenPointsSkipUnsafeOnesAndTellTheirParents) {
+  PointMatrix P = two_planes(20, 3);
+  SimplexMatrix A = delaunay_exact(P).simplices;
+  const double before = total_volume(P, A);
+  // An edge of the fill, split at its exact midpoint (a given position).
+  const std::vector<Index> edge{A(0, 0), A(0, 1)};
+  PointMatrix at(1, 4);
+  at.row(0) = 0.5 * (P.row(edge[0]) + P.row(edge[1]));
+  std::vector<Index> parents;
+  SplitOptions how;
+  how.positions = &at;
+  how.parents = &parents;
+  const Index rows = static_cast<Index>(A.rows());
+  const IndexVector added = split_faces(P, A, {edge}, how);
+  ASSERT_EQ(added.size(), 1);
+  EXPECT_EQ((P.row(added(0)) - at.row(0)).norm(), 0.0);
+  EXPECT_GT(signed_volumes(P, A).minCoeff(), 0.0);
+  EXPECT_NEAR(total_volume(P, A), before, 1e-9 * before);
+  ASSERT_EQ(parents.size(), static_cast<size_t>(A.rows()));
+  for (Index r = 0; r < rows; ++r) EXPECT_EQ(parents[r], r);
+  for (Index r = rows; r < A.rows(); ++r) {  // each new simplex comes from one that held the edge
+    const auto parent = A.row(parents[r]);
+    EXPECT_TRUE(std::find(parent.data(), parent.data() + 5, added(0)) != parent.data() + 5);
+  }
+  // A split that would leave a simplex thinner than asked for is skipped: no point, -1.
+  SplitOptions strict;
+  strict.skip_unsafe = true;
+  strict.thinnest = 1.0;  // no simplex is that fat
+  const Index points = static_cast<Index>(P.rows());
+  const SimplexMatrix kept = A;
+  const IndexVector none = split_faces(P, A, {{A(1, 0), A(1, 1)}}, strict);
+  EXPECT_EQ(none(0), -1);
+  EXPECT_EQ(P.rows(), points);
+  EXPECT_TRUE(A == kept);
+}
+
 TEST(DelaunayExact, TwoPlanesGiveNoFlatCellAndKeepEachPlanesTriangulation) {
   const PointMatrix P = two_planes(50, 3);
   const DelaunayTriangulation fill = delaunay_exact(P);

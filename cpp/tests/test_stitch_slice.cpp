@@ -60,6 +60,26 @@ TEST(Slice, KeyframesComeBackExactlyAtBothEnds) {
   }
 }
 
+TEST(Slice, AValueARoundingAwayFromAKeyframeGivesTheKeyframe) {
+  // A frame's time computed as t0 + k·dt can land an ulp off a keyframe: cut a hair above it,
+  // each edge out of a keyframe vertex gave a slice vertex of its own within an ulp of it, and
+  // faces between them folded. Within 1e-12 of the extent, the slice is the keyframe's.
+  const StitchInput in = octahedron_animation();
+  const Complex m = stitch(in);
+  for (int i = 0; i < 3; ++i)
+    for (const double off : {std::nextafter(in.times(i), 1e9), std::nextafter(in.times(i), -1e9)}) {
+      const Slice s = slice(m, 3, off);
+      ASSERT_EQ(s.faces.rows(), 8) << "keyframe " << i << " at " << off;
+      for (Index p = 0; p < s.vertices.rows(); ++p) {
+        ASSERT_EQ(s.vertex_edges(p, 0), s.vertex_edges(p, 1));
+        EXPECT_EQ(s.vertex_edges(p, 0) / 6, i);
+      }
+    }
+  // Farther off, an in-between frame: interpolated, not a keyframe's vertices.
+  const Slice between = slice(m, 3, in.times(1) + 1e-6 * (in.times(2) - in.times(0)));
+  EXPECT_NE(between.vertex_edges(0, 0), between.vertex_edges(0, 1));
+}
+
 TEST(Slice, IntervalIndexFindsExactlyTheStabbedSimplices) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-5, 5);
