@@ -338,7 +338,7 @@ def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
                                                  axis=0)) + len(faces) == 0  # a torus
     code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "x"),
                          "--max-push", "2")
-    assert_user_error(code, err, "--max-push must lie between 0 and 1")
+    assert_user_error(code, err, "--max-push must lie between 0 and 0.5")
 
 
 def test_skeleton_sub_command_is_wired_in(capsys, tmp_path):

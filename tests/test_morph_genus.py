@@ -202,6 +202,9 @@ def test_the_push_keeps_every_simplex_positive_and_within_the_span():
     assert not ((t > 2.0) & (t < layer - 1e-9)).any()
     pushed = (t > layer + 1e-9) & (t < 5.0)
     assert pushed.sum() > report["target_free_vertices"]
+    # two layers must leave the fill between them
+    with pytest.raises(ValueError, match=r"max_push must lie in \(0, 0.5\)"):
+        am.morph((1.5 * v, f), torus(minor_radius=0.4), max_push=0.5)
 
 
 def frame_loops(frame):

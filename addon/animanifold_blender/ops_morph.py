@@ -26,7 +26,7 @@ import uuid
 
 import bpy
 import numpy as np
-from bpy.props import BoolProperty, EnumProperty, IntProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from bpy.types import Operator
 
 from . import live, live_nodes
@@ -122,6 +122,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
                                   description="Morph over the scene's frame range (else Start–End)")
     frame_start: IntProperty(name="Start", default=1, description="Frame where the morph is the source")
     frame_end: IntProperty(name="End", default=48, description="Frame where the morph is the target")
+    transition: FloatProperty(name="Transition", default=0.45, min=0.05, max=0.49, subtype="FACTOR",
+                              description="Skeleton method: the share of the range over which the source's holes "
+                                          "and dents close after the start and the target's open before the end")
 
     @classmethod
     def poll(cls, context):
@@ -142,6 +145,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         row.enabled = not self.use_scene_range
         row.prop(self, "frame_start")
         row.prop(self, "frame_end")
+        row = layout.row()
+        row.enabled = self.method == "SKELETON"
+        row.prop(self, "transition")
 
     def _inputs(self, context):
         """(source, target, start, end, (vs, fs), (vt, ft)), or a report's text when there is nothing to morph."""
@@ -176,7 +182,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         try:
             progress.at("in the core's conforming and fill stages", 5.0)
             manifold = am.morph(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower(),
-                                progress=progress)
+                                progress=progress, max_push=self.transition)
         except ValueError as e:  # the core names the input and what is wrong with it
             self.report({"ERROR"}, self._input_message(e, source, target))
             return {"CANCELLED"}
@@ -198,7 +204,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return {"CANCELLED"}
         self._running = inputs
         source, target, start, end, source_mesh, target_mesh = inputs
-        self._job = MorphJob(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower())
+        self._job = MorphJob(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower(),
+                             max_push=self.transition)
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
         wm.progress_begin(0, 100)

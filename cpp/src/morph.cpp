@@ -195,7 +195,9 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     fail<InputError>("unknown perturbation '", options.perturbation, "': use 'position' or 'hull_faces'");
   if (options.fill != "cgal" && options.fill != "qhull")
     fail<InputError>("unknown fill triangulation '", options.fill, "': use 'cgal' or 'qhull'");
-  if (!(options.max_push > 0 && options.max_push < 1)) fail<InputError>("max_push must lie in (0, 1), got ", options.max_push);
+  // Two layers (the source's after t0, the target's before t1) must leave the fill between them.
+  if (!(options.max_push > 0 && options.max_push < 0.5))
+    fail<InputError>("max_push must lie in (0, 0.5), got ", options.max_push);
   const int d = static_cast<int>(source_points.cols());
   // What the morph is built on: the inputs, their flat polygons fanned from
   // their centres (MorphOptions::fan_flat_polygons) — the same surfaces.
@@ -418,15 +420,13 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     stage("strip", 0.8);
   } else {
     // Nothing is stripped. Each plane's cells are classified as the fill
-    // made them; faces outside an input with no free vertex are split, the
-    // new vertex free (split_faces); then every free vertex is pushed into
-    // time (§8.6.3), the source's forward from t0, then the target's back
-    // from t1. All of it on the perturbed points, the geometry the fill's
-    // combinatorics were decided on; the exact coordinates come back
-    // afterwards for the points that stay in the planes (free points never
-    // show at t0 or t1). Where the exact geometry is flat (a facet of the
-    // hull across both planes), the simplices there are slivers whose sign
-    // constrains little: see crossing_frames in the report.
+    // made them, on the perturbed points (the geometry its combinatorics
+    // were decided on); then each plane with cells outside its input gets a
+    // layer in which its free vertices are pushed into time (§8.6.3,
+    // morph_layers.hpp), built on the exact coordinates. Where the exact
+    // geometry is flat (cells of the inputs' planar quads, a facet of the
+    // hull across both planes), the fill's simplices there are degenerate
+    // (see the validity report).
     A = fill.simplices;
     PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
     PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);

@@ -299,7 +299,7 @@ def missing_facets(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32]
     """
     Rows of faces that are not faces of any simplex (Theorem 5.2.1).
     """
-def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t1: typing.SupportsFloat | typing.SupportsIndex = 1.0, method: str = 'skeleton', progress: typing.Any = None, max_push: typing.SupportsFloat | typing.SupportsIndex = 0.45, push_safety: typing.SupportsFloat | typing.SupportsIndex = 0.5, push_sweeps: typing.SupportsInt | typing.SupportsIndex = 3, fill: str = 'cgal', perturbation: str = 'position', interrupted: typing.Any = None, fan_flat_polygons: bool = True, level_enclosed_peaks: bool = True) -> tuple[Complex, dict]:
+def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t1: typing.SupportsFloat | typing.SupportsIndex = 1.0, method: str = 'skeleton', progress: typing.Any = None, max_push: typing.SupportsFloat | typing.SupportsIndex = 0.45, fill: str = 'cgal', perturbation: str = 'hull_faces', interrupted: typing.Any = None, fan_flat_polygons: bool = True) -> tuple[Complex, dict]:
     """
     Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the other, cancels (raises Cancelled).
     """
@@ -315,9 +315,9 @@ def refine(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]
     """
     Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) are the split tuples; returns a dict of the refined arrays and the maps of animanifold/refine.hpp.
     """
-def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1) -> list[tuple[int, int]]:
+def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> list[tuple[int, int]]:
     """
-    Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all.
+    Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all. tolerance > 0: only pairs that pass through each other by more than that (rounding left out).
     """
 def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     ...

@@ -383,8 +383,8 @@ def run_morph(args: argparse.Namespace) -> int:
     if args.frames < 0:
         raise UserError(f"--frames must be >= 0, got {args.frames}")
     source, target = read_mesh(args.source), read_mesh(args.target)
-    if not 0 < args.max_push < 1:
-        raise UserError(f"--max-push must lie between 0 and 1, got {args.max_push}")
+    if not 0 < args.max_push < 0.5:
+        raise UserError(f"--max-push must lie between 0 and 0.5, got {args.max_push}")
     manifold = morph(source, target, t0=args.t0, t1=args.t1, method=args.method, max_push=args.max_push,
                      progress=lambda stage, fraction: print(f"  {stage} done ({fraction:.0%})", file=sys.stderr) or True)
     folder = Path(args.output)

@@ -47,9 +47,9 @@ def morph(
     lies outside either shape — ambiguous where the genus changes (frames can
     pinch). The skeleton method pushes its free points into time in a layer
     of prisms between each input and the fill (the core's morph_layers.hpp):
-    their heights are harmonic between the input (0) and the external
-    skeleton and hull (the layer's height; less where those lie close to the
-    input), levelled so that a frame holds neither a bubble nor an island
+    their heights follow their distance from the input (the frames are close
+    to the input's offsets: a hole opens along its axis first and widens),
+    levelled so that a frame holds neither a bubble nor an island
     (report: `source_push`, `target_push` as fractions of the range,
     `levelled_vertices`, `split_faces`, `refinement_points`, `peeled_slivers`,
     `sealed_vertices`). fill: the Delaunay triangulation of the fill, "cgal"

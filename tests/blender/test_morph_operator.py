@@ -194,7 +194,7 @@ def test_uv_sphere_to_a_turned_mirrored_cube_reproduces_both_ends_over_a_long_ra
     assert len(morph.data.polygons) > 0
 
 
-def morph_with_clean_frames(source, target) -> dict:
+def morph_with_clean_frames(source, target, **options) -> dict:
     """Morph Selected over the scene's range: no checked frame runs through itself or holds a
     bubble, and the frames at the range's ends match the inputs. Returns the validity report."""
     from animanifold_blender import live
@@ -202,7 +202,7 @@ def morph_with_clean_frames(source, target) -> dict:
     scene = bpy.context.scene
     bpy.context.view_layer.update()
     select(source, target)
-    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    assert bpy.ops.animanifold.morph_selected(**options) == {"FINISHED"}
     morph = bpy.context.active_object
     validity = live.manifold_for(morph).validity
     assert validity["ends_reproduced"], validity
@@ -248,6 +248,35 @@ def test_blenders_default_uv_sphere_into_its_default_torus_has_clean_frames(empt
     target = bpy.context.active_object
     validity = morph_with_clean_frames(source, target)
     assert validity["perturbation_mode"] == "hull_faces", validity
+
+
+def test_the_transition_sets_how_long_the_torus_hole_takes_to_open(empty_scene):
+    """Transition (the core's max_push): the share of the range over which the target's hole opens.
+    At 0.2 the torus's free vertices go at most 0.98 x 0.9 x 0.2 of the range into it, and a frame
+    at 70 % of the range is still a closed blob; at the default (0.45) the hole is open there."""
+    from test_morph_genus import euler_characteristic
+
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 101
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.5)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add()
+    target = bpy.context.active_object
+    eulers = {}
+    for transition in (0.2, 0.45):
+        validity = morph_with_clean_frames(source, target, transition=transition)
+        assert validity["target_push"][2] == pytest.approx(0.98 * 0.9 * transition), validity["target_push"]
+        scene.frame_set(71)
+        morph = bpy.context.active_object
+        mesh = morph.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
+        mesh.calc_loop_triangles()
+        faces = np.array([t.vertices[:] for t in mesh.loop_triangles])
+        eulers[transition] = euler_characteristic(faces)
+        morph.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
+        bpy.data.objects.remove(morph)
+        for obj in (source, target):  # the morph hid its inputs
+            obj.hide_set(False)
+    assert eulers == {0.2: 2, 0.45: 0}, eulers
 
 
 def test_only_the_selected_meshes_take_part(empty_scene):

@@ -17,23 +17,35 @@
 // the heights of its bottom corners, as long as each stays below the top:
 // the free vertices' bottom copies go to their heights with every simplex
 // positive, which is what §8.6.3's binary search checks for, and the frames
-// in the layer are the sublevel sets of a height field over K — concavities
-// and holes fill from the surface outwards towards the hull (the source's,
-// after t0) or empty from the hull inwards (the target's, before t1).
+// in the layer are the sublevel sets of a height field over K: the source's
+// concavities and holes fill after t0, the target's empty before t1.
 //
-// The heights are harmonic (graph Laplacian, weights 1/length): 0 on the
-// input, the layer's full height on K's boundary (the convex hull, where the
-// frame meets the outside). A harmonic function has no interior extremum: a
-// frame holds no bubble (a peak would be the last of its region to fill) and
-// no island (a pit, the first). Outside regions that do not reach K's
-// boundary (a cavity inside the input) go to the full height everywhere.
+// The heights follow the distance from the input (all the way from a share
+// of the farthest free vertex's distance on, never nothing), so the frames
+// in the layer are close to offsets of the input: a hole opens along its
+// axis first and widens, a thin film between the input and its hull empties
+// last. Then they are levelled: a vertex above every path from it to the
+// hull comes down to the best path's lowest height (a peak of the distance
+// field the cells do not join to the outside would be the last of its
+// region to empty: a bubble in the frames), one below every path to the
+// input comes up to the best path's highest (else an island). Outside
+// regions that do not reach K's boundary (a cavity inside the input) keep
+// their heights: a bubble by nature.
 //
-// Faces of outside cells without a free vertex (a chord across a hole,
+// Cells outside the input on K's boundary that are flat to rounding (four
+// points of a nearly planar stretch of the hull: a sliver between the hull's
+// two triangles and the other diagonal inside) are left out of the layer:
+// the heights, linear on each, differ across them, and the frames would
+// fold there within their plane. The fill's cell under each shows at the
+// layer's top as a face of no volume.
+//
+// Faces outside the input without a free vertex (a chord across a hole,
 // whose ends are on the input) would stay at the end as a thread or
-// membrane; each is split at a free point first (split_faces, in K), and the
-// layer is built in two parts: the prisms over the split K, from the end to
-// most of the layer's thickness, then prisms over K itself, split at their
-// bottom the same way, up to the fill (the split points end there).
+// membrane; each is split at a free point first (split_faces, in K), and so
+// are long edges outside the input (a hole opens only as finely as its
+// cells are). The layer is built in two parts: prisms over the split K from
+// the end to most of the layer's thickness, then prisms over K itself, split
+// at their bottom the same way, up to the fill (the split points end there).
 #pragma once
 
 #include "animanifold/morph_skeleton.hpp"
@@ -51,7 +63,7 @@ struct PlaneLayer {
   Index peeled_slivers = 0;        // cells flat to rounding on K's boundary, left out (peel_boundary_slivers)
   Index free_vertices = 0;        // free vertices of K, split points included
   Index sealed_vertices = 0;      // of those, in outside regions that do not reach K's boundary
-  Index levelled_vertices = 0;    // of those, moved off their harmonic height (no bubble, no island)
+  Index levelled_vertices = 0;    // of those, moved off their distance's height (no bubble, no island)
   double smallest = 0, mean = 0, largest = 0;  // heights of the free vertices, in units of the last axis
 };
 

@@ -1,5 +1,5 @@
 // The skeleton method of morphing (§8.6): free points in each input's
-// conforming fill, and the push of those points into time.
+// conforming fill (the push of those points into time: morph_layers.hpp).
 //
 // A fill of the convex hull of S' at t0 contains cells outside S (in its
 // concavities and holes). Were they left at t0, the animation manifold would
@@ -7,10 +7,10 @@
 // that can pinch. Instead every outside cell gets a vertex that is neither
 // on S nor inside it — a free vertex: the external Voronoi skeleton's
 // vertices (§8.6.1, chosen because they lie as far from the surface as the
-// concavity allows), plus the centroid of any outside cell still without one
-// (the attachment concern of §8.6.2, Figure 8.11). After the fill in R^(n+1)
-// the free vertices move off the plane, t0 + δ (§8.6.3): every outside cell
-// then tilts into time and the cap at t0 is exactly S's inside.
+// concavity allows), plus a point on any outside face still without one
+// (the attachment concern of §8.6.2, Figure 8.11: split_faces). After the
+// fill in R^(n+1) the free vertices move off the plane (§8.6.3): every
+// outside cell then tilts into time and the cap at t0 is exactly S's inside.
 #pragma once
 
 #include "animanifold/delaunay.hpp"
