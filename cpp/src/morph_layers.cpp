@@ -32,7 +32,7 @@ constexpr double kLongestOutsideEdge = 1.0 / 25;
 constexpr int kRefinementRounds = 6;
 // ... and at most this many times as many points as the plane has are added
 // (the halves of a long edge across a wide gap are split again and again).
-constexpr Index kRefinementBudget = 3;
+constexpr Index kRefinementBudget = 1;
 // Relative volume (|det| over the longest edge cubed) below which a cell is
 // flat to rounding (peel_boundary_slivers).
 constexpr double kSliver = 1e-12;
