@@ -612,3 +612,28 @@ def test_a_cube_into_the_voxel_plate_facing_it_does_not_run_through_itself():
         frame = m.slice(t, honour_holes=False)
         assert_closed_oriented_surface(frame.faces)
         assert am._core.self_intersections(frame.vertices, frame.faces, 1) == [], t
+
+
+@pytest.mark.parametrize("direction", ["hollow -> torus", "torus -> hollow"])
+def test_a_hollow_sphere_s_cavity_closes_within_its_layer(direction):
+    """A sphere with a cavity (an inner shell facing in): the region outside the input inside its
+    hull does not reach the hull (sealed_vertices). It keeps its heights: a bubble by nature, the
+    input's own, that closes within the layer (the source's, after t0) or opens within it (the
+    target's, before t1); no frame holds any other."""
+    v, f = icosphere(2)
+    hollow = np.vstack([1.5 * v, 0.7 * v]), np.vstack([f, f[:, ::-1] + len(v)])
+    source, target = (hollow, torus(minor_radius=0.4)) if direction.startswith("hollow") else \
+        (torus(minor_radius=0.4), hollow)
+    m = am.morph(source, target)
+    report = m.validity
+    assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
+    assert report["sealed_vertices"] > 0 and report["bubble_frames"] == []
+    cavities = []
+    for t in np.linspace(0.0, 1.0, 21):
+        frame = m.slice(float(t), honour_holes=False)
+        assert_closed_oriented_surface(frame.faces)
+        volumes = signed_shell_volumes(frame)
+        assert (volumes > 0).sum() == 1
+        cavities.append(int((volumes < 0).sum()))
+    near_hollow, far = (cavities[:2], cavities[-11:]) if direction.startswith("hollow") else (cavities[-2:], cavities[:11])
+    assert near_hollow == [1, 1] and set(far) == {0}, cavities
