@@ -101,8 +101,9 @@ struct MorphReport {
   // surface), and in the layers (PlaneLayer): faces outside an input without
   // a free vertex split, long edges outside it split, cells flat to rounding
   // on a hull left out, how far the free vertices were pushed (fractions of
-  // t1 - t0: smallest, mean, largest), how many the levelling moved off their
-  // harmonic heights, and how many lie in regions that do not reach a hull.
+  // t1 - t0: smallest, mean, largest), how many the levelling moved off the
+  // heights of their distance from the input, and how many lie in regions
+  // that do not reach a hull.
   Index source_skeleton_points = 0, target_skeleton_points = 0;
   Index source_cap_points = 0, target_cap_points = 0;  // of those, over flat sides of the hulls (hull_cap_points)
   Index source_fanned_polygons = 0, target_fanned_polygons = 0;  // MorphOptions::fan_flat_polygons
