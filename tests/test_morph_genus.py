@@ -422,9 +422,9 @@ def test_the_torus_hole_opens_through_one_shell_without_bubble_or_island(perturb
     """In the fill itself, slivers held 106 of this torus's free vertices near the plane, and the
     space over the vertices they ring was the last to empty: frames before t1 held a bubble of 30 %
     of the volume (37 % at 0.997, in 100 of 300 frames). In the layer the heights follow the distance
-    from the torus and are
-    levelled: every free vertex has a path to the hull along which none is lower (no bubble) and
-    one to the input along which none is higher (no island), so every frame is one shell."""
+    from the torus and are levelled: every free vertex has a path to the hull along which none is
+    lower (no bubble) and one to the input along which none is higher (no island), so every frame
+    is one shell."""
     m = am.morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation=perturbation)
     report = m.validity
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
