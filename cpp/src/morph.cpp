@@ -26,7 +26,6 @@
 #include <tuple>
 #include <unordered_map>
 
-
 namespace animanifold {
 
 namespace {
@@ -447,7 +446,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     const std::vector<bool>& target_free = target_plane.free;
     report.source_free_vertices = std::count(source_free.begin(), source_free.end(), true);
     report.target_free_vertices = std::count(target_free.begin(), target_free.end(), true);
-    // §8.6.3: each plane with free vertices moves into time by the layer's
+    // §8.6.3: each plane with cells outside its input moves into time by the layer's
     // thickness (an affine map of the last axis: the fill stays positive),
     // and the layer between it and the end holds the push (morph_layers.hpp).
     // The fill's points get their exact coordinates back now; the layers are

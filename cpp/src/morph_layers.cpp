@@ -220,18 +220,22 @@ std::vector<bool> peel_boundary_slivers(const SimplexMatrix& cells, const std::v
   std::unordered_map<FaceKey, int, FaceHash> count;
   for (Index c = 0; c < cells.rows(); ++c)
     for (int drop = 0; drop < corners; ++drop) ++count[facet_of(c, drop)];
-  for (bool peeled = true; peeled;) {
+  // The boundary's faces of every size (keys padded with -1). A peel only
+  // adds to it (the removed cell's other facets come out); the facets it
+  // takes away leave their faces listed, which only ever forbids a peel.
+  std::unordered_map<FaceKey, int, FaceHash> on_boundary;
+  auto add_boundary_facet = [&](const FaceKey& key) {
+    for (unsigned mask = 1; mask < (1u << (corners - 1)); ++mask) {
+      FaceKey sub{-1, -1, -1};
+      for (int i = 0, j = 0; i < corners - 1; ++i)
+        if (mask & (1u << i)) sub[j++] = key[i];
+      on_boundary[sub] = 1;
+    }
+  };
+  for (const auto& [key, times] : count)
+    if (times == 1) add_boundary_facet(key);
+  for (bool peeled = true; peeled;) {  // again while a peel exposes another candidate
     peeled = false;
-    // The boundary's faces of every size (keys padded with -1).
-    std::unordered_map<FaceKey, int, FaceHash> on_boundary;
-    for (const auto& [key, times] : count)
-      if (times == 1)
-        for (unsigned mask = 1; mask < (1u << (corners - 1)); ++mask) {
-          FaceKey sub{-1, -1, -1};
-          for (int i = 0, j = 0; i < corners - 1; ++i)
-            if (mask & (1u << i)) sub[j++] = key[i];
-          on_boundary[sub] = 1;
-        }
     for (Index c = 0; c < cells.rows(); ++c) {
       if (!kept[c] || !candidate[c]) continue;
       FaceKey opposite{-1, -1, -1};
@@ -242,8 +246,10 @@ std::vector<bool> peel_boundary_slivers(const SimplexMatrix& cells, const std::v
       std::sort(opposite.begin(), opposite.begin() + boundary);
       if (on_boundary.count(opposite)) continue;
       kept[c] = false, peeled = true;
-      for (int drop = 0; drop < corners; ++drop) --count[facet_of(c, drop)];
-      break;  // the boundary changed: look again
+      for (int drop = 0; drop < corners; ++drop) {
+        const FaceKey key = facet_of(c, drop);
+        if (--count[key] == 1) add_boundary_facet(key);
+      }
     }
   }
   return kept;

@@ -131,7 +131,7 @@ def morph(
     try:
         manifold = _morph_once(arrays, perturbation=mode, **once)
     except RuntimeError as e:  # a mesher or the fill refused the hulls' exact points: the plain perturbation
-        if perturbation != "auto" or isinstance(e, (_core.Cancelled, BooleanError)):
+        if perturbation != "auto" or isinstance(e, BooleanError):  # (a cancel is no RuntimeError)
             raise
         failed_seconds = time.perf_counter() - start
         manifold = _morph_once(arrays, perturbation="position", **once)
@@ -152,9 +152,7 @@ def morph(
     first_seconds = time.perf_counter() - start
     try:
         retry = _morph_once(arrays, perturbation="position", **once)
-    except (RuntimeError, ValueError) as e:  # a mesher or the fill refused it: keep the first
-        if isinstance(e, _core.Cancelled):
-            raise
+    except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
         first["stage_seconds"].append(["retry, every point perturbed (failed)", time.perf_counter() - start - first_seconds])
         first["perturbation_retried"] = True
         return manifold

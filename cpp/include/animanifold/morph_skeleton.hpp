@@ -180,17 +180,20 @@ std::vector<Prism> shared_prisms(const PointMatrix& P, const SimplexMatrix& A, c
 // of its own faces is listed already (that split gives it a free vertex).
 std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& plane);
 
-// Splits each face (a list of 2 to n+2 vertices of the fill `A`, #A by n+2
-// over `P`, #P by n+1) at a point near its centroid (random weights in
-// [1, 2], see the .cpp), one after the other: every simplex
-// holding the face becomes one simplex per face vertex, that vertex replaced
-// by the new one — all positive again. Used on faces outside an input that
-// have no free vertex (chords across a hole, triangles spanning it, cells):
-// the new vertex is free, and once pushed nothing outside stays in the plane
-// (a chord left in it would show as a thread through the hole in the frames
-// before t1). A stellar split keeps the fill a triangulation without another
-// run of the mesher (whose conforming result can fail once points are added
-// near the surface). Returns the new vertices, appended to `P`.
+// Splits each face (a list of 2 to D+1 vertices of the positively oriented
+// simplices `A`, #A by D+1 over `P`, #P by D: a plane's cells, or the 4D
+// layer replaying their splits) at a point near its centroid (random weights
+// in [1, 2], see the .cpp), one after the other: every simplex holding the
+// face becomes one simplex per face vertex, that vertex replaced by the new
+// one — all positive again, checked by the exact predicate. Used on faces
+// outside an input that have no free vertex (chords across a hole,
+// triangles spanning it, cells) and on long edges outside it
+// (morph_layers.hpp): the new vertex is free, and once pushed nothing
+// outside stays in the plane (a chord left in it would show as a thread
+// through the hole in the frames before t1). A stellar split keeps the
+// triangulation without another run of the mesher (whose conforming result
+// can fail once points are added near the surface). Returns the new
+// vertices, appended to `P`.
 struct SplitOptions {
   // #faces by P's columns: where each split point goes, instead of a point
   // drawn near the centroid (the caller keeps it on its face).
