@@ -11,7 +11,8 @@ void bind_morph(py::module_& m) {
       "morph",
       [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
          py::object progress, double max_push, const std::string& fill, const std::string& perturbation,
-         py::object interrupted, bool fan_flat_polygons) {
+         py::object interrupted, bool fan_flat_polygons, int field_layers, double field_resolution,
+         const std::string& hold_stage, double hold_seconds) {
         MorphOptions options;
         options.t0 = t0;
         options.t1 = t1;
@@ -20,6 +21,10 @@ void bind_morph(py::module_& m) {
         options.fill = fill;
         options.perturbation = perturbation;
         options.fan_flat_polygons = fan_flat_polygons;
+        options.field_layers = field_layers;
+        options.field_resolution = field_resolution;
+        options.hold_stage = hold_stage;
+        options.hold_seconds = hold_seconds;
         if (!progress.is_none())
           options.progress = [progress](const std::string& stage, double fraction) {
             py::gil_scoped_acquire acquire;
@@ -76,6 +81,10 @@ void bind_morph(py::module_& m) {
         report["source_distance"] = r.source_distance;
         report["target_distance"] = r.target_distance;
         report["ends_reproduced"] = r.ends_reproduced;
+        report["source_steiner_points"] = r.source_steiner_points;
+        report["target_steiner_points"] = r.target_steiner_points;
+        report["field_layers"] = r.field_layers;
+        report["lattice_spacing"] = r.lattice_spacing;
         report["stage_seconds"] = r.stage_seconds;
         return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);
       },
@@ -84,6 +93,8 @@ void bind_morph(py::module_& m) {
       py::arg("max_push") = MorphOptions{}.max_push, py::arg("fill") = MorphOptions{}.fill,
       py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
       py::arg("fan_flat_polygons") = MorphOptions{}.fan_flat_polygons,
+      py::arg("field_layers") = MorphOptions{}.field_layers, py::arg("field_resolution") = MorphOptions{}.field_resolution,
+      py::arg("hold_stage") = "", py::arg("hold_seconds") = 0.0,
       "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
       "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
       "True from the other, cancels (raises Cancelled).");

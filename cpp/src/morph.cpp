@@ -6,11 +6,14 @@
 #include "animanifold/morph_convex.hpp"
 #include "animanifold/morph_layers.hpp"
 #include "animanifold/morph_skeleton.hpp"
+#include "animanifold/normals.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/shelling.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
+#include "morph_field.hpp"
+#include "morph_stages.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -168,6 +171,54 @@ void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char
                      " cross): a morph needs shapes that do not overlap themselves");
 }
 
+
+// Validity 2: the slices at t0 and t1 are the inputs, both ways: every slice
+// vertex and face centre on the input, every input vertex and face centre on
+// the slice (face centres catch extra faces whose corners all lie on the
+// input, such as a triangle across its inside).
+void end_distances(const Complex& manifold, const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
+                   const SimplexMatrix& FT, const MorphOptions& options, double size, MorphReport& report) {
+  const int d = static_cast<int>(VS.cols());
+  const double diagonal = std::max(size, 1e-300);
+  auto with_face_centres = [](const PointMatrix& V, const SimplexMatrix& F) {
+    PointMatrix out(V.rows() + F.rows(), V.cols());
+    out.topRows(V.rows()) = V;
+    for (Index f = 0; f < F.rows(); ++f) {
+      Eigen::RowVectorXd centre = Eigen::RowVectorXd::Zero(V.cols());
+      for (int c = 0; c < F.cols(); ++c) centre += V.row(F(f, c));
+      out.row(V.rows() + f) = centre / static_cast<double>(F.cols());
+    }
+    return out;
+  };
+  auto two_sided = [&](const Slice& s, const PointMatrix& V, const SimplexMatrix& F) {
+    return std::max(max_distance_to_surface(with_face_centres(s.vertices, s.faces), V, F),
+                    max_distance_to_surface(with_face_centres(V, F), s.vertices, s.faces)) / diagonal;
+  };
+  const Slice start = slice(manifold, d, options.t0), end = slice(manifold, d, options.t1);
+  report.source_distance = two_sided(start, VS, FS);
+  report.target_distance = two_sided(end, VT, FT);
+  report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
+}
+
+// Validity of a manifold extracted as a zero set (the field method): it is a
+// closed oriented manifold but for its ends, and no tet is flat (its volume
+// relative to its longest edge cubed).
+void zero_set_validity(const Complex& manifold, MorphReport& report) {
+  const ManifoldReport check = check_manifold(manifold.S);
+  report.inverted_simplices = check.misoriented_facets + check.nonmanifold_facets;
+  // From the wedge product's length (simplex_normals), not the Gram
+  // determinant, whose square loses half the digits of a thin tet.
+  const Eigen::VectorXd volume = simplex_normals(manifold.V, manifold.S).rowwise().norm() / 6.0;
+  report.min_relative_volume = volume.size() ? std::numeric_limits<double>::infinity() : 0.0;
+  report.min_volume = volume.size() ? volume.minCoeff() : 0.0;
+  for (Index s = 0; s < manifold.S.rows(); ++s) {
+    const double longest = longest_edge(manifold.V, manifold.S.row(s).data(), 4);
+    const double relative = longest > 0 ? volume(s) / (longest * longest * longest) : 0.0;
+    report.min_relative_volume = std::min(report.min_relative_volume, relative);
+    if (relative <= 1e-14) ++report.degenerate_simplices;
+  }
+}
+
 }  // namespace
 
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
@@ -187,9 +238,22 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   check_closed_shape(target_points, target_faces, "target");
   if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
   if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
+  if (options.method == "field") {
+    StageClock clock(options);
+    Morph result = field_morph(source_points, source_faces, target_points, target_faces, options, clock);
+    clock.begin("validity", 0.9);
+    zero_set_validity(result.manifold, result.report);
+    const double size = std::max((source_points.colwise().maxCoeff() - source_points.colwise().minCoeff()).norm(),
+                                 (target_points.colwise().maxCoeff() - target_points.colwise().minCoeff()).norm());
+    end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, size,
+                  result.report);
+    clock.finish();
+    result.report.stage_seconds = clock.seconds;
+    return result;
+  }
   const bool skeleton_method = options.method == "skeleton";
   if (!skeleton_method && options.method != "strip")
-    fail<InputError>("unknown morph method '", options.method, "': use 'skeleton' or 'strip'");
+    fail<InputError>("unknown morph method '", options.method, "': use 'field', 'skeleton' or 'strip'");
   if (options.perturbation != "position" && options.perturbation != "hull_faces")
     fail<InputError>("unknown perturbation '", options.perturbation, "': use 'position' or 'hull_faces'");
   if (options.fill != "cgal" && options.fill != "qhull")
@@ -540,29 +604,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   }
   stage("boundary", 0.9);
 
-  // Validity 2: the slices at t0 and t1 are the inputs, both ways: every
-  // slice vertex and face centre on the input, every input vertex and face
-  // centre on the slice (face centres catch extra faces whose corners all lie
-  // on the input, such as a triangle across its inside).
-  const double diagonal = std::max(size, 1e-300);
-  auto with_face_centres = [](const PointMatrix& V, const SimplexMatrix& F) {
-    PointMatrix out(V.rows() + F.rows(), V.cols());
-    out.topRows(V.rows()) = V;
-    for (Index f = 0; f < F.rows(); ++f) {
-      Eigen::RowVectorXd centre = Eigen::RowVectorXd::Zero(V.cols());
-      for (int c = 0; c < F.cols(); ++c) centre += V.row(F(f, c));
-      out.row(V.rows() + f) = centre / static_cast<double>(F.cols());
-    }
-    return out;
-  };
-  auto two_sided = [&](const Slice& s, const PointMatrix& V, const SimplexMatrix& F) {
-    return std::max(max_distance_to_surface(with_face_centres(s.vertices, s.faces), V, F),
-                    max_distance_to_surface(with_face_centres(V, F), s.vertices, s.faces)) / diagonal;
-  };
-  const Slice start = slice(result.manifold, d, options.t0), end = slice(result.manifold, d, options.t1);
-  report.source_distance = two_sided(start, source_points, source_faces);
-  report.target_distance = two_sided(end, target_points, target_faces);
-  report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;
+  end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, size, report);
   stage("validity", 1.0);
   return result;
 }

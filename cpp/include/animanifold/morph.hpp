@@ -63,6 +63,11 @@ struct MorphOptions {
   // (fan_flat_polygons, flat_polygons.hpp): their chords between cocircular
   // rim points are what the conforming mesher cannot settle.
   bool fan_flat_polygons = true;
+  // Field method: the number of time slabs (odd: the source's half, the
+  // slab joining the two, the target's half) and the free points' lattice,
+  // as cells across the shapes' size (morph_field.hpp).
+  int field_layers = 17;
+  double field_resolution = 24;
   // Called with (stage, fraction done) between stages; returning false cancels
   // (the call then throws Cancelled).
   std::function<bool(const std::string&, double)> progress;
@@ -71,6 +76,12 @@ struct MorphOptions {
   // timeout); returning true stops it and cancels the morph (Cancelled). The
   // Python binding checks for a Ctrl-C there.
   std::function<bool()> interrupted;
+  // For tests of cancellation: at the start of the stage named `hold_stage`,
+  // a stand-in child process sleeps `hold_seconds` under the same polling as
+  // TetGen's, so a cancel or a Ctrl-C can be tested while the core waits on
+  // a child, whatever the input and the machine.
+  std::string hold_stage;
+  double hold_seconds = 0;
 };
 
 // What the checks of §8.3 found, and what each stage cost.
@@ -126,6 +137,12 @@ struct MorphReport {
   // input, every input vertex in the slice).
   double source_distance = 0.0, target_distance = 0.0;
   bool ends_reproduced = false;
+  // Field method: Steiner points the conforming mesher put on each input (the
+  // end frames carry them), the time slabs, the free points' lattice
+  // spacing (of the size).
+  Index source_steiner_points = 0, target_steiner_points = 0;
+  int field_layers = 0;
+  double lattice_spacing = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

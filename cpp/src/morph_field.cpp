@@ -1,0 +1,291 @@
+#include "morph_field.hpp"
+
+#include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
+#include "morph_field_internal.hpp"
+#include "zero_set.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace animanifold {
+
+using namespace morph_field;
+
+namespace {
+
+// Samples of the zero set the blend's schedule is measured on
+// (morph_field_timing.cpp).
+constexpr int kScheduleSamples = 24;
+// Rounds of refining a half's tetrahedralization where the zero set needs it.
+constexpr int kRefineRounds = 2;
+// Off the inputs, the field keeps at least this share of the lattice spacing
+// from zero: a cut a rounding away from a vertex would make a tet of the
+// zero set flat to rounding (and an input's vertex that the other input
+// shares would be zero all along).
+constexpr double kFieldFloor = 1e-3;
+// The collar: the first and last slab are this share of a layer thick. At
+// the collar the field is the end's off the input (each point keeps its
+// side) and just positive on it: around every face, edge and vertex of the
+// input at the end, the end slab's corners where the field is negative are
+// then one connected set (the inside's), so the zero set, pinched onto the
+// input there, stays a manifold.
+constexpr double kCollar = 0.125;
+// On the input, the collar's field is this share of its faces' circumradius,
+// times 1 to 2 from vertex to vertex: a planar quad's four vertices would
+// otherwise make pieces of the zero set whose corners are cut at one time,
+// flat, and a value near zero pieces a rounding wide.
+constexpr double kCollarLift = 0.01;
+// Field values are scaled by 1 + kValueJitter * jitter(point, layer): inputs
+// with symmetries (a torus's planar quads, points mirrored in a plane, equal
+// values around a ring) would otherwise put the corners of a piece of the
+// zero set on parallel edges at equal shares, a flat tet. The jitter moves
+// the zero set by a ten-thousandth of the distance to the nearest input.
+constexpr double kValueJitter = 1e-4;
+
+double size_of(const PointMatrix& A, const PointMatrix& B) {
+  return std::max((A.colwise().maxCoeff() - A.colwise().minCoeff()).norm(),
+                  (B.colwise().maxCoeff() - B.colwise().minCoeff()).norm());
+}
+
+double floored(double value, double floor) { return value < 0 ? std::min(value, -floor) : std::max(value, floor); }
+
+double jittered(double value, Index point, int layer) {
+  return value * (1.0 + kValueJitter * jitter(point, layer, 0x5eed, 0));
+}
+
+// One input's half of the space-time triangulation, end first: its points
+// (the conforming end's, then the refinement's), the cells of its stack, the
+// times of its layers and the field at its points on each. The last layer
+// is the fill's: its cells are the fill's end facet (the unrefined points).
+struct Half {
+  PointMatrix points;
+  Index plain = 0;  // points the fill uses: the conforming end's
+  RefinedCells refined;
+  std::vector<double> times, weights;
+  std::vector<Eigen::VectorXd> field;
+};
+
+// The times and blend weights of a half's layers, end first: the end, the
+// collar, then every layer of the half up to the fill's (`m` of them).
+void half_layers(Half& half, bool is_source, int m, int slabs, const BlendSchedule& schedule,
+                 const MorphOptions& options) {
+  const double range = options.t1 - options.t0;
+  const double collar = is_source ? kCollar / slabs : 1.0 - kCollar / slabs;
+  std::vector<double> u{is_source ? 0.0 : 1.0, collar};
+  for (int k = 1; k <= m; ++k) u.push_back(is_source ? static_cast<double>(k) / slabs : 1.0 - static_cast<double>(k) / slabs);
+  for (const double at : u) half.times.push_back(options.t0 + range * at), half.weights.push_back(schedule(at));
+}
+
+// The field on each layer of a half: at the end the input's own signed
+// distance, exactly zero on it; at the collar the same off the input and a
+// small positive lift on it (kCollar); then the blend (1 - w) d_S + w d_T.
+void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMatrix& surface,
+                const Eigen::VectorXd& s, const Eigen::VectorXd& t, bool is_source, double floor) {
+  const Index n = static_cast<Index>(half.points.rows());
+  const Eigen::VectorXd& own = is_source ? s : t;
+  const Eigen::VectorXd radius = vertex_circumradius(half.points.topRows(half.plain), surface);
+  auto zero = [&](Index v) { return v < half.plain && on_surface[v]; };
+  Eigen::VectorXd end(n), collar(n);
+  for (Index v = 0; v < n; ++v) {
+    end(v) = zero(v) ? 0.0 : floored(own(v), floor);
+    collar(v) = zero(v) ? kCollarLift * radius(v) * (1.5 + jitter(v, 0, 0xc011a5, 0)) : jittered(end(v), v, 0);
+  }
+  half.field = {end, collar};
+  for (size_t layer = 2; layer < half.weights.size(); ++layer) {
+    const double w = half.weights[layer];
+    Eigen::VectorXd value(n);
+    for (Index v = 0; v < n; ++v) value(v) = jittered(floored((1 - w) * s(v) + w * t(v), floor), v, static_cast<int>(layer));
+    half.field.push_back(value);
+  }
+}
+
+// A half from its conforming end and its cells in the fill: refined where
+// the zero set needs it, with its layers and field.
+Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDistance& dS, const SignedDistance& dT,
+                bool is_source, int m, int slabs, const BlendSchedule& schedule, const MorphOptions& options,
+                double spacing, double floor) {
+  Half half;
+  half_layers(half, is_source, m, slabs, schedule, options);
+  // Refined for the layers its stack holds: all but the fill's.
+  const std::vector<double> weights(half.weights.begin(), half.weights.end() - 1);
+  half.refined = refine_cells(cells, end.points, end.on_surface, end.constraints, is_source ? dS : dT, dS, dT, weights,
+                              spacing, kRefineRounds);
+  half.plain = static_cast<Index>(end.points.rows());
+  half.points.resize(half.plain + half.refined.new_points.rows(), 3);
+  half.points << end.points, half.refined.new_points;
+  const Eigen::VectorXd s = dS.distances(half.points), t = dT.distances(half.points);
+  half_field(half, end.on_surface, end.constraints, s, t, is_source, floor);
+  return half;
+}
+
+// The zero set of the field over the whole space-time triangulation.
+class Extraction {
+ public:
+  Extraction(const Half& source, const Half& target, const Fill& fill)
+      : source_(source), target_(target), fill_(fill), nS_(static_cast<Index>(source.points.rows())),
+        nT_(static_cast<Index>(target.points.rows())), JS_(static_cast<int>(source.times.size())),
+        JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_), zero_(5, 4 * static_cast<size_t>(nS_)) {
+    X_.resize(target_base_ + JT_ * nT_, 4);
+    phi_.resize(X_.rows());
+    for (int j = 0; j < JS_; ++j) place(source, j, source_id(j, 0));
+    for (int j = 0; j < JT_; ++j) place(target, JT_ - 1 - j, target_id(j, 0));
+  }
+
+  // Layers of the source go from its end (0) to the fill (JS-1); the
+  // target's from the fill (0) to its end (JT-1).
+  Index source_id(int layer, Index v) const { return layer * nS_ + v; }
+  Index target_id(int layer, Index v) const { return target_base_ + layer * nT_ + v; }
+
+  void run() {
+    // The source's stack over its refined cells, then the slab to the fill.
+    const SimplexMatrix& KS = source_.refined.cells;
+    for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0));
+    add_transition(fill_.source_cells, source_, [&](Index local) {
+      return local < nS_ ? source_id(JS_ - 2, local) : source_id(JS_ - 1, local - nS_);
+    }, true);
+    for (Index s = 0; s < fill_.simplices.rows(); ++s) {
+      Simplex4 simplex;
+      for (int c = 0; c < 5; ++c) {
+        const Index v = fill_.simplices(s, c);
+        simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
+      }
+      add(simplex);
+    }
+    add_transition(fill_.target_cells, target_, [&](Index local) {
+      return local < nT_ ? target_id(1, local) : target_id(0, local - nT_);
+    }, false);
+    const SimplexMatrix& KT = target_.refined.cells;
+    for (int j = 1; j + 1 < JT_; ++j) add_stack(KT, target_id(j, 0), target_id(j + 1, 0));
+  }
+
+  Complex manifold() const {
+    Complex out;
+    const auto& cuts = zero_.cuts();
+    out.V.resize(static_cast<Index>(cuts.size()), 4);
+    for (size_t c = 0; c < cuts.size(); ++c) {
+      const ZeroCut& p = cuts[c];
+      out.V.row(static_cast<Index>(c)) = p.a == p.b ? X_.row(p.a) : ((1 - p.s) * X_.row(p.a) + p.s * X_.row(p.b)).eval();
+    }
+    out.S = Eigen::Map<const SimplexMatrix>(zero_.pieces().data(), static_cast<Index>(zero_.piece_count()), 4);
+    return out;
+  }
+
+ private:
+  // Layer `layer` of `half` (its own numbering, end first) at global `base`.
+  void place(const Half& half, int layer, Index base) {
+    const Index n = static_cast<Index>(half.points.rows());
+    X_.middleRows(base, n) << half.points, Eigen::VectorXd::Constant(n, half.times[layer]);
+    phi_.segment(base, n) = half.field[layer];
+  }
+
+  void add(const Simplex4& s) {
+    std::array<double, 5> value;
+    for (int c = 0; c < 5; ++c) value[c] = phi_(s[c]);
+    zero_.add(s.data(), value.data(), 0);
+  }
+
+  // Prisms over `cells` between two layers, skipping those the zero set misses.
+  void add_stack(const SimplexMatrix& cells, Index bottom, Index top) {
+    std::array<Simplex4, 4> prism;
+    for (Index c = 0; c < cells.rows(); ++c) {
+      const Index* t = cells.row(c).data();
+      bool negative = false, positive = false;
+      for (int k = 0; k < 4; ++k) {
+        (phi_(bottom + t[k]) < 0 ? negative : positive) = true;
+        (phi_(top + t[k]) < 0 ? negative : positive) = true;
+      }
+      if (!negative || !positive) continue;
+      prism_simplices(t, bottom, top, prism.data());
+      for (const Simplex4& s : prism) add(s);
+    }
+  }
+
+  template <class Global>
+  void add_transition(const SimplexMatrix& cells, const Half& half, const Global& global, bool refined_at_bottom) {
+    const Index n = static_cast<Index>(half.points.rows());
+    for (Simplex4 s : transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom)) {
+      for (Index& v : s) v = global(v);
+      add(s);
+    }
+  }
+
+  const Half &source_, &target_;
+  const Fill& fill_;
+  Index nS_, nT_;
+  int JS_, JT_;
+  Index target_base_;
+  PointMatrix X_;
+  Eigen::VectorXd phi_;
+  ZeroSetBuilder zero_;
+};
+
+}  // namespace
+
+Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+                  const MorphOptions& options, StageClock& clock) {
+  if (VS.cols() != 3) fail<InputError>("the field method morphs 3D shapes (triangle meshes); use 'skeleton' for 2D");
+  const int slabs = options.field_layers;
+  if (slabs < 3 || slabs % 2 == 0) fail<InputError>("field_layers must be an odd number >= 3, got ", slabs);
+  if (!(options.field_resolution >= 2)) fail<InputError>("field_resolution must be >= 2, got ", options.field_resolution);
+  Morph result;
+  MorphReport& report = result.report;
+  const double size = std::max(size_of(VS, VT), 1e-300);
+
+  clock.begin("free points", 0.05);
+  const SignedDistance dS(VS, FS), dT(VT, FT);
+  const Lattice lattice = lattice_points(VS, FS, dS, VT, FT, dT, size / options.field_resolution, size);
+  auto with_shell = [](const PointMatrix& lattice_part, const PointMatrix& shell) {
+    PointMatrix both(lattice_part.rows() + shell.rows(), 3);
+    both << lattice_part, shell;
+    return both;
+  };
+  const PointMatrix source_free = with_shell(lattice.source, surface_shell(VS, FS, dS));
+  const PointMatrix target_free = with_shell(lattice.target, surface_shell(VT, FT, dT));
+
+  clock.begin("conforming", 0.1);
+  const EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting());
+  clock.advance(0.2);
+  const EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting());
+  report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
+  report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
+  report.source_conforming = report.target_conforming = true;
+
+  clock.begin("fill", 0.3);
+  const Fill fill = fill_slab(S.points, T.points, lattice.spacing);
+  report.fill_simplices = static_cast<Index>(fill.simplices.rows());
+  report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
+  report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
+  if (report.missing_source_faces || report.missing_target_faces)
+    fail<std::runtime_error>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
+                             report.missing_source_faces, " source and ", report.missing_target_faces,
+                             " target faces are missing");
+
+  clock.begin("field", 0.5);
+  const int m = (slabs - 1) / 2;
+  const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, fill, S.points, T.points, dS.distances(S.points),
+                                                 dT.distances(S.points), dS.distances(T.points),
+                                                 dT.distances(T.points), kScheduleSamples);
+  const double floor = kFieldFloor * lattice.spacing;
+  const Half source =
+      build_half(S, fill.source_cells, dS, dT, true, m, slabs, schedule, options, lattice.spacing, floor);
+  const Half target =
+      build_half(T, fill.target_cells, dS, dT, false, m, slabs, schedule, options, lattice.spacing, floor);
+  for (const Half* half : {&source, &target}) {
+    report.split_faces += half->refined.chords;
+    report.refinement_points += static_cast<Index>(half->refined.new_points.rows());
+  }
+
+  clock.begin("shape", 0.6);
+  Extraction extraction(source, target, fill);
+  extraction.run();
+  result.manifold = extraction.manifold();
+  report.simplices = static_cast<Index>(result.manifold.S.rows());
+  report.field_layers = slabs;
+  report.lattice_spacing = lattice.spacing / size;
+  return result;
+}
+
+}  // namespace animanifold

@@ -1,0 +1,154 @@
+// Free points and the conforming ends of the field method (morph_field_internal.hpp).
+#include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
+#include "morph_field_internal.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace animanifold::morph_field {
+
+namespace {
+
+// The box around both inputs, as a share of their size on each side: the
+// field is positive well inside it, so the zero set never meets its sides.
+constexpr double kBoxPad = 0.15;
+// Free points keep this many circumradii of the nearest input faces from
+// the input (a point inside a face's diametral sphere would make the
+// conforming mesher split that face).
+constexpr double kClearance = 1.1;
+// The surface shell's points sit this many circumradii off the input.
+constexpr double kShell = 1.3;
+// Outside the band the surface sweeps, one lattice point in kCoarse^3 is kept
+// (space is filled, not resolved, there).
+constexpr int kCoarse = 3;
+
+// Whether `p` (the query's row in `projection`) is clear of the surface's
+// faces nearest to it.
+bool clear_of(const SurfaceProjection& projection, Index row, const SimplexMatrix& F, const Eigen::VectorXd& radius) {
+  const Index f = projection.face(row);
+  return std::abs(projection.distance(row)) >=
+         kClearance * std::max({radius(F(f, 0)), radius(F(f, 1)), radius(F(f, 2))});
+}
+
+}  // namespace
+
+
+double jitter(std::int64_t i, std::int64_t j, std::int64_t k, int axis) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (const std::int64_t x : {i, j, k, static_cast<std::int64_t>(axis)})
+    h = (h ^ static_cast<std::uint64_t>(x)) * 1099511628211ull;
+  h ^= h >> 29, h *= 0xBF58476D1CE4E5B9ull, h ^= h >> 32;
+  return static_cast<double>(h >> 11) / static_cast<double>(1ull << 53) - 0.5;
+}
+
+Eigen::VectorXd vertex_circumradius(const PointMatrix& V, const SimplexMatrix& F) {
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(V.rows());
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const double area2 = (b - a).cross(c - a).norm();
+    const double R = area2 > 0 ? (a - b).norm() * (b - c).norm() * (c - a).norm() / (2 * area2) : (b - a).norm();
+    for (int k = 0; k < 3; ++k) r(F(f, k)) = std::max(r(F(f, k)), R);
+  }
+  return r;
+}
+
+
+Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
+                       const SimplexMatrix& FT, const SignedDistance& dT, double spacing, double size) {
+  Eigen::RowVector3d lo = VS.colwise().minCoeff().cwiseMin(VT.colwise().minCoeff());
+  Eigen::RowVector3d hi = VS.colwise().maxCoeff().cwiseMax(VT.colwise().maxCoeff());
+  lo.array() -= kBoxPad * size, hi.array() += kBoxPad * size;
+  Lattice out;
+  out.spacing = spacing;
+  out.corners.resize(8, 3);
+  for (int c = 0; c < 8; ++c)
+    for (int a = 0; a < 3; ++a) out.corners(c, a) = (c >> a) & 1 ? hi(a) : lo(a);
+  const Eigen::Array3i cells = ((hi - lo) / spacing).array().ceil().cast<int>().max(1);
+  std::vector<double> xyz;
+  std::vector<bool> coarse;
+  for (int centre = 0; centre < 2; ++centre)
+    for (int i = 0; i <= cells(0); ++i)
+      for (int j = 0; j <= cells(1); ++j)
+        for (int k = 0; k <= cells(2); ++k) {
+          Eigen::RowVector3d p(i + 0.5 * centre, j + 0.5 * centre, k + 0.5 * centre);
+          for (int a = 0; a < 3; ++a) p(a) += 0.1 * jitter(i, j, k, a + 3 * centre);
+          p = lo + spacing * p;
+          // Clear of the box's sides by half a cell: the corners are the hull.
+          if (((p - lo).array() < 0.5 * spacing).any() || ((hi - p).array() < 0.5 * spacing).any()) continue;
+          xyz.insert(xyz.end(), {p(0), p(1), p(2)});
+          coarse.push_back(centre == 0 && i % kCoarse == 0 && j % kCoarse == 0 && k % kCoarse == 0);
+        }
+  const PointMatrix candidates = Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(coarse.size()), 3);
+  const SurfaceProjection ps = dS(candidates), pt = dT(candidates);
+  const Eigen::VectorXd rS = vertex_circumradius(VS, FS), rT = vertex_circumradius(VT, FT);
+  std::vector<Index> keep_source, keep_target;
+  for (Index r = 0; r < candidates.rows(); ++r) {
+    const double s = ps.distance(r), t = pt.distance(r);
+    const bool band = s * t <= 0 || std::min(std::abs(s), std::abs(t)) <= 2 * spacing;
+    if (!band && !coarse[r]) continue;
+    if (clear_of(ps, r, FS, rS)) keep_source.push_back(r);
+    if (clear_of(pt, r, FT, rT)) keep_target.push_back(r);
+  }
+  out.source = candidates(keep_source, Eigen::all);
+  out.target = candidates(keep_target, Eigen::all);
+  return out;
+}
+
+// ---------------------------------------------------------------- the ends
+
+
+PointMatrix surface_shell(const PointMatrix& V, const SimplexMatrix& F, const SignedDistance& d) {
+  const Eigen::VectorXd radius = vertex_circumradius(V, F);
+  PointMatrix normal = PointMatrix::Zero(V.rows(), 3);
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::RowVector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    const Eigen::RowVector3d n = (b - a).cross(c - a);  // area-weighted
+    for (int k = 0; k < 3; ++k) normal.row(F(f, k)) += n;
+  }
+  PointMatrix candidates(2 * V.rows(), 3);
+  for (Index v = 0; v < V.rows(); ++v) {
+    const double length = normal.row(v).norm();
+    const Eigen::RowVector3d n = length > 0 ? Eigen::RowVector3d(normal.row(v) / length) : Eigen::RowVector3d::Zero();
+    candidates.row(2 * v) = V.row(v) + kShell * radius(v) * n;
+    candidates.row(2 * v + 1) = V.row(v) - kShell * radius(v) * n;
+  }
+  const SurfaceProjection p = d(candidates);
+  std::vector<Index> keep;
+  for (Index r = 0; r < candidates.rows(); ++r) {
+    const bool outside_wanted = r % 2 == 0;
+    if ((p.distance(r) > 0) == outside_wanted && clear_of(p, r, F, radius)) keep.push_back(r);
+  }
+  return candidates(keep, Eigen::all);
+}
+
+EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& free, const PointMatrix& corners,
+                    const char* name, const std::function<void()>& while_meshing) {
+  PointMatrix points(V.rows() + free.rows() + corners.rows(), 3);
+  points << V, free, corners;
+  ConformingDelaunay c;
+  try {
+    c = conforming_delaunay_3d(points, F, while_meshing);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail<std::runtime_error>("the ", name, " cannot be meshed: ", e.what());
+  }
+  if (!c.is_delaunay)
+    fail<std::runtime_error>("the ", name, "'s conforming tetrahedralization leaves ", c.non_delaunay_faces,
+                             " of its faces non-Delaunay (TetGen could not conform)");
+  EndMesh end;
+  end.on_surface.assign(c.points.rows(), false);
+  for (Index v = 0; v < V.rows(); ++v) end.on_surface[v] = true;
+  for (Index f = 0; f < c.constraints.rows(); ++f)
+    for (int k = 0; k < 3; ++k) end.on_surface[c.constraints(f, k)] = true;
+  end.points = std::move(c.points);
+  end.constraints = std::move(c.constraints);
+  end.constraint_parent = std::move(c.constraint_parent);
+  end.free_points = static_cast<Index>(free.rows());
+  end.steiner_points = static_cast<Index>(end.points.rows() - points.rows());
+  return end;
+}
+
+}  // namespace animanifold::morph_field

@@ -1,0 +1,85 @@
+// The slabs of the field method's space-time triangulation (morph_field_internal.hpp).
+#include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
+#include "animanifold/exact_orientation.hpp"
+#include "morph_field_internal.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+
+namespace animanifold::morph_field {
+
+namespace {
+
+// Orientation of staircase simplex r of the prism over a positive tet whose
+// vertices are in ascending order, in the prism's reference coordinates.
+const std::array<int, 4>& staircase_signs() {
+  static const std::array<int, 4> signs = [] {
+    std::array<int, 4> out{};
+    const Eigen::Matrix<double, 4, 3> corner = (Eigen::Matrix<double, 4, 3>() << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1)
+                                                    .finished();
+    for (int r = 0; r < 4; ++r) {
+      Eigen::Matrix<double, 5, 4> p;
+      for (int c = 0, row = 0; c < 4; ++c) {
+        if (c <= 3 - r) p.row(row++) << corner.row(c), 0.0;
+        if (c >= 3 - r) p.row(row++) << corner.row(c), 1.0;
+      }
+      Eigen::Matrix4d edges;
+      for (int e = 0; e < 4; ++e) edges.row(e) = p.row(e + 1) - p.row(0);
+      out[r] = edges.determinant() > 0 ? 1 : -1;
+    }
+    return out;
+  }();
+  return signs;
+}
+
+}  // namespace
+
+void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out) {
+  std::array<Index, 4> v{c[0], c[1], c[2], c[3]};
+  bool odd = false;
+  for (int i = 1; i < 4; ++i)
+    for (int j = i; j > 0 && v[j - 1] > v[j]; --j) std::swap(v[j - 1], v[j]), odd = !odd;
+  for (int r = 0; r < 4; ++r) {
+    Simplex4& s = out[r];
+    int n = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (k <= 3 - r) s[n++] = bottom + v[k];
+      if (k >= 3 - r) s[n++] = top + v[k];
+    }
+    if ((staircase_signs()[r] < 0) != odd) std::swap(s[0], s[1]);
+  }
+}
+
+// ---------------------------------------------------------------- the fill
+
+
+Fill fill_slab(const PointMatrix& PS, const PointMatrix& PT, double thickness) {
+  const Index nS = static_cast<Index>(PS.rows()), nT = static_cast<Index>(PT.rows());
+  PointMatrix P(nS + nT, 4);
+  P << PS, Eigen::VectorXd::Zero(nS), PT, Eigen::VectorXd::Constant(nT, thickness);
+  Fill fill;
+  fill.simplices = delaunay_exact(P).simplices;
+  std::vector<Index> source, target;
+  for (Index s = 0; s < fill.simplices.rows(); ++s) {
+    int below = 0;
+    for (int c = 0; c < 5; ++c) below += fill.simplices(s, c) < nS;
+    if (below != 4 && below != 1) continue;
+    std::vector<Index>& cells = below == 4 ? source : target;
+    for (int c = 0; c < 5; ++c) {
+      const Index v = fill.simplices(s, c);
+      if ((v < nS) == (below == 4)) cells.push_back(below == 4 ? v : v - nS);
+    }
+  }
+  auto oriented = [](std::vector<Index>& ids, const PointMatrix& points) {
+    SimplexMatrix cells = Eigen::Map<SimplexMatrix>(ids.data(), static_cast<Index>(ids.size() / 4), 4);
+    for (Index c = 0; c < cells.rows(); ++c)
+      if (exact_orientation(points, cells.row(c).data()) < 0) std::swap(cells(c, 0), cells(c, 1));
+    return cells;
+  };
+  fill.source_cells = oriented(source, PS);
+  fill.target_cells = oriented(target, PT);
+  return fill;
+}
+
+}  // namespace animanifold::morph_field
