@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
+#include <cstdlib>
 
 namespace animanifold {
 
@@ -19,7 +21,7 @@ namespace {
 // Samples of the zero set the blend's schedule is measured on
 // (morph_field_timing.cpp).
 constexpr int kScheduleSamples = 24;
-// Rounds of refining a half's tetrahedralization where the zero set needs it.
+// Rounds of refining an end's points where the zero set needs it.
 constexpr int kRefineRounds = 2;
 // Off the inputs, the field keeps at least this share of the lattice spacing
 // from zero: a cut a rounding away from a vertex would make a tet of the
@@ -33,6 +35,9 @@ constexpr double kFieldFloor = 1e-3;
 // then one connected set (the inside's), so the zero set, pinched onto the
 // input there, stays a manifold.
 constexpr double kCollar = 0.125;
+// The slab joining the halves (the Delaunay fill) lasts this share of a
+// layer: the field does not change across it.
+constexpr double kFillSlab = 0.5;
 // On the input, the collar's field is this share of its faces' circumradius,
 // times 1 to 2 from vertex to vertex: a planar quad's four vertices would
 // otherwise make pieces of the zero set whose corners are cut at one time,
@@ -66,6 +71,7 @@ struct Half {
   RefinedCells refined;
   std::vector<double> times, weights;
   std::vector<Eigen::VectorXd> field;
+  Index held = 0;  // values preserve_topology() held to their sign
 };
 
 // The times and blend weights of a half's layers, end first: the end, the
@@ -73,10 +79,18 @@ struct Half {
 void half_layers(Half& half, bool is_source, int m, int slabs, const BlendSchedule& schedule,
                  const MorphOptions& options) {
   const double range = options.t1 - options.t0;
-  const double collar = is_source ? kCollar / slabs : 1.0 - kCollar / slabs;
-  std::vector<double> u{is_source ? 0.0 : 1.0, collar};
-  for (int k = 1; k <= m; ++k) u.push_back(is_source ? static_cast<double>(k) / slabs : 1.0 - static_cast<double>(k) / slabs);
-  for (const double at : u) half.times.push_back(options.t0 + range * at), half.weights.push_back(schedule(at));
+  // The half's layers share the range up to the fill slab evenly.
+  const double span = 0.5 - 0.5 * kFillSlab / slabs;
+  const double collar = kCollar * span / m;
+  std::vector<double> u{0.0, collar};
+  for (int k = 1; k <= m; ++k) u.push_back(span * k / m);
+  for (double at : u) {
+    // The fill's layer has the middle's weight on both sides: the fill slab
+    // joins two samplings of one field, and the shape moves in the stacks.
+    const double w = at == u.back() ? schedule(0.5) : schedule(is_source ? at : 1.0 - at);
+    if (!is_source) at = 1.0 - at;
+    half.times.push_back(options.t0 + range * at), half.weights.push_back(w);
+  }
 }
 
 // The field on each layer of a half: at the end the input's own signed
@@ -102,17 +116,64 @@ void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMa
   }
 }
 
-// A half from its conforming end and its cells in the fill: refined where
-// the zero set needs it, with its layers and field.
+// Adds `more` to the end's points as free points and triangulates them
+// again (`cells`), leaving out those inside the circumsphere of a refined
+// face of the input the triangulation then misses (the clearance test of
+// refinement_points() is for the nearest faces only): the fill must keep
+// every refined face (Theorem 5.2.1). Returns how many were added.
+Index add_free_points(EndMesh& end, PointMatrix more, SimplexMatrix& cells) {
+  const Index n = static_cast<Index>(end.points.rows());
+  for (int round = 0;; ++round) {
+    PointMatrix points(n + more.rows(), 3);
+    points << end.points.topRows(n), more;
+    cells = delaunay_tetrahedra(points);
+    const IndexVector missing = missing_facets(cells, end.constraints);
+    if (missing.size() == 0 || more.rows() == 0 || round == kRefineRounds) {
+      if (missing.size() != 0) more.resize(0, 3), cells = delaunay_tetrahedra(end.points.topRows(n));
+      end.points.conservativeResize(n + more.rows(), 3);
+      end.points.bottomRows(more.rows()) = more;
+      end.on_surface.resize(end.points.rows(), false);
+      return static_cast<Index>(more.rows());
+    }
+    std::vector<bool> drop(more.rows(), false);
+    for (const Index f : missing) {
+      const Eigen::Vector3d a = end.points.row(end.constraints(f, 0)), b = end.points.row(end.constraints(f, 1)),
+                            c = end.points.row(end.constraints(f, 2));
+      const Eigen::Vector3d ab = b - a, ac = c - a, normal = ab.cross(ac);
+      const Eigen::Vector3d centre =
+          a + (ac.squaredNorm() * normal.cross(ab) + ab.squaredNorm() * ac.cross(normal)) / (2 * normal.squaredNorm());
+      const double radius = (centre - a).norm();
+      for (Index r = 0; r < more.rows(); ++r)
+        if ((Eigen::Vector3d(more.row(r)) - centre).norm() < 1.01 * radius) drop[r] = true;
+    }
+    std::vector<Index> keep;
+    for (Index r = 0; r < more.rows(); ++r)
+      if (!drop[r]) keep.push_back(r);
+    more = PointMatrix(more(keep, Eigen::all));
+  }
+}
+
+// The chords' middles take, on the layer before the fill's, the values the
+// unsplit cells would have there (each the mean of the corners of the face
+// it split): the slab to the fill, where they are not, then joins the same
+// piecewise-linear field (morph_field_refine.cpp's transition_slab).
+void slave_chord_points(Half& half) {
+  Eigen::VectorXd& value = half.field[half.field.size() - 2];
+  for (size_t j = 0; j < half.refined.splits.size(); ++j) {
+    double sum = 0;
+    for (const Index v : half.refined.splits[j]) sum += value(v);
+    value(half.plain + static_cast<Index>(j)) = sum / static_cast<double>(half.refined.splits[j].size());
+  }
+}
+
+// A half from its conforming end and its cells in the fill: its chords
+// split, with its layers and field.
 Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDistance& dS, const SignedDistance& dT,
                 bool is_source, int m, int slabs, const BlendSchedule& schedule, const MorphOptions& options,
-                double spacing, double floor) {
+                double floor) {
   Half half;
   half_layers(half, is_source, m, slabs, schedule, options);
-  // Refined for the layers its stack holds: all but the fill's.
-  const std::vector<double> weights(half.weights.begin(), half.weights.end() - 1);
-  half.refined = refine_cells(cells, end.points, end.on_surface, end.constraints, is_source ? dS : dT, dS, dT, weights,
-                              spacing, kRefineRounds);
+  half.refined = split_chords(cells, end.points, end.on_surface, end.constraints, is_source ? dS : dT);
   half.plain = static_cast<Index>(end.points.rows());
   half.points.resize(half.plain + half.refined.new_points.rows(), 3);
   half.points << end.points, half.refined.new_points;
@@ -187,9 +248,19 @@ class Extraction {
     zero_.add(s.data(), value.data(), 0);
   }
 
-  // Prisms over `cells` between two layers, skipping those the zero set misses.
+  // Prisms over `cells` between two layers, skipping those the zero set
+  // misses. Each prism is split by the staircase over its points in
+  // descending order of how much their field grows across the slab: at a
+  // time between the layers the staircase's inner nodes mix one point's
+  // value below with another's above, an error of s(1-s)(change of the
+  // later point - change of the earlier) against interpolating each point in
+  // time; in this order it is never positive, so it only ever widens the
+  // solid a little and never cuts a tunnel or a fragment into it.
   void add_stack(const SimplexMatrix& cells, Index bottom, Index top) {
     std::array<Simplex4, 4> prism;
+    const Index n = cells.maxCoeff() + 1;
+    std::vector<double> rank(n);
+    for (Index v = 0; v < n; ++v) rank[v] = phi_(bottom + v) - phi_(top + v);
     for (Index c = 0; c < cells.rows(); ++c) {
       const Index* t = cells.row(c).data();
       bool negative = false, positive = false;
@@ -198,7 +269,7 @@ class Extraction {
         (phi_(top + t[k]) < 0 ? negative : positive) = true;
       }
       if (!negative || !positive) continue;
-      prism_simplices(t, bottom, top, prism.data());
+      prism_simplices(t, bottom, top, prism.data(), rank.data());
       for (const Simplex4& s : prism) add(s);
     }
   }
@@ -246,14 +317,39 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   const PointMatrix target_free = with_shell(lattice.target, surface_shell(VT, FT, dT));
 
   clock.begin("conforming", 0.1);
-  const EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting());
+  EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting());
   clock.advance(0.2);
-  const EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting());
-  report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
+  EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting());
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
   report.source_conforming = report.target_conforming = true;
 
-  clock.begin("fill", 0.3);
+  clock.begin("schedule", 0.25);
+  SimplexMatrix source_cells = delaunay_tetrahedra(S.points), target_cells = delaunay_tetrahedra(T.points);
+  const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, source_cells, target_cells, S.points, T.points,
+                                                 dS.distances(S.points), dT.distances(S.points),
+                                                 dS.distances(T.points), dT.distances(T.points), kScheduleSamples);
+
+  clock.begin("refinement", 0.3);
+  const int m = (slabs - 1) / 2;
+  for (auto [end, cells, is_source, V, F] :
+       {std::tuple<EndMesh*, SimplexMatrix*, bool, const PointMatrix*, const SimplexMatrix*>{&S, &source_cells, true,
+                                                                                            &VS, &FS},
+        {&T, &target_cells, false, &VT, &FT}}) {
+    Half layers;
+    half_layers(layers, is_source, m, slabs, schedule, options);
+    layers.weights.pop_back();  // the fill's layer is sampled by the fill
+    for (int round = 0; round < kRefineRounds; ++round) {
+      const PointMatrix more = refinement_points(*cells, end->points, end->on_surface, *V, *F, is_source ? dS : dT, dS,
+                                                 dT, layers.weights, lattice.spacing);
+      if (more.rows() == 0) break;
+      const Index added = add_free_points(*end, more, *cells);
+      end->free_points += added;
+      report.refinement_points += added;
+    }
+  }
+  report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
+
+  clock.begin("fill", 0.35);
   const Fill fill = fill_slab(S.points, T.points, lattice.spacing);
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
   report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
@@ -264,19 +360,23 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
                              " target faces are missing");
 
   clock.begin("field", 0.5);
-  const int m = (slabs - 1) / 2;
-  const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, fill, S.points, T.points, dS.distances(S.points),
-                                                 dT.distances(S.points), dS.distances(T.points),
-                                                 dT.distances(T.points), kScheduleSamples);
   const double floor = kFieldFloor * lattice.spacing;
-  const Half source =
-      build_half(S, fill.source_cells, dS, dT, true, m, slabs, schedule, options, lattice.spacing, floor);
-  const Half target =
-      build_half(T, fill.target_cells, dS, dT, false, m, slabs, schedule, options, lattice.spacing, floor);
-  for (const Half* half : {&source, &target}) {
-    report.split_faces += half->refined.chords;
-    report.refinement_points += static_cast<Index>(half->refined.new_points.rows());
-  }
+  Half source =
+      build_half(S, fill.source_cells, dS, dT, true, m, slabs, schedule, options, floor);
+  Half target =
+      build_half(T, fill.target_cells, dS, dT, false, m, slabs, schedule, options, floor);
+  clock.begin("topology", 0.55);
+  // Each half's topology only sheds, from its end towards the middle, what
+  // the other end does not have.
+  const std::array<Index, 3> source_betti = betti_numbers(source.refined.cells, source.field.front());
+  const std::array<Index, 3> target_betti = betti_numbers(target.refined.cells, target.field.front());
+  std::array<Index, 3> least;
+  for (int i = 0; i < 3; ++i) least[i] = std::min(source_betti[i], target_betti[i]);
+  source.held = preserve_topology(source.refined.cells, source.field, 2, floor, least);
+  target.held = preserve_topology(target.refined.cells, target.field, 2, floor, least);
+  slave_chord_points(source);
+  slave_chord_points(target);
+  for (const Half* half : {&source, &target}) report.split_faces += static_cast<Index>(half->refined.splits.size());
 
   clock.begin("shape", 0.6);
   Extraction extraction(source, target, fill);

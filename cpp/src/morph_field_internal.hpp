@@ -40,6 +40,12 @@ struct Lattice {
 Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
                        const SimplexMatrix& FT, const SignedDistance& dT, double spacing, double size);
 
+// Per point, whether it lies outside the diametral spheres of the faces of
+// the surface (V, F) nearest to it (with a margin): a free point there does
+// not make the conforming mesher split the surface. `d` is its signed distance.
+std::vector<bool> clear_of_surface(const PointMatrix& points, const PointMatrix& V, const SimplexMatrix& F,
+                                   const SignedDistance& d);
+
 // Points on both sides of the surface (V, F), one per vertex and side, just
 // clear of its faces' diametral spheres: the field near the input is
 // resolved at the input's own scale (the frames just after t0 are offsets
@@ -64,8 +70,10 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
 // ---------------------------------------------------------------- slabs
 
 // The 4 positive 4-simplices of the prism over the positive tet `c`: point
-// v's copies are bottom + v and top + v; split by ascending v (staircase).
-void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out);
+// v's copies are bottom + v and top + v; split by the staircase over the
+// points in ascending `rank` (per point; ties and no rank: ascending v). Any
+// order common to a slab's prisms keeps the slab conforming.
+void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, const double* rank = nullptr);
 
 struct Fill {
   SimplexMatrix simplices;                   // over [P_S; P_T]
@@ -75,27 +83,34 @@ struct Fill {
 // The Delaunay triangulation in R^4 of P_S at time 0 and P_T at `thickness`.
 Fill fill_slab(const PointMatrix& PS, const PointMatrix& PT, double thickness);
 
-// A half's tetrahedralization refined by stellar splits (chapter 6), for the
-// stacks of prisms of that half (morph_field.hpp).
+// Points where a half's tetrahedralization (`cells` over `points`) samples
+// the blend too coarsely at some of the half's `weights`: the middles of
+// edges that bridge the zero set (their ends of one sign, their middle of
+// the other) or are crossed by it and longer than 1.5 `spacing`, where they
+// are clear of the end's input (V, F; `own` its signed distance). Edges
+// between two points of the input are the chords' business (split_chords).
+PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
+                              const PointMatrix& V, const SimplexMatrix& F, const SignedDistance& own,
+                              const SignedDistance& dS, const SignedDistance& dT, const std::vector<double>& weights,
+                              double spacing);
+
+// A half's tetrahedralization refined by stellar splits of its chords
+// (chapter 6), for the stacks of prisms of that half (morph_field.hpp).
 struct RefinedCells {
   SimplexMatrix cells;                      // over the points, then the new ones
   PointMatrix new_points;                   // #new by 3: ids n, n+1, ...
   std::vector<std::vector<Index>> splits;   // per new point, the face it split (ids then)
-  Index chords = 0, bridges = 0, coarse = 0;  // splits of each kind
   Index outside_chords = 0, flat_chords = 0;  // chords left as they are
 };
 
-// Refines the half's cells (`cells` over `points`, the conforming end with
-// its input's refined faces `constraints`): the inside chords of the end
-// facet (edges, triangles, tets whose corners are all on the input and that
-// are not its own: the field would be zero along them at the end), then, in
-// `rounds` rounds, edges that at some of the half's `weights` of the blend
-// bridge the zero set (its ends of one sign, its middle of the other) or are
-// crossed by it and longer than `spacing`. `own` is the end's input's
-// signed distance; dS and dT the blend's.
-RefinedCells refine_cells(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
-                          const SimplexMatrix& constraints, const SignedDistance& own, const SignedDistance& dS,
-                          const SignedDistance& dT, const std::vector<double>& weights, double spacing, int rounds);
+// Splits the inside chords of the end facet (`cells` over `points`, the
+// conforming end with its input's refined faces `constraints`): edges, then
+// triangles, then tets whose corners are all on the input and that are not
+// its own, where they lie inside it and not in it but for rounding (the
+// field would be zero along them at the end). `own` is the input's signed
+// distance.
+RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
+                          const SimplexMatrix& constraints, const SignedDistance& own);
 
 // The slab from a half's refined layer to the fill's (unrefined) one: prisms
 // over `cells` (the fill's end facet over its n points) with `splits`
@@ -104,6 +119,26 @@ RefinedCells refine_cells(const SimplexMatrix& cells, const PointMatrix& points,
 // ones), the unrefined layer's refined_count + v.
 std::vector<Simplex4> transition_slab(const SimplexMatrix& cells, const std::vector<std::vector<Index>>& splits,
                                       Index n, Index refined_count, bool refined_at_bottom);
+
+// ---------------------------------------------------------------- topology
+
+// The Betti numbers (pieces, handles, cavities) of the region where `field`
+// (per point of the tetrahedralization `cells`) is negative.
+std::array<Index, 3> betti_numbers(const SimplexMatrix& cells, const Eigen::VectorXd& field);
+
+// Keeps a half's zero set free of topological noise: from layer `first` on,
+// each layer's field (per point of `cells`, a tetrahedralization) changes
+// sign from the layer before where the change is simple (it keeps the
+// topology of the negative region and of the positive one: the point's link
+// splits into two disks), taken in the order the changes happen between the
+// layers; where it is not, only if every Betti number of the negative region
+// it changes goes down and stays at or above `floor_betti` (the least of the
+// two ends': going from an end towards the middle, the topology only sheds
+// what the other end does not have, so the two halves meet with the same).
+// The rest keep their sign at +-floor and try again at the next layer.
+// Returns how many (point, layer) values were held.
+Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
+                        const std::array<Index, 3>& floor_betti);
 
 // ---------------------------------------------------------------- timing
 
@@ -118,9 +153,13 @@ struct BlendSchedule {
 // The zero set of the blend at `samples` + 1 weights (the inputs at the
 // ends, level sets on K_S and K_T between), the two-sided distance between
 // consecutive ones, and their inverse.
+// `source_cells` over `PS` and `target_cells` over `PT` are the halves'
+// tetrahedralizations; sS, tS (sT, tT) the signed distances to S and T at PS
+// (PT).
 BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
-                              const SimplexMatrix& FT, const Fill& fill, const PointMatrix& PS,
-                              const PointMatrix& PT, const Eigen::VectorXd& sS, const Eigen::VectorXd& tS,
-                              const Eigen::VectorXd& sT, const Eigen::VectorXd& tT, int samples);
+                              const SimplexMatrix& FT, const SimplexMatrix& source_cells,
+                              const SimplexMatrix& target_cells, const PointMatrix& PS, const PointMatrix& PT,
+                              const Eigen::VectorXd& sS, const Eigen::VectorXd& tS, const Eigen::VectorXd& sT,
+                              const Eigen::VectorXd& tT, int samples);
 
 }  // namespace animanifold::morph_field

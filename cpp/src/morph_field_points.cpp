@@ -34,6 +34,15 @@ bool clear_of(const SurfaceProjection& projection, Index row, const SimplexMatri
 
 }  // namespace
 
+std::vector<bool> clear_of_surface(const PointMatrix& points, const PointMatrix& V, const SimplexMatrix& F,
+                                   const SignedDistance& d) {
+  const Eigen::VectorXd radius = vertex_circumradius(V, F);
+  const SurfaceProjection p = d(points);
+  std::vector<bool> clear(points.rows());
+  for (Index r = 0; r < points.rows(); ++r) clear[r] = clear_of(p, r, F, radius);
+  return clear;
+}
+
 
 double jitter(std::int64_t i, std::int64_t j, std::int64_t k, int axis) {
   std::uint64_t h = 1469598103934665603ull;

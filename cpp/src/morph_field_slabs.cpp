@@ -35,11 +35,12 @@ const std::array<int, 4>& staircase_signs() {
 
 }  // namespace
 
-void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out) {
+void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, const double* rank) {
   std::array<Index, 4> v{c[0], c[1], c[2], c[3]};
+  auto before = [rank](Index a, Index b) { return rank && rank[a] != rank[b] ? rank[a] < rank[b] : a < b; };
   bool odd = false;
   for (int i = 1; i < 4; ++i)
-    for (int j = i; j > 0 && v[j - 1] > v[j]; --j) std::swap(v[j - 1], v[j]), odd = !odd;
+    for (int j = i; j > 0 && before(v[j], v[j - 1]); --j) std::swap(v[j - 1], v[j]), odd = !odd;
   for (int r = 0; r < 4; ++r) {
     Simplex4& s = out[r];
     int n = 0;

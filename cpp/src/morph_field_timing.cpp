@@ -72,9 +72,10 @@ double BlendSchedule::operator()(double at) const {
 }
 
 BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
-                              const SimplexMatrix& FT, const Fill& fill, const PointMatrix& PS,
-                              const PointMatrix& PT, const Eigen::VectorXd& sS, const Eigen::VectorXd& tS,
-                              const Eigen::VectorXd& sT, const Eigen::VectorXd& tT, int samples) {
+                              const SimplexMatrix& FT, const SimplexMatrix& source_cells,
+                              const SimplexMatrix& target_cells, const PointMatrix& PS, const PointMatrix& PT,
+                              const Eigen::VectorXd& sS, const Eigen::VectorXd& tS, const Eigen::VectorXd& sT,
+                              const Eigen::VectorXd& tT, int samples) {
   if (samples < 2) fail<InputError>("the motion schedule needs at least 2 samples");
   std::vector<Surface> surfaces;
   surfaces.push_back({VS, FS});
@@ -86,7 +87,7 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
     Eigen::VectorXd value = (1 - w) * s + w * t;
     for (Index v = 0; v < value.size(); ++v)
       if (value(v) == 0.0) value(v) = 1e-300;  // zero counts as outside (zero_set.hpp)
-    surfaces.push_back(level_set(source_half ? fill.source_cells : fill.target_cells, source_half ? PS : PT, value));
+    surfaces.push_back(level_set(source_half ? source_cells : target_cells, source_half ? PS : PT, value));
   }
   surfaces.push_back({VT, FT});
   std::vector<double> travelled{0.0};

@@ -58,6 +58,13 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 // coinciding or too few points.
 DelaunayTriangulation delaunay_exact(const PointMatrix& points);
 
+// The Delaunay tetrahedralization of points in R^3 (#P by 3) through CGAL's
+// Delaunay_triangulation_3: positively oriented tets (#T by 4). Much faster
+// than delaunay_exact() in R^3; ties among cospherical points are broken its
+// own way, which may differ from delaunay_exact()'s. Throws InputError for
+// coinciding, non-finite or coplanar points.
+SimplexMatrix delaunay_tetrahedra(const PointMatrix& points);
+
 struct ConformingDelaunay {
   // Input points first (same indices), then the Steiner points the mesher added.
   PointMatrix points;

@@ -1,0 +1,255 @@
+// Topology of the field morph's halves (morph_field_internal.hpp): each
+// layer's signs follow the blend's only where a sign change is simple.
+#include "morph_field_internal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace animanifold::morph_field {
+
+namespace {
+
+// Topology changes tried one by one, with the Betti numbers counted again
+// after each, per layer at most.
+constexpr int kTopologyTries = 64;
+
+// Vertex-to-tet incidence of a tetrahedralization, compressed.
+struct Stars {
+  std::vector<Index> offset, tets;
+  Stars(const SimplexMatrix& cells, Index vertices) : offset(static_cast<size_t>(vertices) + 1, 0) {
+    for (Index c = 0; c < cells.rows(); ++c)
+      for (int k = 0; k < 4; ++k) ++offset[cells(c, k) + 1];
+    std::partial_sum(offset.begin(), offset.end(), offset.begin());
+    tets.resize(offset.back());
+    std::vector<Index> at(offset.begin(), offset.end() - 1);
+    for (Index c = 0; c < cells.rows(); ++c)
+      for (int k = 0; k < 4; ++k) tets[at[cells(c, k)]++] = c;
+  }
+};
+
+// Union-find over a handful of link vertices.
+struct Components {
+  std::vector<int> parent;
+  explicit Components(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) { return parent[a] == a ? a : parent[a] = find(parent[a]); }
+  void join(int a, int b) { parent[find(a)] = find(b); }
+};
+
+class SimplePoints {
+ public:
+  SimplePoints(const SimplexMatrix& cells, Index vertices) : cells_(cells), stars_(cells, vertices) {
+    boundary_.assign(vertices, false);
+    // Vertices on the triangulation's boundary (the box) have a disk for a
+    // link; the zero set never comes near them (the field is positive
+    // there), so they never change sign here.
+    std::vector<std::array<Index, 3>> faces;
+    for (Index c = 0; c < cells.rows(); ++c)
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<Index, 3> f{};
+        for (int k = 0, j = 0; k < 4; ++k)
+          if (k != skip) f[j++] = cells(c, k);
+        std::sort(f.begin(), f.end());
+        faces.push_back(f);
+      }
+    std::sort(faces.begin(), faces.end());
+    for (size_t i = 0; i < faces.size();) {
+      size_t j = i + 1;
+      while (j < faces.size() && faces[j] == faces[i]) ++j;
+      if (j - i == 1)
+        for (const Index v : faces[i]) boundary_[v] = true;
+      i = j;
+    }
+  }
+
+  bool on_boundary(Index v) const { return boundary_[v]; }
+
+  // The negative and the positive part of v's link (a triangulated sphere):
+  // each's vertex count, Euler characteristic and number of components.
+  struct LinkParts {
+    std::array<int, 2> vertices{0, 0}, chi{0, 0}, components{0, 0};
+  };
+
+  LinkParts link_parts(Index v, const std::vector<signed char>& negative) const {
+    std::vector<Index> ids;
+    for (Index i = stars_.offset[v]; i < stars_.offset[v + 1]; ++i)
+      for (int k = 0; k < 4; ++k)
+        if (cells_(stars_.tets[i], k) != v) ids.push_back(cells_(stars_.tets[i], k));
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    auto local = [&](Index w) { return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), w) - ids.begin()); };
+    const auto sign = [&](int a) { return negative[ids[a]] ? 0 : 1; };
+    const int n = static_cast<int>(ids.size());
+    LinkParts parts;
+    std::array<int, 2> edges{0, 0}, triangles{0, 0};
+    for (int a = 0; a < n; ++a) ++parts.vertices[sign(a)];
+    Components components(n);
+    std::vector<std::pair<int, int>> seen;
+    for (Index i = stars_.offset[v]; i < stars_.offset[v + 1]; ++i) {
+      std::array<int, 3> t{};
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (cells_(stars_.tets[i], k) != v) t[j++] = local(cells_(stars_.tets[i], k));
+      if (sign(t[0]) == sign(t[1]) && sign(t[1]) == sign(t[2])) ++triangles[sign(t[0])];
+      for (int a = 0; a < 3; ++a) {
+        const int p = std::min(t[a], t[(a + 1) % 3]), q = std::max(t[a], t[(a + 1) % 3]);
+        if (sign(p) != sign(q)) continue;
+        seen.emplace_back(p, q);
+        components.join(p, q);
+      }
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    for (const auto& [p, q] : seen) ++edges[sign(p)];
+    for (int s = 0; s < 2; ++s) parts.chi[s] = parts.vertices[s] - edges[s] + triangles[s];
+    for (int a = 0; a < n; ++a)
+      if (components.find(a) == a) ++parts.components[sign(a)];
+    return parts;
+  }
+
+  // Whether changing v's sign keeps the topology of the negative region and
+  // of the positive one: its link splits into a negative part and a
+  // positive part that are both non-empty, connected and of Euler
+  // characteristic 1 (disks).
+  static bool simple(const LinkParts& parts) {
+    for (int s = 0; s < 2; ++s)
+      if (parts.vertices[s] == 0 || parts.components[s] != 1 || parts.chi[s] != 1) return false;
+    return true;
+  }
+  bool simple(Index v, const std::vector<signed char>& negative) const { return simple(link_parts(v, negative)); }
+
+ private:
+  const SimplexMatrix& cells_;
+  Stars stars_;
+  std::vector<bool> boundary_;
+};
+
+
+// Betti numbers of the negative region of a tetrahedralization (the full
+// subcomplex on the negative points, which the zero set bounds): pieces,
+// handles, cavities (pieces of the positive region that do not reach the
+// triangulation's boundary).
+class BettiNumbers {
+ public:
+  BettiNumbers(const SimplexMatrix& cells, Index vertices, const SimplePoints& points)
+      : n_(vertices), points_(points), tets_(cells) {
+    std::vector<std::array<Index, 2>> edges;
+    std::vector<std::array<Index, 3>> faces;
+    for (Index c = 0; c < cells.rows(); ++c) {
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b)
+          edges.push_back({std::min(cells(c, a), cells(c, b)), std::max(cells(c, a), cells(c, b))});
+      for (int skip = 0; skip < 4; ++skip) {
+        std::array<Index, 3> f{};
+        for (int k = 0, j = 0; k < 4; ++k)
+          if (k != skip) f[j++] = cells(c, k);
+        std::sort(f.begin(), f.end());
+        faces.push_back(f);
+      }
+    }
+    std::sort(edges.begin(), edges.end()), edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    std::sort(faces.begin(), faces.end()), faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    edges_ = std::move(edges), faces_ = std::move(faces);
+  }
+
+  // Euler characteristic of the negative region.
+  Index chi(const std::vector<signed char>& negative) const {
+    Index chi = 0;
+    for (Index v = 0; v < n_; ++v) chi += negative[v];
+    for (const auto& e : edges_) chi -= negative[e[0]] && negative[e[1]];
+    for (const auto& f : faces_) chi += negative[f[0]] && negative[f[1]] && negative[f[2]];
+    for (Index c = 0; c < tets_.rows(); ++c)
+      chi -= negative[tets_(c, 0)] && negative[tets_(c, 1)] && negative[tets_(c, 2)] && negative[tets_(c, 3)];
+    return chi;
+  }
+
+  std::array<Index, 3> operator()(const std::vector<signed char>& negative) const {
+    return with_chi(negative, chi(negative));
+  }
+
+  // The Betti numbers, given the region's Euler characteristic.
+  std::array<Index, 3> with_chi(const std::vector<signed char>& negative, Index chi) const {
+    Components parts(static_cast<int>(n_));
+    for (const auto& e : edges_)
+      if (negative[e[0]] == negative[e[1]]) parts.join(e[0], e[1]);
+    std::vector<signed char> root_kind(n_, 0);  // 1: a negative piece, 2: a positive one, 3: positive, touching the boundary
+    for (Index v = 0; v < n_; ++v) {
+      signed char& kind = root_kind[parts.find(static_cast<int>(v))];
+      if (negative[v]) kind = 1;
+      else if (points_.on_boundary(v)) kind = 3;
+      else if (kind == 0) kind = 2;
+    }
+    Index pieces = 0, cavities = 0;
+    for (const signed char kind : root_kind) pieces += kind == 1, cavities += kind == 2;
+    return {pieces, pieces + cavities - chi, cavities};
+  }
+
+ private:
+  Index n_;
+  const SimplePoints& points_;
+  const SimplexMatrix& tets_;
+  std::vector<std::array<Index, 2>> edges_;
+  std::vector<std::array<Index, 3>> faces_;
+};
+
+
+}  // namespace
+
+std::array<Index, 3> betti_numbers(const SimplexMatrix& cells, const Eigen::VectorXd& field) {
+  const Index n = static_cast<Index>(field.size());
+  const SimplePoints points(cells, n);
+  std::vector<signed char> negative(n);
+  for (Index v = 0; v < n; ++v) negative[v] = field(v) < 0;
+  return BettiNumbers(cells, n, points)(negative);
+}
+
+Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
+                        const std::array<Index, 3>& floor_betti) {
+  if (field.empty()) return 0;
+  const Index n = static_cast<Index>(field.front().size());
+  const SimplePoints points(cells, n);
+  const BettiNumbers betti(cells, n, points);
+  std::vector<signed char> negative(n);
+  for (Index v = 0; v < n; ++v) negative[v] = field[first - 1](v) < 0;
+  Index chi = betti.chi(negative);
+  std::array<Index, 3> now = betti.with_chi(negative, chi);
+  Index held = 0;
+  for (size_t layer = static_cast<size_t>(first); layer < field.size(); ++layer) {
+    Eigen::VectorXd& value = field[layer];
+    const Eigen::VectorXd& before = field[layer - 1];
+    // The sign changes the blend asks for, in the order they happen between
+    // the layers (each point's field is linear in time there), each judged
+    // after those before it, so the zero set between the layers passes
+    // through them in that order.
+    std::vector<std::pair<double, Index>> wanted;
+    for (Index v = 0; v < n; ++v)
+      if ((value(v) < 0) != static_cast<bool>(negative[v]) && !points.on_boundary(v))
+        wanted.emplace_back(before(v) / (before(v) - value(v)), v);
+    std::sort(wanted.begin(), wanted.end());
+    int counted = 0;
+    for (const auto& [when, v] : wanted) {
+      const SimplePoints::LinkParts parts = points.link_parts(v, negative);
+      if (SimplePoints::simple(parts)) {
+        negative[v] = !negative[v];
+        continue;
+      }
+      // A change of topology: made where every Betti number it changes goes
+      // down, towards the floor. Adding v to the negative region changes its
+      // Euler characteristic by 1 - chi(link's negative part); removing it,
+      // by the opposite.
+      bool made = false;
+      if (counted++ < kTopologyTries) {
+        const Index step = negative[v] ? parts.chi[0] - 1 : 1 - parts.chi[0];
+        negative[v] = !negative[v];
+        const std::array<Index, 3> next = betti.with_chi(negative, chi + step);
+        made = true;
+        for (int i = 0; i < 3; ++i) made = made && next[i] <= now[i] && (next[i] >= floor_betti[i] || next[i] == now[i]);
+        if (made) now = next, chi += step;
+        else negative[v] = !negative[v];
+      }
+      if (!made) value(v) = negative[v] ? -floor : floor, ++held;
+    }
+  }
+  return held;
+}
+
+}  // namespace animanifold::morph_field
