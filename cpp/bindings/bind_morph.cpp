@@ -85,6 +85,11 @@ void bind_morph(py::module_& m) {
         report["target_steiner_points"] = r.target_steiner_points;
         report["field_layers"] = r.field_layers;
         report["lattice_spacing"] = r.lattice_spacing;
+        report["frames_checked"] = r.frames_checked;
+        report["frames_capped"] = r.frames_capped;
+        report["crossing_frames"] = r.crossing_frames;
+        report["bubble_frames"] = r.bubble_frames;
+        report["noise_frames"] = r.noise_frames;
         report["stage_seconds"] = r.stage_seconds;
         return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);
       },

@@ -14,6 +14,7 @@
 #include "animanifold/surface_distance.hpp"
 #include "morph_field.hpp"
 #include "morph_stages.hpp"
+#include "morph_validity.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -36,6 +37,11 @@ namespace {
 // The time span a morph is solved over, as a fraction of the shapes' size
 // (bounding-box diagonal).
 constexpr double kSolveSpan = 0.1;
+
+// The frames' checks may take this share of the morph's own time, and no
+// more than kValidityCap seconds (morph_validity.hpp).
+constexpr double kValidityShare = 0.25;
+constexpr double kValidityCap = 60.0;
 
 // The perturbations tried, as fractions of the size (see morph()): the first
 // one under which the mesher and the fill conform is used.
@@ -247,6 +253,10 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
                                  (target_points.colwise().maxCoeff() - target_points.colwise().minCoeff()).norm());
     end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, size,
                   result.report);
+    double spent = 0;
+    for (const auto& [name, seconds] : clock.seconds) spent += seconds;
+    check_frames(result.manifold, options.t0, options.t1, source_points, source_faces, target_points, target_faces,
+                 std::min(kValidityShare * spent, kValidityCap), result.report);
     clock.finish();
     result.report.stage_seconds = clock.seconds;
     return result;

@@ -18,8 +18,10 @@ constexpr double kBoxPad = 0.15;
 // the input (a point inside a face's diametral sphere would make the
 // conforming mesher split that face).
 constexpr double kClearance = 1.1;
-// The surface shell's points sit this many circumradii off the input.
+// The surface shell's points sit this many circumradii off the input,
+// jittered by this share of one.
 constexpr double kShell = 1.3;
+constexpr double kShellJitter = 0.2;
 // Outside the band the surface sweeps, one lattice point in kCoarse^3 is kept
 // (space is filled, not resolved, there).
 constexpr int kCoarse = 3;
@@ -120,8 +122,15 @@ PointMatrix surface_shell(const PointMatrix& V, const SimplexMatrix& F, const Si
   for (Index v = 0; v < V.rows(); ++v) {
     const double length = normal.row(v).norm();
     const Eigen::RowVector3d n = length > 0 ? Eigen::RowVector3d(normal.row(v) / length) : Eigen::RowVector3d::Zero();
-    candidates.row(2 * v) = V.row(v) + kShell * radius(v) * n;
-    candidates.row(2 * v + 1) = V.row(v) - kShell * radius(v) * n;
+    // Jittered along and across the normal: on a sphere the normals are radial
+    // and two neighbours with their offsets would be four coplanar points, a
+    // flat tet of the triangulation.
+    for (int side = 0; side < 2; ++side) {
+      Eigen::RowVector3d offset;
+      for (int a = 0; a < 3; ++a) offset(a) = kShellJitter * jitter(v, side, a, 0x5e11);
+      const double along = kShell * radius(v) * (1.0 + kShellJitter * jitter(v, side, 3, 0x5e11));
+      candidates.row(2 * v + side) = V.row(v) + (side == 0 ? along : -along) * n + radius(v) * offset;
+    }
   }
   const SurfaceProjection p = d(candidates);
   std::vector<Index> keep;

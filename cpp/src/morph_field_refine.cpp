@@ -20,13 +20,9 @@ namespace {
 // holds both). It bounds a cell flat to rounding, which the zero set leaves
 // out at the end: the end frame then holds that diagonal, the same surface.
 constexpr double kFlatChord = 1e-9;
-// An edge is looked at for a bridge when the field at both its ends is
-// within this many edge lengths of zero at some layer (the zero set may pass
-// near it); farther, its middle is of the same sign for any field with the
-// distance's slope.
-constexpr double kNearZero = 1.0;
 // A crossed edge longer than this many lattice spacings is split.
 constexpr double kCoarseEdge = 1.5;
+constexpr double kMiddleJitter = 0.05;
 
 using Tets = StellarComplex<4>;
 
@@ -89,12 +85,12 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
         for (const double w : weights) {
           const double pu = field(u, w), pv = field(v, w);
           crossed = crossed || ((pu < 0) != (pv < 0));
-          near = near || (std::abs(pu) < kNearZero * length && std::abs(pv) < kNearZero * length);
+          near = near || (std::abs(pu) < 0.5 * length && std::abs(pv) < 0.5 * length);
         }
         if (crossed && length > kCoarseEdge * spacing) {
           const Eigen::RowVector3d m = 0.5 * (points.row(u) + points.row(v));
           xyz.insert(xyz.end(), {m(0), m(1), m(2)});
-        } else if (!crossed && near) {
+        } else if (!crossed && near) {  // the blend changes by at most half the edge to its middle
           candidates.push_back({u, v});
         }
       }
@@ -111,7 +107,12 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
         break;
       }
   }
-  const PointMatrix found = Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
+  // Off the middle by a little (kMiddleJitter of the edge, or of the lattice
+  // spacing): the middle is collinear with the edge's ends, and middles of
+  // edges in one plane are coplanar with them — flat tets once triangulated.
+  PointMatrix found = Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
+  for (Index r = 0; r < found.rows(); ++r)
+    for (int a = 0; a < 3; ++a) found(r, a) += kMiddleJitter * spacing * jitter(r, a, 0x3d1d, 0);
   const std::vector<bool> clear = clear_of_surface(found, V, F, own);
   std::vector<Index> keep;
   for (Index r = 0; r < found.rows(); ++r)

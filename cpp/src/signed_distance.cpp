@@ -41,7 +41,9 @@ SignedDistance::SignedDistance(const PointMatrix& V, const SimplexMatrix& F) : t
     if (t.mesh.add_face(vertex[F(f, 0)], vertex[F(f, 1)], vertex[F(f, 2)]) == Mesh::null_face())
       fail<InputError>("face ", f, " cannot join the surface (not a manifold, or inconsistently oriented)");
   t.tree = std::make_unique<AabbTree>(faces(t.mesh).first, faces(t.mesh).second, t.mesh);
+  // Built now, not at the first query: queries run in parallel.
   t.tree->accelerate_distance_queries();
+  t.tree->build();
   t.side = std::make_unique<Side>(*t.tree);
 }
 
@@ -56,6 +58,7 @@ SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
   out.distance.resize(n);
   out.face.resize(n);
   out.barycentric.resize(n, 3);
+#pragma omp parallel for schedule(dynamic, 256)
   for (Index p = 0; p < n; ++p) {
     const Kernel::Point_3 q(points(p, 0), points(p, 1), points(p, 2));
     const auto [closest, face] = t.tree->closest_point_and_primitive(q);

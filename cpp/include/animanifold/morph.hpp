@@ -143,6 +143,14 @@ struct MorphReport {
   Index source_steiner_points = 0, target_steiner_points = 0;
   int field_layers = 0;
   double lattice_spacing = 0.0;
+  // The frames' checks (morph_validity.hpp): how many frames were looked at
+  // (24 spread over the range, then towards every change of topology),
+  // whether the time budget cut them short, and the times of frames that run
+  // through themselves, hold a bubble neither input has, or leave the
+  // inputs' topology.
+  Index frames_checked = 0;
+  bool frames_capped = false;
+  std::vector<double> crossing_frames, bubble_frames, noise_frames;
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

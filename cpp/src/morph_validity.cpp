@@ -1,0 +1,121 @@
+#include "morph_validity.hpp"
+
+#include "animanifold/self_intersection.hpp"
+#include "animanifold/slice.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+namespace animanifold {
+
+namespace {
+
+// Evenly spread frames checked first.
+constexpr int kSpreadFrames = 24;
+// Bisections towards each change of topology between checked frames.
+constexpr int kBisections = 5;
+// Crossings shallower than this share of the size are rounding (see
+// self_intersection.hpp).
+constexpr double kCrossingTolerance = 1e-9;
+
+struct FrameTopology {
+  Index euler = 0, pieces = 0, cavities = 0;
+  bool operator!=(const FrameTopology& o) const {
+    return euler != o.euler || pieces != o.pieces || cavities != o.cavities;
+  }
+};
+
+// Euler characteristic, outer shells (pieces) and cavities (shells whose
+// signed volume is negative: their faces point into a bubble) of a closed
+// triangle mesh.
+FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
+  FrameTopology out;
+  if (F.rows() == 0) return out;
+  std::vector<Index> parent(V.rows());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](Index a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  std::vector<std::pair<Index, Index>> edges;
+  std::vector<bool> used(V.rows(), false);
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = F(f, k), b = F(f, (k + 1) % 3);
+      used[a] = true;
+      edges.emplace_back(std::min(a, b), std::max(a, b));
+      parent[find(a)] = find(b);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const Index vertices = static_cast<Index>(std::count(used.begin(), used.end(), true));
+  out.euler = vertices - static_cast<Index>(edges.size()) + static_cast<Index>(F.rows());
+  std::map<Index, double> volume;
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    volume[find(F(f, 0))] += a.dot(b.cross(c)) / 6.0;
+  }
+  for (const auto& [root, v] : volume) (v < 0 ? out.cavities : out.pieces)++;
+  return out;
+}
+
+}  // namespace
+
+void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
+                  const PointMatrix& VT, const SimplexMatrix& FT, double budget_seconds, MorphReport& report) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
+  const Index least_euler = std::min(source.euler, target.euler), most_euler = std::max(source.euler, target.euler);
+  const Index most_pieces = std::max(source.pieces, target.pieces);
+  const Index most_cavities = std::max(source.cavities, target.cavities);
+  const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
+                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
+  Slicer slicer(std::make_shared<const Complex>(manifold));
+  const int axis = manifold.ambient_dimension() - 1;
+  std::map<double, FrameTopology> checked;
+  auto check = [&](double t) {
+    const Slice frame = slicer.slice(axis, t);
+    const FrameTopology topology = topology_of(frame.vertices, frame.faces);
+    checked[t] = topology;
+    ++report.frames_checked;
+    if (topology.euler < least_euler || topology.euler > most_euler || topology.pieces > most_pieces)
+      report.noise_frames.push_back(t);
+    if (topology.cavities > most_cavities) report.bubble_frames.push_back(t);
+    bool crossing;
+    try {
+      crossing = !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
+    } catch (const std::exception&) {
+      crossing = true;  // not even a closed manifold there
+    }
+    if (crossing) report.crossing_frames.push_back(t);
+  };
+  for (int i = 1; i <= kSpreadFrames; ++i) {
+    if (elapsed() > budget_seconds) break;
+    check(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
+  }
+  // Towards every change of topology between neighbouring checked frames.
+  for (int round = 0; round < kBisections && elapsed() <= budget_seconds; ++round) {
+    std::vector<double> middles;
+    for (auto it = checked.begin(); std::next(it) != checked.end(); ++it)
+      if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
+    if (middles.empty()) break;
+    for (const double t : middles) {
+      if (elapsed() > budget_seconds) break;
+      check(t);
+    }
+  }
+  report.frames_capped = report.frames_checked < kSpreadFrames || elapsed() > budget_seconds;
+  for (auto* times : {&report.noise_frames, &report.bubble_frames, &report.crossing_frames})
+    std::sort(times->begin(), times->end());
+}
+
+}  // namespace animanifold

@@ -1,0 +1,24 @@
+// The morph's checks on its frames (§8.3 validity 1 beyond positive
+// simplices, and the frames' topology), under one cost budget.
+//
+// Inputs: the manifold (tets in R^4), its range, the inputs (for their
+// topology and size), and the budget in seconds. Outputs, into the report:
+// which checked frames run through themselves (beyond 1e-9 of the size),
+// hold more cavities than either input, or leave the inputs' topology
+// (Euler characteristic outside the ends', more pieces than the ends');
+// how many frames were checked and whether the budget cut the checks short.
+//
+// Frames: 24 evenly spread inside the range first, then, between two
+// checked frames whose topology differs, frames bisecting towards the
+// change, so that the frames where the topology changes are looked at too.
+// Each frame is sliced once and given every check.
+#pragma once
+
+#include "animanifold/morph.hpp"
+
+namespace animanifold {
+
+void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
+                  const PointMatrix& VT, const SimplexMatrix& FT, double budget_seconds, MorphReport& report);
+
+}  // namespace animanifold
