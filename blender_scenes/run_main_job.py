@@ -41,7 +41,7 @@ def _args():
     parser = argparse.ArgumentParser(description="animanifold main job (Blender)")
     parser.add_argument("--out", type=Path, default=ROOT / "out")
     parser.add_argument("--frames", default=",".join(map(str, CONTACT_FRAMES)), help="frames of the contact sheet")
-    parser.add_argument("--resolution", default="192x144")
+    parser.add_argument("--resolution", default="320x240", help="per frame of the contact sheet")
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument("--sampling", choices=("KEYFRAMES", "EVERY_N"), default="EVERY_N",
                         help="Convert's sampling: the action's keyframes, or every --step frames (smoother in-betweens)")

@@ -87,8 +87,10 @@ void bind_morph(py::module_& m) {
         report["lattice_spacing"] = r.lattice_spacing;
         report["frames_checked"] = r.frames_checked;
         report["frames_capped"] = r.frames_capped;
+        report["topology_changes"] = r.topology_changes;
         report["crossing_frames"] = r.crossing_frames;
         report["bubble_frames"] = r.bubble_frames;
+        report["largest_bubble_fraction"] = r.largest_bubble_fraction;
         report["noise_frames"] = r.noise_frames;
         report["stage_seconds"] = r.stage_seconds;
         return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);

@@ -343,11 +343,8 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   double conform_seconds = 0;
   std::vector<std::pair<double, std::string>> mesher_errors;  // (perturbation, what failed) of the attempts
   // Polled while TetGen runs (MorphOptions::interrupted).
-  std::function<void()> while_meshing;
-  if (options.interrupted)
-    while_meshing = [&options] {
-      if (options.interrupted()) throw Cancelled();
-    };
+  const std::function<void()> while_meshing = interrupt_poll(options);
+  hold_for_tests(options, "conforming");
   // §8.4 exactly where both inputs are convex (no exterior skeleton, checked
   // again there by exact predicates): the hull's own faces, no perturbation,
   // no mesher (morph_convex.hpp). Otherwise, or where that construction

@@ -150,9 +150,11 @@ struct BlendSchedule {
   double operator()(double at) const;
 };
 
-// The zero set of the blend at `samples` + 1 weights (the inputs at the
-// ends, level sets on K_S and K_T between), the two-sided distance between
-// consecutive ones, and their inverse.
+// The zero set of the blend at `samples` + 1 even weights (the inputs at the
+// ends, level sets on K_S and K_T between), then at midpoints of intervals
+// that move much faster than the mean (bisected a few rounds: fast events
+// get samples of their own); the two-sided distance between consecutive
+// ones, accumulated, and its inverse.
 // `source_cells` over `PS` and `target_cells` over `PT` are the halves'
 // tetrahedralizations; sS, tS (sT, tT) the signed distances to S and T at PS
 // (PT).

@@ -16,6 +16,11 @@ namespace {
 constexpr double kFollowMotion = 0.85;
 // Points each two-sided distance is measured on, at most per surface.
 constexpr Index kDistanceSamples = 3000;
+// An interval between two samples whose motion exceeds this multiple of the
+// mean step is bisected (a hole closing, a limb appearing: fast events the
+// even samples straddle), for at most kBisectionRounds rounds.
+constexpr double kFastStep = 1.5;
+constexpr int kBisectionRounds = 3;
 
 struct Surface {
   PointMatrix V;
@@ -77,28 +82,64 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
                               const Eigen::VectorXd& sS, const Eigen::VectorXd& tS, const Eigen::VectorXd& sT,
                               const Eigen::VectorXd& tT, int samples) {
   if (samples < 2) fail<InputError>("the motion schedule needs at least 2 samples");
-  std::vector<Surface> surfaces;
-  surfaces.push_back({VS, FS});
-  for (int i = 1; i < samples; ++i) {
-    const double w = static_cast<double>(i) / samples;
-    const bool source_half = 2 * i <= samples;
-    const Eigen::VectorXd& s = source_half ? sS : sT;
-    const Eigen::VectorXd& t = source_half ? tS : tT;
-    Eigen::VectorXd value = (1 - w) * s + w * t;
+  auto surface_at = [&](double w) -> Surface {
+    if (w <= 0) return {VS, FS};
+    if (w >= 1) return {VT, FT};
+    const bool source_half = w <= 0.5;
+    Eigen::VectorXd value = (1 - w) * (source_half ? sS : sT) + w * (source_half ? tS : tT);
     for (Index v = 0; v < value.size(); ++v)
       if (value(v) == 0.0) value(v) = 1e-300;  // zero counts as outside (zero_set.hpp)
-    surfaces.push_back(level_set(source_half ? source_cells : target_cells, source_half ? PS : PT, value));
+    return level_set(source_half ? source_cells : target_cells, source_half ? PS : PT, value);
+  };
+  // Weights in increasing order, each with its surface and the motion from
+  // the previous one (step[0] unused).
+  std::vector<double> w;
+  for (int i = 0; i <= samples; ++i) w.push_back(static_cast<double>(i) / samples);
+  std::vector<Surface> surfaces(w.size());
+  std::vector<double> step(w.size(), -1.0);
+  auto measure = [&] {
+    // Independent samples and intervals: each writes its own slot, so the
+    // result does not depend on the threads.
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long i = 0; i < static_cast<long>(w.size()); ++i)
+      if (surfaces[i].F.rows() == 0 && step[i] < 0) surfaces[i] = surface_at(w[i]);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long i = 1; i < static_cast<long>(w.size()); ++i)
+      if (step[i] < 0) step[i] = two_sided(surfaces[i - 1], surfaces[i]);
+  };
+  measure();
+  for (int round = 0; round < kBisectionRounds; ++round) {
+    double total = 0;
+    for (size_t i = 1; i < w.size(); ++i) total += step[i];
+    const double mean = total / static_cast<double>(w.size() - 1);
+    std::vector<double> w2{w[0]};
+    std::vector<Surface> surfaces2{std::move(surfaces[0])};
+    std::vector<double> step2{-1.0};
+    bool split = false;
+    for (size_t i = 1; i < w.size(); ++i) {
+      const bool fast = mean > 0 && step[i] > kFastStep * mean;
+      if (fast) {
+        w2.push_back(0.5 * (w[i - 1] + w[i]));
+        surfaces2.emplace_back();
+        step2.push_back(-1.0);
+        split = true;
+      }
+      w2.push_back(w[i]);
+      surfaces2.push_back(std::move(surfaces[i]));
+      step2.push_back(fast ? -1.0 : step[i]);
+    }
+    if (!split) break;
+    w = std::move(w2), surfaces = std::move(surfaces2), step = std::move(step2);
+    measure();
   }
-  surfaces.push_back({VT, FT});
   std::vector<double> travelled{0.0};
-  for (size_t i = 0; i + 1 < surfaces.size(); ++i) travelled.push_back(travelled.back() + two_sided(surfaces[i], surfaces[i + 1]));
+  for (size_t i = 1; i < w.size(); ++i) travelled.push_back(travelled.back() + step[i]);
   BlendSchedule schedule;
   const double total = travelled.back();
-  for (int i = 0; i <= samples; ++i) {
-    const double w = static_cast<double>(i) / samples;
-    const double moved = total > 0 ? travelled[i] / total : w;
-    schedule.w.push_back(w);
-    schedule.u.push_back(kFollowMotion * moved + (1 - kFollowMotion) * w);
+  for (size_t i = 0; i < w.size(); ++i) {
+    const double moved = total > 0 ? travelled[i] / total : w[i];
+    schedule.w.push_back(w[i]);
+    schedule.u.push_back(kFollowMotion * moved + (1 - kFollowMotion) * w[i]);
   }
   return schedule;
 }

@@ -20,27 +20,31 @@ void StageClock::begin(const std::string& name, double fraction) {
   running_ = name;
   started_ = std::chrono::steady_clock::now();
   advance(fraction);
-  if (!options_.hold_stage.empty() && options_.hold_stage == name && options_.hold_seconds > 0) {
-    const double hold = options_.hold_seconds;
-    run_isolated(
-        [hold] {
-          std::this_thread::sleep_for(std::chrono::duration<double>(hold));
-          return std::vector<char>{};
-        },
-        0, while_waiting());
-  }
+  hold_for_tests(options_, name);
 }
 
 void StageClock::advance(double fraction) {
   if (options_.progress && !options_.progress(running_, fraction)) throw Cancelled();
 }
 
-std::function<void()> StageClock::while_waiting() const {
-  if (!options_.interrupted) return {};
-  const MorphOptions* options = &options_;
-  return [options] {
-    if (options->interrupted()) throw Cancelled();
+std::function<void()> StageClock::while_waiting() const { return interrupt_poll(options_); }
+
+std::function<void()> interrupt_poll(const MorphOptions& options) {
+  if (!options.interrupted) return {};
+  return [&options] {
+    if (options.interrupted()) throw Cancelled();
   };
+}
+
+void hold_for_tests(const MorphOptions& options, const std::string& stage) {
+  if (options.hold_stage.empty() || options.hold_stage != stage || !(options.hold_seconds > 0)) return;
+  const double hold = options.hold_seconds;
+  run_isolated(
+      [hold] {
+        std::this_thread::sleep_for(std::chrono::duration<double>(hold));
+        return std::vector<char>{};
+      },
+      0, interrupt_poll(options));
 }
 
 }  // namespace animanifold

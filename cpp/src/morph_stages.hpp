@@ -21,6 +21,15 @@
 
 namespace animanifold {
 
+// Where MorphOptions::hold_stage is `stage`: a stand-in child process sleeps
+// MorphOptions::hold_seconds under run_isolated's polling of interrupted().
+// The seed's methods hold here before their mesher runs ("conforming").
+void hold_for_tests(const MorphOptions& options, const std::string& stage);
+
+// The poll a child process's wait runs: the caller's interrupted(), which
+// throws Cancelled when it says so. Empty when there is no interrupted().
+std::function<void()> interrupt_poll(const MorphOptions& options);
+
 class StageClock {
  public:
   explicit StageClock(const MorphOptions& options);

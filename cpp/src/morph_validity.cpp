@@ -27,6 +27,7 @@ constexpr double kCrossingTolerance = 1e-9;
 
 struct FrameTopology {
   Index euler = 0, pieces = 0, cavities = 0;
+  double solid = 0, cavity = 0;  // volumes
   bool operator!=(const FrameTopology& o) const {
     return euler != o.euler || pieces != o.pieces || cavities != o.cavities;
   }
@@ -62,7 +63,10 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     volume[find(F(f, 0))] += a.dot(b.cross(c)) / 6.0;
   }
-  for (const auto& [root, v] : volume) (v < 0 ? out.cavities : out.pieces)++;
+  for (const auto& [root, v] : volume) {
+    (v < 0 ? out.cavities : out.pieces)++;
+    (v < 0 ? out.cavity : out.solid) += std::abs(v);
+  }
   return out;
 }
 
@@ -81,41 +85,65 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
   Slicer slicer(std::make_shared<const Complex>(manifold));
   const int axis = manifold.ambient_dimension() - 1;
-  std::map<double, FrameTopology> checked;
-  auto check = [&](double t) {
+  slicer.index(axis);  // built once here: the frames below only read it, from several threads
+  struct Frame {
+    bool examined = false;
+    FrameTopology topology;
+    bool crossing = false;
+  };
+  auto examine = [&](double t) {
+    Frame out;
     const Slice frame = slicer.slice(axis, t);
-    const FrameTopology topology = topology_of(frame.vertices, frame.faces);
+    out.topology = topology_of(frame.vertices, frame.faces);
+    try {
+      out.crossing = !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
+    } catch (const std::exception&) {
+      out.crossing = true;  // not even a closed manifold there
+    }
+    out.examined = true;
+    return out;
+  };
+  std::map<double, FrameTopology> checked;
+  auto record = [&](double t, const Frame& frame) {
+    const FrameTopology& topology = frame.topology;
     checked[t] = topology;
     ++report.frames_checked;
     if (topology.euler < least_euler || topology.euler > most_euler || topology.pieces > most_pieces)
       report.noise_frames.push_back(t);
-    if (topology.cavities > most_cavities) report.bubble_frames.push_back(t);
-    bool crossing;
-    try {
-      crossing = !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
-    } catch (const std::exception&) {
-      crossing = true;  // not even a closed manifold there
+    if (topology.cavities > most_cavities) {
+      report.bubble_frames.emplace_back(t, topology.cavities - most_cavities);
+      report.largest_bubble_fraction =
+          std::max(report.largest_bubble_fraction, topology.cavity / std::max(topology.solid, 1e-300));
     }
-    if (crossing) report.crossing_frames.push_back(t);
+    if (frame.crossing) report.crossing_frames.push_back(t);
   };
-  for (int i = 1; i <= kSpreadFrames; ++i) {
-    if (elapsed() > budget_seconds) break;
-    check(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
-  }
+  // Frames are independent: examined on all cores, each into its own slot,
+  // recorded in time order. A frame not started within the budget is skipped.
+  auto check_all = [&](const std::vector<double>& times) {
+    std::vector<Frame> frames(times.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long i = 0; i < static_cast<long>(times.size()); ++i)
+      if (elapsed() <= budget_seconds) frames[i] = examine(times[i]);
+    for (size_t i = 0; i < times.size(); ++i)
+      if (frames[i].examined) record(times[i], frames[i]);
+  };
+  std::vector<double> spread;
+  for (int i = 1; i <= kSpreadFrames; ++i) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
+  check_all(spread);
   // Towards every change of topology between neighbouring checked frames.
   for (int round = 0; round < kBisections && elapsed() <= budget_seconds; ++round) {
     std::vector<double> middles;
+    if (checked.size() < 2) break;
     for (auto it = checked.begin(); std::next(it) != checked.end(); ++it)
       if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
     if (middles.empty()) break;
-    for (const double t : middles) {
-      if (elapsed() > budget_seconds) break;
-      check(t);
-    }
+    check_all(middles);
   }
   report.frames_capped = report.frames_checked < kSpreadFrames || elapsed() > budget_seconds;
-  for (auto* times : {&report.noise_frames, &report.bubble_frames, &report.crossing_frames})
-    std::sort(times->begin(), times->end());
+  for (auto it = checked.begin(); it != checked.end() && std::next(it) != checked.end(); ++it)
+    if (it->second != std::next(it)->second) ++report.topology_changes;
+  for (auto* times : {&report.noise_frames, &report.crossing_frames}) std::sort(times->begin(), times->end());
+  std::sort(report.bubble_frames.begin(), report.bubble_frames.end());
 }
 
 }  // namespace animanifold

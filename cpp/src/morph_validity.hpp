@@ -11,7 +11,8 @@
 // Frames: 24 evenly spread inside the range first, then, between two
 // checked frames whose topology differs, frames bisecting towards the
 // change, so that the frames where the topology changes are looked at too.
-// Each frame is sliced once and given every check.
+// Each frame is sliced once and given every check; frames are checked on
+// all cores (the slicer's index is built first, then only read).
 #pragma once
 
 #include "animanifold/morph.hpp"

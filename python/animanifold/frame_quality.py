@@ -20,9 +20,10 @@ def unique_edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(edges (E, 2) sorted, inverse (3F,)): every triangle side once, and which edge each side
     is (side k of face f, from corner k to corner k+1, is entry 3f + k)."""
     faces = np.asarray(faces, dtype=np.int64)
-    sides = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)
-    edges, inverse = np.unique(np.sort(sides, axis=1), axis=0, return_inverse=True)
-    return edges, inverse.ravel()
+    sides = np.sort(np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    span = int(faces.max()) + 1 if len(faces) else 1
+    keys, inverse = np.unique(sides[:, 0] * span + sides[:, 1], return_inverse=True)  # one integer per edge
+    return np.stack([keys // span, keys % span], axis=1), inverse.ravel()
 
 
 def euler_characteristic(vertices: np.ndarray, faces: np.ndarray) -> int:
@@ -70,11 +71,19 @@ def crease_share(vertices: np.ndarray, faces: np.ndarray, degrees: float = 60.0)
     return float(lengths[two][creased].sum() / total) if total > 0 else 0.0
 
 
-def surface_samples(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    """Points a two-sided distance is measured on: the vertices and the face centres."""
+# At most this many samples per surface for a two-sided distance (every k-th, deterministically):
+# frames of a morph carry 50k-100k faces, and a step between frames is far larger than their spacing.
+MAX_SAMPLES = 20000
+
+
+def surface_samples(vertices: np.ndarray, faces: np.ndarray, limit: int = MAX_SAMPLES) -> np.ndarray:
+    """Points a two-sided distance is measured on: the vertices and the face centres, every k-th
+    where there are more than `limit`."""
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
-    return np.concatenate([vertices[np.unique(faces)], vertices[faces].mean(axis=1)]) if len(faces) else vertices
+    points = np.concatenate([vertices[np.unique(faces)], vertices[faces].mean(axis=1)]) if len(faces) else vertices
+    stride = max(1, -(-len(points) // limit))
+    return np.ascontiguousarray(points[::stride])
 
 
 def hausdorff(first: tuple[np.ndarray, np.ndarray], second: tuple[np.ndarray, np.ndarray]) -> float:

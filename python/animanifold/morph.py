@@ -13,7 +13,8 @@ from .holes import (BooleanError, hole_space, intersect_solids, is_empty, points
                     subtract_solid, winding_numbers)
 from .manifold import AnimationManifold
 
-METHODS = ("skeleton", "strip")
+# The seed's methods (§8.6, §8.5) and the field method (the core's morph_field.hpp).
+METHODS = ("skeleton", "strip", "field")
 
 
 def morph(
@@ -29,6 +30,7 @@ def morph(
     perturbation: str = "auto",
     interrupted: Callable[[], bool] | None = None,
     fan_flat_polygons: bool = True,
+    test_hold: tuple[str, float] | None = None,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -95,6 +97,19 @@ def morph(
     most 1e-9 of H's volume; what failed is listed in `hole_errors`). Two
     `progress` stages follow "validity": "holes" and "hole validity". Raises
     animanifold.BooleanError when CGAL cannot compute the hole spaces.
+    method "field": the zero set of a signed-distance field blended over a space-time
+    triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
+    set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
+    No hole space is cut (a point outside both inputs stays outside every frame by construction);
+    the core checks 24 frames spread over the range, and frames bisecting towards every change of
+    topology, within a budget (report: `frames_checked`, `frames_capped`, `crossing_frames`,
+    `bubble_frames`, `noise_frames`: frames whose Euler characteristic or pieces leave the ends').
+    perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
+
+    test_hold: (stage, seconds) for tests of cancellation: the core waits `seconds` on a stand-in
+    child process at the start of that stage ("conforming" for every method), under the same polling
+    of `interrupted` and Ctrl-C as its mesher.
+
     Where the inputs coincide (`inputs_coincide`: the same shape, Figure 8.9),
     the skeleton method removes what lies outside both instead of pushing it,
     every frame is the input, and the result keeps no hole space (no frame
@@ -116,6 +131,9 @@ def morph(
         raise ValueError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
     if perturbation not in PERTURBATIONS:
         raise ValueError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
+    hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
+    if method == "field":
+        return _field_morph(arrays, float(t0), float(t1), progress, interrupted, hold)
     if progress is not None:  # a retry (below) starts its stages again: the fraction never goes back
         user_progress, done = progress, [0.0]
 
@@ -125,7 +143,7 @@ def morph(
 
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
                 fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
-                fan_flat_polygons=bool(fan_flat_polygons))
+                fan_flat_polygons=bool(fan_flat_polygons), hold=hold)
     start = time.perf_counter()
     mode = "position" if perturbation == "position" else "hull_faces"
     try:
@@ -195,13 +213,12 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
 
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
                 fill: str, hole_checks: int, perturbation: str, interrupted: Callable[[], bool] | None,
-                fan_flat_polygons: bool) -> AnimationManifold:
+                fan_flat_polygons: bool, hold: dict) -> AnimationManifold:
     """One morph with the core's `perturbation` (see morph())."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
                                    max_push=max_push, fill=fill, perturbation=perturbation,
-                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons)
-    report = {k: (list(map(list, v)) if k == "stage_seconds" else list(v) if isinstance(v, tuple) else v)
-              for k, v in report.items()}
+                                   interrupted=interrupted, fan_flat_polygons=fan_flat_polygons, **hold)
+    report = _plain_report(report)
 
     start = time.perf_counter()
     shared = _shared_hole_space(arrays)
@@ -227,6 +244,24 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     if progress is not None and not progress("hole validity", 1.0):
         raise _core.Cancelled("cancelled")
     return manifold
+
+
+def _plain_report(report: dict) -> dict:
+    """The core's report with lists for tuples (as the cache's JSON gives them back)."""
+    return {k: ([list(item) for item in v] if k in ("stage_seconds", "bubble_frames") else
+                list(v) if isinstance(v, tuple) else v) for k, v in report.items()}
+
+
+def _field_morph(arrays: list[np.ndarray], t0: float, t1: float, progress, interrupted, hold: dict) -> AnimationManifold:
+    """The field method (see morph()): the core builds and checks it; no hole space is cut."""
+    complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method="field", progress=progress,
+                                   interrupted=interrupted, **hold)
+    report = _plain_report(report)
+    report["crossing_frames_checked"] = report["frames_checked"]
+    report["frames_cross_themselves"] = bool(report["crossing_frames"])
+    report["bubble_frames_checked"] = report["frames_checked"]
+    return AnimationManifold(complex_, metadata={"morph": {"method": "field", "t0": t0, "t1": t1},
+                                                 "validity": report})
 
 
 # Where frames are checked for bubbles, as fractions of the range: they form where the target's

@@ -156,6 +156,33 @@ def test_reports_name_the_method_the_stages_and_a_change_of_topology(empty_scene
         assert "'Sphere' (Euler characteristic 2) and 'Torus' (0) differ in topology" in out, out
 
 
+def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(empty_scene, capfd):
+    """Method: Field on Blender's UV sphere and torus: both ends reproduced where the range starts
+    and ends, no hole space, and a report of the frames checked, the topology changes between them
+    and whether every check passed."""
+    source, target = add_pair_sphere_torus()
+    select(source, target)
+    capfd.readouterr()
+    assert bpy.ops.animanifold.morph_selected(method="FIELD") == {"FINISHED"}
+    out = capfd.readouterr().out
+    morph = bpy.context.active_object
+    from animanifold_blender import live
+
+    manifold = live.manifold_for(morph)
+    assert manifold.metadata["morph"]["method"] == "field" and manifold.hole_space is None
+    validity = manifold.validity
+    assert validity["ends_reproduced"] and validity["inverted_simplices"] == 0
+    checks = next(line for line in out.splitlines() if "frames checked" in line)
+    assert f"{validity['frames_checked']} frames checked" in checks, checks
+    assert f"changes {validity['topology_changes']} times" in checks and "all checks passed: " in checks, checks
+    assert validity["topology_changes"] >= 1  # the sphere's genus becomes the torus's
+    scene = bpy.context.scene
+    scene.frame_set(scene.frame_start)
+    assert frame_matches(compare_with(morph, source))
+    scene.frame_set(scene.frame_end)
+    assert frame_matches(compare_with(morph, target))
+
+
 def test_a_failing_core_is_reported_with_its_stage_and_nothing_changes(empty_scene, monkeypatch):
     from animanifold_blender import ops_morph
 
@@ -506,16 +533,15 @@ def test_an_object_and_its_duplicate_morph_into_the_object_at_every_frame(empty_
 
 def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled(addon):
     """Morph Selected from the interface runs the core in a worker thread (morph_job), so Blender
-    keeps drawing and Esc can stop it; run as a script (and here) it blocks, as before. The fan
-    cylinder -> torus, its caps kept as they are, keeps TetGen busy for ~22 s (it loops, then
-    fails): meanwhile the main thread
-    gets the GIL (the interface can run Python), and a cancel after 1 s ends the job within a
-    second, with nothing built."""
+    keeps drawing and Esc can stop it; run as a script (and here) it blocks, as before. The core
+    is held 30 s at its conforming stage (its test hold: a stand-in child process where the mesher
+    would run): meanwhile the main thread gets the GIL (the interface can run Python), and a cancel
+    after 1 s ends the job within a second, with nothing built."""
     from animanifold_blender._lib import am
     from animanifold_blender.morph_job import MorphJob
-    from shapes import cylinder, icosphere, torus
+    from shapes import icosphere, torus
 
-    job = MorphJob(cylinder(64), torus(), t0=1.0, t1=24.0, fan_flat_polygons=False)
+    job = MorphJob(icosphere(1), torus(), t0=1.0, t1=24.0, test_hold=("conforming", 30.0))
     ticks, began = 0, time.perf_counter()
     while time.perf_counter() - began < 1.0:
         time.sleep(0.01)
@@ -606,7 +632,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     the main thread, as execute() makes it."""
     from animanifold_blender import ops_morph
     from animanifold_blender.morph_job import MorphJob
-    from shapes import cylinder, torus
+    from shapes import icosphere, torus
 
     calls = []
 
@@ -635,8 +661,9 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     target = bpy.context.active_object
     objects = len(bpy.data.objects)
 
-    slow = (cylinder(64), torus())  # TetGen loops on its fan caps for ~30 s
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0), (source, target, 1, 24) + slow)
+    slow = (icosphere(1), torus())  # held 30 s at its conforming stage (the core's test hold)
+    hold = ("conforming", 30.0)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
     assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"}
     assert any(c[0] == "status" and "Esc to cancel" in c[1] for c in calls), calls
     assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
@@ -648,7 +675,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
 
     # Blender ending the operator itself (File > Open meanwhile) stops the job too
     calls.clear()
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0), (source, target, 1, 24) + slow)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
     op.cancel(Context())
     assert op._job.wait(2.0) and op._job.cancelled and ("timer removed", "the timer") in calls
 

@@ -31,6 +31,7 @@
 #include <array>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace animanifold {
@@ -150,7 +151,14 @@ struct MorphReport {
   // inputs' topology.
   Index frames_checked = 0;
   bool frames_capped = false;
-  std::vector<double> crossing_frames, bubble_frames, noise_frames;
+  // How often the topology (Euler characteristic, pieces, cavities) changes
+  // from one checked frame to the next, in time order.
+  Index topology_changes = 0;
+  std::vector<double> crossing_frames, noise_frames;
+  // (time, bubbles beyond the inputs' own) of each frame holding bubbles,
+  // and the largest share of a frame's volume they take.
+  std::vector<std::pair<double, Index>> bubble_frames;
+  double largest_bubble_fraction = 0.0;
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 

@@ -1,7 +1,8 @@
 """Morph Selected as the interface runs it, in a real window (Debian's Blender 3.4 on a virtual
 screen: Xvfb), not under -b: invoked from the 3D view it goes modal (the core in a worker thread),
 the main thread's timers and the view's redraws go on while the job's stages advance, and it ends
-with the object made; a second morph cancelled with Esc (a simulated key press) adds nothing. Run:
+with the object made; a second morph, held at its conforming stage, cancelled with Esc (a simulated key press) adds
+nothing. Run:
     blender --factory-startup --enable-event-simulate --python window_morph_blender34.py -- ZIP [DIR]
 
 Prints "WINDOW MORPH OK ..." as its last line and quits with status 0; on a failure it prints
@@ -29,6 +30,8 @@ jobs = []  # every MorphJob the operator starts, to watch from here
 
 class WatchedJob(ops_morph.MorphJob):
     def __init__(self, *args, **kwargs):
+        if state.get("hold"):  # the core waits there (its test hold), whatever the machine's speed
+            kwargs["test_hold"] = state["hold"]
         super().__init__(*args, **kwargs)
         jobs.append(self)
 
@@ -108,12 +111,13 @@ def step():
         if len(jobs) != 1 or not jobs[0].done or jobs[0].cancelled:
             finish(False, f"the morph did not run as one modal job: {len(jobs)} jobs")
         state["first"] = f"{name} in {time.perf_counter() - state['t']:.2f} s"
-        # a larger pair, cancelled with Esc right after it starts
-        bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=6, radius=1.0, location=(4, 0, 0))
+        # a second pair, held 30 s at its conforming stage, cancelled with Esc right after it starts
+        bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=1.0, location=(4, 0, 0))
         big = bpy.context.active_object
-        bpy.ops.mesh.primitive_torus_add(major_segments=96, minor_segments=48, location=(4, 0, 0))
+        bpy.ops.mesh.primitive_torus_add(location=(4, 0, 0))
         ring = bpy.context.active_object
         state["before"] = set(bpy.data.objects.keys())
+        state["hold"] = ("conforming", 30.0)
         start_morph(big, ring)
         state["phase"], state["t"] = "cancelling", time.perf_counter()
         return 0.2

@@ -1,0 +1,158 @@
+"""The field morph (the core's morph_field.hpp) against the bar of its issue, on the shared models:
+ends exact, no topological noise, smooth, no pops or standstill, no crossing, bubble or flat
+simplex, checked here independently of the core's own report."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import animanifold as am
+from animanifold import _core
+from animanifold.frame_quality import measure_frames
+from animanifold.holes import winding_numbers
+from animanifold.meshio import read_mesh
+from animanifold.cavities import shell_volumes
+
+FRAMES = 24  # spread over the range, plus the two ends
+ENDS = 1e-9  # of the diagonal
+CREASE_ALLOWANCE = 0.03
+POP_RATIO = 3.0
+QUARTER_MOTION = 0.10
+
+
+def normalised(path) -> tuple[np.ndarray, np.ndarray]:
+    """A shared model centred at the origin with a bounding-box diagonal of 2 (the objects'
+    transforms align them in Blender)."""
+    v, f = read_mesh(path)
+    v = np.asarray(v, dtype=np.float64)
+    low, high = v.min(axis=0), v.max(axis=0)
+    return np.ascontiguousarray((v - (low + high) / 2) * (2 / np.linalg.norm(high - low))), f
+
+
+def frames_of(manifold: am.AnimationManifold) -> tuple[np.ndarray, list[tuple[np.ndarray, np.ndarray]]]:
+    times = np.linspace(0.0, 1.0, FRAMES + 2)
+    frames = []
+    for t in times:
+        s = manifold.slice(float(t))
+        frames.append((np.asarray(s.vertices), np.asarray(s.faces)))
+    return times, frames
+
+
+def assert_end_is_the_input(frame, mesh, diagonal):
+    """Every input vertex is a vertex of the end frame, and every end-frame point lies on the input."""
+    (fv, ff), (v, f) = frame, mesh
+    assert _core.distances_to_surface(np.ascontiguousarray(fv), v, f).max() <= ENDS * diagonal
+    nearest = _core.distances_to_surface(v, np.ascontiguousarray(fv), np.ascontiguousarray(ff, dtype=np.int32))
+    assert nearest.max() <= ENDS * diagonal
+    # the input's vertices themselves, not only points on the frame's faces
+    rounded = {tuple(p) for p in np.round(fv / (ENDS * diagonal)).astype(np.int64)}
+    missing = [i for i, p in enumerate(np.round(v / (ENDS * diagonal)).astype(np.int64)) if tuple(p) not in rounded]
+    assert len(missing) <= len(v) // 1000, f"{len(missing)} input vertices are not end-frame vertices"
+
+
+def assert_the_bar(source, target, pop_ratio=POP_RATIO):
+    manifold = am.morph(source, target, method="field")
+    report = manifold.validity
+    diagonal = max(np.linalg.norm(np.ptp(source[0], axis=0)), np.linalg.norm(np.ptp(target[0], axis=0)))
+    times, frames = frames_of(manifold)
+    quarter = manifold.slice(0.25)
+    measures = measure_frames(frames, times, (np.asarray(quarter.vertices), np.asarray(quarter.faces)))
+    summary = (f"euler {measures.euler}, pieces {measures.pieces}, creases +{measures.excess_creases:.3f}, "
+               f"pop {measures.pop_ratio:.2f}, quarter {measures.quarter_motion:.3f}")
+
+    assert report["ends_reproduced"], report
+    assert_end_is_the_input(frames[0], source, diagonal)
+    assert_end_is_the_input(frames[-1], target, diagonal)
+    assert measures.topology_noise == [], summary
+    assert measures.excess_creases <= CREASE_ALLOWANCE, summary
+    assert measures.quarter_motion >= QUARTER_MOTION, summary
+    # checked here, not taken from the report: no frame runs through itself or holds a bubble
+    allowed_cavities = max(int((shell_volumes(*m) < 0).sum()) for m in (source, target))
+    for t, (v, f) in zip(times[1:-1], frames[1:-1]):
+        assert not _core.self_intersections(v, f, 1, ENDS * diagonal), f"the frame at {t:.3f} crosses itself"
+        assert int((shell_volumes(v, f) < 0).sum()) <= allowed_cavities, f"the frame at {t:.3f} holds a bubble"
+    # every simplex positive (none flat at the exact coordinates), and a clean oriented manifold
+    assert report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0, report
+    assert manifold.check()["is_oriented_manifold"]
+    # the core's own checks saw nothing either
+    assert not (report["crossing_frames"] or report["bubble_frames"] or report["noise_frames"]), report
+    assert measures.pop_ratio <= pop_ratio, summary
+    return manifold, measures
+
+
+# Pairs that miss the bar today, with what was measured (issue notes): not strict, because whether
+# a frame near a thin gap picks up a transient handle depends on the mesher's exact points.
+_NEAR_THE_BUNNY = ("transient topology next to the bunny: a frame in the time slab next to it (t = 0.04 or "
+                   "0.96) has a handle or a second piece (Euler characteristic -2 to -8) where its ears "
+                   "nearly touch its head; the staircase between two layers widens the solid")
+SHARED_PAIRS = [
+    pytest.param("bunny.off", "torus-800.off", id="bunny-torus800 (0 to 1)",
+                 marks=pytest.mark.xfail(strict=False, reason=_NEAR_THE_BUNNY)),
+    pytest.param("spot.obj", "3holes.off", id="spot-3holes (0 to 3)"),
+    pytest.param("torus-800.off", "spot.obj", id="torus800-spot (1 to 0)",
+                 marks=pytest.mark.xfail(strict=False, reason="pops: the largest step between frames is 3.98x "
+                                         "the mean (bar: 3x), where the torus's hole closes")),
+    pytest.param("3holes.off", "bunny.off", id="3holes-bunny (3 to 0)",
+                 marks=pytest.mark.xfail(strict=False, reason=_NEAR_THE_BUNNY)),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.data
+@pytest.mark.parametrize("source, target", SHARED_PAIRS)
+def test_the_field_morph_meets_the_bar_on_shared_models(shared_data, source, target):
+    meshes = shared_data / "meshes"
+    assert_the_bar(normalised(meshes / source), normalised(meshes / target))
+
+
+@pytest.mark.slow
+@pytest.mark.data
+def test_identical_genus_1_inputs_stay_the_input_and_keep_their_hole(shared_data):
+    """Figure 8.9's case (the seed's hole space crashed on it): every frame within 1 % of the
+    diagonal of the input, and the hole, which both inputs share, stays empty in every frame."""
+    torus = normalised(shared_data / "meshes" / "torus-800.off")
+    manifold = am.morph(torus, torus, method="field")
+    diagonal = float(np.linalg.norm(np.ptp(torus[0], axis=0)))
+    v, f = torus
+    in_the_hole = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.05], [0.05, 0.0, 0.0]])
+    assert (np.abs(winding_numbers(v, f, in_the_hole)) < 0.5).all()  # outside the input
+    times, frames = frames_of(manifold)
+    for t, frame in zip(times, frames):
+        assert len(frame[1]) > 0
+        assert max(_core.distances_to_surface(np.ascontiguousarray(frame[0]), v, f).max(),
+                   _core.distances_to_surface(v, *frame).max()) <= 0.01 * diagonal, t
+        assert (np.abs(winding_numbers(*frame, in_the_hole)) < 0.5).all(), f"the hole is filled at {t:.3f}"
+    assert manifold.validity["ends_reproduced"] and not manifold.validity["noise_frames"]
+
+
+def test_a_point_outside_both_inputs_stays_outside_every_frame():
+    """Validity 3 without a boolean: outside both inputs the signed distances are positive at both
+    ends, so their blend is too. A torus into a larger torus about the same axis: their shared hole
+    stays empty."""
+    from shapes import torus
+
+    small, large = torus(minor_radius=0.25, major=24, minor=12), torus(minor_radius=0.3, major=24, minor=12)
+    large = (large[0] * 1.2, large[1])
+    manifold = am.morph(small, large, method="field")
+    axis = np.array([[0.0, 0.0, z] for z in (-0.2, 0.0, 0.2)] + [[0.3, 0.0, 0.0], [0.0, -0.3, 0.0]])
+    for mesh in (small, large):
+        assert (np.abs(winding_numbers(*mesh, axis)) < 0.5).all()
+    for t in np.linspace(0.0, 1.0, 13):
+        frame = manifold.slice(float(t))
+        assert (np.abs(winding_numbers(np.asarray(frame.vertices), np.asarray(frame.faces), axis)) < 0.5).all(), t
+    assert manifold.validity["ends_reproduced"]
+
+
+def test_the_field_morphs_report_says_what_it_checked():
+    """The frame checks say when the budget (a quarter of the morph's own time) cut them short of
+    the 24 spread frames, the frames' topology changes are counted, and no hole space is kept."""
+    from shapes import icosphere, torus
+
+    manifold = am.morph(icosphere(2), torus(), method="field")
+    report = manifold.validity
+    assert report["frames_checked"] >= 1
+    assert report["frames_capped"] or report["frames_checked"] >= 24, report["frames_checked"]
+    assert report["topology_changes"] >= 1  # the genus changes once, at least
+    assert report["frames_cross_themselves"] is False and manifold.hole_space is None
+    assert [stage for stage, _ in report["stage_seconds"]][-1] == "validity"
