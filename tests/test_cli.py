@@ -341,6 +341,25 @@ def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
     assert_user_error(code, err, "--max-push must lie between 0 and 0.5")
 
 
+def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path):
+    from shapes import torus
+
+    v, f = icosphere(2)
+    am.write_mesh(tmp_path / "s.obj", 1.5 * v, f)
+    am.write_mesh(tmp_path / "t.obj", *torus(minor_radius=0.4, major=16, minor=8))
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o",
+                         str(tmp_path / "m"), "--frames", "3", "--method", "field")
+    assert code == 0, err
+    m = am.load(tmp_path / "m" / "morph.amf")
+    assert m.metadata["morph"]["method"] == "field" and m.validity["ends_reproduced"]
+    assert "ends reproduced: True" in out
+    assert f"{m.validity['frames_checked']} frames checked" in out, out
+    assert f"the topology changes {m.validity['topology_changes']} times" in out, out
+    last, faces = am.read_mesh(tmp_path / "m" / "frames" / "frame_0002.obj")
+    assert len(np.unique(faces)) - len(np.unique(np.sort(np.concatenate([faces[:, :2], faces[:, 1:], faces[:, ::2]]), 1),
+                                                 axis=0)) + len(faces) == 0  # a torus
+
+
 def test_skeleton_sub_command_is_wired_in(capsys, tmp_path):
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "ball.obj", v * [2.0, 1.0, 1.0], f)

@@ -359,7 +359,8 @@ def build_parser() -> argparse.ArgumentParser:
         "Builds an animation manifold that is SOURCE at t0 and TARGET at t1 by filling the space between "
         "them with a Delaunay triangulation (chapters 5 and 8): with the skeleton method (default) the "
         "shapes' external skeletons are pushed into time, so shapes of any genus morph through closed "
-        "surfaces; 'strip' only removes what lies outside them. Saves it, and with --frames writes N "
+        "surfaces; 'strip' only removes what lies outside them; 'field' takes the zero set of a blended "
+        "signed-distance field over space-time (smooth in-betweens, ends exact). Saves it, and with --frames writes N "
         "frames. Prints the validity report of §8.3.",
     )
     p.add_argument("source", help="closed, outward-oriented triangle mesh at t0")
@@ -394,10 +395,7 @@ def run_morph(args: argparse.Namespace) -> int:
     print(f"morph: {len(manifold.simplices)} tets; ends reproduced: {report['ends_reproduced']} "
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
           f"inverted simplices: {report['inverted_simplices']} "
-          f"({report['degenerate_simplices']} flat at the exact coordinates); " + (
-              f"stripped {report['stripped_simplices']} of {report['fill_simplices']}" if args.method == "strip" else
-              f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
-              f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)"))
+          f"({report['degenerate_simplices']} flat at the exact coordinates); " + _method_summary(args.method, report))
     if not report["ends_reproduced"]:
         print(f"{PROG}: warning: the end frames are not the inputs (see the distances above)", file=sys.stderr)
     if manifold.hole_space is not None:
@@ -424,6 +422,19 @@ def run_morph(args: argparse.Namespace) -> int:
             s = manifold.slice(float(t))
             write_mesh(frame_path(frames, i, args.frames, args.format), s.vertices, s.faces)
     return 0
+
+
+def _method_summary(method: str, report: dict) -> str:
+    """What the method itself reports, on one line."""
+    if method == "strip":
+        return f"stripped {report['stripped_simplices']} of {report['fill_simplices']}"
+    if method == "field":
+        capped = " (cut short by the time budget)" if report["frames_capped"] else ""
+        return (f"{report['frames_checked']} frames checked{capped}, the topology changes "
+                f"{report['topology_changes']} times between them; topological noise at "
+                f"{len(report['noise_frames'])} of them")
+    return (f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
+            f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)")
 
 
 def one_line(error: BaseException) -> str:
