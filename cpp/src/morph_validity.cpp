@@ -127,8 +127,14 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     for (size_t i = 0; i < times.size(); ++i)
       if (frames[i].examined) record(times[i], frames[i]);
   };
+  // Coarse to fine (the middle, the quarters, ...): frames a tight budget
+  // leaves out are then spread over the range, not all at its end.
+  std::vector<int> order(kSpreadFrames);
+  std::iota(order.begin(), order.end(), 1);
+  auto coarseness = [](int i) { return i == 0 ? 32 : __builtin_ctz(static_cast<unsigned>(i)); };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
   std::vector<double> spread;
-  for (int i = 1; i <= kSpreadFrames; ++i) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
+  for (const int i : order) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
   check_all(spread);
   // Towards every change of topology between neighbouring checked frames.
   for (int round = 0; round < kBisections && elapsed() <= budget_seconds; ++round) {

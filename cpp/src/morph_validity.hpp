@@ -8,7 +8,8 @@
 // (Euler characteristic outside the ends', more pieces than the ends');
 // how many frames were checked and whether the budget cut the checks short.
 //
-// Frames: 24 evenly spread inside the range first, then, between two
+// Frames: 24 evenly spread inside the range first (coarse to fine, so that
+// a budget that cuts them short leaves gaps spread over the range), then, between two
 // checked frames whose topology differs, frames bisecting towards the
 // change, so that the frames where the topology changes are looked at too.
 // Each frame is sliced once and given every check; frames are checked on
