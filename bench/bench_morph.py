@@ -1,7 +1,16 @@
-"""Benchmark of morphing (chapter 8, §8.7.1): sphere -> a genus-3 model, next to the
-dissertation's seed figures and, in the same run, OpenVDB's level-set morph.
+"""Benchmark of morphing, two modes.
 
-    python3 bench/bench_morph.py [--method skeleton|strip] [--vdb-resolutions 128,192]
+--bar (the default): the morph issue's bar, one table per pair of shapes with a row per morph
+method and one for OpenVDB's level-set morph, all measured the same way (bench/morph_bar.py
+says what is compared and how):
+
+    python3 bench/bench_morph.py [--bar] [--methods field,skeleton] [--pairs spot->3holes,...]
+                                 [--frames 24] [--vdb-resolution 128] [--no-peer]
+
+--seed-report: chapter 8, §8.7.1: sphere -> a genus-3 model, next to the dissertation's seed
+figures and, in the same run, OpenVDB's level-set morph (what follows describes this mode):
+
+    python3 bench/bench_morph.py --seed-report [--method skeleton|strip] [--vdb-resolutions 128,192]
                                  [--no-peer] [--target path.off|procedural]
 
 The target is ../shared/data/meshes/3holes.off (libigl's genus-3 model, 3,596 vertices) when the
@@ -48,7 +57,7 @@ What is compared
 
 Times are wall seconds on whatever machine runs this (the peer uses TBB on
 all cores, ours is single-threaded); the seed's are from 2008 hardware. The
-default run takes about five minutes on two cores, most of it in the peer at
+seed report takes about five minutes on two cores, most of it in the peer at
 1/192 (it grows about as N^3).
 """
 
@@ -72,7 +81,10 @@ from scipy.spatial import cKDTree
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
+sys.path.insert(0, str(ROOT / "bench"))
+
 import animanifold as am  # noqa: E402
+import morph_bar  # noqa: E402  (the --bar mode)
 from animanifold.morph import METHODS  # noqa: E402  (am.morph is the function)
 from animanifold.procedural import icosphere, smooth_genus3  # noqa: E402
 
@@ -91,6 +103,7 @@ SEED_FILL_VERTICES, SEED_FILL_SIMPLICES, SEED_STRIPPED = 19006, 170039, 6010
 PEER_STAGES = (("levelset_seconds", "level sets"), ("morph_seconds", "advect"), ("mesh_seconds", "meshing"))
 VDB_SOURCE = ROOT / "bench" / "bench_vdb_morph.cpp"
 VDB_HEADER = Path("/usr/include/openvdb/tools/LevelSetMorph.h")
+SHARED_TARGET = ROOT.parent / "shared" / "data" / "meshes" / "3holes.off"
 
 
 # -- geometry helpers (also used by tests/test_bench_morph.py) -----------------
@@ -393,33 +406,62 @@ def print_report(method: str, ours: dict, peers: list[dict], inputs: dict) -> No
         print("\nOpenVDB peer: skipped")
 
 
-def main() -> int:
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    mode = parser.add_mutually_exclusive_group()
+    mode.add_argument("--bar", action="store_true", help="the bar table per pair (the default)")
+    mode.add_argument("--seed-report", action="store_true", help="the §8.7.1 sphere -> genus-3 report")
+    bar = parser.add_argument_group("--bar")
+    bar.add_argument("--methods", default="field,skeleton",
+                     help=f"comma-separated am.morph methods (default field,skeleton; available: {', '.join(METHODS)})")
+    bar.add_argument("--pairs", default=None, help=f"comma-separated pairs (default all: {', '.join(morph_bar.PAIRS)})")
+    bar.add_argument("--frames", type=int, default=24, help="in-between frames, spread over the range (default 24)")
+    bar.add_argument("--vdb-resolution", type=float, default=128, help="the peer's voxels per diagonal (default 128)")
+    seed = parser.add_argument_group("--seed-report")
     default_method = "skeleton" if "skeleton" in METHODS else "strip"
-    parser.add_argument("--method", default=default_method,
-                        help=f"am.morph method (default here: {default_method}; available: "
-                             f"{', '.join(METHODS)})")
-    shared_target = ROOT.parent / "shared" / "data" / "meshes" / "3holes.off"
-    parser.add_argument("--target", default=None,
-                        help=f"an OFF/OBJ genus-3 model, or 'procedural' (default: {shared_target} when present, "
-                             "else procedural)")
-    parser.add_argument("--sphere-subdivisions", type=int, default=4, help="icosphere level (4: 2,562 vertices)")
-    parser.add_argument("--vdb-resolutions", default="128,192",
-                        help="voxels per bbox diagonal of the target, comma separated (peer cost ~ N^3)")
+    seed.add_argument("--method", default=default_method,
+                      help=f"am.morph method (default here: {default_method}; available: {', '.join(METHODS)})")
+    seed.add_argument("--target", default=None,
+                      help=f"an OFF/OBJ genus-3 model, or 'procedural' (default: {SHARED_TARGET} when present, "
+                           "else procedural)")
+    seed.add_argument("--sphere-subdivisions", type=int, default=4, help="icosphere level (4: 2,562 vertices)")
+    seed.add_argument("--vdb-resolutions", default="128,192",
+                      help="voxels per bbox diagonal of the target, comma separated (peer cost ~ N^3)")
     parser.add_argument("--no-peer", action="store_true", help="skip the OpenVDB peer")
     parser.add_argument("--build", type=Path, default=ROOT / "build")
-    args = parser.parse_args()
+    return parser
 
+
+def bar_mode(args) -> int:
+    methods = [m.strip() for m in args.methods.split(",") if m.strip()]
+    unknown = [m for m in methods if m not in METHODS]
+    if unknown or not methods:
+        print(f"bench_morph: unknown method(s) {', '.join(unknown) or '(none given)'}; available: {', '.join(METHODS)}")
+        return 1
+    pairs = [p.strip() for p in args.pairs.split(",") if p.strip()] if args.pairs else None
+    exe = why = None
+    if not args.no_peer:
+        exe, why = vdb_executable(args.build)
+    work = Path(tempfile.mkdtemp(prefix="bench_morph_bar_"))
+    try:
+        morph_bar.run_bar(pairs, methods, args.frames, work, exe, why,
+                          None if args.no_peer else args.vdb_resolution)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return 0
+
+
+def seed_report(args) -> int:
     work = Path(tempfile.mkdtemp(prefix="bench_morph_"))
-    if args.target is None and not shared_target.exists():
-        print(f"bench_morph: {shared_target} is absent (it comes with the project's shared/ folder): "
+    if args.target is None and not SHARED_TARGET.exists():
+        print(f"bench_morph: {SHARED_TARGET} is absent (it comes with the project's shared/ folder): "
               "the procedural stand-in instead (figures not comparable with 3holes')", flush=True)
-    if args.target == "procedural" or (args.target is None and not shared_target.exists()):
+    if args.target == "procedural" or (args.target is None and not SHARED_TARGET.exists()):
         target = smooth_genus3()
         args.target = work / "smooth_genus3.off"
         am.write_mesh(args.target, *target)
     else:
-        args.target = Path(args.target) if args.target else shared_target
+        args.target = Path(args.target) if args.target else SHARED_TARGET
         if not args.target.exists():
             print(f"bench_morph: {args.target} does not exist")
             shutil.rmtree(work, ignore_errors=True)
@@ -452,6 +494,11 @@ def main() -> int:
     print_report(args.method, ours, peers, inputs)
     shutil.rmtree(work, ignore_errors=True)
     return 0
+
+
+def main() -> int:
+    args = build_parser().parse_args()
+    return seed_report(args) if args.seed_report else bar_mode(args)
 
 
 if __name__ == "__main__":

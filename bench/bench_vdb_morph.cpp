@@ -2,7 +2,7 @@
 // two closed meshes, the tool a user would reach for instead of a 4D fill.
 //
 //   bench_vdb_morph source.off target.off out_dir [voxels_per_diagonal=192]
-//                   [tolerance_in_voxels=0.05] [max_time=400]
+//                   [tolerance_in_voxels=0.05] [max_time=400] [frames=N]
 //
 // Both meshes become narrow-band level sets on one grid (meshToLevelSet,
 // voxel size = the target's bounding-box diagonal / voxels_per_diagonal),
@@ -14,6 +14,18 @@
 // end distance). Frames are written to out_dir as OFF (quads split); one line
 // of JSON on stdout with the per-stage seconds and counts. VDB_MORPH_TRACE=1
 // in the environment prints the front's distance after each unit of time.
+//
+// frames=N (a key=value argument anywhere after out_dir; default 0 = off)
+// also writes N + 2 frames evenly spread over the morph's time T, frame k at
+// k/(N+1) of T, as vdb_frame_000.off ... vdb_frame_{N+1}.off, and the frame at
+// T/4 as vdb_quarter.off. T is only known once the front has converged, so
+// the advection is run twice: the first pass (timed as morph_seconds) finds
+// T; the second replays it from the start grid, stopping exactly at each
+// frame's time (timed apart as replay_seconds, not part of the morph's cost).
+// Frame 0 is the start grid and frame N+1 the first pass's final grid (the
+// same grids as vdb_t0.off / vdb_t1.off). The replay stops at other times
+// than the first pass's unit chunks, so its CFL steps differ slightly; the
+// frames are the morph up to that rounding.
 //
 // Not part of the normal build: bench_morph.py compiles it with g++, or
 // configure with -DANIMANIFOLD_BUILD_VDB_BENCH=ON (needs libopenvdb-dev).
@@ -112,31 +124,129 @@ double residual(const FloatGrid& phi, const FloatGrid& target, double dx) {
   return worst;
 }
 
+// The length of the mesh's bounding-box diagonal.
+double diagonal(const Mesh& m) {
+  Vec3s lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& p : m.points) lo = openvdb::math::minComponent(lo, p), hi = openvdb::math::maxComponent(hi, p);
+  return double((hi - lo).length());
+}
+
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The morph's settings, the same in both passes.
+void configure(openvdb::tools::LevelSetMorphing<FloatGrid>& morph) {
+  morph.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
+  morph.setTemporalScheme(openvdb::math::TVD_RK2);
+}
+
+std::string frame_name(const std::string& out_dir, int k) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/vdb_frame_%03d.off", k);
+  return out_dir + name;
+}
+
+struct FrameTimings {
+  std::vector<double> times;  // of vdb_frame_000 ... vdb_frame_{n+1}
+  double quarter_time = 0.0;
+  double replay_seconds = 0.0, mesh_seconds = 0.0;
+};
+
+// The second pass (see the top): n + 2 frames at k/(n+1) of `total` and the
+// one at total/4, advecting a copy of `start` toward `goal` from stop to stop.
+FrameTimings write_frames(const FloatGrid& start, const FloatGrid& goal, const FloatGrid& end, double total, int n,
+                          const std::string& out_dir) {
+  FrameTimings out;
+  for (int k = 0; k <= n + 1; ++k) out.times.push_back(total * k / (n + 1));
+  out.quarter_time = total / 4;
+  std::vector<double> stops(out.times.begin() + 1, out.times.end() - 1);
+  stops.push_back(out.quarter_time);
+  std::sort(stops.begin(), stops.end());
+
+  FloatGrid::Ptr phi = start.deepCopy();
+  openvdb::tools::LevelSetMorphing<FloatGrid> morph(*phi, goal);
+  configure(morph);
+  double now = 0.0;
+  for (double stop : stops) {
+    auto clock = Clock::now();
+    if (stop > now) morph.advect(float(now), float(stop));
+    now = std::max(now, stop);
+    out.replay_seconds += seconds_since(clock);
+    clock = Clock::now();
+    if (stop == out.quarter_time) extract(*phi, out_dir + "/vdb_quarter.off");
+    for (int k = 1; k <= n; ++k)
+      if (out.times[k] == stop) extract(*phi, frame_name(out_dir, k));
+    out.mesh_seconds += seconds_since(clock);
+  }
+  const auto clock = Clock::now();
+  extract(start, frame_name(out_dir, 0));
+  extract(end, frame_name(out_dir, n + 1));
+  out.mesh_seconds += seconds_since(clock);
+  return out;
+}
+
+std::string json_list(const std::vector<double>& values) {
+  std::string text = "[";
+  char number[32];
+  for (size_t i = 0; i < values.size(); ++i) {
+    std::snprintf(number, sizeof number, "%s%.9g", i ? ", " : "", values[i]);
+    text += number;
+  }
+  return text + "]";
+}
+
+// Stage 4's JSON fields (each after a comma).
+std::string frames_fields(const FrameTimings& ft, int n) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                ", \"frames\": %d, \"quarter_time\": %.9g, \"replay_seconds\": %.6f, \"frames_mesh_seconds\": %.6f, "
+                "\"frame_times\": ",
+                n, ft.quarter_time, ft.replay_seconds, ft.mesh_seconds);
+  return text + json_list(ft.times);
+}
+
+struct Options {
+  std::string source, target, out_dir;
+  double per_diagonal = 192.0, tolerance_voxels = 0.05, max_time = 400.0;
+  int frames = 0;
+};
+
+// The positional arguments, and frames=N anywhere after out_dir; false when
+// they do not make a run.
+bool parse_options(int argc, char** argv, Options& options) {
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (i > 3 && arg.rfind("frames=", 0) == 0)
+      options.frames = std::atoi(arg.c_str() + 7);
+    else
+      positional.push_back(arg);
+  }
+  if (positional.size() < 3 || positional.size() > 6 || options.frames < 0) return false;
+  options.source = positional[0], options.target = positional[1], options.out_dir = positional[2];
+  if (positional.size() > 3) options.per_diagonal = std::atof(positional[3].c_str());
+  if (positional.size() > 4) options.tolerance_voxels = std::atof(positional[4].c_str());
+  if (positional.size() > 5) options.max_time = std::atof(positional[5].c_str());
+  return true;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
+  Options options;
+  if (!parse_options(argc, argv, options)) {
     std::fprintf(stderr,
                  "usage: %s source.off target.off out_dir [voxels_per_diagonal=192] [tolerance_in_voxels=0.05] "
-                 "[max_time=400]\n",
+                 "[max_time=400] [frames=N]\n",
                  argv[0]);
     return 2;
   }
   try {
     openvdb::initialize();
-    const std::string out_dir = argv[3];
-    const double per_diagonal = argc > 4 ? std::atof(argv[4]) : 192.0;
-    const double tolerance_voxels = argc > 5 ? std::atof(argv[5]) : 0.05;
-    const double max_time = argc > 6 ? std::atof(argv[6]) : 400.0;
-    const Mesh source = read_off(argv[1]), target = read_off(argv[2]);
+    const std::string& out_dir = options.out_dir;
+    const double per_diagonal = options.per_diagonal, tolerance_voxels = options.tolerance_voxels;
+    const double max_time = options.max_time;
+    const Mesh source = read_off(options.source), target = read_off(options.target);
 
-    auto diagonal = [](const Mesh& m) {
-      Vec3s lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-      for (const auto& p : m.points) lo = openvdb::math::minComponent(lo, p), hi = openvdb::math::maxComponent(hi, p);
-      return double((hi - lo).length());
-    };
     const double dx = diagonal(target) / per_diagonal;
     const float half_width = float(openvdb::LEVEL_SET_HALF_WIDTH);
 
@@ -153,8 +263,7 @@ int main(int argc, char** argv) {
     // be the middle frame (time >= now / 2) are kept.
     start = Clock::now();
     openvdb::tools::LevelSetMorphing<FloatGrid> morph(*phi, *goal);
-    morph.setSpatialScheme(openvdb::math::HJWENO5_BIAS);
-    morph.setTemporalScheme(openvdb::math::TVD_RK2);
+    configure(morph);
     const double chunk = 1.0;
     double time = 0.0, left = residual(*phi, *goal, dx);
     size_t cfl_steps = 0;
@@ -187,14 +296,20 @@ int main(int argc, char** argv) {
     const double mesh_seconds = seconds_since(start);
     extract(*goal, out_dir + "/vdb_target.off");
 
+    // Stage 4 (frames=N only): the evenly spread frames, from a replay.
+    const std::string frames_json =
+        options.frames > 0
+            ? frames_fields(write_frames(*start_grid, *goal, *phi, time, options.frames, out_dir), options.frames)
+            : std::string();
+
     std::printf(
         "{\"voxel_size\": %.9g, \"voxels_per_diagonal\": %.6g, \"levelset_seconds\": %.6f, \"morph_seconds\": %.6f, "
         "\"mesh_seconds\": %.6f, \"morph_time\": %.6g, \"mid_time\": %.6g, \"cfl_steps\": %zu, \"converged\": %s, "
         "\"residual_voxels\": %.6g, \"active_voxels\": %llu, \"faces_t0\": %zu, \"faces_mid\": %zu, "
-        "\"faces_t1\": %zu, \"threads\": %d}\n",
+        "\"faces_t1\": %zu, \"threads\": %d%s}\n",
         dx, per_diagonal, levelset_seconds, morph_seconds, mesh_seconds, time, mid.first, cfl_steps,
         converged ? "true" : "false", left / dx, static_cast<unsigned long long>(phi->activeVoxelCount()), f0, fm, f1,
-        static_cast<int>(std::thread::hardware_concurrency()));
+        static_cast<int>(std::thread::hardware_concurrency()), frames_json.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_vdb_morph: %s\n", e.what());
     return 2;

@@ -95,3 +95,39 @@ def test_stage_rows_merge_the_seeds_stages_in_place():
     assert bench.stage_rows([]) == list(bench.SEED_ORDER)
     assert bench.stage_rows(["skeleton", "conforming", "fill", "push", "strip"])[:4] == [
         "skeleton", "conforming", "find", "fill"]
+
+
+def test_the_bar_table_of_a_tiny_pair_holds_real_measures():
+    """bench/morph_bar.py on icosphere(1) -> torus, the field method only, no peer, 4 frames:
+    a row per method asked, the ends exact, no noise, and a row that raises is reported as
+    an error row instead of stopping the table."""
+    from shapes import torus as shapes_torus
+
+    bar = bench.morph_bar
+    pair = bar.Pair("sphere->torus", bar.normalised(icosphere(1)), bar.normalised(shapes_torus()))
+    rows = bar.bar_rows(pair, ["field"], 4)
+    assert [row.label for row in rows] == ["field"]
+    row = rows[0]
+    assert row.error is None, row.error
+    assert row.ends <= bar.ENDS
+    assert row.noise == 0
+    assert row.frames == 4 and 0 <= row.crossing <= 4 and 0 <= row.bubble <= 4
+    assert row.flat == 0 and row.seconds > 0 and row.quarter > 0 and row.pop >= 1
+    assert np.isfinite(row.creases) and row.creases >= -1
+
+    broken = bar.Pair("empty", pair.source, (pair.target[0], pair.target[1][:0]))
+    failed = bar.bar_rows(broken, ["field"], 4)[0]
+    assert failed.error and bar.misses(failed, None) == ["error"]
+
+    table = bar.format_table(pair, rows + [failed], 4).splitlines()
+    assert table[1].split() == ["row", "seconds", "ends", "noise", "creases+", "pop", "quarter", "crossing",
+                                "bubble", "flat/inv", "bar"]
+    assert table[2].split()[0] == "field" and table[2].split()[-1] == ("no" if bar.misses(row, None) else "yes")
+    assert "error:" in table[3]
+    assert bar.summary_line(pair, rows).startswith("sphere->torus: meets the bar: ")
+
+
+def test_pair_names_are_matched_without_punctuation():
+    assert [p.name for p in bench.morph_bar.load_pairs(["icosphere-ring_of_holes"])] == ["icosphere->ring_of_holes"]
+    with pytest.raises(SystemExit):
+        bench.morph_bar.load_pairs(["no such pair"])
