@@ -219,6 +219,8 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
                                    max_push=max_push, fill=fill, perturbation=perturbation,
                                    interrupted=interrupted, fan_flat_polygons=fan_flat_polygons, **hold)
     report = _plain_report(report)
+    for key in _FIELD_CHECKS:  # the core runs those for the field method only; the checks below are these methods'
+        report.pop(key, None)
 
     start = time.perf_counter()
     shared = _shared_hole_space(arrays)
@@ -244,6 +246,10 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     if progress is not None and not progress("hole validity", 1.0):
         raise _core.Cancelled("cancelled")
     return manifold
+
+
+# Report keys of the core's frame checks (morph_validity.hpp), which only the field method runs.
+_FIELD_CHECKS = ("frames_checked", "frames_capped", "topology_changes", "noise_frames")
 
 
 def _plain_report(report: dict) -> dict:
