@@ -28,6 +28,23 @@ struct Stars {
   }
 };
 
+// Every triangle of every tet, corners sorted, once per tet it bounds
+// (sorted: an interior triangle appears twice in a row, a boundary one once).
+std::vector<std::array<Index, 3>> tet_faces(const SimplexMatrix& cells) {
+  std::vector<std::array<Index, 3>> faces;
+  faces.reserve(4 * static_cast<size_t>(cells.rows()));
+  for (Index c = 0; c < cells.rows(); ++c)
+    for (int skip = 0; skip < 4; ++skip) {
+      std::array<Index, 3> f{};
+      for (int k = 0, j = 0; k < 4; ++k)
+        if (k != skip) f[j++] = cells(c, k);
+      std::sort(f.begin(), f.end());
+      faces.push_back(f);
+    }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
 // Union-find over a handful of link vertices.
 struct Components {
   std::vector<int> parent;
@@ -43,16 +60,7 @@ class SimplePoints {
     // Vertices on the triangulation's boundary (the box) have a disk for a
     // link; the zero set never comes near them (the field is positive
     // there), so they never change sign here.
-    std::vector<std::array<Index, 3>> faces;
-    for (Index c = 0; c < cells.rows(); ++c)
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<Index, 3> f{};
-        for (int k = 0, j = 0; k < 4; ++k)
-          if (k != skip) f[j++] = cells(c, k);
-        std::sort(f.begin(), f.end());
-        faces.push_back(f);
-      }
-    std::sort(faces.begin(), faces.end());
+    const std::vector<std::array<Index, 3>> faces = tet_faces(cells);
     for (size_t i = 0; i < faces.size();) {
       size_t j = i + 1;
       while (j < faces.size() && faces[j] == faces[i]) ++j;
@@ -133,21 +141,13 @@ class BettiNumbers {
   BettiNumbers(const SimplexMatrix& cells, Index vertices, const SimplePoints& points)
       : n_(vertices), points_(points), tets_(cells) {
     std::vector<std::array<Index, 2>> edges;
-    std::vector<std::array<Index, 3>> faces;
-    for (Index c = 0; c < cells.rows(); ++c) {
+    std::vector<std::array<Index, 3>> faces = tet_faces(cells);
+    for (Index c = 0; c < cells.rows(); ++c)
       for (int a = 0; a < 4; ++a)
         for (int b = a + 1; b < 4; ++b)
           edges.push_back({std::min(cells(c, a), cells(c, b)), std::max(cells(c, a), cells(c, b))});
-      for (int skip = 0; skip < 4; ++skip) {
-        std::array<Index, 3> f{};
-        for (int k = 0, j = 0; k < 4; ++k)
-          if (k != skip) f[j++] = cells(c, k);
-        std::sort(f.begin(), f.end());
-        faces.push_back(f);
-      }
-    }
     std::sort(edges.begin(), edges.end()), edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    std::sort(faces.begin(), faces.end()), faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
     edges_ = std::move(edges), faces_ = std::move(faces);
   }
 

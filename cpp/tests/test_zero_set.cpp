@@ -34,6 +34,17 @@ SimplexMatrix pieces_of(const ZeroSetBuilder& zero) {
                                          zero.corners() - 1);
 }
 
+// The zero set of `phi` over 4-simplices (positively oriented, as delaunay_exact gives them).
+ZeroSetBuilder zero_set_of(const SimplexMatrix& simplices, const Eigen::VectorXd& phi) {
+  ZeroSetBuilder zero(5);
+  for (Index s = 0; s < simplices.rows(); ++s) {
+    double value[5];
+    for (int c = 0; c < 5; ++c) value[c] = phi(simplices(s, c));
+    zero.add(simplices.row(s).data(), value, s);
+  }
+  return zero;
+}
+
 // The standard 4-simplex (0, e1, e2, e3, e4): positively oriented.
 PointMatrix standard_simplex() {
   PointMatrix X = PointMatrix::Zero(5, 4);
@@ -177,12 +188,7 @@ TEST(ZeroSet, RandomFieldsGiveAClosedManifoldUpToTheDomainsBoundary) {
       phi(i) = (X.row(i) - Row::Constant(1, 4, 0.5)).norm() - 0.3 - 0.1 * std::sin(7.0 * X(i, 3));
       if (i % 9 == 0) phi(i) = 0.0;  // exact zeros: counted positive
     }
-    ZeroSetBuilder zero(5);
-    for (Index s = 0; s < dt.simplices.rows(); ++s) {
-      double value[5];
-      for (int c = 0; c < 5; ++c) value[c] = phi(dt.simplices(s, c));
-      zero.add(dt.simplices.row(s).data(), value, s);
-    }
+    const ZeroSetBuilder zero = zero_set_of(dt.simplices, phi);
     const SimplexMatrix pieces = pieces_of(zero);
     ASSERT_GT(pieces.rows(), 50) << seed;
     const ManifoldReport report = check_manifold(pieces);
@@ -238,12 +244,7 @@ TEST(ZeroSet, ZerosOnAnEndFacetBecomeTheBoundaryOfTheZeroSet) {
   Eigen::VectorXd phi(X.rows());
   for (Index i = 0; i < X.rows(); ++i) phi(i) = X.row(i).head(3).norm() - r * (1 + 0.3 * X(i, 3));
   for (Index i = 0; i < 6; ++i) ASSERT_EQ(phi(i), 0.0);  // the axis points at t = 0, exactly
-  ZeroSetBuilder zero(5);
-  for (Index s = 0; s < dt.simplices.rows(); ++s) {
-    double value[5];
-    for (int c = 0; c < 5; ++c) value[c] = phi(dt.simplices(s, c));
-    zero.add(dt.simplices.row(s).data(), value, s);
-  }
+  const ZeroSetBuilder zero = zero_set_of(dt.simplices, phi);
   const SimplexMatrix pieces = pieces_of(zero);
   EXPECT_TRUE(check_manifold(pieces).is_oriented_manifold());
   const PointMatrix C = cut_points(zero, X);
