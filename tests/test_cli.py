@@ -359,6 +359,23 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path):
     assert euler_characteristic(last, faces) == 0  # a torus
 
 
+def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(capsys, tmp_path, monkeypatch):
+    from shapes import torus
+
+    def refuse(vertices, faces):  # a stand-in for CGAL refusing a real model's hole space
+        raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized "
+                              "intersections of constraints")
+
+    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse)
+    am.write_mesh(tmp_path / "s.obj", *torus(minor_radius=0.4, major=16, minor=8))
+    am.write_mesh(tmp_path / "t.obj", *torus(minor_radius=0.3, major=16, minor=8))
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "m"))
+    assert code == 3
+    assert err.startswith("animanifold: error: the hole space of the source cannot be computed: CGAL failed")
+    assert "method='field'" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "m" / "morph.amf").exists()
+
+
 def test_skeleton_sub_command_is_wired_in(capsys, tmp_path):
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "ball.obj", v * [2.0, 1.0, 1.0], f)

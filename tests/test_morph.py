@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import threading
 import time
 
@@ -141,6 +142,24 @@ def test_progress_reports_stages_and_can_cancel():
         assert [name for name, _ in report["stage_seconds"]] == expected
     with pytest.raises(_core.Cancelled):
         _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
+
+
+def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next_frame(monkeypatch):
+    """"holes" runs before the core's stages (a shape CGAL refuses fails in seconds), "hole validity"
+    after them, polling between frames: a cancel there slices no further frame."""
+    morph_module = sys.modules["animanifold.morph"]  # (the package's `morph` is the function)
+    source, target = (1.4 * icosphere(1)[0], icosphere(1)[1]), torus(major=12, minor=6)
+    stages = []
+    am.morph(source, target, progress=lambda stage, fraction: stages.append(stage) or True)
+    assert stages[0] == "holes" and stages[-1] == "hole validity" and "holes" not in stages[1:]
+    assert stages.index("validity") < stages.index("hole validity")
+    sliced = []
+    original_slice = morph_module.AnimationManifold.slice
+    monkeypatch.setattr(morph_module.AnimationManifold, "slice",
+                        lambda self, *a, **k: sliced.append(a) or original_slice(self, *a, **k))
+    with pytest.raises(_core.Cancelled):
+        am.morph(source, target, progress=lambda stage, fraction: stage != "hole validity")
+    assert sliced == []
 
 
 @pytest.mark.parametrize("method, caller", [("skeleton", "_morph_once"), ("field", "_field_morph")])

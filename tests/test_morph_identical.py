@@ -8,6 +8,8 @@ rounding of it, closed, oriented, of the same volume, and the hole space is neve
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -73,3 +75,38 @@ def test_identical_genus_3_models_morph_into_the_model_at_every_frame(shared_dat
 
 def test_identical_concave_contours_morph_into_the_contour_at_every_frame():
     check_identical_morph(polygons(blob(48, 1.0, (0, 0), 0.45, 5)))
+
+
+def refuse_hole_space(vertices, faces):
+    """A stand-in for CGAL refusing a real model's hole space ("Unauthorized intersections of
+    constraints" on a CAD-like part): the morph's handling must not depend on finding such a model."""
+    raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized intersections "
+                          "of constraints")
+
+
+def test_identical_inputs_need_no_hole_space_when_cgal_cannot_compute_it(monkeypatch):
+    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse_hole_space)
+    shape = torus(wobble=0.2)
+    m = am.morph(shape, shape)
+    report = m.validity
+    assert report["inputs_coincide"] and m.hole_space is None and report["holes_preserved"]
+    assert any("none is needed: the inputs coincide" in e and "Unauthorized" in e for e in report["hole_errors"])
+    vertices, faces = shape
+    diagonal = np.linalg.norm(np.ptp(vertices, axis=0))
+    for t in TIMES:
+        frame = m.slice(t)
+        assert surface_distance(frame.vertices, frame.faces, vertices, faces) <= 1e-9 * diagonal, t
+
+
+def test_a_hole_space_cgal_refuses_stops_the_morph_before_it_runs(monkeypatch):
+    from shapes import icosphere
+
+    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse_hole_space)
+    ran = []
+    monkeypatch.setattr(_core, "morph", lambda *a, **k: ran.append(1))
+    with pytest.raises(am.BooleanError) as error:
+        am.morph(icosphere(2), torus(wobble=0.2))
+    message = str(error.value)
+    assert "the hole space of the source cannot be computed" in message and "Unauthorized" in message
+    assert "method='field'" in message  # the way out
+    assert not ran  # minutes of morph are not spent first, nor twice by the retry

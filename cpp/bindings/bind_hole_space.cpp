@@ -43,6 +43,15 @@ void bind_hole_space(py::module_& m) {
       py::arg("vertices"), py::arg("faces"), py::arg("hole_vertices"), py::arg("hole_faces"),
       "(vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame "
       "(the arrays are then a copy of the frame's).");
+  m.def(
+      "points_inside_solid",
+      [](PointsRef V, SimplicesRef F, PointsRef P) {
+        py::gil_scoped_release release;
+        return points_inside_solid(V, F, P);
+      },
+      py::arg("vertices"), py::arg("faces"), py::arg("points"),
+      "Whether each point (#P, 3) lies inside (or on) the closed outward triangle mesh; cavities and "
+      "tunnels are outside.");
   m.def("solid_measure", [](PointsRef V, SimplicesRef F) { return solid_measure(V, F); }, py::arg("vertices"),
         py::arg("faces"), "Volume (3D) or area (2D) enclosed by a closed outward boundary.");
 }

@@ -2,6 +2,7 @@
 
 #include "animanifold/errors.hpp"
 #include "hole_space_internal.hpp"
+#include "signed_distance.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -94,7 +95,9 @@ Solid hole_space(const PointMatrix& V, const SimplexMatrix& F) {
   const holes::Operand shape{V, F, "the shape"};
   check_arrays(shape);
   if (F.rows() == 0) fail<InputError>("the shape has no faces");
-  return canonical(V.cols() == 3 ? holes::hole_space_3d(shape) : holes::hole_space_2d(shape));
+  return canonical(holes::translating_cgal_failures("computing the hole space of the shape", [&] {
+    return V.cols() == 3 ? holes::hole_space_3d(shape) : holes::hole_space_2d(shape);
+  }));
 }
 
 Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const PointMatrix& VB,
@@ -103,8 +106,10 @@ Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const Poi
   check_pair(a, b);
   Solid out = empty_like(VA);
   if (FA.rows() == 0 || FB.rows() == 0 || !boxes_overlap(a, b)) return out;
-  if (VA.cols() == 3) holes::boolean_3d(holes::Operation::Intersection, a, b, out);
-  else holes::boolean_2d(holes::Operation::Intersection, a, b, out);
+  holes::translating_cgal_failures("intersecting two solids", [&] {
+    return VA.cols() == 3 ? holes::boolean_3d(holes::Operation::Intersection, a, b, out)
+                          : holes::boolean_2d(holes::Operation::Intersection, a, b, out);
+  });
   return canonical(std::move(out));
 }
 
@@ -115,8 +120,10 @@ Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const P
   Subtraction result;
   bool changed = false;
   if (F.rows() > 0 && FH.rows() > 0 && boxes_overlap(frame, hole))
-    changed = V.cols() == 3 ? holes::boolean_3d(holes::Operation::Difference, frame, hole, result.solid)
-                            : holes::boolean_2d(holes::Operation::Difference, frame, hole, result.solid);
+    changed = holes::translating_cgal_failures("subtracting a solid from the frame", [&] {
+      return V.cols() == 3 ? holes::boolean_3d(holes::Operation::Difference, frame, hole, result.solid)
+                           : holes::boolean_2d(holes::Operation::Difference, frame, hole, result.solid);
+    });
   result.solid = changed ? canonical(std::move(result.solid)) : Solid{V, F};
   result.unchanged = !changed;
   return result;
@@ -126,7 +133,17 @@ bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F) {
   const holes::Operand shape{V, F, "the mesh"};
   check_arrays(shape);
   if (V.cols() != 3) fail<InputError>("the mesh must have 3D points to test it for self-intersection");
-  return F.rows() > 0 && holes::intersects_itself_3d(shape);
+  return F.rows() > 0 &&
+         holes::translating_cgal_failures("testing the mesh for self-intersection", [&] { return holes::intersects_itself_3d(shape); });
+}
+
+Eigen::Array<bool, Eigen::Dynamic, 1> points_inside_solid(const PointMatrix& V, const SimplexMatrix& F,
+                                                          const PointMatrix& points) {
+  check_arrays({V, F, "the solid"});
+  if (V.cols() != 3) fail<InputError>("the solid must have 3D points to test points inside it");
+  if (points.cols() != 3) fail<InputError>("the points must be 3D, got ", points.cols(), " columns");
+  if (F.rows() == 0) return Eigen::Array<bool, Eigen::Dynamic, 1>::Zero(points.rows());
+  return SignedDistance(V, F).inside(points);
 }
 
 double solid_measure(const PointMatrix& V, const SimplexMatrix& F) {

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -339,6 +340,69 @@ bool is_convex_surface(const Operand& shape) {
   return n > 0;
 }
 
+namespace {
+
+// What the attempts at H_C gave: the hole space, or the last reason they did
+// not, and whether CGAL itself failed (rather than the result not being a
+// manifold).
+struct Attempts {
+  std::optional<Solid> hole;
+  std::string failure;
+  bool cgal_failed = false;
+};
+
+// CH(C) \ C by corefinement of the exact surface `solid`, in up to three
+// attempts:
+// 1. Exact, C's rounded planar quads following the hull.
+// 2. Every dent of C's triangulation between hull vertices flipped away.
+// 3. The hull shrunk (see HULL_SHRINK in hole_space_internal.hpp).
+// Each attempt either gives the hole space or a reason it did not: the
+// difference is not a manifold, or CGAL failed inside the corefinement
+// (the next attempt's changed operands often avoid both).
+Attempts corefined_hole_space(Mesh solid, double size) {
+  std::vector<Point> points;
+  points.reserve(solid.number_of_vertices());
+  for (const auto v : solid.vertices()) points.push_back(solid.point(v));
+  Mesh hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  Attempts out;
+  auto attempt = [&](Mesh hull_copy, Mesh solid_copy) {  // corefinement changes its operands
+    Mesh hole;
+    try {
+      if (PMP::corefine_and_compute_difference(hull_copy, solid_copy, hole)) return out.hole = to_solid(hole), true;
+      out.failure = "is not a manifold: two of its parts touch along an edge", out.cgal_failed = false;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {  // only CGAL runs in the try
+      out.failure = "cannot be computed: CGAL failed: " + cgal_reason(e), out.cgal_failed = true;
+    }
+    return false;
+  };
+  for (const double tolerance : {HULL_COPLANAR * size, double(INFINITY)}) {
+    follow_hull(solid, hull, tolerance);
+    if (attempt(hull, solid)) return out;
+  }
+  shrink_hull(hull);
+  attempt(hull, solid);
+  return out;
+}
+
+// The same triangles, each started at its smallest vertex (orientation
+// kept), in lexicographic order.
+SimplexMatrix faces_in_canonical_order(const SimplexMatrix& F) {
+  std::vector<std::array<Index, 3>> faces(F.rows());
+  for (Index f = 0; f < F.rows(); ++f) {
+    faces[f] = {F(f, 0), F(f, 1), F(f, 2)};
+    std::rotate(faces[f].begin(), std::min_element(faces[f].begin(), faces[f].end()), faces[f].end());
+  }
+  std::sort(faces.begin(), faces.end());
+  SimplexMatrix out(F.rows(), 3);
+  for (Index f = 0; f < F.rows(); ++f) out.row(f) << faces[f][0], faces[f][1], faces[f][2];
+  return out;
+}
+
+}  // namespace
+
 Solid hole_space_3d(const Operand& shape) {
   const ManifoldReport report = check_manifold(shape.F);
   if (report.boundary_facets == 0 && report.nonmanifold_facets == 0 && report.misoriented_facets == 0 &&
@@ -346,26 +410,21 @@ Solid hole_space_3d(const Operand& shape) {
     return Solid{PointMatrix(0, 3), SimplexMatrix(0, 3)};
   Mesh solid = exact_mesh(shape, true);
   if (!PMP::is_outward_oriented(solid)) fail<BooleanError>(shape.name, " is inside out (its faces point inward)");
-  std::vector<Point> points;
-  points.reserve(solid.number_of_vertices());
-  for (const auto v : solid.vertices()) points.push_back(solid.point(v));
-  Mesh hull;
-  CGAL::convex_hull_3(points.begin(), points.end(), hull);
   const double size = (shape.V.colwise().maxCoeff() - shape.V.colwise().minCoeff()).norm();
-  // 1. Exact, C's rounded planar quads following the hull.
-  // 2. Every dent of C's triangulation between hull vertices flipped away.
-  // 3. The hull shrunk (see HULL_SHRINK in hole_space_internal.hpp).
-  for (const double tolerance : {HULL_COPLANAR * size, double(INFINITY)}) {
-    follow_hull(solid, hull, tolerance);
-    Mesh hull_copy = hull, solid_copy = solid, hole;  // corefinement changes its operands
-    if (PMP::corefine_and_compute_difference(hull_copy, solid_copy, hole)) return to_solid(hole);
+  Attempts result = corefined_hole_space(std::move(solid), size);
+  if (result.hole) return *result.hole;
+  if (result.cgal_failed) {
+    // The corefinement's face triangulation can fail on a surface and succeed
+    // on the same surface given in another order of its faces (two of the
+    // shared models, a CAD-like part and a genus-0 scan, do): once more in a
+    // canonical order. The surface was checked above.
+    const SimplexMatrix reordered = faces_in_canonical_order(shape.F);
+    if (reordered != shape.F) {
+      const Attempts again = corefined_hole_space(exact_mesh({shape.V, reordered, shape.name}, false), size);
+      if (again.hole) return *again.hole;
+    }
   }
-  shrink_hull(hull);
-  Mesh hole;
-  if (!PMP::corefine_and_compute_difference(hull, solid, hole))
-    fail<BooleanError>("the hole space of ", shape.name, " (its convex hull minus the solid) is not a manifold: ",
-                       "two of its parts touch along an edge");
-  return to_solid(hole);
+  fail<BooleanError>("the hole space of ", shape.name, " (its convex hull minus the solid) ", result.failure);
 }
 
 bool boolean_3d(Operation operation, const Operand& a, const Operand& b, Solid& out) {

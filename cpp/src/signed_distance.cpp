@@ -84,4 +84,13 @@ SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
 
 Eigen::VectorXd SignedDistance::distances(const PointMatrix& points) const { return (*this)(points).distance; }
 
+Eigen::Array<bool, Eigen::Dynamic, 1> SignedDistance::inside(const PointMatrix& points) const {
+  const Tree& t = *tree_;
+  Eigen::Array<bool, Eigen::Dynamic, 1> out(points.rows());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index p = 0; p < static_cast<Index>(points.rows()); ++p)
+    out(p) = (*t.side)(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))) != CGAL::ON_UNBOUNDED_SIDE;
+  return out;
+}
+
 }  // namespace animanifold

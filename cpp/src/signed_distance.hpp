@@ -37,6 +37,9 @@ class SignedDistance {
   SurfaceProjection operator()(const PointMatrix& points) const;
   // The signed distances alone.
   Eigen::VectorXd distances(const PointMatrix& points) const;
+  // The side alone: whether each point lies inside the surface or on it
+  // (inside a cavity or a tunnel is outside). No distance is computed.
+  Eigen::Array<bool, Eigen::Dynamic, 1> inside(const PointMatrix& points) const;
 
  private:
   struct Tree;

@@ -5,7 +5,9 @@ Anything the user can get wrong — a missing or unreadable file, a damaged
 cache, keyframes that do not correspond, times that do not increase, a value
 outside the manifold — ends as one line ``animanifold: error: ...`` on stderr
 and exit code 2 (argparse's own convention for usage errors), never a
-traceback. Programming errors still raise, so bugs are not disguised as
+traceback. An input the geometry cannot handle (CGAL refuses a shape's hole
+space: animanifold.BooleanError, which names the input) ends the same way with
+exit code 3. Programming errors still raise, so bugs are not disguised as
 user mistakes.
 """
 
@@ -26,10 +28,12 @@ from .cache import load, save
 from .manifold import AXES, AnimationManifold, axis_index, stitch
 from . import cli_skeleton
 from .meshio import read_mesh, write_mesh
+from .holes import BooleanError
 from .morph import METHODS, morph
 
 PROG = "animanifold"
 EXIT_USER_ERROR = 2
+EXIT_GEOMETRY_ERROR = 3
 MESH_FORMATS = ("obj", "ply", "off", "stl")  # what the core's CGAL IO writes, by extension
 FRAME_FORMATS = ("obj", "ply", "off")
 
@@ -456,6 +460,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (UserError, ValueError, OSError) as error:
         print(f"{PROG}: error: {one_line(error)}", file=sys.stderr)
         return EXIT_USER_ERROR
+    except BooleanError as error:
+        print(f"{PROG}: error: {one_line(error)}", file=sys.stderr)
+        return EXIT_GEOMETRY_ERROR
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130

@@ -76,6 +76,20 @@ def solid_measure(vertices: np.ndarray, faces: np.ndarray) -> float:
     return float(_core.solid_measure(v, f)) if len(f) else 0.0
 
 
+def inside_solid(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Whether each point lies inside the closed outward solid (or on it): in 3D CGAL's exact side
+    test over an AABB tree (the core's points_inside_solid); in 2D, and for a 3D boundary that is
+    not a 2-manifold, by winding_numbers."""
+    v, f = _solid((vertices, faces), "the solid")
+    points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, v.shape[1])
+    if v.shape[1] == 3:
+        try:
+            return np.asarray(_core.points_inside_solid(v, f, points), dtype=bool)
+        except ValueError:  # pinched where two parts touch: the solid angles still count it right
+            pass
+    return winding_numbers(v, f, points) > 0.5
+
+
 def winding_numbers(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
     """The winding number of the closed outward surface (triangles in R^3, edges in R^2) around each
     point: 1 inside, 0 outside, whatever holes or cavities it has (solid angles, Van Oosterom and

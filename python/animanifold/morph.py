@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from typing import Callable
 
@@ -9,8 +10,8 @@ import numpy as np
 
 from . import _core
 from .cavities import cavities, shell_volumes
-from .holes import (BooleanError, hole_space, intersect_solids, is_empty, points_inside, solid_measure,
-                    subtract_solid, winding_numbers)
+from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is_empty, points_inside, solid_measure,
+                    subtract_solid)
 from .manifold import AnimationManifold
 
 # The seed's methods (§8.6, §8.5) and the field method (the core's morph_field.hpp).
@@ -92,11 +93,12 @@ def morph(
     `hole_checks` frames evenly spaced in (t0, t1) (also checked for running through themselves:
     "crossing_frames"): what the cut removes,
     volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
-    could be cut, and wherever CGAL could intersect the cut frame with H
-    again, `hole_frames_verified` of `hole_frames_checked`, they share at
-    most 1e-9 of H's volume; what failed is listed in `hole_errors`). Two
-    `progress` stages follow "validity": "holes" and "hole validity". Raises
-    animanifold.BooleanError when CGAL cannot compute the hole spaces.
+    could be cut, and no point just inside H lies inside the cut frame,
+    `hole_frames_verified` of `hole_frames_checked`; what failed is listed in
+    `hole_errors`). H is computed first, before the core's stages ("holes"),
+    so that a shape CGAL cannot work on stops the morph in seconds, with an
+    animanifold.BooleanError that names the input; "hole validity" follows the
+    core's "validity", and both poll `progress` and `interrupted` between frames.
     method "field": the zero set of a signed-distance field blended over a space-time
     triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
     set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
@@ -141,10 +143,11 @@ def morph(
             done[0] = max(done[0], float(fraction))
             return user_progress(stage, done[0])
 
+    start = time.perf_counter()
+    shared = _shared_holes_first(arrays, progress, interrupted)
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
                 fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
-                fan_flat_polygons=bool(fan_flat_polygons), hold=hold)
-    start = time.perf_counter()
+                fan_flat_polygons=bool(fan_flat_polygons), hold=hold, shared=shared)
     mode = "position" if perturbation == "position" else "hull_faces"
     try:
         manifold = _morph_once(arrays, perturbation=mode, **once)
@@ -211,10 +214,49 @@ def _canonical_faces(faces: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(faces[np.lexsort(faces.T[::-1])], dtype=np.int32)
 
 
+# The way out, said where a hole space cannot be computed (API, CLI, Morph Selected).
+_FIELD_NEEDS_NO_HOLES = "The field method (method='field', --method field, Method: Field) needs no hole space."
+
+
+class _SharedHoles:
+    """H_S ∩ H_T, computed once before the morph (seconds, where the morph takes minutes, and the
+    same for every retry), or why CGAL could not compute it."""
+
+    def __init__(self, solid: tuple[np.ndarray, np.ndarray] | None, error: BooleanError | None, seconds: float):
+        self.solid, self.error, self.seconds = solid, error, seconds
+
+
+def _shared_holes_first(arrays: list[np.ndarray], progress, interrupted) -> _SharedHoles:
+    """The shared hole space, before the morph runs. When CGAL cannot compute it, the morph stops
+    here with that error, unless source and target are the same mesh: then every frame is the input
+    and no frame can enter a hole space, so none is needed (checked again against the core's
+    `inputs_coincide`)."""
+    start = time.perf_counter()
+    try:
+        solid, error = _shared_hole_space(arrays), None
+    except BooleanError as e:
+        if not _same_mesh(arrays):
+            raise BooleanError(f"{e}. {_FIELD_NEEDS_NO_HOLES}") from None
+        solid, error = None, e
+    _poll(progress, interrupted, "holes", 0.0)
+    return _SharedHoles(solid, error, time.perf_counter() - start)
+
+
+def _same_mesh(arrays: list[np.ndarray]) -> bool:
+    """Source and target are the same mesh (faces already in canonical order)."""
+    return np.array_equal(arrays[0], arrays[2]) and np.array_equal(arrays[1], arrays[3])
+
+
+def _poll(progress, interrupted, stage: str, fraction: float = 1.0) -> None:
+    """Raises Cancelled when the caller asks to stop (between the Python stages' steps)."""
+    if (progress is not None and not progress(stage, fraction)) or (interrupted is not None and interrupted()):
+        raise _core.Cancelled("cancelled")
+
+
 def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float,
                 fill: str, hole_checks: int, perturbation: str, interrupted: Callable[[], bool] | None,
-                fan_flat_polygons: bool, hold: dict) -> AnimationManifold:
-    """One morph with the core's `perturbation` (see morph())."""
+                fan_flat_polygons: bool, hold: dict, shared: _SharedHoles) -> AnimationManifold:
+    """One morph with the core's `perturbation` (see morph()), cut by the `shared` hole space."""
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method=method, progress=progress,
                                    max_push=max_push, fill=fill, perturbation=perturbation,
                                    interrupted=interrupted, fan_flat_polygons=fan_flat_polygons, **hold)
@@ -222,29 +264,30 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     for key in _FIELD_CHECKS:  # the core runs those for the field method only; the checks below are these methods'
         report.pop(key, None)
 
-    start = time.perf_counter()
-    shared = _shared_hole_space(arrays)
-    report["stage_seconds"].append(["holes", time.perf_counter() - start])
-    if progress is not None and not progress("holes", 1.0):
-        raise _core.Cancelled("cancelled")
+    report["stage_seconds"].append(["holes", shared.seconds])
     # Where the inputs coincide everywhere, every frame is the input (the fill is
     # the product of the two, what lies outside both removed): no frame enters the
     # shared hole space, and cutting frames that lie on its walls would only meet
     # rounding (report: inputs_coincide).
-    unreachable = bool(report.get("inputs_coincide")) and not is_empty(shared)
+    coincide = bool(report.get("inputs_coincide"))
+    if shared.error is not None and not coincide:
+        raise BooleanError(f"{shared.error}. {_FIELD_NEEDS_NO_HOLES}")
+    cut = None if coincide or is_empty(shared.solid) else shared.solid
     manifold = AnimationManifold(complex_, metadata={"morph": {"method": method, "fill": fill, "t0": float(t0),
                                                                "t1": float(t1)},
                                                      "validity": report},
-                                 hole_space=None if is_empty(shared) or unreachable else shared)
+                                 hole_space=cut)
     start = time.perf_counter()
-    report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks)))
-    if unreachable:
-        report["shared_hole_volume"] = solid_measure(*shared)
-    report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks)))
-    report.update(_bubble_validity(manifold, arrays, float(t0), float(t1)))
+    poll = functools.partial(_poll, progress, interrupted, "hole validity")
+    report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
+    if coincide and shared.solid is not None:
+        report["shared_hole_volume"] = solid_measure(*shared.solid)
+    if shared.error is not None:
+        report["hole_errors"].append(f"no hole space: {shared.error} (none is needed: the inputs coincide)")
+    report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
+    report.update(_bubble_validity(manifold, arrays, float(t0), float(t1), poll))
     report["stage_seconds"].append(["hole validity", time.perf_counter() - start])
-    if progress is not None and not progress("hole validity", 1.0):
-        raise _core.Cancelled("cancelled")
+    poll()
     return manifold
 
 
@@ -275,7 +318,8 @@ def _field_morph(arrays: list[np.ndarray], t0: float, t1: float, progress, inter
 BUBBLE_CHECKS = (0.01, 0.05, 0.1, 0.5, 0.9, 0.95, 0.99)
 
 
-def _bubble_validity(manifold: AnimationManifold, arrays: list[np.ndarray], t0: float, t1: float) -> dict:
+def _bubble_validity(manifold: AnimationManifold, arrays: list[np.ndarray], t0: float, t1: float,
+                     poll: Callable[[], None]) -> dict:
     """Frames that hold more cavities (bubbles enclosed in the solid) than either input. The
     layers' levelled heights leave none by construction; this checks it. Hidden under opaque
     materials, a bubble would show through glass and in booleans. 3D only (holes of 2D frames are
@@ -285,6 +329,7 @@ def _bubble_validity(manifold: AnimationManifold, arrays: list[np.ndarray], t0: 
     allowed = max(len(cavities(arrays[0], arrays[1])), len(cavities(arrays[2], arrays[3])))
     frames, largest = [], 0.0
     for fraction in BUBBLE_CHECKS:
+        poll()
         t = t0 + (t1 - t0) * fraction
         frame = manifold.slice(t, honour_holes=False)
         volumes = shell_volumes(frame.vertices, frame.faces)
@@ -319,7 +364,8 @@ def _shared_hole_space(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray
 CROSSING_TOLERANCE = 1e-9
 
 
-def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int) -> dict:
+def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int,
+                       poll: Callable[[], None]) -> dict:
     """Validity 1 beyond positive simplices: the raw frames at `checks` times strictly inside (t0, t1)
     do not run through themselves (by more than CROSSING_TOLERANCE of the size). Positive simplices rule out local folds only; the push can still
     let a part of the boundary pass through another (seen where free vertices lie on the convex
@@ -328,6 +374,7 @@ def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks
     low, high = manifold.bounding_box
     tolerance = CROSSING_TOLERANCE * float(np.linalg.norm((high - low)[:-1]))
     for t in t0 + (t1 - t0) * np.arange(1, checks + 1) / (checks + 1):
+        poll()
         frame = manifold.slice(float(t), honour_holes=False)
         try:
             if _core.self_intersections(frame.vertices, frame.faces, 1, tolerance):
@@ -337,8 +384,10 @@ def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks
     return {"crossing_frames_checked": checks, "crossing_frames": crossing, "frames_cross_themselves": bool(crossing)}
 
 
-def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int) -> dict:
-    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1)."""
+def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int,
+                   poll: Callable[[], None]) -> dict:
+    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1); `poll()` between
+    frames raises Cancelled when the caller asks to stop."""
     hole = manifold.hole_space
     report = {"shared_hole_volume": 0.0, "hole_overlap_volume": 0.0, "holes_preserved": True,
               "hole_frames_checked": 0, "hole_frames_verified": 0, "hole_errors": []}
@@ -346,7 +395,9 @@ def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: in
         return report
     volume = solid_measure(*hole)
     report["shared_hole_volume"] = volume
+    samples = points_inside(*hole, depth=1e-6 * float(np.linalg.norm(np.ptp(hole[0], axis=0))))
     for t in t0 + (t1 - t0) * np.arange(1, checks + 1) / (checks + 1):
+        poll()
         raw = manifold.slice(float(t), honour_holes=False)
         frame = (raw.vertices, raw.faces)
         report["hole_frames_checked"] += 1
@@ -359,12 +410,11 @@ def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: in
         # raw = (raw \ H) + (raw ∩ H): what the cut removed is the overlap.
         overlap = solid_measure(*frame) - solid_measure(*cut)
         report["hole_overlap_volume"] = max(report["hole_overlap_volume"], overlap / volume)
-        # Independently: no point inside H lies inside the cut frame (winding numbers). An
+        # Independently: no point inside H lies inside the cut frame (an exact side test). An
         # intersection by CGAL is no check here: where H lies inside the frame, the cut's cavity
         # is H's own boundary, and booleans of coincident surfaces are degenerate.
-        samples = points_inside(*hole, depth=1e-6 * float(np.linalg.norm(np.ptp(hole[0], axis=0))))
         report["hole_frames_verified"] += 1
-        inside = winding_numbers(*cut, samples) > 0.5
+        inside = inside_solid(*cut, samples)
         if inside.any():
             report["holes_preserved"] = False
             report["hole_errors"].append(f"t={float(t):g}: {int(inside.sum())} of {len(samples)} points inside the "

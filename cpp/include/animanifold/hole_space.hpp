@@ -94,6 +94,14 @@ Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const P
 // (closed or not); InputError otherwise.
 bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F);
 
+// Whether each of the points (#P by 3) lies inside the closed outward
+// triangle mesh (V, F) in R^3, or on it; a point in a cavity or a tunnel is
+// outside. CGAL's Side_of_triangle_mesh (exact predicates) over an AABB tree:
+// O((#F + #P) log #F), where summing solid angles costs #P x #F. (V, F) must
+// be a closed 2-manifold, consistently oriented; InputError otherwise.
+Eigen::Array<bool, Eigen::Dynamic, 1> points_inside_solid(const PointMatrix& V, const SimplexMatrix& F,
+                                                          const PointMatrix& points);
+
 // The volume (3D) or area (2D) enclosed by a closed, outward boundary:
 // negative when it is inside out, 0 for an empty solid.
 double solid_measure(const PointMatrix& V, const SimplexMatrix& F);
