@@ -146,7 +146,7 @@ def test_progress_reports_stages_and_can_cancel():
 
 def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next_frame(monkeypatch):
     """"holes" runs before the core's stages (a shape CGAL refuses fails in seconds), "hole validity"
-    after them, polling between frames: a cancel there slices no further frame."""
+    after them, polling `interrupted` between frames: a cancel there slices no further frame."""
     morph_module = sys.modules["animanifold.morph"]  # (the package's `morph` is the function)
     source, target = (1.4 * icosphere(1)[0], icosphere(1)[1]), torus(major=12, minor=6)
     stages = []
@@ -157,9 +157,11 @@ def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next
     original_slice = morph_module.AnimationManifold.slice
     monkeypatch.setattr(morph_module.AnimationManifold, "slice",
                         lambda self, *a, **k: sliced.append(a) or original_slice(self, *a, **k))
+    finished = []
     with pytest.raises(_core.Cancelled):
-        am.morph(source, target, progress=lambda stage, fraction: stage != "hole validity")
-    assert sliced == []
+        am.morph(source, target, progress=lambda stage, fraction: finished.append(stage) or True,
+                 interrupted=lambda: "validity" in finished)
+    assert finished[-1] == "validity" and sliced == []
 
 
 @pytest.mark.parametrize("method, caller", [("skeleton", "_morph_once"), ("field", "_field_morph")])

@@ -5,6 +5,7 @@
 #include "animanifold/errors.hpp"
 #include "animanifold/exact_orientation.hpp"
 #include "animanifold/surface_distance.hpp"
+#include "simplex_key.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -47,14 +48,8 @@ constexpr double kLowestLevel = 0.05;
 // Rounds of levelling the free vertices' heights (free_vertex_levels).
 constexpr int kLevellingRounds = 20;
 
-using FaceKey = std::array<Index, 3>;  // a cell's facet (n <= 3 ids), sorted, -1 padded
-struct FaceHash {
-  size_t operator()(const FaceKey& k) const {
-    size_t h = 1469598103934665603ull;
-    for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-    return h;
-  }
-};
+using FaceKey = SimplexKey<3>;  // a cell's facet (n <= 3 ids)
+using FaceHash = SimplexKeyHash;
 
 // Per vertex of the cells (#C by n+1 over `spatial`'s rows): a level in
 // [0, 1] — 0 where not `free`, `distance_level` where free (its distance

@@ -1,6 +1,7 @@
 // Prisms of the fill over cells that the source and the target share and
 // that lie outside both (see morph_skeleton.hpp).
 #include "animanifold/morph_skeleton.hpp"
+#include "simplex_key.hpp"
 
 #include <algorithm>
 #include <array>
@@ -13,15 +14,8 @@ namespace animanifold {
 
 namespace {
 
-using Key = std::array<Index, 4>;  // sorted corners of a cell (n + 1 <= 4), -1 padded
-
-struct KeyHash {
-  size_t operator()(const Key& k) const {
-    size_t h = 1469598103934665603ull;
-    for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-    return h;
-  }
-};
+using Key = SimplexKey<4>;  // the corners of a cell (n + 1 <= 4)
+using KeyHash = SimplexKeyHash;
 
 struct PositionHash {
   size_t operator()(const std::array<std::uint64_t, 3>& p) const {
@@ -33,10 +27,7 @@ std::unordered_set<Key, KeyHash> outside_keys(const PlaneCells& plane) {
   std::unordered_set<Key, KeyHash> keys;
   for (Index c = 0; c < plane.cells.rows(); ++c) {
     if (!plane.outside[c] || plane.flat[c]) continue;
-    Key k{-1, -1, -1, -1};
-    for (Index i = 0; i < plane.cells.cols(); ++i) k[i] = plane.cells(c, i);
-    std::sort(k.begin(), k.begin() + plane.cells.cols());
-    keys.insert(k);
+    keys.insert(simplex_key<4>(plane.cells.row(c).data(), static_cast<int>(plane.cells.cols())));
   }
   return keys;
 }

@@ -9,6 +9,7 @@
 #include "animanifold/perturbation.hpp"
 #include "animanifold/skeleton.hpp"
 #include "animanifold/surface_distance.hpp"
+#include "simplex_key.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
@@ -293,22 +294,10 @@ constexpr double kFlatCell = 1e-12;
 PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const SimplexMatrix& A,
                           const std::vector<bool>& in_plane, const SimplexMatrix& constraint, bool convex) {
   const int n = static_cast<int>(P.cols()) - 1;
-  using CellKey = std::array<Index, 4>;
-  struct Hash {
-    size_t operator()(const CellKey& k) const {
-      size_t h = 1469598103934665603ull;
-      for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-      return h;
-    }
-  };
-  auto key_of = [&](const Index* ids, int size) {
-    CellKey k{-1, -1, -1, -1};
-    std::copy(ids, ids + size, k.begin());
-    std::sort(k.begin(), k.begin() + size);
-    return k;
-  };
+  using CellKey = SimplexKey<4>;
+  const auto key_of = simplex_key<4>;
   PlaneCells plane;
-  std::unordered_set<CellKey, Hash> seen;
+  std::unordered_set<CellKey, SimplexKeyHash> seen;
   std::vector<CellKey> cells;
   for (Index s = 0; s < A.rows(); ++s) {
     Index ids[5];
@@ -323,7 +312,7 @@ PlaneCells classify_plane(const PointMatrix& P, const PointMatrix& exact, const 
   for (Index c = 0; c < plane.cells.rows(); ++c)
     for (int i = 0; i <= n; ++i) plane.cells(c, i) = cells[c][i];
 
-  std::unordered_set<CellKey, Hash> constraint_keys;
+  std::unordered_set<CellKey, SimplexKeyHash> constraint_keys;
   std::vector<bool> on_surface(P.rows(), false);
   for (Index f = 0; f < constraint.rows(); ++f) {
     constraint_keys.insert(key_of(constraint.row(f).data(), n));

@@ -5,6 +5,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/exact_orientation.hpp"
+#include "simplex_key.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -30,26 +31,18 @@ constexpr int kSplitAttempts = 16;
 std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& shape) {
   const SimplexMatrix& cells = shape.cells;
   const int corners = static_cast<int>(cells.cols());  // n + 1
-  using FaceKey = std::array<Index, 4>;
-  struct Hash {
-    size_t operator()(const FaceKey& k) const {
-      size_t h = 1469598103934665603ull;
-      for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-      return h;
-    }
-  };
+  using FaceKey = SimplexKey<4>;
   auto key_of = [&](Index c, unsigned mask) {
-    FaceKey k{-1, -1, -1, -1};
+    Index ids[4];
     int j = 0;
     for (int i = 0; i < corners; ++i)
-      if (mask & (1u << i)) k[j++] = cells(c, i);
-    std::sort(k.begin(), k.begin() + j);
-    return k;
+      if (mask & (1u << i)) ids[j++] = cells(c, i);
+    return simplex_key<4>(ids, j);
   };
   auto size_of = [](unsigned mask) { return __builtin_popcount(mask); };
   // Faces of cells that are not outside (inside the shape, or flat on its
   // surface) lie inside or on the shape.
-  std::unordered_set<FaceKey, Hash> covered, listed;
+  std::unordered_set<FaceKey, SimplexKeyHash> covered, listed;
   for (Index c = 0; c < cells.rows(); ++c)
     if (!shape.outside[c] || shape.flat[c])
       for (unsigned mask = 1; mask < (1u << corners); ++mask)

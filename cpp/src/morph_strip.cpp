@@ -3,6 +3,7 @@
 // triangulation lie outside the shape.
 #include "animanifold/errors.hpp"
 #include "animanifold/morph.hpp"
+#include "simplex_key.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <Eigen/Dense>
@@ -16,23 +17,9 @@ namespace animanifold {
 
 namespace {
 
-using Key = std::array<Index, 5>;  // a sorted vertex set, padded with -1
-
-Key make_key(const Index* ids, int count) {
-  Key key;
-  key.fill(-1);
-  std::copy(ids, ids + count, key.begin());
-  std::sort(key.begin(), key.begin() + count);
-  return key;
-}
-
-struct KeyHash {
-  size_t operator()(const Key& k) const {
-    size_t h = 1469598103934665603ull;
-    for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-    return h;
-  }
-};
+using Key = SimplexKey<5>;
+using KeyHash = SimplexKeyHash;
+constexpr auto make_key = simplex_key<5>;
 
 // Is `apex` strictly on the outer side of the outward constraint face `face`
 // (n vertices), within the constraint plane (the first n coordinates)?

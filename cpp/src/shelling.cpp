@@ -1,6 +1,7 @@
 #include "animanifold/shelling.hpp"
 
 #include "animanifold/errors.hpp"
+#include "simplex_key.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,25 +11,16 @@ namespace animanifold {
 
 namespace {
 
-using Key = std::array<Index, 5>;  // sorted vertex ids, -1 padded
-
-struct KeyHash {
-  size_t operator()(const Key& k) const {
-    size_t h = 1469598103934665603ull;
-    for (Index v : k) h = (h ^ static_cast<size_t>(static_cast<std::uint32_t>(v))) * 1099511628211ull;
-    return h;
-  }
-};
+using Key = SimplexKey<5>;
+using KeyHash = SimplexKeyHash;
 
 // The vertices of row r of S picked by the bits of `mask`, as a key.
 Key face(const SimplexMatrix& S, Index r, unsigned mask) {
-  Key k;
-  k.fill(-1);
+  Index ids[5];
   int j = 0;
   for (int c = 0; c < S.cols(); ++c)
-    if (mask & (1u << c)) k[j++] = S(r, c);
-  std::sort(k.begin(), k.begin() + j);
-  return k;
+    if (mask & (1u << c)) ids[j++] = S(r, c);
+  return simplex_key<5>(ids, j);
 }
 
 }  // namespace

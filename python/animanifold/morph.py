@@ -95,10 +95,11 @@ def morph(
     volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
     could be cut, and no point just inside H lies inside the cut frame,
     `hole_frames_verified` of `hole_frames_checked`; what failed is listed in
-    `hole_errors`). H is computed first, before the core's stages ("holes"),
-    so that a shape CGAL cannot work on stops the morph in seconds, with an
-    animanifold.BooleanError that names the input; "hole validity" follows the
-    core's "validity", and both poll `progress` and `interrupted` between frames.
+    `hole_errors`). H is computed first, before the core's stages (`progress`
+    hears "holes" first), so that a shape CGAL cannot work on stops the morph in
+    seconds, with an animanifold.BooleanError that names the input; "hole
+    validity" follows the core's "validity", and `interrupted()` is polled
+    between its frames.
     method "field": the zero set of a signed-distance field blended over a space-time
     triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
     set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
@@ -238,7 +239,7 @@ def _shared_holes_first(arrays: list[np.ndarray], progress, interrupted) -> _Sha
         if not _same_mesh(arrays):
             raise BooleanError(f"{e}. {_FIELD_NEEDS_NO_HOLES}") from None
         solid, error = None, e
-    _poll(progress, interrupted, "holes", 0.0)
+    _stage_finished(progress, "holes", 0.0)
     return _SharedHoles(solid, error, time.perf_counter() - start)
 
 
@@ -247,9 +248,15 @@ def _same_mesh(arrays: list[np.ndarray]) -> bool:
     return np.array_equal(arrays[0], arrays[2]) and np.array_equal(arrays[1], arrays[3])
 
 
-def _poll(progress, interrupted, stage: str, fraction: float = 1.0) -> None:
-    """Raises Cancelled when the caller asks to stop (between the Python stages' steps)."""
-    if (progress is not None and not progress(stage, fraction)) or (interrupted is not None and interrupted()):
+def _stage_finished(progress, stage: str, fraction: float) -> None:
+    """Tells `progress` that `stage` has finished; raises Cancelled when it answers False."""
+    if progress is not None and not progress(stage, fraction):
+        raise _core.Cancelled("cancelled")
+
+
+def _check_interrupted(interrupted) -> None:
+    """Raises Cancelled when the caller's `interrupted()` says so (between checked frames)."""
+    if interrupted is not None and interrupted():
         raise _core.Cancelled("cancelled")
 
 
@@ -278,7 +285,7 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
                                                      "validity": report},
                                  hole_space=cut)
     start = time.perf_counter()
-    poll = functools.partial(_poll, progress, interrupted, "hole validity")
+    poll = functools.partial(_check_interrupted, interrupted)
     report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
     if coincide and shared.solid is not None:
         report["shared_hole_volume"] = solid_measure(*shared.solid)
@@ -287,7 +294,7 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
     report.update(_bubble_validity(manifold, arrays, float(t0), float(t1), poll))
     report["stage_seconds"].append(["hole validity", time.perf_counter() - start])
-    poll()
+    _stage_finished(progress, "hole validity", 1.0)
     return manifold
 
 
@@ -386,8 +393,8 @@ def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks
 
 def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int,
                    poll: Callable[[], None]) -> dict:
-    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1); `poll()` between
-    frames raises Cancelled when the caller asks to stop."""
+    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1); `poll()` before each
+    frame raises Cancelled when the caller asks to stop."""
     hole = manifold.hole_space
     report = {"shared_hole_volume": 0.0, "hole_overlap_volume": 0.0, "holes_preserved": True,
               "hole_frames_checked": 0, "hole_frames_verified": 0, "hole_errors": []}
