@@ -511,7 +511,7 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
     shell = np.vstack([v, 0.5 * v]), np.vstack([f, f[:, ::-1] + len(v)])  # outer, and a cavity
     frames = np.stack([shell[0], shell[0] * 1.1])
     m = am.stitch(frames, shell[1], [0.0, 1.0])
-    report = _bubble_validity(m, [v, f, v, f], 0.0, 1.0)
+    report = _bubble_validity(m, [v, f, v, f], 0.0, 1.0, poll=lambda: None)
     assert report["bubble_frames_checked"] == len(BUBBLE_CHECKS)
     assert [n for _, n in report["bubble_frames"]] == [1] * len(BUBBLE_CHECKS)
     for t, _ in report["bubble_frames"]:
@@ -520,7 +520,7 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
     outer, inner = enclosed_volume(v, f), enclosed_volume(0.5 * v, f)
     assert report["largest_bubble_fraction"] == pytest.approx(inner / outer)
     # with the cavity in an input, the frames hold no more than the inputs: nothing to report
-    assert _bubble_validity(m, [shell[0], shell[1], v, f], 0.0, 1.0)["bubble_frames"] == []
+    assert _bubble_validity(m, [shell[0], shell[1], v, f], 0.0, 1.0, poll=lambda: None)["bubble_frames"] == []
 
 
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):

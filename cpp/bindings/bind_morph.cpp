@@ -6,105 +6,111 @@
 
 namespace animanifold::bindings {
 
+namespace {
+
+// A py::enum_ whose values are named by `names` (morph.hpp's tables), and
+// that a str of one of those names converts to ("field" for
+// MorphMethod.field), so options can be given as the API documents them.
+template <class Enum, std::size_t N>
+void bind_named_enum(py::module_& m, const char* type, const char* what,
+                     const std::array<std::pair<Enum, const char*>, N>& names, const char* doc) {
+  py::enum_<Enum> e(m, type, doc);
+  for (const auto& [value, name] : names) e.value(name, value);
+  e.def(py::init([names, what](const std::string& wanted) {
+    std::string known;
+    for (const auto& [value, name] : names) {
+      if (wanted == name) return value;
+      known += (known.empty() ? "" : ", ") + std::string(name);
+    }
+    throw py::value_error("unknown " + std::string(what) + " '" + wanted + "': use one of " + known);
+  }));
+  py::implicitly_convertible<std::string, Enum>();
+}
+
+// progress and interrupted as the core calls them, from Python callables.
+void set_callbacks(MorphOptions& options, py::object progress, py::object interrupted) {
+  if (!progress.is_none())
+    options.progress = [progress](const std::string& stage, double fraction) {
+      py::gil_scoped_acquire acquire;
+      return progress(stage, fraction).cast<bool>();
+    };
+  // Ctrl-C, and the caller's own check (a cancel button: the morph may
+  // run in a worker thread, where Python's signal handlers never run).
+  options.interrupted = [interrupted] {
+    raise_pending_python_signals();
+    if (interrupted.is_none()) return false;
+    py::gil_scoped_acquire acquire;
+    return interrupted().cast<bool>();
+  };
+}
+
+py::dict report_dict(const MorphReport& report) {
+  py::dict out;
+  for_each_entry(report, [&](const char* name, const auto& value) { out[name] = value; });
+  return out;
+}
+
+void bind_options_and_report(py::module_& m) {
+  bind_named_enum(m, "MorphMethod", "morph method", kMorphMethodNames, "How a morph fills the space between its inputs.");
+  bind_named_enum(m, "FillTriangulation", "fill triangulation", kFillTriangulationNames, "The seed methods' Delaunay fill.");
+  bind_named_enum(m, "Perturbation", "perturbation", kPerturbationNames, "How the seed methods put the inputs in general position.");
+  py::class_<MorphOptions>(m, "MorphOptions", "The morph's options (cpp/include/animanifold/morph.hpp documents each).")
+      .def(py::init<>())
+      .def_readwrite("t0", &MorphOptions::t0)
+      .def_readwrite("t1", &MorphOptions::t1)
+      .def_readwrite("method", &MorphOptions::method)
+      .def_readwrite("max_push", &MorphOptions::max_push)
+      .def_readwrite("fill", &MorphOptions::fill)
+      .def_readwrite("perturbation", &MorphOptions::perturbation)
+      .def_readwrite("fan_flat_polygons", &MorphOptions::fan_flat_polygons)
+      .def_readwrite("field_layers", &MorphOptions::field_layers)
+      .def_readwrite("field_resolution", &MorphOptions::field_resolution)
+      .def_readwrite("hold_stage", &MorphOptions::hold_stage)
+      .def_readwrite("hold_seconds", &MorphOptions::hold_seconds);
+  py::class_<MorphReport>(m, "MorphReport", "What the morph's checks found and what each stage cost (morph.hpp).")
+      .def("to_dict", &report_dict, "The report as a dict of plain values (what the cache stores).")
+      .def("__getitem__", [](const MorphReport& r, const std::string& key) -> py::object {
+        const py::dict entries = report_dict(r);
+        if (!entries.contains(key)) throw py::key_error(key);
+        return entries[py::str(key)];  // a new reference, before `entries` goes
+      });
+}
+
+}  // namespace
+
 void bind_morph(py::module_& m) {
+  bind_options_and_report(m);
   m.def(
       "morph",
-      [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, double t0, double t1, const std::string& method,
-         py::object progress, double max_push, const std::string& fill, const std::string& perturbation,
-         py::object interrupted, bool fan_flat_polygons, int field_layers, double field_resolution,
-         const std::string& hold_stage, double hold_seconds) {
-        MorphOptions options;
-        options.t0 = t0;
-        options.t1 = t1;
-        options.method = method;
-        options.max_push = max_push;
-        options.fill = fill;
-        options.perturbation = perturbation;
-        options.fan_flat_polygons = fan_flat_polygons;
-        options.field_layers = field_layers;
-        options.field_resolution = field_resolution;
-        options.hold_stage = hold_stage;
-        options.hold_seconds = hold_seconds;
-        if (!progress.is_none())
-          options.progress = [progress](const std::string& stage, double fraction) {
-            py::gil_scoped_acquire acquire;
-            return progress(stage, fraction).cast<bool>();
-          };
-        // Ctrl-C, and the caller's own check (a cancel button: the morph may
-        // run in a worker thread, where Python's signal handlers never run).
-        options.interrupted = [interrupted] {
-          raise_pending_python_signals();
-          if (interrupted.is_none()) return false;
-          py::gil_scoped_acquire acquire;
-          return interrupted().cast<bool>();
-        };
+      [](PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT, py::object options, py::object progress,
+         py::object interrupted, py::kwargs fields) {
+        // The options given, with any of their fields overridden by keyword.
+        py::object chosen = py::cast(options.is_none() ? MorphOptions{} : options.cast<MorphOptions>());
+        for (const auto& [name, value] : fields) {
+          if (!py::hasattr(chosen, name)) throw py::type_error("morph() has no option " + py::str(name).cast<std::string>());
+          // An enum given by name goes through its type's constructor, whose error names the choices.
+          const py::object current = chosen.attr(name);
+          const bool named_enum = py::isinstance<py::str>(value) && !py::isinstance<py::str>(current);
+          chosen.attr(name) = named_enum ? current.get_type()(value) : py::reinterpret_borrow<py::object>(value);
+        }
+        MorphOptions o = chosen.cast<MorphOptions>();
+        set_callbacks(o, progress, interrupted);
         Morph result;
         {
           py::gil_scoped_release release;
-          result = morph(VS, FS, VT, FT, options);
+          result = morph(VS, FS, VT, FT, o);
         }
-        const MorphReport& r = result.report;
-        py::dict report;
-        report["missing_source_faces"] = r.missing_source_faces;
-        report["missing_target_faces"] = r.missing_target_faces;
-        report["source_conforming"] = r.source_conforming;
-        report["target_conforming"] = r.target_conforming;
-        report["flat_fill_simplices"] = r.flat_fill_simplices;
-        report["peeled_hull_slivers"] = r.peeled_hull_slivers;
-        report["exact_convex_fill"] = r.exact_convex_fill;
-        report["perturbation"] = r.perturbation;
-        report["unnudged_steiner_points"] = r.unnudged_steiner_points;
-        report["fill_simplices"] = r.fill_simplices;
-        report["stripped_simplices"] = r.stripped_simplices;
-        report["simplices"] = r.simplices;
-        report["shared_stripped_simplices"] = r.shared_stripped_simplices;
-        report["inputs_coincide"] = r.inputs_coincide;
-        report["source_skeleton_points"] = r.source_skeleton_points;
-        report["target_skeleton_points"] = r.target_skeleton_points;
-        report["source_cap_points"] = r.source_cap_points;
-        report["target_cap_points"] = r.target_cap_points;
-        report["source_fanned_polygons"] = r.source_fanned_polygons;
-        report["target_fanned_polygons"] = r.target_fanned_polygons;
-        report["source_free_vertices"] = r.source_free_vertices;
-        report["target_free_vertices"] = r.target_free_vertices;
-        report["split_faces"] = r.split_faces;
-        report["refinement_points"] = r.refinement_points;
-        report["peeled_slivers"] = r.peeled_slivers;
-        report["source_push"] = r.source_push;
-        report["target_push"] = r.target_push;
-        report["levelled_vertices"] = r.levelled_vertices;
-        report["sealed_vertices"] = r.sealed_vertices;
-        report["min_volume"] = r.min_volume;
-        report["min_relative_volume"] = r.min_relative_volume;
-        report["inverted_simplices"] = r.inverted_simplices;
-        report["degenerate_simplices"] = r.degenerate_simplices;
-        report["source_distance"] = r.source_distance;
-        report["target_distance"] = r.target_distance;
-        report["ends_reproduced"] = r.ends_reproduced;
-        report["source_steiner_points"] = r.source_steiner_points;
-        report["target_steiner_points"] = r.target_steiner_points;
-        report["field_layers"] = r.field_layers;
-        report["lattice_spacing"] = r.lattice_spacing;
-        report["frames_checked"] = r.frames_checked;
-        report["frames_capped"] = r.frames_capped;
-        report["topology_changes"] = r.topology_changes;
-        report["crossing_frames"] = r.crossing_frames;
-        report["bubble_frames"] = r.bubble_frames;
-        report["largest_bubble_fraction"] = r.largest_bubble_fraction;
-        report["noise_frames"] = r.noise_frames;
-        report["stage_seconds"] = r.stage_seconds;
-        return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), report);
+        return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), std::move(result.report));
       },
       py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
-      py::arg("t0") = 0.0, py::arg("t1") = 1.0, py::arg("method") = "skeleton", py::arg("progress") = py::none(),
-      py::arg("max_push") = MorphOptions{}.max_push, py::arg("fill") = MorphOptions{}.fill,
-      py::arg("perturbation") = MorphOptions{}.perturbation, py::arg("interrupted") = py::none(),
-      py::arg("fan_flat_polygons") = MorphOptions{}.fan_flat_polygons,
-      py::arg("field_layers") = MorphOptions{}.field_layers, py::arg("field_resolution") = MorphOptions{}.field_resolution,
-      py::arg("hold_stage") = "", py::arg("hold_seconds") = 0.0,
-      "Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` "
-      "is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, "
-      "True from the other, cancels (raises Cancelled).");
+      py::arg("options") = py::none(), py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),
+      "Morph between two closed shapes: (manifold Complex, MorphReport). `options` (a MorphOptions; fields may "
+      "also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between "
+      "stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the "
+      "other, cancels (raises Cancelled).");
+  m.def("check_morph_input", &check_morph_input, py::arg("vertices"), py::arg("faces"), py::arg("name"),
+        py::call_guard<py::gil_scoped_release>(),
+        "Raises ValueError naming the shape (`name`) and the face or vertex when morph() would refuse it.");
   py::register_exception<Cancelled>(m, "Cancelled");
   m.def(
       "self_intersections",

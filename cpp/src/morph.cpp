@@ -135,47 +135,6 @@ FlatSimplices peel_hull_slivers(DelaunayTriangulation& fill, Index nS) {
 }
 
 // A closed, consistently oriented, outward shape, or an InputError naming what is wrong.
-void check_closed_shape(const PointMatrix& V, const SimplexMatrix& F, const char* name) {
-  const int d = static_cast<int>(V.cols());
-  if (d != 2 && d != 3) fail<InputError>("the ", name, " must be 2D or 3D, got ", d, "D points");
-  if (F.cols() != d)
-    fail<InputError>("the ", name, " must have ", d == 3 ? "triangles" : "edges", " as faces, got ", F.cols(), " corners");
-  if (F.rows() == 0) fail<InputError>("the ", name, " has no faces");
-  for (Index f = 0; f < F.rows(); ++f)
-    for (int c = 0; c < d; ++c)
-      if (F(f, c) < 0 || F(f, c) >= V.rows())
-        fail<InputError>("the ", name, "'s face ", f, " refers to vertex ", F(f, c), ", outside 0..", V.rows() - 1);
-  for (Index v = 0; v < V.rows(); ++v)
-    for (int c = 0; c < d; ++c)
-      if (!std::isfinite(V(v, c))) fail<InputError>("the ", name, "'s vertex ", v, " is not finite");
-  double volume = 0.0;
-  if (d == 3) {
-    const ManifoldReport report = check_manifold(F);
-    if (report.boundary_facets > 0)
-      fail<InputError>("the ", name, " is open (", report.boundary_facets, " boundary edges): only closed shapes can be morphed");
-    if (report.nonmanifold_facets > 0)
-      fail<InputError>("the ", name, " is not a manifold (", report.nonmanifold_facets, " edges in more than two faces)");
-    if (report.misoriented_facets > 0 || report.degenerate_simplices > 0)
-      fail<InputError>("the ", name, " is not consistently oriented (", report.misoriented_facets, " edges)");
-    for (Index f = 0; f < F.rows(); ++f)
-      volume += Eigen::Vector3d(V.row(F(f, 0))).dot(Eigen::Vector3d(V.row(F(f, 1))).cross(Eigen::Vector3d(V.row(F(f, 2)))));
-  } else {
-    std::vector<int> starts(V.rows(), 0), ends(V.rows(), 0);
-    for (Index f = 0; f < F.rows(); ++f) ++starts[F(f, 0)], ++ends[F(f, 1)];
-    for (Index v = 0; v < V.rows(); ++v)
-      if (starts[v] != ends[v] || starts[v] > 1)
-        fail<InputError>("the ", name, " is not a closed polygon at vertex ", v, " (", starts[v], " edges leave, ", ends[v],
-                         " arrive)");
-    for (Index f = 0; f < F.rows(); ++f)
-      volume += V(F(f, 0), 0) * V(F(f, 1), 1) - V(F(f, 1), 0) * V(F(f, 0), 1);
-  }
-  if (volume <= 0)
-    fail<InputError>("the ", name, " is inside out (its faces point inward): flip its normals");
-  const auto crossing = self_intersections(V, F, 1);
-  if (!crossing.empty())
-    fail<InputError>("the ", name, " intersects itself (faces ", crossing[0].first, " and ", crossing[0].second,
-                     " cross): a morph needs shapes that do not overlap themselves");
-}
 
 
 // Validity 2: the slices at t0 and t1 are the inputs, both ways: every slice
@@ -227,6 +186,48 @@ void zero_set_validity(const Complex& manifold, MorphReport& report) {
 
 }  // namespace
 
+void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::string& name) {
+  const int d = static_cast<int>(V.cols());
+  if (d != 2 && d != 3) fail<InputError>("the ", name, " must be 2D or 3D, got ", d, "D points");
+  if (F.cols() != d)
+    fail<InputError>("the ", name, " must have ", d == 3 ? "triangles" : "edges", " as faces, got ", F.cols(), " corners");
+  if (F.rows() == 0) fail<InputError>("the ", name, " has no faces");
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < d; ++c)
+      if (F(f, c) < 0 || F(f, c) >= V.rows())
+        fail<InputError>("the ", name, "'s face ", f, " refers to vertex ", F(f, c), ", outside 0..", V.rows() - 1);
+  for (Index v = 0; v < V.rows(); ++v)
+    for (int c = 0; c < d; ++c)
+      if (!std::isfinite(V(v, c))) fail<InputError>("the ", name, "'s vertex ", v, " is not finite");
+  double volume = 0.0;
+  if (d == 3) {
+    const ManifoldReport report = check_manifold(F);
+    if (report.boundary_facets > 0)
+      fail<InputError>("the ", name, " is open (", report.boundary_facets, " boundary edges): only closed shapes can be morphed");
+    if (report.nonmanifold_facets > 0)
+      fail<InputError>("the ", name, " is not a manifold (", report.nonmanifold_facets, " edges in more than two faces)");
+    if (report.misoriented_facets > 0 || report.degenerate_simplices > 0)
+      fail<InputError>("the ", name, " is not consistently oriented (", report.misoriented_facets, " edges)");
+    for (Index f = 0; f < F.rows(); ++f)
+      volume += Eigen::Vector3d(V.row(F(f, 0))).dot(Eigen::Vector3d(V.row(F(f, 1))).cross(Eigen::Vector3d(V.row(F(f, 2)))));
+  } else {
+    std::vector<int> starts(V.rows(), 0), ends(V.rows(), 0);
+    for (Index f = 0; f < F.rows(); ++f) ++starts[F(f, 0)], ++ends[F(f, 1)];
+    for (Index v = 0; v < V.rows(); ++v)
+      if (starts[v] != ends[v] || starts[v] > 1)
+        fail<InputError>("the ", name, " is not a closed polygon at vertex ", v, " (", starts[v], " edges leave, ", ends[v],
+                         " arrive)");
+    for (Index f = 0; f < F.rows(); ++f)
+      volume += V(F(f, 0), 0) * V(F(f, 1), 1) - V(F(f, 1), 0) * V(F(f, 0), 1);
+  }
+  if (volume <= 0)
+    fail<InputError>("the ", name, " is inside out (its faces point inward): flip its normals");
+  const auto crossing = self_intersections(V, F, 1);
+  if (!crossing.empty())
+    fail<InputError>("the ", name, " intersects itself (faces ", crossing[0].first, " and ", crossing[0].second,
+                     " cross): a morph needs shapes that do not overlap themselves");
+}
+
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
             const SimplexMatrix& target_faces, const MorphOptions& options) {
   using Clock = std::chrono::steady_clock;
@@ -240,11 +241,11 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     if (options.progress && !options.progress(name, fraction)) throw Cancelled();
   };
 
-  check_closed_shape(source_points, source_faces, "source");
-  check_closed_shape(target_points, target_faces, "target");
+  check_morph_input(source_points, source_faces, "source");
+  check_morph_input(target_points, target_faces, "target");
   if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
   if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
-  if (options.method == "field") {
+  if (options.method == MorphMethod::Field) {
     StageClock clock(options);
     Morph result = field_morph(source_points, source_faces, target_points, target_faces, options, clock);
     clock.begin("validity", 0.9);
@@ -261,13 +262,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     result.report.stage_seconds = clock.seconds;
     return result;
   }
-  const bool skeleton_method = options.method == "skeleton";
-  if (!skeleton_method && options.method != "strip")
-    fail<InputError>("unknown morph method '", options.method, "': use 'field', 'skeleton' or 'strip'");
-  if (options.perturbation != "position" && options.perturbation != "hull_faces")
-    fail<InputError>("unknown perturbation '", options.perturbation, "': use 'position' or 'hull_faces'");
-  if (options.fill != "cgal" && options.fill != "qhull")
-    fail<InputError>("unknown fill triangulation '", options.fill, "': use 'cgal' or 'qhull'");
+  const bool skeleton_method = options.method == MorphMethod::Skeleton;
   // Two layers (the source's after t0, the target's before t1) must leave the fill between them.
   if (!(options.max_push > 0 && options.max_push < 0.5))
     fail<InputError>("max_push must lie in (0, 0.5), got ", options.max_push);
@@ -365,7 +360,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   for (const double scale : kPerturbations) {
     if (convex_fill) break;
     auto perturbed = [&](const PointMatrix& V) {
-      return options.perturbation == "hull_faces" ? perturbed_along_hull_faces(V, scale * size, 20261122)
+      return options.perturbation == Perturbation::HullFaces ? perturbed_along_hull_faces(V, scale * size, 20261122)
                                                   : perturbed_by_position(V, scale * size, 20261122);
     };
     const auto conform_start = Clock::now();
@@ -417,7 +412,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     // themselves at 2 of 5 checked times; a 64-sided cylinder -> the voxel
     // plate at 5 of 5, with 52 free vertices held back and a bubble of 5.8 %).
     std::vector<bool> source_stay, target_stay;
-    if (options.perturbation == "hull_faces") {
+    if (options.perturbation == Perturbation::HullFaces) {
       source_stay = on_convex_hull(S.fill.points, VS);
       target_stay = on_convex_hull(T.fill.points, VT);
     }
@@ -435,7 +430,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
         P.bottomLeftCorner(nT, d) = T.fill.points;
         report.unnudged_steiner_points = (nS - VS.rows() - KS.rows()) + (nT - VT.rows() - KT.rows());
       }
-      fill = options.fill == "qhull" ? delaunay(P) : delaunay_exact(P);
+      fill = options.fill == FillTriangulation::Qhull ? delaunay(P) : delaunay_exact(P);
       target_constraints = T.fill.constraints.array() + nS;
       report.perturbation = scale;
       // Flat simplices within one input's plane are harmless (they add
@@ -443,7 +438,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
       // of the hull holds points of both planes: a flat side both inputs share,
       // a hull edge with collinear points); flat ones inside would leave holes.
       const FlatSimplices flats = peel_hull_slivers(fill, nS);
-      report.flat_fill_simplices = options.fill == "qhull" ? flats.inside : 0;  // CGAL's are proper: kept
+      report.flat_fill_simplices = options.fill == FillTriangulation::Qhull ? flats.inside : 0;  // CGAL's are proper: kept
       report.peeled_hull_slivers = flats.peeled;
       report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.fill.constraints).size());
       report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'FillTriangulation', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'check_morph_input', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -67,6 +67,219 @@ class Slicer:
         ...
     def slice(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex, use_index: bool = True) -> Slice:
         ...
+class MorphMethod:
+    """
+    How a morph fills the space between its inputs.
+    
+    Members:
+    
+      skeleton
+    
+      strip
+    
+      field
+    """
+    __members__: typing.ClassVar[dict[str, MorphMethod]]
+    field: typing.ClassVar[MorphMethod]
+    skeleton: typing.ClassVar[MorphMethod]
+    strip: typing.ClassVar[MorphMethod]
+    @typing.overload
+    def __eq__(self, other: MorphMethod) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, arg0: str) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: MorphMethod) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class FillTriangulation:
+    """
+    The seed methods' Delaunay fill.
+    
+    Members:
+    
+      cgal
+    
+      qhull
+    """
+    __members__: typing.ClassVar[dict[str, FillTriangulation]]
+    cgal: typing.ClassVar[FillTriangulation]
+    qhull: typing.ClassVar[FillTriangulation]
+    @typing.overload
+    def __eq__(self, other: FillTriangulation) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, arg0: str) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: FillTriangulation) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class Perturbation:
+    """
+    How the seed methods put the inputs in general position.
+    
+    Members:
+    
+      hull_faces
+    
+      position
+    """
+    __members__: typing.ClassVar[dict[str, Perturbation]]
+    hull_faces: typing.ClassVar[Perturbation]
+    position: typing.ClassVar[Perturbation]
+    @typing.overload
+    def __eq__(self, other: Perturbation) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, arg0: str) -> None:
+        ...
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: Perturbation) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class MorphOptions:
+    """
+    The morph's options (cpp/include/animanifold/morph.hpp documents each).
+    """
+    fan_flat_polygons: bool
+    fill: FillTriangulation
+    hold_stage: str
+    method: MorphMethod
+    perturbation: Perturbation
+    def __init__(self) -> None:
+        ...
+    @property
+    def field_layers(self) -> int:
+        ...
+    @field_layers.setter
+    def field_layers(self, arg0: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def field_resolution(self) -> float:
+        ...
+    @field_resolution.setter
+    def field_resolution(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def hold_seconds(self) -> float:
+        ...
+    @hold_seconds.setter
+    def hold_seconds(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def max_push(self) -> float:
+        ...
+    @max_push.setter
+    def max_push(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def t0(self) -> float:
+        ...
+    @t0.setter
+    def t0(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
+    def t1(self) -> float:
+        ...
+    @t1.setter
+    def t1(self, arg0: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+class MorphReport:
+    """
+    What the morph's checks found and what each stage cost (morph.hpp).
+    """
+    def __getitem__(self, arg0: str) -> typing.Any:
+        ...
+    def to_dict(self) -> dict:
+        """
+        The report as a dict of plain values (what the cache stores).
+        """
 class Cancelled(Exception):
     pass
 class RefineOrder:
@@ -221,6 +434,10 @@ def check_closed_oriented(vertices: typing.Annotated[numpy.typing.NDArray[numpy.
     ...
 def check_manifold(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> dict:
     ...
+def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], name: str) -> None:
+    """
+    Raises ValueError naming the shape (`name`) and the face or vertex when morph() would refuse it.
+    """
 def conforming_delaunay_2d(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], edges: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> dict:
     """
     Conforming Delaunay triangulation (CGAL).
@@ -299,11 +516,11 @@ def missing_facets(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32]
     """
     Rows of faces that are not faces of any simplex (Theorem 5.2.1).
     """
-def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], t0: typing.SupportsFloat | typing.SupportsIndex = 0.0, t1: typing.SupportsFloat | typing.SupportsIndex = 1.0, method: str = 'skeleton', progress: typing.Any = None, max_push: typing.SupportsFloat | typing.SupportsIndex = 0.45, fill: str = 'cgal', perturbation: str = 'hull_faces', interrupted: typing.Any = None, fan_flat_polygons: bool = True) -> tuple[Complex, dict]:
+def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], options: typing.Any = None, progress: typing.Any = None, interrupted: typing.Any = None, **kwargs) -> tuple[Complex, MorphReport]:
     """
-    Morph between two closed shapes: (manifold Complex, validity report dict). `progress(stage, fraction)` is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the other, cancels (raises Cancelled).
+    Morph between two closed shapes: (manifold Complex, MorphReport). `options` (a MorphOptions; fields may also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the other, cancels (raises Cancelled).
     """
-def points_inside_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool_], "[m, 1]"]:
+def points_inside_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
     """
     Whether each point (#P, 3) lies inside (or on) the closed outward triangle mesh; cavities and tunnels are outside.
     """

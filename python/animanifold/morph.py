@@ -14,8 +14,11 @@ from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is
                     subtract_solid)
 from .manifold import AnimationManifold
 
-# The seed's methods (§8.6, §8.5) and the field method (the core's morph_field.hpp).
-METHODS = ("skeleton", "strip", "field")
+# The core's names (morph.hpp's tables, bound as enums): the seed's methods (§8.6, §8.5) and the
+# field method (morph_field.hpp); the seed's fills and perturbations.
+METHODS = tuple(_core.MorphMethod.__members__)
+FILLS = tuple(_core.FillTriangulation.__members__)
+_DEFAULTS = _core.MorphOptions()
 
 
 def morph(
@@ -23,10 +26,10 @@ def morph(
     target: tuple[np.ndarray, np.ndarray],
     t0: float = 0.0,
     t1: float = 1.0,
-    method: str = "skeleton",
+    method: str = _DEFAULTS.method.name,
     progress: Callable[[str, float], bool] | None = None,
-    max_push: float = 0.45,
-    fill: str = "cgal",
+    max_push: float = _DEFAULTS.max_push,
+    fill: str = _DEFAULTS.fill.name,
     hole_checks: int = 5,
     perturbation: str = "auto",
     interrupted: Callable[[], bool] | None = None,
@@ -132,6 +135,8 @@ def morph(
         arrays += [v, _canonical_faces(np.ascontiguousarray(f, dtype=np.int32))]
     if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
         raise ValueError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
+    if fill not in FILLS:
+        raise ValueError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
     if perturbation not in PERTURBATIONS:
         raise ValueError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
@@ -145,6 +150,8 @@ def morph(
             return user_progress(stage, done[0])
 
     start = time.perf_counter()
+    for name, v, f in (("source", *arrays[:2]), ("target", *arrays[2:])):  # what the core refuses, before the holes
+        _core.check_morph_input(v, f, name)
     shared = _shared_holes_first(arrays, progress, interrupted)
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
                 fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
@@ -195,7 +202,7 @@ def morph(
     return manifold
 
 
-PERTURBATIONS = ("auto", "position", "hull_faces")
+PERTURBATIONS = ("auto", *_core.Perturbation.__members__)
 # Bubbles smaller than this share of a frame's volume are reported but not worth a second morph;
 # near zero, whether a checked frame holds one at all can come down to rounding, and the choice of
 # perturbation should not.
@@ -302,10 +309,10 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
 _FIELD_CHECKS = ("frames_checked", "frames_capped", "topology_changes", "noise_frames")
 
 
-def _plain_report(report: dict) -> dict:
-    """The core's report with lists for tuples (as the cache's JSON gives them back)."""
+def _plain_report(report) -> dict:
+    """The core's MorphReport as a dict of lists (as the cache's JSON gives them back)."""
     return {k: ([list(item) for item in v] if k in ("stage_seconds", "bubble_frames") else
-                list(v) if isinstance(v, tuple) else v) for k, v in report.items()}
+                list(v) if isinstance(v, tuple) else v) for k, v in report.to_dict().items()}
 
 
 def _field_morph(arrays: list[np.ndarray], t0: float, t1: float, progress, interrupted, hold: dict) -> AnimationManifold:

@@ -36,29 +36,56 @@
 
 namespace animanifold {
 
+// How the space between the inputs is filled (see the top of this file and
+// morph_field.hpp): the seed's skeleton (§8.6) and strip (§8.5) methods, or
+// the zero set of a blended distance field.
+enum class MorphMethod { Skeleton, Strip, Field };
+// The seed's Delaunay fill: CGAL's exact one (delaunay_exact) or Qhull's.
+enum class FillTriangulation { Cgal, Qhull };
+// How the seed's methods put the inputs in general position (see morph.cpp).
+enum class Perturbation { HullFaces, Position };
+
+// Each value with the name the Python API, the CLI and the add-on use for it
+// (the binding exposes these, so no other list of them exists).
+inline constexpr std::array<std::pair<MorphMethod, const char*>, 3> kMorphMethodNames{
+    {{MorphMethod::Skeleton, "skeleton"}, {MorphMethod::Strip, "strip"}, {MorphMethod::Field, "field"}}};
+inline constexpr std::array<std::pair<FillTriangulation, const char*>, 2> kFillTriangulationNames{
+    {{FillTriangulation::Cgal, "cgal"}, {FillTriangulation::Qhull, "qhull"}}};
+inline constexpr std::array<std::pair<Perturbation, const char*>, 2> kPerturbationNames{
+    {{Perturbation::HullFaces, "hull_faces"}, {Perturbation::Position, "position"}}};
+
+// The name of `value` in its table above.
+template <class Enum, std::size_t N>
+constexpr const char* name_of(Enum value, const std::array<std::pair<Enum, const char*>, N>& names) {
+  for (const auto& [v, name] : names)
+    if (v == value) return name;
+  return "?";
+}
+
 struct MorphOptions {
   // The times of the source and the target. The morph is solved over a span
   // proportional to the shapes' size and mapped onto t0..t1 (see morph.cpp),
   // so it is the same morph over any range: frames at the same fraction of
   // the range are the same.
   double t0 = 0.0, t1 = 1.0;
-  // "skeleton" (§8.6) or "strip" (§8.5). Convex inputs need neither (§8.4):
-  // both then reduce to the plain fill (no free points, nothing stripped).
-  std::string method = "skeleton";
+  // Skeleton (§8.6), Strip (§8.5) or Field (morph_field.hpp). Convex inputs
+  // need neither of the seed's: both then reduce to the plain fill (no free
+  // points, nothing stripped).
+  MorphMethod method = MorphMethod::Skeleton;
   // Skeleton method: the thickness of each layer the free points are pushed
   // in (morph_layers.hpp), as a fraction of t1 - t0: the source's concavities
   // close within it after t0, the target's open within it before t1.
   double max_push = 0.45;
-  // The fill's Delaunay triangulation: "cgal" (delaunay_exact, the default:
-  // 10-20 times faster on the fill's two planes of points) or "qhull".
-  std::string fill = "cgal";
+  // The fill's Delaunay triangulation: Cgal (delaunay_exact, the default:
+  // 10-20 times faster on the fill's two planes of points) or Qhull.
+  FillTriangulation fill = FillTriangulation::Cgal;
   // How the inputs are put in general position (see morph.cpp):
-  // "hull_faces" (perturbed_along_hull_faces, the default: points on the
+  // HullFaces (perturbed_along_hull_faces, the default: points on the
   // inputs' hulls stay where they are, so the hulls' flat sides and
   // collinear edges stay exact and the exact fill resolves their ties) or
-  // "position" (perturbed_by_position: every point; the Python morph()
+  // Position (perturbed_by_position: every point; the Python morph()
   // retries with it when frames run through themselves).
-  std::string perturbation = "hull_faces";
+  Perturbation perturbation = Perturbation::HullFaces;
   // 3D: flat convex polygons of six corners or more (a cylinder's or a cone's
   // caps) are triangulated again as fans from their centre before meshing
   // (fan_flat_polygons, flat_polygons.hpp): their chords between cocircular
@@ -162,6 +189,61 @@ struct MorphReport {
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
+// Calls visit(name, value) for every entry of the report, in the order
+// declared: the one list of its names (the binding's MorphReport.to_dict(),
+// which the cache stores, comes from it).
+template <class Visit>
+void for_each_entry(const MorphReport& report, Visit&& visit) {
+  visit("missing_source_faces", report.missing_source_faces);
+  visit("missing_target_faces", report.missing_target_faces);
+  visit("source_conforming", report.source_conforming);
+  visit("target_conforming", report.target_conforming);
+  visit("flat_fill_simplices", report.flat_fill_simplices);
+  visit("peeled_hull_slivers", report.peeled_hull_slivers);
+  visit("exact_convex_fill", report.exact_convex_fill);
+  visit("perturbation", report.perturbation);
+  visit("unnudged_steiner_points", report.unnudged_steiner_points);
+  visit("fill_simplices", report.fill_simplices);
+  visit("stripped_simplices", report.stripped_simplices);
+  visit("simplices", report.simplices);
+  visit("shared_stripped_simplices", report.shared_stripped_simplices);
+  visit("inputs_coincide", report.inputs_coincide);
+  visit("source_skeleton_points", report.source_skeleton_points);
+  visit("target_skeleton_points", report.target_skeleton_points);
+  visit("source_cap_points", report.source_cap_points);
+  visit("target_cap_points", report.target_cap_points);
+  visit("source_fanned_polygons", report.source_fanned_polygons);
+  visit("target_fanned_polygons", report.target_fanned_polygons);
+  visit("source_free_vertices", report.source_free_vertices);
+  visit("target_free_vertices", report.target_free_vertices);
+  visit("split_faces", report.split_faces);
+  visit("refinement_points", report.refinement_points);
+  visit("peeled_slivers", report.peeled_slivers);
+  visit("source_push", report.source_push);
+  visit("target_push", report.target_push);
+  visit("levelled_vertices", report.levelled_vertices);
+  visit("sealed_vertices", report.sealed_vertices);
+  visit("min_volume", report.min_volume);
+  visit("min_relative_volume", report.min_relative_volume);
+  visit("inverted_simplices", report.inverted_simplices);
+  visit("degenerate_simplices", report.degenerate_simplices);
+  visit("source_distance", report.source_distance);
+  visit("target_distance", report.target_distance);
+  visit("ends_reproduced", report.ends_reproduced);
+  visit("source_steiner_points", report.source_steiner_points);
+  visit("target_steiner_points", report.target_steiner_points);
+  visit("field_layers", report.field_layers);
+  visit("lattice_spacing", report.lattice_spacing);
+  visit("frames_checked", report.frames_checked);
+  visit("frames_capped", report.frames_capped);
+  visit("topology_changes", report.topology_changes);
+  visit("crossing_frames", report.crossing_frames);
+  visit("bubble_frames", report.bubble_frames);
+  visit("largest_bubble_fraction", report.largest_bubble_fraction);
+  visit("noise_frames", report.noise_frames);
+  visit("stage_seconds", report.stage_seconds);
+}
+
 struct Morph {
   Complex manifold;  // n-simplices in R^(n+1), oriented like stitched manifolds
   MorphReport report;
@@ -170,6 +252,13 @@ struct Morph {
 struct Cancelled : std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
+
+// What morph() checks of each input first: throws InputError naming the
+// shape (`name`: "source", "target") and the face or vertex when it is not a
+// closed, consistently outward-oriented manifold without self-intersections
+// (2D: closed counter-clockwise polygons), has non-finite points or faces
+// out of range.
+void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::string& name);
 
 // Throws InputError naming the shape and face when an input is not a closed,
 // consistently oriented manifold (open inputs are refused), and
