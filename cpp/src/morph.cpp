@@ -228,44 +228,401 @@ void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::
                      " cross): a morph needs shapes that do not overlap themselves");
 }
 
+namespace {
+
+// The seed's methods (skeleton, strip), stage by stage. Each stage reads what
+// the earlier ones left here and adds its own part; morph() runs them in
+// order and times each under its stage name.
+struct SeedMorph {
+  const MorphOptions& options;
+  MorphReport& report;
+  const PointMatrix &VS, &VT;  // the inputs, flat polygons fanned
+  const SimplexMatrix &FS, &FT;
+  int d = 0;             // of the inputs' space
+  double size = 0;       // the inputs' larger bounding-box diagonal
+  double span = 0;       // the solved time range (kSolveSpan of the size)
+  bool skeleton = false;  // the skeleton method (else strip)
+
+  PointMatrix KS, KT;  // free points: the external skeletons and hull caps ("skeleton")
+  // "conforming" and "fill":
+  PointMatrix P;      // the fill's points, perturbed: the geometry its combinatorics were decided on
+  PointMatrix exact;  // the same points at their exact places (inputs restored, free points as in P)
+  ConformingInput S, T;
+  DelaunayTriangulation fill;
+  SimplexMatrix target_constraints;  // T's refined faces, numbered in P
+  Index nS = 0, nT = 0;              // P's rows from S's plane, then T's
+  std::optional<ConvexFill> convex_fill;
+  double conform_seconds = 0;
+  // "strip" or "push": the filled shape A, its points' planes, and its boundary once known.
+  std::vector<bool> in_source, in_target;
+  SimplexMatrix A, boundary;
+};
+
+// §8.6.1 step 1: the external skeletons as free points (morph_skeleton.hpp),
+// and points over the flat sides of each hull that bridge a hole or a dent
+// (hull_cap_points): inputs with nothing outside them have no such side.
+void find_free_points(SeedMorph& m) {
+  m.KS = PointMatrix(0, m.d), m.KT = PointMatrix(0, m.d);
+  if (m.skeleton) {
+    m.KS = external_skeleton_points(m.VS, m.FS, 1e-3 * m.size);
+    m.KT = external_skeleton_points(m.VT, m.FT, 1e-3 * m.size);
+    for (auto [K, V, F, count] : {std::tuple<PointMatrix&, const PointMatrix&, const SimplexMatrix&, Index&>{
+                                     m.KS, m.VS, m.FS, m.report.source_cap_points},
+                                 {m.KT, m.VT, m.FT, m.report.target_cap_points}}) {
+      if (K.rows() == 0) continue;
+      const PointMatrix caps = hull_cap_points(V, F);
+      count = caps.rows();
+      PointMatrix both(K.rows() + caps.rows(), m.d);
+      both << K, caps;
+      K = std::move(both);
+    }
+    // Skeletons of symmetric shapes lie exactly in their symmetry planes,
+    // with surface vertices (a torus's equator): moved off by 1e-4 of the
+    // size — far more than the surface's perturbation below, and a tenth of
+    // their least distance from the surface — cells joining them keep a
+    // clear volume at the exact coordinates too.
+    // By position (perturbation.hpp): a skeleton point both inputs share
+    // stays one column.
+    m.KS = perturbed_by_position(m.KS, 1e-4 * m.size, 1122);
+    m.KT = perturbed_by_position(m.KT, 1e-4 * m.size, 1122);
+  }
+  m.report.source_skeleton_points = static_cast<Index>(m.KS.rows());
+  m.report.target_skeleton_points = static_cast<Index>(m.KT.rows());
+}
+
+// §8.4 exactly where both inputs are convex (no exterior skeleton, checked
+// again there by exact predicates): the hull's own faces, no perturbation,
+// no mesher (morph_convex.hpp). False where that construction refuses: the
+// Delaunay fill then follows.
+bool fill_convex_hull(SeedMorph& m) {
+  if (!m.skeleton || m.d != 3 || m.KS.rows() != 0 || m.KT.rows() != 0) return false;
+  PointMatrix hull_points(m.VS.rows() + m.VT.rows(), m.d + 1);
+  hull_points << m.VS, Eigen::VectorXd::Zero(m.VS.rows()), m.VT, Eigen::VectorXd::Constant(m.VT.rows(), m.span);
+  m.convex_fill =
+      convex_hull_fill(hull_points, m.VS.rows(), m.FS, (m.FT.array() + static_cast<int>(m.VS.rows())).matrix());
+  if (!m.convex_fill) return false;
+  m.P = m.exact = m.convex_fill->points;
+  m.nS = m.VS.rows(), m.nT = m.VT.rows();
+  m.fill.simplices = m.convex_fill->simplices;
+  m.S.fill.is_delaunay = m.T.fill.is_delaunay = true;  // no mesher: the inputs are their own refinement
+  m.report.exact_convex_fill = true;
+  return true;
+}
+
+// The Delaunay fill of P (the two conforming planes), first with the mesher's
+// Steiner points nudged, then on its own points; true once it conforms
+// (Theorem 5.2.1: every refined face in it, no flat simplex inside).
+//
+// The mesher's Steiner points lie exactly on the (perturbed) input edges
+// and faces: three collinear points, which Qhull's triangulation of a
+// degenerate facet can put in one flat simplex. Nudged off them by a
+// tenth of the perturbation — except those whose nudge would cost the
+// fill a refined face (nudged_steiner_points) — the fill still contains
+// the constraint faces (checked below) and has no such simplex. Where the
+// nudged fill still misses some (a cylinder whose caps are fans of
+// cocircular points: 4 of its 190 refined faces at 1e-7), the fill is
+// built once more on the mesher's own points before a larger
+// perturbation is tried (unnudged_steiner_points then counts them all).
+// With HullFaces, the Steiner points on an input's hull stay too:
+// that perturbation keeps the hulls' degeneracies exact for the fill to
+// resolve, and a nudge brings them back — a Steiner point nudged off a
+// Blender cylinder's vertical hull edge made slivers with the edge's ends
+// that folded once restored (the frames into Blender's torus ran through
+// themselves at 2 of 5 checked times; a 64-sided cylinder -> the voxel
+// plate at 5 of 5, with 52 free vertices held back and a bubble of 5.8 %).
+bool fill_conforming_planes(SeedMorph& m, double scale) {
+  MorphReport& report = m.report;
+  std::vector<bool> source_stay, target_stay;
+  if (m.options.perturbation == Perturbation::HullFaces) {
+    source_stay = on_convex_hull(m.S.fill.points, m.VS);
+    target_stay = on_convex_hull(m.T.fill.points, m.VT);
+  }
+  const Index source_fixed = m.VS.rows() + m.KS.rows(), target_fixed = m.VT.rows() + m.KT.rows();
+  for (const bool nudging : {true, false}) {
+    report.unnudged_steiner_points = 0;
+    if (nudging) {
+      const double nudge = 0.1 * scale * m.size;
+      m.P.topLeftCorner(m.nS, m.d) =
+          nudged_steiner_points(m.S.fill, source_fixed, nudge, report.unnudged_steiner_points, source_stay);
+      m.P.bottomLeftCorner(m.nT, m.d) =
+          nudged_steiner_points(m.T.fill, target_fixed, nudge, report.unnudged_steiner_points, target_stay);
+    } else {
+      m.P.topLeftCorner(m.nS, m.d) = m.S.fill.points;
+      m.P.bottomLeftCorner(m.nT, m.d) = m.T.fill.points;
+      report.unnudged_steiner_points = (m.nS - source_fixed) + (m.nT - target_fixed);
+    }
+    m.fill = m.options.fill == FillTriangulation::Qhull ? delaunay(m.P) : delaunay_exact(m.P);
+    m.target_constraints = m.T.fill.constraints.array() + m.nS;
+    report.perturbation = scale;
+    // Flat simplices within one input's plane are harmless (they add
+    // nothing); slivers on the hull's boundary are peeled off (where a facet
+    // of the hull holds points of both planes: a flat side both inputs share,
+    // a hull edge with collinear points); flat ones inside would leave holes.
+    const FlatSimplices flats = peel_hull_slivers(m.fill, m.nS);
+    report.flat_fill_simplices =
+        m.options.fill == FillTriangulation::Qhull ? flats.inside : 0;  // CGAL's are proper: kept
+    report.peeled_hull_slivers = flats.peeled;
+    report.missing_source_faces = static_cast<Index>(missing_facets(m.fill.simplices, m.S.fill.constraints).size());
+    report.missing_target_faces = static_cast<Index>(missing_facets(m.fill.simplices, m.target_constraints).size());
+    if (report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0)
+      return true;
+  }
+  return false;
+}
+
+// P and its exact twin from the two conforming planes: S's at time 0, T's at
+// the span.
+void stack_planes(SeedMorph& m) {
+  m.nS = static_cast<Index>(m.S.fill.points.rows()), m.nT = static_cast<Index>(m.T.fill.points.rows());
+  m.P.resize(m.nS + m.nT, m.d + 1);
+  m.P.topLeftCorner(m.nS, m.d) = m.S.fill.points;
+  m.P.topRightCorner(m.nS, 1).setConstant(0.0);
+  m.P.bottomLeftCorner(m.nT, m.d) = m.T.fill.points;
+  m.P.bottomRightCorner(m.nT, 1).setConstant(m.span);
+  m.exact = m.P;
+  m.exact.topLeftCorner(m.nS, m.d) = m.S.exact_points;
+  m.exact.bottomLeftCorner(m.nT, m.d) = m.T.exact_points;
+}
+
+// Inputs in general position, made conforming Delaunay (§8.6.1 step 2: with
+// their free points; the strip method has none), then filled. Cospherical
+// points (a cube's square faces, a regular torus) make the Delaunay fill
+// ambiguous and Qhull merges such facets into flat simplices, so the fill
+// could miss faces of the conforming surfaces. The combinatorics are
+// therefore computed on points perturbed by a small fraction of the size
+// (kPerturbations: 1e-7, then larger until the mesher and the fill conform),
+// by offsets that are functions of position (perturbation.hpp: vertices both
+// inputs share stay columns in time); the result gets the exact coordinates
+// back (restore_on_input), so the perturbation never shows. The planes t0
+// and t1 stay exactly flat (Qhull's own joggle would tilt them, and the part
+// of the fill in each plane would then no longer be one triangulation).
+// A mesher that returns a constrained, not conforming, fill may conform on
+// points perturbed further. Throws std::runtime_error listing every
+// attempt's failure when none conforms.
+void conform_and_fill(SeedMorph& m) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<std::pair<double, std::string>> mesher_errors;  // (perturbation, what failed) of the attempts
+  const std::function<void()> while_meshing = interrupt_poll(m.options);  // polled while TetGen runs
+  for (const double scale : kPerturbations) {
+    auto perturbed = [&](const PointMatrix& V) {
+      return m.options.perturbation == Perturbation::HullFaces ? perturbed_along_hull_faces(V, scale * m.size, 20261122)
+                                                               : perturbed_by_position(V, scale * m.size, 20261122);
+    };
+    const auto conform_start = Clock::now();
+    const char* meshing = "source";
+    try {
+      m.S = conform_with_points(perturbed(m.VS), m.VS, m.FS, m.KS, "source", while_meshing);
+      meshing = "target";
+      m.T = conform_with_points(perturbed(m.VT), m.VT, m.FT, m.KT, "target", while_meshing);
+    } catch (const Cancelled&) {
+      throw;  // not a mesher's failure: no retry
+    } catch (const std::runtime_error& e) {
+      m.conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
+      std::string error = e.what();
+      if (error.find(meshing) == std::string::npos) error = std::string("the ") + meshing + ": " + error;
+      mesher_errors.emplace_back(scale, std::move(error));
+      if (scale == kPerturbations.back()) fail<std::runtime_error>(failed_perturbations(mesher_errors));
+      continue;
+    }
+    mesher_errors.clear();
+    m.conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
+    if (m.options.progress && !m.options.progress("conforming", 0.3)) throw Cancelled();
+    stack_planes(m);
+    if (fill_conforming_planes(m, scale)) break;
+  }
+}
+
+// §8.5: the fill less its simplices whose projection lies outside either
+// input. Sidedness is decided on the perturbed points, the geometry the fill
+// was built on: on the exact input, nearly planar quads (rounded
+// coordinates) would put apexes on either side at random, against the
+// fill's own combinatorics. Then the exact coordinates come back: input
+// vertices as given, added points on their input faces.
+void strip_outside(SeedMorph& m) {
+  const SimplexMatrix& simplices = m.fill.simplices;
+  const std::vector<bool> out_s = outside_of_constraint(m.P, simplices, m.in_source, m.S.fill.constraints, &m.exact);
+  const std::vector<bool> out_t = outside_of_constraint(m.P, simplices, m.in_target, m.target_constraints, &m.exact);
+  std::vector<Index> kept;
+  for (Index s = 0; s < simplices.rows(); ++s)
+    if (!out_s[s] && !out_t[s]) kept.push_back(s);
+  m.report.stripped_simplices = m.report.fill_simplices - static_cast<Index>(kept.size());
+  m.A.resize(static_cast<Index>(kept.size()), m.d + 2);
+  for (size_t r = 0; r < kept.size(); ++r) m.A.row(static_cast<Index>(r)) = simplices.row(kept[r]);
+  m.P = m.exact;
+}
+
+// Each plane's cells, classified as the fill made them, on the perturbed
+// points (the geometry its combinatorics were decided on). Where the inputs
+// coincide, what lies outside both is removed from A, not pushed
+// (shared_prisms), and the planes are classified again.
+std::pair<PlaneCells, PlaneCells> classify_planes(SeedMorph& m) {
+  auto classify = [&] {
+    return std::pair{classify_plane(m.P, m.exact, m.A, m.in_source, m.S.fill.constraints, m.KS.rows() == 0),
+                     classify_plane(m.P, m.exact, m.A, m.in_target, m.target_constraints, m.KT.rows() == 0)};
+  };
+  auto planes = classify();
+  const std::vector<Prism> prism = shared_prisms(m.P, m.A, m.in_source, m.in_target, planes.first, planes.second);
+  m.report.shared_stripped_simplices = std::count(prism.begin(), prism.end(), Prism::SharedOutside);
+  m.report.inputs_coincide = std::find(prism.begin(), prism.end(), Prism::NotShared) == prism.end();
+  if (m.report.shared_stripped_simplices == 0) return planes;
+  SimplexMatrix kept(m.A.rows() - m.report.shared_stripped_simplices, m.d + 2);
+  for (Index s = 0, r = 0; s < m.A.rows(); ++s)
+    if (prism[s] != Prism::SharedOutside) kept.row(r++) = m.A.row(s);
+  m.A = std::move(kept);
+  return classify();
+}
+
+// §8.6.3: nothing is stripped; each plane with cells outside its input (with
+// a free vertex or not: the faces of those without are split) moves into
+// time by the layer's thickness (an affine map of the last axis: the fill
+// stays positive), and the layer between it and the end holds the push of
+// its free vertices (morph_layers.hpp), built on the exact coordinates.
+// Where the exact geometry is flat (cells of the inputs' planar quads, a
+// facet of the hull across both planes), the fill's simplices there are
+// degenerate (see the validity report).
+void push_free_points(SeedMorph& m) {
+  MorphReport& report = m.report;
+  m.A = m.fill.simplices;
+  const auto [source_plane, target_plane] = classify_planes(m);
+  report.source_free_vertices = std::count(source_plane.free.begin(), source_plane.free.end(), true);
+  report.target_free_vertices = std::count(target_plane.free.begin(), target_plane.free.end(), true);
+  const double thickness = m.options.max_push * m.span;
+  auto any_outside = [](const PlaneCells& plane) {
+    return std::find(plane.outside.begin(), plane.outside.end(), true) != plane.outside.end();
+  };
+  const bool source_layer = any_outside(source_plane), target_layer = any_outside(target_plane);
+  const double fill_t0 = source_layer ? thickness : 0.0, fill_t1 = target_layer ? m.span - thickness : m.span;
+  const PointMatrix fill_points = m.P;
+  for (Index v = 0; v < m.nS + m.nT; ++v) {
+    m.P.row(v).head(m.d) = m.exact.row(v).head(m.d);
+    m.P(v, m.d) = v < m.nS ? fill_t0 : fill_t1;
+  }
+  std::vector<SimplexMatrix> parts{m.A};
+  for (auto [has_layer, plane, V, F, end, fill_time, ends, push] :
+       {std::tuple<bool, const PlaneCells*, const PointMatrix*, const SimplexMatrix*, double, double, std::vector<bool>*,
+                   std::array<double, 3>*>{source_layer, &source_plane, &m.VS, &m.FS, 0.0, fill_t0, &m.in_source,
+                                           &report.source_push},
+        {target_layer, &target_plane, &m.VT, &m.FT, m.span, fill_t1, &m.in_target, &report.target_push}}) {
+    if (!has_layer) continue;
+    const PlaneLayer layer = plane_layer(m.P, fill_points, *plane, *V, *F, end, fill_time);
+    report.levelled_vertices += layer.levelled_vertices;
+    report.split_faces += layer.split_faces;
+    report.refinement_points += layer.refinement_points;
+    report.peeled_slivers += layer.peeled_slivers;
+    ends->assign(m.P.rows(), false);
+    for (const Index v : layer.end_copies) (*ends)[v] = true;
+    *push = {layer.smallest / m.span, layer.mean / m.span, layer.largest / m.span};
+    report.sealed_vertices += layer.sealed_vertices;
+    parts.push_back(layer.simplices);
+  }
+  m.in_source.resize(m.P.rows(), false), m.in_target.resize(m.P.rows(), false);
+  Index rows = 0;
+  for (const SimplexMatrix& part : parts) rows += part.rows();
+  m.A.resize(rows, m.d + 2);
+  rows = 0;
+  for (const SimplexMatrix& part : parts) m.A.middleRows(rows, part.rows()) = part, rows += part.rows();
+  m.boundary = boundary_facets(m.A);
+}
+
+// Validity 1, at the exact coordinates. Simplices that are not positive but
+// within restore_bound of zero are flat at the exact coordinates: cells of the
+// inputs' degenerate configurations (four coplanar or cocircular points)
+// whose sign the perturbation decided, as in simulation of simplicity.
+// Below it a simplex is inverted, which no rounding explains.
+void count_flat_and_inverted(SeedMorph& m) {
+  MorphReport& report = m.report;
+  const int d = m.d;
+  report.simplices = static_cast<Index>(m.A.rows());
+  const Eigen::VectorXd volumes = signed_volumes(m.P, m.A);
+  report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
+  const double moved = restored_distance(d, report.perturbation, m.size);
+  report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
+  double factorial = 1;
+  for (int i = 2; i <= d + 1; ++i) factorial *= i;
+  for (Index s = 0; s < volumes.size(); ++s) {
+    const double longest = longest_edge(m.P, m.A.row(s).data(), d + 2);
+    const double determinant = volumes(s) * factorial;  // the sign convention of signed_volumes
+    report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
+    if (determinant < -restore_bound(longest, d + 1, moved)) ++report.inverted_simplices;
+    else if (determinant <= 0) ++report.degenerate_simplices;
+  }
+}
+
+// The animation manifold: the boundary of A, less the caps (facets all of
+// whose corners stay in one input's plane), with the solved time 0..span
+// mapped onto t0..t1 (the planes exactly).
+Complex lateral_boundary(SeedMorph& m) {
+  const int d = m.d;
+  const SimplexMatrix B = m.boundary.rows() ? std::move(m.boundary) : boundary_facets(m.A);
+  std::vector<Index> lateral;
+  for (Index f = 0; f < B.rows(); ++f) {
+    bool all_start = true, all_end = true;
+    for (int c = 0; c < d + 1; ++c) all_start = all_start && m.in_source[B(f, c)], all_end = all_end && m.in_target[B(f, c)];
+    if (!all_start && !all_end) lateral.push_back(f);
+  }
+  Complex manifold;
+  manifold.V = m.P;
+  const MorphOptions& o = m.options;
+  for (Index v = 0; v < m.P.rows(); ++v) {
+    const double solved = m.P(v, d);
+    manifold.V(v, d) = solved <= 0.0 ? o.t0 : solved >= m.span ? o.t1 : o.t0 + (o.t1 - o.t0) * (solved / m.span);
+  }
+  manifold.S.resize(static_cast<Index>(lateral.size()), d + 1);
+  for (size_t r = 0; r < lateral.size(); ++r) {
+    manifold.S.row(static_cast<Index>(r)) = B.row(lateral[r]);
+    // Outward facets of positive simplices in R^4 face the other way from the
+    // stitched convention (the tent orientation of stitch.hpp), those in R^3
+    // the same way (the wedge product's sign alternates with the dimension,
+    // see stitch.cpp): turn them in R^4 so slices face outward in both.
+    if (d == 3) std::swap(manifold.S(static_cast<Index>(r), 0), manifold.S(static_cast<Index>(r), 1));
+  }
+  return manifold;
+}
+
+// The field method (morph_field.hpp) and its checks (morph_validity.hpp).
+Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+                   const MorphOptions& options) {
+  StageClock clock(options);
+  Morph result = field_morph(VS, FS, VT, FT, options, clock);
+  clock.begin("validity", 0.9);
+  zero_set_validity(result.manifold, result.report);
+  const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
+                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
+  end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report);
+  double spent = 0;
+  for (const auto& [name, seconds] : clock.seconds) spent += seconds;
+  check_frames(result.manifold, options.t0, options.t1, VS, FS, VT, FT, std::min(kValidityShare * spent, kValidityCap),
+               result.report);
+  clock.finish();
+  result.report.stage_seconds = clock.seconds;
+  return result;
+}
+
+}  // namespace
+
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
             const SimplexMatrix& target_faces, const MorphOptions& options) {
+  check_morph_input(source_points, source_faces, "source");
+  check_morph_input(target_points, target_faces, "target");
+  if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
+  if (!(options.t1 > options.t0))
+    fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
+  if (options.method == MorphMethod::Field)
+    return field_method(source_points, source_faces, target_points, target_faces, options);
+  // Two layers (the source's after t0, the target's before t1) must leave the fill between them.
+  if (!(options.max_push > 0 && options.max_push < 0.5))
+    fail<InputError>("max_push must lie in (0, 0.5), got ", options.max_push);
+
   using Clock = std::chrono::steady_clock;
   Morph result;
   MorphReport& report = result.report;
   auto stage_start = Clock::now();
-  auto stage = [&](const std::string& name, double fraction) {
+  auto stage = [&](const std::string& name, double fraction) {  // `name` has finished
     const auto now = Clock::now();
     report.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
     stage_start = now;
     if (options.progress && !options.progress(name, fraction)) throw Cancelled();
   };
-
-  check_morph_input(source_points, source_faces, "source");
-  check_morph_input(target_points, target_faces, "target");
-  if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
-  if (!(options.t1 > options.t0)) fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
-  if (options.method == MorphMethod::Field) {
-    StageClock clock(options);
-    Morph result = field_morph(source_points, source_faces, target_points, target_faces, options, clock);
-    clock.begin("validity", 0.9);
-    zero_set_validity(result.manifold, result.report);
-    const double size = std::max((source_points.colwise().maxCoeff() - source_points.colwise().minCoeff()).norm(),
-                                 (target_points.colwise().maxCoeff() - target_points.colwise().minCoeff()).norm());
-    end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, size,
-                  result.report);
-    double spent = 0;
-    for (const auto& [name, seconds] : clock.seconds) spent += seconds;
-    check_frames(result.manifold, options.t0, options.t1, source_points, source_faces, target_points, target_faces,
-                 std::min(kValidityShare * spent, kValidityCap), result.report);
-    clock.finish();
-    result.report.stage_seconds = clock.seconds;
-    return result;
-  }
-  const bool skeleton_method = options.method == MorphMethod::Skeleton;
-  // Two layers (the source's after t0, the target's before t1) must leave the fill between them.
-  if (!(options.max_push > 0 && options.max_push < 0.5))
-    fail<InputError>("max_push must lie in (0, 0.5), got ", options.max_push);
   const int d = static_cast<int>(source_points.cols());
   // What the morph is built on: the inputs, their flat polygons fanned from
   // their centres (MorphOptions::fan_flat_polygons) — the same surfaces.
@@ -277,336 +634,46 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   }
   report.source_fanned_polygons = source.polygons;
   report.target_fanned_polygons = target.polygons;
-  const PointMatrix &VS = source.V, &VT = target.V;
-  const SimplexMatrix &FS = source.F, &FT = target.F;
+  SeedMorph m{options, report, source.V, target.V, source.F, target.F};
+  m.d = d;
+  m.size = std::max((m.VS.colwise().maxCoeff() - m.VS.colwise().minCoeff()).norm(),
+                    (m.VT.colwise().maxCoeff() - m.VT.colwise().minCoeff()).norm());
+  m.span = kSolveSpan * std::max(m.size, 1e-300);
+  m.skeleton = options.method == MorphMethod::Skeleton;
 
-  // Inputs in general position. Cospherical points (a cube's square faces, a
-  // regular torus) make the Delaunay fill ambiguous and Qhull merges such
-  // facets into flat simplices, so the fill could miss faces of the
-  // conforming surfaces. The combinatorics are therefore computed on points
-  // perturbed by a small fraction of the size (kPerturbations: 1e-7, then
-  // larger until the mesher and the fill conform), by offsets that are
-  // functions of position (perturbation.hpp: vertices both inputs share stay
-  // columns in time); the result gets the exact coordinates back
-  // (restore_on_input), so the perturbation never shows. The planes t0 and t1
-  // stay exactly flat (Qhull's own joggle would tilt them, and the part of
-  // the fill in each plane would then no longer be one triangulation).
-  const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
-                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
-  // The morph is solved over a time span proportional to the shapes' size,
-  // then its time axis is mapped linearly onto t0..t1. A Delaunay fill is not
-  // invariant under scaling one axis: solved over t0..t1 as given, the same
-  // shapes would morph differently over 48 frames than over 1 second.
-  const double span = kSolveSpan * std::max(size, 1e-300);
-  // §8.6.1 step 1: the external skeletons, as free points (see morph_skeleton.hpp).
-  PointMatrix KS(0, d), KT(0, d);
-  if (skeleton_method) {
-    KS = external_skeleton_points(VS, FS, 1e-3 * size);
-    KT = external_skeleton_points(VT, FT, 1e-3 * size);
-    // And over the flat sides of its hull that bridge a hole or a dent
-    // (hull_cap_points): inputs with nothing outside them have no such side.
-    for (auto [K, V, F, count] : {std::tuple<PointMatrix&, const PointMatrix&, const SimplexMatrix&, Index&>{
-                                     KS, VS, FS, report.source_cap_points},
-                                 {KT, VT, FT, report.target_cap_points}}) {
-      if (K.rows() == 0) continue;
-      const PointMatrix caps = hull_cap_points(V, F);
-      count = caps.rows();
-      PointMatrix both(K.rows() + caps.rows(), d);
-      both << K, caps;
-      K = std::move(both);
-    }
-    // Skeletons of symmetric shapes lie exactly in their symmetry planes,
-    // with surface vertices (a torus's equator): moved off by 1e-4 of the
-    // size — far more than the surface's perturbation below, and a tenth of
-    // their least distance from the surface — cells joining them keep a
-    // clear volume at the exact coordinates too.
-    // By position (perturbation.hpp): a skeleton point both inputs share
-    // stays one column.
-    KS = perturbed_by_position(KS, 1e-4 * size, 1122);
-    KT = perturbed_by_position(KT, 1e-4 * size, 1122);
-  }
-  report.source_skeleton_points = static_cast<Index>(KS.rows());
-  report.target_skeleton_points = static_cast<Index>(KT.rows());
-  if (skeleton_method) stage("skeleton", 0.1);
-
-  PointMatrix P;  // the fill's points, perturbed: the geometry its combinatorics were decided on
-  PointMatrix exact;  // the same points at their exact places (inputs restored, free points as in P)
-  ConformingInput S, T;
-  DelaunayTriangulation fill;
-  SimplexMatrix target_constraints;
-  Index nS = 0, nT = 0;
-  double conform_seconds = 0;
-  std::vector<std::pair<double, std::string>> mesher_errors;  // (perturbation, what failed) of the attempts
-  // Polled while TetGen runs (MorphOptions::interrupted).
-  const std::function<void()> while_meshing = interrupt_poll(options);
+  find_free_points(m);
+  if (m.skeleton) stage("skeleton", 0.1);
   hold_for_tests(options, "conforming");
-  // §8.4 exactly where both inputs are convex (no exterior skeleton, checked
-  // again there by exact predicates): the hull's own faces, no perturbation,
-  // no mesher (morph_convex.hpp). Otherwise, or where that construction
-  // refuses, the Delaunay fill below.
-  std::optional<ConvexFill> convex_fill;
-  if (skeleton_method && d == 3 && KS.rows() == 0 && KT.rows() == 0) {
-    PointMatrix hull_points(VS.rows() + VT.rows(), d + 1);
-    hull_points << VS, Eigen::VectorXd::Zero(VS.rows()), VT, Eigen::VectorXd::Constant(VT.rows(), span);
-    convex_fill = convex_hull_fill(hull_points, VS.rows(), FS, (FT.array() + static_cast<int>(VS.rows())).matrix());
-    if (convex_fill) {
-      P = exact = convex_fill->points;
-      nS = VS.rows(), nT = VT.rows();
-      fill.simplices = convex_fill->simplices;
-      S.fill.is_delaunay = T.fill.is_delaunay = true;  // no mesher: the inputs are their own refinement
-      report.exact_convex_fill = true;
-    }
-  }
-  for (const double scale : kPerturbations) {
-    if (convex_fill) break;
-    auto perturbed = [&](const PointMatrix& V) {
-      return options.perturbation == Perturbation::HullFaces ? perturbed_along_hull_faces(V, scale * size, 20261122)
-                                                  : perturbed_by_position(V, scale * size, 20261122);
-    };
-    const auto conform_start = Clock::now();
-    // §8.6.1 step 2 (the strip method has no free points). A mesher that
-    // returns a constrained, not conforming, fill may conform on points
-    // perturbed further.
-    const char* meshing = "source";
-    try {
-      S = conform_with_points(perturbed(VS), VS, FS, KS, "source", while_meshing);
-      meshing = "target";
-      T = conform_with_points(perturbed(VT), VT, FT, KT, "target", while_meshing);
-    } catch (const Cancelled&) {
-      throw;  // not a mesher's failure: no retry
-    } catch (const std::runtime_error& e) {
-      conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
-      std::string error = e.what();
-      if (error.find(meshing) == std::string::npos) error = std::string("the ") + meshing + ": " + error;
-      mesher_errors.emplace_back(scale, std::move(error));
-      if (scale == kPerturbations.back()) fail<std::runtime_error>(failed_perturbations(mesher_errors));
-      continue;
-    }
-    mesher_errors.clear();
-    conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
-    if (options.progress && !options.progress("conforming", 0.3)) throw Cancelled();
-    nS = static_cast<Index>(S.fill.points.rows()), nT = static_cast<Index>(T.fill.points.rows());
-    P.resize(nS + nT, d + 1);
-    P.topLeftCorner(nS, d) = S.fill.points;
-    P.topRightCorner(nS, 1).setConstant(0.0);
-    P.bottomLeftCorner(nT, d) = T.fill.points;
-    P.bottomRightCorner(nT, 1).setConstant(span);
-    exact = P;
-    exact.topLeftCorner(nS, d) = S.exact_points;
-    exact.bottomLeftCorner(nT, d) = T.exact_points;
-    // The mesher's Steiner points lie exactly on the (perturbed) input edges
-    // and faces: three collinear points, which Qhull's triangulation of a
-    // degenerate facet can put in one flat simplex. Nudged off them by a
-    // tenth of the perturbation — except those whose nudge would cost the
-    // fill a refined face (nudged_steiner_points) — the fill still contains
-    // the constraint faces (checked below) and has no such simplex. Where the
-    // nudged fill still misses some (a cylinder whose caps are fans of
-    // cocircular points: 4 of its 190 refined faces at 1e-7), the fill is
-    // built once more on the mesher's own points before a larger
-    // perturbation is tried (unnudged_steiner_points then counts them all).
-    // With "hull_faces", the Steiner points on an input's hull stay too:
-    // that perturbation keeps the hulls' degeneracies exact for the fill to
-    // resolve, and a nudge brings them back — a Steiner point nudged off a
-    // Blender cylinder's vertical hull edge made slivers with the edge's ends
-    // that folded once restored (the frames into Blender's torus ran through
-    // themselves at 2 of 5 checked times; a 64-sided cylinder -> the voxel
-    // plate at 5 of 5, with 52 free vertices held back and a bubble of 5.8 %).
-    std::vector<bool> source_stay, target_stay;
-    if (options.perturbation == Perturbation::HullFaces) {
-      source_stay = on_convex_hull(S.fill.points, VS);
-      target_stay = on_convex_hull(T.fill.points, VT);
-    }
-    bool conforms = false;
-    for (const bool nudging : {true, false}) {
-      report.unnudged_steiner_points = 0;
-      if (nudging) {
-        const double nudge = 0.1 * scale * size;
-        P.topLeftCorner(nS, d) = nudged_steiner_points(S.fill, VS.rows() + KS.rows(), nudge, report.unnudged_steiner_points,
-                                                       source_stay);
-        P.bottomLeftCorner(nT, d) =
-            nudged_steiner_points(T.fill, VT.rows() + KT.rows(), nudge, report.unnudged_steiner_points, target_stay);
-      } else {
-        P.topLeftCorner(nS, d) = S.fill.points;
-        P.bottomLeftCorner(nT, d) = T.fill.points;
-        report.unnudged_steiner_points = (nS - VS.rows() - KS.rows()) + (nT - VT.rows() - KT.rows());
-      }
-      fill = options.fill == FillTriangulation::Qhull ? delaunay(P) : delaunay_exact(P);
-      target_constraints = T.fill.constraints.array() + nS;
-      report.perturbation = scale;
-      // Flat simplices within one input's plane are harmless (they add
-      // nothing); slivers on the hull's boundary are peeled off (where a facet
-      // of the hull holds points of both planes: a flat side both inputs share,
-      // a hull edge with collinear points); flat ones inside would leave holes.
-      const FlatSimplices flats = peel_hull_slivers(fill, nS);
-      report.flat_fill_simplices = options.fill == FillTriangulation::Qhull ? flats.inside : 0;  // CGAL's are proper: kept
-      report.peeled_hull_slivers = flats.peeled;
-      report.missing_source_faces = static_cast<Index>(missing_facets(fill.simplices, S.fill.constraints).size());
-      report.missing_target_faces = static_cast<Index>(missing_facets(fill.simplices, target_constraints).size());
-      conforms = report.flat_fill_simplices == 0 && report.missing_source_faces == 0 && report.missing_target_faces == 0;
-      if (conforms) break;
-    }
-    if (conforms) break;
-  }
-  report.source_conforming = S.fill.is_delaunay;
-  report.target_conforming = T.fill.is_delaunay;
-  report.fill_simplices = static_cast<Index>(fill.simplices.rows());
+  if (!fill_convex_hull(m)) conform_and_fill(m);
+  report.source_conforming = m.S.fill.is_delaunay;
+  report.target_conforming = m.T.fill.is_delaunay;
+  report.fill_simplices = static_cast<Index>(m.fill.simplices.rows());
   stage("fill", 0.6);
-  // Report conforming and filling apart (they alternate in the retries above).
-  report.stage_seconds.back().second -= conform_seconds;
-  if (!convex_fill) report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", conform_seconds});
+  // Report conforming and filling apart (they alternate in the retries).
+  report.stage_seconds.back().second -= m.conform_seconds;
+  if (!m.convex_fill) report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", m.conform_seconds});
   if (report.missing_source_faces || report.missing_target_faces || report.flat_fill_simplices)
     fail<std::runtime_error>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
                              " source and ", report.missing_target_faces, " target faces are missing and ",
                              report.flat_fill_simplices, " simplices are flat");
 
-  std::vector<bool> in_source(P.rows(), false), in_target(P.rows(), false);
-  for (Index v = 0; v < nS; ++v) in_source[v] = true;
-  for (Index v = nS; v < nS + nT; ++v) in_target[v] = true;
-  if (convex_fill) in_source[convex_fill->source_centre] = in_target[convex_fill->target_centre] = true;
-  SimplexMatrix A;
-  SimplexMatrix boundary;  // of A, once it no longer changes (skeleton method)
-  if (convex_fill) {
-    A = fill.simplices;  // nothing outside either input: nothing to push or strip
-  } else if (!skeleton_method) {
-    // Sidedness is decided on the perturbed points, the geometry the fill
-    // was built on: on the exact input, nearly planar quads (rounded
-    // coordinates) would put apexes on either side at random, against the
-    // fill's own combinatorics. Then the exact coordinates come back: input
-    // vertices as given, added points on their input faces.
-    const std::vector<bool> out_s = outside_of_constraint(P, fill.simplices, in_source, S.fill.constraints, &exact);
-    const std::vector<bool> out_t = outside_of_constraint(P, fill.simplices, in_target, target_constraints, &exact);
-    std::vector<Index> kept;
-    for (Index s = 0; s < fill.simplices.rows(); ++s)
-      if (!out_s[s] && !out_t[s]) kept.push_back(s);
-    report.stripped_simplices = report.fill_simplices - static_cast<Index>(kept.size());
-    A.resize(static_cast<Index>(kept.size()), d + 2);
-    for (size_t r = 0; r < kept.size(); ++r) A.row(static_cast<Index>(r)) = fill.simplices.row(kept[r]);
-    P = exact;
+  m.in_source.assign(m.P.rows(), false), m.in_target.assign(m.P.rows(), false);
+  for (Index v = 0; v < m.nS; ++v) m.in_source[v] = true;
+  for (Index v = m.nS; v < m.nS + m.nT; ++v) m.in_target[v] = true;
+  if (m.convex_fill) m.in_source[m.convex_fill->source_centre] = m.in_target[m.convex_fill->target_centre] = true;
+  if (m.convex_fill) {
+    m.A = m.fill.simplices;  // nothing outside either input: nothing to push or strip
+  } else if (!m.skeleton) {
+    strip_outside(m);
     stage("strip", 0.8);
   } else {
-    // Nothing is stripped. Each plane's cells are classified as the fill
-    // made them, on the perturbed points (the geometry its combinatorics
-    // were decided on); then each plane with cells outside its input gets a
-    // layer in which its free vertices are pushed into time (§8.6.3,
-    // morph_layers.hpp), built on the exact coordinates. Where the exact
-    // geometry is flat (cells of the inputs' planar quads, a facet of the
-    // hull across both planes), the fill's simplices there are degenerate
-    // (see the validity report).
-    A = fill.simplices;
-    PlaneCells source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
-    PlaneCells target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);
-    // Where the inputs coincide, what lies outside both is removed, not
-    // pushed (shared_prisms); the planes are classified again.
-    const std::vector<Prism> prism = shared_prisms(P, A, in_source, in_target, source_plane, target_plane);
-    report.shared_stripped_simplices = std::count(prism.begin(), prism.end(), Prism::SharedOutside);
-    report.inputs_coincide = std::find(prism.begin(), prism.end(), Prism::NotShared) == prism.end();
-    if (report.shared_stripped_simplices > 0) {
-      SimplexMatrix kept(A.rows() - report.shared_stripped_simplices, d + 2);
-      for (Index s = 0, r = 0; s < A.rows(); ++s)
-        if (prism[s] != Prism::SharedOutside) kept.row(r++) = A.row(s);
-      A = std::move(kept);
-      source_plane = classify_plane(P, exact, A, in_source, S.fill.constraints, KS.rows() == 0);
-      target_plane = classify_plane(P, exact, A, in_target, target_constraints, KT.rows() == 0);
-    }
-    const std::vector<bool>& source_free = source_plane.free;
-    const std::vector<bool>& target_free = target_plane.free;
-    report.source_free_vertices = std::count(source_free.begin(), source_free.end(), true);
-    report.target_free_vertices = std::count(target_free.begin(), target_free.end(), true);
-    // §8.6.3: each plane with cells outside its input moves into time by the layer's
-    // thickness (an affine map of the last axis: the fill stays positive),
-    // and the layer between it and the end holds the push (morph_layers.hpp).
-    // The fill's points get their exact coordinates back now; the layers are
-    // built on them.
-    const double thickness = options.max_push * span;
-    // A plane needs a layer where any of its cells lies outside its input,
-    // with a free vertex or not (the faces of those without are split).
-    auto any_outside = [](const PlaneCells& plane) {
-      return std::find(plane.outside.begin(), plane.outside.end(), true) != plane.outside.end();
-    };
-    const bool source_layer = any_outside(source_plane), target_layer = any_outside(target_plane);
-    const double fill_t0 = source_layer ? thickness : 0.0, fill_t1 = target_layer ? span - thickness : span;
-    const PointMatrix fill_points = P;
-    for (Index v = 0; v < nS + nT; ++v) {
-      P.row(v).head(d) = exact.row(v).head(d);
-      P(v, d) = v < nS ? fill_t0 : fill_t1;
-    }
-    std::vector<SimplexMatrix> parts{A};
-    for (auto [has_layer, plane, V, F, end, fill_time, ends, push] :
-         {std::tuple<bool, const PlaneCells*, const PointMatrix*, const SimplexMatrix*, double, double, std::vector<bool>*,
-                     std::array<double, 3>*>{source_layer, &source_plane, &VS, &FS, 0.0, fill_t0, &in_source,
-                                             &report.source_push},
-          {target_layer, &target_plane, &VT, &FT, span, fill_t1, &in_target, &report.target_push}}) {
-      if (!has_layer) continue;
-      const PlaneLayer layer = plane_layer(P, fill_points, *plane, *V, *F, end, fill_time);
-      report.levelled_vertices += layer.levelled_vertices;
-      report.split_faces += layer.split_faces;
-      report.refinement_points += layer.refinement_points;
-      report.peeled_slivers += layer.peeled_slivers;
-      ends->assign(P.rows(), false);
-      for (const Index v : layer.end_copies) (*ends)[v] = true;
-      *push = {layer.smallest / span, layer.mean / span, layer.largest / span};
-      report.sealed_vertices += layer.sealed_vertices;
-      parts.push_back(layer.simplices);
-    }
-    in_source.resize(P.rows(), false), in_target.resize(P.rows(), false);
-    Index rows = 0;
-    for (const SimplexMatrix& part : parts) rows += part.rows();
-    A.resize(rows, d + 2);
-    rows = 0;
-    for (const SimplexMatrix& part : parts) A.middleRows(rows, part.rows()) = part, rows += part.rows();
-    boundary = boundary_facets(A);
+    push_free_points(m);
     stage("push", 0.8);
   }
-
-  // Validity 1, at the exact coordinates. Simplices that are not positive but
-  // within restore_bound of zero are flat at the exact coordinates: cells of the
-  // inputs' degenerate configurations (four coplanar or cocircular points)
-  // whose sign the perturbation decided, as in simulation of simplicity.
-  // Below it a simplex is inverted, which no rounding explains.
-  report.simplices = static_cast<Index>(A.rows());
-  const Eigen::VectorXd volumes = signed_volumes(P, A);
-  report.min_volume = volumes.size() ? volumes.minCoeff() : 0.0;
-  const double moved = restored_distance(d, report.perturbation, size);
-  report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
-  double factorial = 1;
-  for (int i = 2; i <= d + 1; ++i) factorial *= i;
-  for (Index s = 0; s < volumes.size(); ++s) {
-    const double longest = longest_edge(P, A.row(s).data(), d + 2);
-    const double determinant = volumes(s) * factorial;  // the sign convention of signed_volumes
-    report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
-    if (determinant < -restore_bound(longest, d + 1, moved)) ++report.inverted_simplices;
-    else if (determinant <= 0) ++report.degenerate_simplices;
-  }
-
-  // The animation manifold: the boundary of what remains, less the caps
-  // (facets all of whose corners stay in one input's plane).
-  const SimplexMatrix B = boundary.rows() ? std::move(boundary) : boundary_facets(A);
-  std::vector<Index> lateral;
-  for (Index f = 0; f < B.rows(); ++f) {
-    bool all_start = true, all_end = true;
-    for (int c = 0; c < d + 1; ++c) all_start = all_start && in_source[B(f, c)], all_end = all_end && in_target[B(f, c)];
-    if (!all_start && !all_end) lateral.push_back(f);
-  }
-  // Solved time 0..span onto t0..t1, the planes exactly.
-  result.manifold.V = P;
-  for (Index v = 0; v < P.rows(); ++v) {
-    const double solved = P(v, d);
-    result.manifold.V(v, d) = solved <= 0.0    ? options.t0
-                              : solved >= span ? options.t1
-                                               : options.t0 + (options.t1 - options.t0) * (solved / span);
-  }
-  result.manifold.S.resize(static_cast<Index>(lateral.size()), d + 1);
-  for (size_t r = 0; r < lateral.size(); ++r) {
-    result.manifold.S.row(static_cast<Index>(r)) = B.row(lateral[r]);
-    // Outward facets of positive simplices in R^4 face the other way from the
-    // stitched convention (the tent orientation of stitch.hpp), those in R^3
-    // the same way (the wedge product's sign alternates with the dimension,
-    // see stitch.cpp): turn them in R^4 so slices face outward in both.
-    if (d == 3) std::swap(result.manifold.S(static_cast<Index>(r), 0), result.manifold.S(static_cast<Index>(r), 1));
-  }
+  count_flat_and_inverted(m);
+  result.manifold = lateral_boundary(m);
   stage("boundary", 0.9);
-
-  end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, size, report);
+  end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, m.size, report);
   stage("validity", 1.0);
   return result;
 }
