@@ -1,5 +1,4 @@
 #include "animanifold/morph.hpp"
-#include "animanifold/morph_skeleton.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/surface_distance.hpp"
 #include "bindings.hpp"

@@ -1,6 +1,6 @@
 // convex_hull_fill (morph_convex.hpp): the hull's faces by exact predicates,
 // then its 2D faces, its facets and the whole triangulated as stars.
-#include "animanifold/morph_convex.hpp"
+#include "morph_convex.hpp"
 
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"

@@ -1,6 +1,6 @@
 // hull_cap_points (morph_skeleton.hpp): free points just outside the flat
 // sides of an input's convex hull that bridge what lies outside it.
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>

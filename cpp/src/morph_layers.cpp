@@ -1,5 +1,5 @@
 // The layers of the skeleton method's push (see morph_layers.hpp).
-#include "animanifold/morph_layers.hpp"
+#include "morph_layers.hpp"
 
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"

@@ -1,7 +1,7 @@
 // The Steiner points of a conforming fill nudged off their edges and faces,
 // where that costs the fill no refined face (see morph_skeleton.hpp).
 #include "animanifold/delaunay.hpp"
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 
 #include <vector>

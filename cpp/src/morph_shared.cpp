@@ -1,6 +1,6 @@
 // Prisms of the fill over cells that the source and the target share and
 // that lie outside both (see morph_skeleton.hpp).
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 #include "simplex_key.hpp"
 
 #include <algorithm>

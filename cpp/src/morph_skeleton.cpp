@@ -1,7 +1,7 @@
 // The skeleton method of morphing (§8.6): skeleton points, the conforming
 // fills with free points, and the classification of each plane (see
 // morph_skeleton.hpp; splits in morph_split.cpp, the push in morph_push.cpp).
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"

@@ -1,6 +1,6 @@
 // Faces outside an input without a free vertex, and their stellar splits
 // after the fill (see morph_skeleton.hpp).
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"

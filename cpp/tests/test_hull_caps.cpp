@@ -1,4 +1,4 @@
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 
 #include "fixtures.hpp"
 

@@ -2,7 +2,7 @@
 // a U-shaped polygon in its convex hull, the notch outside it.
 #include "animanifold/complex.hpp"
 #include "animanifold/exact_orientation.hpp"
-#include "animanifold/morph_layers.hpp"
+#include "morph_layers.hpp"
 #include "animanifold/slice.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // shelling slivers off a boundary (shelling.hpp).
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/shelling.hpp"
 

@@ -2,7 +2,7 @@
 // fill and the self-intersection test, on small known configurations.
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "fixtures.hpp"

@@ -266,6 +266,12 @@ void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
             const SimplexMatrix& target_faces, const MorphOptions& options = {});
 
+// §8.6.1 step 1 of the skeleton method: the vertices of the external Voronoi skeleton of the closed outward shape
+// (V, F) that lie off the surface, at least `gap` from it and from each
+// other (on symmetric shapes many Voronoi vertices lie within roundoff of one
+// place and would only make slivers). #K by d; empty for convex shapes.
+PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& F, double gap);
+
 // Marks, for each simplex of the fill `A` (#A by n+2 over `points`), whether
 // its projection onto the constraint plane of the points in [first, last)
 // lies outside the closed constraint `constraint` (refined faces, outward,

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "animanifold/delaunay.hpp"
+#include "animanifold/morph.hpp"
 
 #include <limits>
 #include <string>
@@ -22,11 +23,8 @@
 
 namespace animanifold {
 
-// The vertices of the external Voronoi skeleton of the closed outward shape
-// (V, F) that lie off the surface, at least `gap` from it and from each
-// other (on symmetric shapes many Voronoi vertices lie within roundoff of one
-// place and would only make slivers). #K by d; empty for convex shapes.
-PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& F, double gap);
+// external_skeleton_points (§8.6.1 step 1) is declared in morph.hpp: the
+// binding exposes it.
 
 // How far each of `points` (#P by d) lies inside the convex hull of `V`:
 // the distance to the nearest hull facet's plane (line in 2D), negative

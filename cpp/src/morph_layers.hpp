@@ -48,7 +48,7 @@
 // at their bottom the same way, up to the fill (the split points end there).
 #pragma once
 
-#include "animanifold/morph_skeleton.hpp"
+#include "morph_skeleton.hpp"
 
 #include <vector>
 
