@@ -16,6 +16,7 @@ from scipy.sparse.csgraph import connected_components
 from scipy.spatial import ConvexHull
 
 import animanifold as am
+from animanifold import _core
 from shapes import cone, cube, cylinder, genus3_plate, icosphere, strip_capped_cylinder, torus, uv_sphere, voxel_surface
 from test_morph import blob, polygon_area, polygons
 from test_slice import assert_closed_oriented_surface
@@ -501,26 +502,26 @@ def test_sphere_to_the_genus_3_model_of_the_shared_data(shared_data):
 
 
 def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
-    """The report's bubble check (cavities enclosed in the solid that neither input has) on a
+    """The core's frame checks (cavities enclosed in the solid that neither input has) on a
     manifold whose frames hold one: a sphere with a sphere-shaped cavity, stitched between two
     keyframes, checked against inputs without it. The morphs' layers leave none (the next test)."""
     from animanifold.cavities import cavities
-    from animanifold.morph import BUBBLE_CHECKS, _bubble_validity
 
     v, f = icosphere(2)
     shell = np.vstack([v, 0.5 * v]), np.vstack([f, f[:, ::-1] + len(v)])  # outer, and a cavity
     frames = np.stack([shell[0], shell[0] * 1.1])
     m = am.stitch(frames, shell[1], [0.0, 1.0])
-    report = _bubble_validity(m, [v, f, v, f], 0.0, 1.0, poll=lambda: None)
-    assert report["bubble_frames_checked"] == len(BUBBLE_CHECKS)
-    assert [n for _, n in report["bubble_frames"]] == [1] * len(BUBBLE_CHECKS)
+    complex_ = _core.Complex(m.points, m.simplices, {}, {})
+    report = _core.check_morph_frames(complex_, 0.0, 1.0, v, f, v, f).to_dict()
+    assert report["frames_checked"] >= 24 and not report["frames_capped"]
+    assert [n for _, n in report["bubble_frames"]] == [1] * report["frames_checked"]
     for t, _ in report["bubble_frames"]:
         frame = m.slice(t)
         assert len(cavities(frame.vertices, frame.faces)) == 1 and (signed_shell_volumes(frame) < 0).sum() == 1
     outer, inner = enclosed_volume(v, f), enclosed_volume(0.5 * v, f)
     assert report["largest_bubble_fraction"] == pytest.approx(inner / outer)
     # with the cavity in an input, the frames hold no more than the inputs: nothing to report
-    assert _bubble_validity(m, [shell[0], shell[1], v, f], 0.0, 1.0, poll=lambda: None)["bubble_frames"] == []
+    assert _core.check_morph_frames(complex_, 0.0, 1.0, *shell, v, f)["bubble_frames"] == []
 
 
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):
@@ -529,23 +530,20 @@ def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):
     held back by slivers left bubbles of up to 0.95 % of the volume in the last 5 % of the range."""
     from animanifold.cavities import cavities
     from animanifold.meshio import read_mesh
-    from animanifold.morph import BUBBLE_CHECKS
-
     target = read_mesh(shared_mesh(shared_data, "3holes.off"))
     v, f = icosphere(3)
     centre = target[0].mean(0)
     radius = np.linalg.norm(target[0] - centre, axis=1).max()
     m = am.morph((radius * v + centre, f), target)
     report = m.validity
-    assert report["bubble_frames_checked"] == len(BUBBLE_CHECKS)
-    reported = {round(t, 12): n for t, n in report["bubble_frames"]}
-    for fraction in BUBBLE_CHECKS:
+    # the core's frame checks (24 spread frames and towards every change of topology) found none
+    assert report["bubble_frames_checked"] == report["frames_checked"] >= 1
+    assert not report["bubble_frames"] and report["largest_bubble_fraction"] == 0.0
+    for fraction in (0.01, 0.05, 0.1, 0.5, 0.9, 0.95, 0.99):  # and a direct count agrees, at other times
         frame = m.slice(fraction, honour_holes=False)
         volumes = signed_shell_volumes(frame)
-        count = int((volumes < 0).sum())
-        assert reported.get(round(fraction, 12), 0) == count, (fraction, count, report["bubble_frames"])
-        assert len(cavities(frame.vertices, frame.faces)) == count
-    assert not reported and report["largest_bubble_fraction"] == 0.0
+        assert (volumes > 0).all(), fraction
+        assert len(cavities(frame.vertices, frame.faces)) == 0
     for t in np.linspace(0.55, 0.995, 60):  # densely, where the holes open
         assert (signed_shell_volumes(m.slice(float(t), honour_holes=False)) > 0).all(), t
 

@@ -310,7 +310,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
                     else f" (the {method} method did not give a clean manifold for these shapes)")
             self.report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface){hint}")
-        if method == "field":  # its frame checks (the core's morph_validity.hpp)
+        if "frames_checked" in validity:  # the core's frame checks of 3D morphs (morph_validity.hpp)
             passed = not (validity["crossing_frames"] or validity["bubble_frames"] or validity["noise_frames"]
                           or validity["inverted_simplices"] or validity["degenerate_simplices"])
             self.report({"WARNING"} if not passed or validity["frames_capped"] else {"INFO"},

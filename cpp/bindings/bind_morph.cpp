@@ -1,4 +1,5 @@
 #include "animanifold/morph.hpp"
+#include "animanifold/morph_validity.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/surface_distance.hpp"
 #include "bindings.hpp"
@@ -107,6 +108,22 @@ void bind_morph(py::module_& m) {
       "also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between "
       "stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the "
       "other, cancels (raises Cancelled).");
+  m.def(
+      "check_morph_frames",
+      [](const Complex& manifold, double t0, double t1, PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT,
+         double budget_seconds) {
+        MorphReport report;
+        {
+          py::gil_scoped_release release;
+          check_frames(manifold, t0, t1, VS, FS, VT, FT, budget_seconds, report);
+        }
+        return report;
+      },
+      py::arg("manifold"), py::arg("t0"), py::arg("t1"), py::arg("source_points"), py::arg("source_faces"),
+      py::arg("target_points"), py::arg("target_faces"), py::arg("budget_seconds") = 60.0,
+      "The morph's frame checks (morph_validity.hpp) on a manifold (tets in R^4) that should run from the "
+      "source at t0 to the target at t1: a MorphReport with frames_checked, frames_capped, topology_changes, "
+      "crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.");
   m.def("check_morph_input", &check_morph_input, py::arg("vertices"), py::arg("faces"), py::arg("name"),
         py::call_guard<py::gil_scoped_release>(),
         "Raises ValueError naming the shape (`name`) and the face or vertex when morph() would refuse it.");

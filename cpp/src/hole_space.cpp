@@ -133,8 +133,8 @@ bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F) {
   const holes::Operand shape{V, F, "the mesh"};
   check_arrays(shape);
   if (V.cols() != 3) fail<InputError>("the mesh must have 3D points to test it for self-intersection");
-  return F.rows() > 0 &&
-         holes::translating_cgal_failures("testing the mesh for self-intersection", [&] { return holes::intersects_itself_3d(shape); });
+  return F.rows() > 0 && holes::translating_cgal_failures("testing the mesh for self-intersection",
+                                                         [&] { return holes::intersects_itself_3d(shape); });
 }
 
 Eigen::Array<bool, Eigen::Dynamic, 1> points_inside_solid(const PointMatrix& V, const SimplexMatrix& F,

@@ -14,7 +14,7 @@
 #include "animanifold/surface_distance.hpp"
 #include "morph_field.hpp"
 #include "morph_stages.hpp"
-#include "morph_validity.hpp"
+#include "animanifold/morph_validity.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -674,6 +674,12 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   result.manifold = lateral_boundary(m);
   stage("boundary", 0.9);
   end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, m.size, report);
+  if (d == 3) {  // the frames' checks, under the same budget as the field method's (2D: the Python morph's own)
+    double spent = 0;
+    for (const auto& [name, seconds] : report.stage_seconds) spent += seconds;
+    check_frames(result.manifold, options.t0, options.t1, source_points, source_faces, target_points, target_faces,
+                 std::min(kValidityShare * spent, kValidityCap), report);
+  }
   stage("validity", 1.0);
   return result;
 }

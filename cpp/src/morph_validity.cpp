@@ -1,4 +1,4 @@
-#include "morph_validity.hpp"
+#include "animanifold/morph_validity.hpp"
 
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/slice.hpp"

@@ -129,7 +129,8 @@ TEST(HoleSpace, SelfIntersectionTest) {
 // CGAL's explanation kept.
 TEST(HoleSpace, CgalFailuresBecomeBooleanErrorsThatSayWhatWasBeingDone) {
   const auto cgal_refuses = []() -> int {
-    throw CGAL::Precondition_exception("CGAL", "!is_intersecting", "Constrained_triangulation_2.h", 1, "Unauthorized intersections of constraints");
+    throw CGAL::Precondition_exception("CGAL", "!is_intersecting", "Constrained_triangulation_2.h", 1,
+                                       "Unauthorized intersections of constraints");
   };
   try {
     holes::translating_cgal_failures("computing the hole space of the shape", cgal_refuses);
@@ -140,7 +141,9 @@ TEST(HoleSpace, CgalFailuresBecomeBooleanErrorsThatSayWhatWasBeingDone) {
   }
   // Exceptions of CGAL's own that are no Failure_exception keep their what().
   try {
-    holes::translating_cgal_failures("intersecting two solids", []() -> int { throw std::runtime_error("Unauthorized intersections of constraints"); });
+    holes::translating_cgal_failures("intersecting two solids", []() -> int {
+      throw std::runtime_error("Unauthorized intersections of constraints");  // what CDT_2 throws
+    });
     FAIL() << "the exception was not translated";
   } catch (const BooleanError& e) {
     EXPECT_STREQ(e.what(), "CGAL failed while intersecting two solids: Unauthorized intersections of constraints");

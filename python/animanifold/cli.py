@@ -429,16 +429,19 @@ def run_morph(args: argparse.Namespace) -> int:
 
 
 def _method_summary(method: str, report: dict) -> str:
-    """What the method itself reports, on one line."""
+    """What the method itself reports, and the core's frame checks (3D), on one line."""
+    parts = []
     if method == "strip":
-        return f"stripped {report['stripped_simplices']} of {report['fill_simplices']}"
-    if method == "field":
+        parts.append(f"stripped {report['stripped_simplices']} of {report['fill_simplices']}")
+    elif method == "skeleton":
+        parts.append(f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
+                     f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)")
+    if "frames_checked" in report:
         capped = " (cut short by the time budget)" if report["frames_capped"] else ""
-        return (f"{report['frames_checked']} frames checked{capped}, the topology changes "
-                f"{report['topology_changes']} times between them; topological noise at "
-                f"{len(report['noise_frames'])} of them")
-    return (f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
-            f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)")
+        parts.append(f"{report['frames_checked']} frames checked{capped}, the topology changes "
+                     f"{report['topology_changes']} times between them; topological noise at "
+                     f"{len(report['noise_frames'])} of them")
+    return "; ".join(parts)
 
 
 def one_line(error: BaseException) -> str:

@@ -9,7 +9,6 @@ from typing import Callable
 import numpy as np
 
 from . import _core
-from .cavities import cavities, shell_volumes
 from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is_empty, points_inside, solid_measure,
                     subtract_solid)
 from .manifold import AnimationManifold
@@ -83,9 +82,14 @@ def morph(
     Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
     (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends.
 
-    Frames near the ends and in the middle (BUBBLE_CHECKS) are checked for bubbles enclosed in
-    the solid that neither input has: `bubble_frames` lists [time, bubbles] where there are,
-    `largest_bubble_fraction` their largest share of a frame's volume.
+    Frames are checked for running through themselves (`crossing_frames`), for bubbles enclosed in
+    the solid that neither input has (`bubble_frames` lists [time, bubbles] where there are,
+    `largest_bubble_fraction` their largest share of a frame's volume) and, in 3D, for leaving the
+    inputs' topology (`noise_frames`): in 3D by the core, for every method, on 24 frames spread
+    over the range and frames bisecting towards every change of topology, within a budget of 25 %
+    of the morph's own time and at most 60 s (`frames_checked`, `frames_capped` when the budget cut
+    them short, `topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for
+    crossings (their frames hold no cavities).
 
     Validity 3 (shared holes are kept): the hole spaces H_S = CH(S) \\ S and
     H_T of the inputs (§8.6.5) are intersected into H = H_S ∩ H_T, which the
@@ -93,8 +97,7 @@ def morph(
     slice strictly between t0 and t1. The report adds `shared_hole_volume`
     (the volume of H; its area for 2D inputs), `hole_overlap_volume` (the
     largest part of H, relative to H, that a raw frame fills, over
-    `hole_checks` frames evenly spaced in (t0, t1) (also checked for running through themselves:
-    "crossing_frames"): what the cut removes,
+    `hole_checks` frames evenly spaced in (t0, t1): what the cut removes,
     volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
     could be cut, and no point just inside H lies inside the cut frame,
     `hole_frames_verified` of `hole_frames_checked`; what failed is listed in
@@ -107,9 +110,7 @@ def morph(
     triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
     set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
     No hole space is cut (a point outside both inputs stays outside every frame by construction);
-    the core checks 24 frames spread over the range, and frames bisecting towards every change of
-    topology, within a budget (report: `frames_checked`, `frames_capped`, `crossing_frames`,
-    `bubble_frames`, `noise_frames`: frames whose Euler characteristic or pieces leave the ends').
+    its frames are checked as above.
     perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
 
     test_hold: (stage, seconds) for tests of cancellation: the core waits `seconds` on a stand-in
@@ -149,10 +150,10 @@ def morph(
             done[0] = max(done[0], float(fraction))
             return user_progress(stage, done[0])
 
-    start = time.perf_counter()
     for name, v, f in (("source", *arrays[:2]), ("target", *arrays[2:])):  # what the core refuses, before the holes
         _core.check_morph_input(v, f, name)
-    shared = _shared_holes_first(arrays, progress, interrupted)
+    shared = _shared_holes_first(arrays, progress, interrupted)  # its seconds are in every report's "holes"
+    start = time.perf_counter()
     once = dict(t0=float(t0), t1=float(t1), method=method, progress=progress, max_push=float(max_push),
                 fill=fill, hole_checks=int(hole_checks), interrupted=interrupted,
                 fan_flat_polygons=bool(fan_flat_polygons), hold=hold, shared=shared)
@@ -275,8 +276,10 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
                                    max_push=max_push, fill=fill, perturbation=perturbation,
                                    interrupted=interrupted, fan_flat_polygons=fan_flat_polygons, **hold)
     report = _plain_report(report)
-    for key in _FIELD_CHECKS:  # the core runs those for the field method only; the checks below are these methods'
-        report.pop(key, None)
+    core_checked = arrays[0].shape[1] == 3  # the core checked the frames (morph_validity.hpp); 2D: below
+    if not core_checked:
+        for key in _CORE_FRAME_CHECKS:
+            report.pop(key, None)
 
     report["stage_seconds"].append(["holes", shared.seconds])
     # Where the inputs coincide everywhere, every frame is the input (the fill is
@@ -298,15 +301,25 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
         report["shared_hole_volume"] = solid_measure(*shared.solid)
     if shared.error is not None:
         report["hole_errors"].append(f"no hole space: {shared.error} (none is needed: the inputs coincide)")
-    report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
-    report.update(_bubble_validity(manifold, arrays, float(t0), float(t1), poll))
+    if core_checked:
+        report.update(_core_frame_checks(report))
+    else:
+        report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
+        report.update({"bubble_frames": [], "bubble_frames_checked": 0, "largest_bubble_fraction": 0.0})  # 2D
     report["stage_seconds"].append(["hole validity", time.perf_counter() - start])
     _stage_finished(progress, "hole validity", 1.0)
     return manifold
 
 
-# Report keys of the core's frame checks (morph_validity.hpp), which only the field method runs.
-_FIELD_CHECKS = ("frames_checked", "frames_capped", "topology_changes", "noise_frames")
+# Report keys of the core's frame checks (morph_validity.hpp), which it runs on 3D morphs only.
+_CORE_FRAME_CHECKS = ("frames_checked", "frames_capped", "topology_changes", "noise_frames")
+
+
+def _core_frame_checks(report: dict) -> dict:
+    """The crossing and bubble entries of the report, from the core's frame checks (24 frames spread
+    over the range and towards every change of topology, within its budget)."""
+    return {"crossing_frames_checked": report["frames_checked"], "frames_cross_themselves": bool(report["crossing_frames"]),
+            "bubble_frames_checked": report["frames_checked"]}
 
 
 def _plain_report(report) -> dict:
@@ -320,38 +333,9 @@ def _field_morph(arrays: list[np.ndarray], t0: float, t1: float, progress, inter
     complex_, report = _core.morph(*arrays, t0=t0, t1=t1, method="field", progress=progress,
                                    interrupted=interrupted, **hold)
     report = _plain_report(report)
-    report["crossing_frames_checked"] = report["frames_checked"]
-    report["frames_cross_themselves"] = bool(report["crossing_frames"])
-    report["bubble_frames_checked"] = report["frames_checked"]
+    report.update(_core_frame_checks(report))
     return AnimationManifold(complex_, metadata={"morph": {"method": "field", "t0": t0, "t1": t1},
                                                  "validity": report})
-
-
-# Where frames are checked for bubbles, as fractions of the range: they form where the target's
-# holes open (just before t1) and the source's close (just after t0).
-BUBBLE_CHECKS = (0.01, 0.05, 0.1, 0.5, 0.9, 0.95, 0.99)
-
-
-def _bubble_validity(manifold: AnimationManifold, arrays: list[np.ndarray], t0: float, t1: float,
-                     poll: Callable[[], None]) -> dict:
-    """Frames that hold more cavities (bubbles enclosed in the solid) than either input. The
-    layers' levelled heights leave none by construction; this checks it. Hidden under opaque
-    materials, a bubble would show through glass and in booleans. 3D only (holes of 2D frames are
-    not cavities)."""
-    if arrays[0].shape[1] != 3:
-        return {"bubble_frames": [], "bubble_frames_checked": 0, "largest_bubble_fraction": 0.0}
-    allowed = max(len(cavities(arrays[0], arrays[1])), len(cavities(arrays[2], arrays[3])))
-    frames, largest = [], 0.0
-    for fraction in BUBBLE_CHECKS:
-        poll()
-        t = t0 + (t1 - t0) * fraction
-        frame = manifold.slice(t, honour_holes=False)
-        volumes = shell_volumes(frame.vertices, frame.faces)
-        bubbles = -volumes[volumes < 0]
-        if len(bubbles) > allowed:
-            frames.append([float(t), int(len(bubbles) - allowed)])
-            largest = max(largest, float(bubbles.sum() / max(volumes.sum() + bubbles.sum(), 1e-300)))
-    return {"bubble_frames": frames, "bubble_frames_checked": len(BUBBLE_CHECKS), "largest_bubble_fraction": largest}
 
 
 def _shared_hole_space(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:

@@ -13,7 +13,8 @@
 // checked frames whose topology differs, frames bisecting towards the
 // change, so that the frames where the topology changes are looked at too.
 // Each frame is sliced once and given every check; frames are checked on
-// all cores (the slicer's index is built first, then only read).
+// all cores (the slicer's index is built first, then only read). morph()
+// runs it on every 3D morph; the binding exposes it for any manifold.
 #pragma once
 
 #include "animanifold/morph.hpp"
