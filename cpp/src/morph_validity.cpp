@@ -118,24 +118,26 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     if (frame.crossing) report.crossing_frames.push_back(t);
   };
   // Frames are independent: examined on all cores, each into its own slot,
-  // recorded in time order. A frame not started within the budget is skipped.
-  auto check_all = [&](const std::vector<double>& times) {
+  // recorded in time order. With `within_budget`, a frame not started within
+  // the budget is skipped.
+  auto check_all = [&](const std::vector<double>& times, bool within_budget) {
     std::vector<Frame> frames(times.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (long i = 0; i < static_cast<long>(times.size()); ++i)
-      if (elapsed() <= budget_seconds) frames[i] = examine(times[i]);
+      if (!within_budget || elapsed() <= budget_seconds) frames[i] = examine(times[i]);
     for (size_t i = 0; i < times.size(); ++i)
       if (frames[i].examined) record(times[i], frames[i]);
   };
-  // Coarse to fine (the middle, the quarters, ...): frames a tight budget
-  // leaves out are then spread over the range, not all at its end.
+  // The spread frames are always all checked, whatever the budget (which
+  // bounds only the bisections below): what they report must not depend on
+  // how fast the machine is. Coarse to fine (the middle, the quarters, ...).
   std::vector<int> order(kSpreadFrames);
   std::iota(order.begin(), order.end(), 1);
   auto coarseness = [](int i) { return i == 0 ? 32 : __builtin_ctz(static_cast<unsigned>(i)); };
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
   std::vector<double> spread;
   for (const int i : order) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
-  check_all(spread);
+  check_all(spread, false);
   // Towards every change of topology between neighbouring checked frames.
   for (int round = 0; round < kBisections && elapsed() <= budget_seconds; ++round) {
     std::vector<double> middles;
@@ -143,7 +145,7 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     for (auto it = checked.begin(); std::next(it) != checked.end(); ++it)
       if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
     if (middles.empty()) break;
-    check_all(middles);
+    check_all(middles, true);
   }
   report.frames_capped = report.frames_checked < kSpreadFrames || elapsed() > budget_seconds;
   for (auto it = checked.begin(); it != checked.end() && std::next(it) != checked.end(); ++it)

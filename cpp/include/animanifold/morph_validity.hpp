@@ -8,10 +8,12 @@
 // (Euler characteristic outside the ends', more pieces than the ends');
 // how many frames were checked and whether the budget cut the checks short.
 //
-// Frames: 24 evenly spread inside the range first (coarse to fine, so that
-// a budget that cuts them short leaves gaps spread over the range), then, between two
-// checked frames whose topology differs, frames bisecting towards the
-// change, so that the frames where the topology changes are looked at too.
+// Frames: 24 evenly spread inside the range, always all of them (what they
+// report does not depend on the machine's speed), then, between two checked
+// frames whose topology differs, frames bisecting towards the change, so
+// that the frames where the topology changes are looked at too: up to 5
+// rounds, as many as the budget allows (a deterministic sequence, cut short
+// by time: `frames_capped` then says so).
 // Each frame is sliced once and given every check; frames are checked on
 // all cores (the slicer's index is built first, then only read). morph()
 // runs it on every 3D morph; the binding exposes it for any manifold.
