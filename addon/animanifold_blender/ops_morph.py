@@ -32,7 +32,7 @@ from bpy.types import Operator
 from . import live, live_nodes
 from ._lib import am
 from .morph_job import MorphJob
-from .ops_skeleton import closed_triangle_mesh
+from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .operators import _unique_object_name
 
 # The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
@@ -81,15 +81,6 @@ class _Stages:
 
     def end(self) -> None:
         self.wm.progress_end()
-
-
-def world_mesh(context, obj) -> tuple[np.ndarray, np.ndarray]:
-    vertices, faces = closed_triangle_mesh(context, obj)
-    m = np.array(obj.matrix_world, dtype=np.float64)
-    world = vertices @ m[:3, :3].T + m[:3, 3]
-    if np.linalg.det(m[:3, :3]) < 0:  # a mirroring transform turns the faces inside out
-        faces = faces[:, [1, 0, 2]]
-    return world, np.ascontiguousarray(faces, dtype=np.int32)
 
 
 def euler_characteristic(faces: np.ndarray) -> int:
@@ -153,7 +144,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         row.prop(self, "transition")
 
     def _inputs(self, context):
-        """(source, target, start, end, (vs, fs), (vt, ft)), or a report's text when there is nothing to morph."""
+        """(source, target, start, end, source input, target input) (mesh_input.MorphInput), or a report's
+        text when there is nothing to morph."""
         target = context.active_object
         # the other selected mesh (other selected objects, a camera or an empty, play no part)
         source = next(o for o in context.selected_objects if o.type == "MESH" and o is not target)
@@ -162,7 +154,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if end <= start:
             return f"Morph failed: the frame range {start}–{end} is empty: the end frame must be after the start"
         try:
-            return source, target, start, end, world_mesh(context, source), world_mesh(context, target)
+            return source, target, start, end, morph_input(context, source), morph_input(context, target)
         except ValueError as e:  # an open or non-manifold input, named
             return self._input_message(e, source, target)
         except Exception as e:  # the evaluated mesh could not be read: a report, not a traceback
@@ -179,13 +171,13 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if isinstance(inputs, str):
             self.report({"ERROR"}, inputs)
             return {"CANCELLED"}
-        source, target, start, end, source_mesh, target_mesh = inputs
+        source, target, start, end, source_input, target_input = inputs
         progress = _Stages(context.window_manager)
         began = time.perf_counter()
         try:
             progress.at("in the core's conforming and fill stages", 5.0)
-            manifold = am.morph(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower(),
-                                progress=progress, max_push=self.transition)
+            manifold = am.morph(source_input.mesh, target_input.mesh, progress=progress,
+                                **self._options(start, end, source_input, target_input))
         except ValueError as e:  # the core names the input and what is wrong with it
             self.report({"ERROR"}, self._input_message(e, source, target))
             return {"CANCELLED"}
@@ -194,7 +186,13 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return {"CANCELLED"}
         finally:
             progress.end()
-        return self._finish(context, source, target, start, end, source_mesh[1], target_mesh[1], manifold, began)
+        return self._finish(context, source, target, start, end, source_input, target_input, manifold, began)
+
+    def _options(self, start, end, source_input, target_input) -> dict:
+        """am.morph's options from the operator's properties and the inputs' looks."""
+        _, _, source_look, target_look = morph_looks(source_input, target_input)
+        return dict(t0=float(start), t1=float(end), method=self.method.lower(), max_push=self.transition,
+                    source_attributes=source_look, target_attributes=target_look)
 
     def invoke(self, context, event):
         """From the interface: the morph runs in a worker thread (morph_job), the status bar shows its
@@ -206,9 +204,9 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             self.report({"ERROR"}, inputs)
             return {"CANCELLED"}
         self._running = inputs
-        source, target, start, end, source_mesh, target_mesh = inputs
-        self._job = MorphJob(source_mesh, target_mesh, t0=float(start), t1=float(end), method=self.method.lower(),
-                             max_push=self.transition)
+        source, target, start, end, source_input, target_input = inputs
+        self._job = MorphJob(source_input.mesh, target_input.mesh,
+                             **self._options(start, end, source_input, target_input))
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
         wm.progress_begin(0, 100)
@@ -245,7 +243,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             # only the view may change meanwhile: the inputs must still be there at the end
             return {"PASS_THROUGH"} if event.type in _VIEW_EVENTS else {"RUNNING_MODAL"}
         self._stop_waiting(context)
-        source, target, start, end, source_mesh, target_mesh = self._running
+        source, target, start, end, source_input, target_input = self._running
         if job.cancelled:
             self.report({"WARNING"}, f"Morph cancelled after {time.perf_counter() - job.started:.1f} s: nothing was added")
             return {"CANCELLED"}
@@ -256,12 +254,14 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             self.report({"ERROR"}, f"Morph failed after the core's {job.stage} stage: "
                                    f"{type(job.error).__name__}: {job.error}")
             return {"CANCELLED"}
-        return self._finish(context, source, target, start, end, source_mesh[1], target_mesh[1], job.manifold,
+        return self._finish(context, source, target, start, end, source_input, target_input, job.manifold,
                             job.started)
 
-    def _finish(self, context, source, target, start, end, fs, ft, manifold, began):
+    def _finish(self, context, source, target, start, end, source_input, target_input, manifold, began):
         """Saves the cache, makes the object and reports what the validity checks found."""
         method = self.method.lower()
+        fs, ft = source_input.mesh[1], target_input.mesh[1]
+        slots, uv_name, _, _ = morph_looks(source_input, target_input)
         name = _unique_object_name(f"{source.name}_to_{target.name}")
         stored, absolute, note = cache_path_for(name)
         created = []
@@ -270,7 +270,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
                                       "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
             am.save(manifold, absolute)
             created.append(absolute)
-            new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end)
+            new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end, slots,
+                                      uv_name)
         except Exception as e:  # a full disk, a bug: report, nothing left behind
             self._undo(created)
             self.report({"ERROR"}, f"Morph failed while saving the cache or making the object: {type(e).__name__}: {e}")
@@ -335,10 +336,10 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
                 pass
 
     @staticmethod
-    def _create_object(context, source, target, name, stored, absolute, manifold, start, end):
+    def _create_object(context, source, target, name, stored, absolute, manifold, start, end, slots, uv_name):
         mesh = bpy.data.meshes.new(name)
-        for slot in source.material_slots:
-            mesh.materials.append(slot.material)
+        for material in slots:  # the source's materials, then the target's (mesh_input.morph_looks)
+            mesh.materials.append(material)
         new = bpy.data.objects.new(name, mesh)  # world-space geometry: identity transform
         (source.users_collection[0] if source.users_collection else context.scene.collection).objects.link(new)
         settings = new.animanifold
@@ -348,6 +349,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         settings.time_scale = 2.0 * (float(np.linalg.norm((hi - lo)[:3])) or 1.0) / max(float(end - start), 1.0)
         settings.sweep_value = float((lo[0] + hi[0]) / 2)
         settings.cache_path = stored
+        if uv_name:
+            settings.uv_name = uv_name
         settings.is_manifold = True
         try:
             live.remember(absolute, manifold)

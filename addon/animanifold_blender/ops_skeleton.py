@@ -15,8 +15,9 @@ import numpy as np
 from bpy.props import EnumProperty, IntProperty
 from bpy.types import Operator
 
-from . import live, sampling
+from . import live
 from ._lib import am
+from .mesh_input import closed_triangle_mesh
 
 SIDE_ITEMS = (
     ("INTERNAL", "Internal", "The medial skeleton inside the shape"),
@@ -28,21 +29,6 @@ WRAP_ITEMS = (
     ("SPHERE", "Sphere", "Bound every Voronoi cell with points on a sphere around the mesh"),
     ("NONE", "None", "No wrap (cells of hull vertices stay unbounded)"),
 )
-
-
-def closed_triangle_mesh(context, obj) -> tuple[np.ndarray, np.ndarray]:
-    """The evaluated mesh of `obj` as (vertices (k, 3), triangles (l, 3)) in local space, unused vertices dropped."""
-    depsgraph = context.evaluated_depsgraph_get()
-    ob_eval = obj.evaluated_get(depsgraph)
-    mesh = ob_eval.to_mesh()
-    try:
-        sample = sampling.read_mesh(mesh, ob_eval.matrix_world, triangulate=True)
-    finally:
-        ob_eval.to_mesh_clear()
-    if sample.tri_vertices is None or len(sample.tri_vertices) == 0:
-        raise ValueError(f"'{obj.name}' has no faces")
-    used, faces = np.unique(sample.tri_vertices, return_inverse=True)
-    return sample.positions[used], faces.reshape(-1, 3).astype(np.int32)
 
 
 class ANIMANIFOLD_OT_skeleton(Operator):

@@ -149,6 +149,22 @@ void bind_morph(py::module_& m) {
       },
       py::arg("points"), py::arg("vertices"), py::arg("faces"),
       "Distance from each point to the surface (triangles in R^3, segments in R^2); inf without faces.");
+  m.def(
+      "closest_points",
+      [](PointsRef points, PointsRef V, SimplicesRef F) {
+        const PointMatrix p = points, v = V;
+        const SimplexMatrix f = F;
+        ClosestPoints c;
+        {
+          py::gil_scoped_release release;
+          c = closest_points(p, v, f);
+        }
+        return py::make_tuple(Eigen::VectorXd(std::move(c.distance)), IndexVector(std::move(c.face)),
+                              PointMatrix(std::move(c.barycentric)));
+      },
+      py::arg("points"), py::arg("vertices"), py::arg("faces"),
+      "(distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): "
+      "its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.");
   m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
         py::call_guard<py::gil_scoped_release>(),
         "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");

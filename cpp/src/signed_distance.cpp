@@ -10,7 +10,11 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <optional>
 #include <vector>
 
 namespace animanifold {
@@ -51,35 +55,122 @@ SignedDistance::~SignedDistance() = default;
 SignedDistance::SignedDistance(SignedDistance&&) noexcept = default;
 SignedDistance& SignedDistance::operator=(SignedDistance&&) noexcept = default;
 
-SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
-  const Tree& t = *tree_;
-  SurfaceProjection out;
-  const Index n = static_cast<Index>(points.rows());
+namespace {
+
+// The closest point of the tree's mesh to q: its distance, face and
+// barycentric coordinates in the face's corners (faces were added in order).
+// The distance from q to its closest point `found` on the tree's mesh, that
+// point's face, and its barycentric coordinates in the face's corners (faces
+// were added in order).
+template <typename TreeState, typename Found>
+void project_onto(const TreeState& t, const Kernel::Point_3& q, const Found& found, double* distance, Index* face,
+                  Eigen::Ref<Eigen::RowVector3d> barycentric) {
+  const auto& [closest, primitive] = found;
+  *distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(q, closest)));
+  const Index f = static_cast<Index>(primitive.idx());
+  *face = f;
+  const Eigen::Vector3d a = t.V.row(t.F(f, 0)), b = t.V.row(t.F(f, 1)), c = t.V.row(t.F(f, 2));
+  const Eigen::Vector3d x(closest.x(), closest.y(), closest.z());
+  const Eigen::Vector3d n3 = (b - a).cross(c - a);
+  const double area2 = n3.squaredNorm();
+  if (area2 > 0) {
+    const double wa = (c - b).cross(x - b).dot(n3) / area2, wb = (a - c).cross(x - c).dot(n3) / area2;
+    barycentric << wa, wb, 1.0 - wa - wb;
+  } else {
+    barycentric << 1.0, 0.0, 0.0;
+  }
+}
+
+template <typename TreeState>
+void project(const TreeState& t, const Kernel::Point_3& q, double* distance, Index* face,
+             Eigen::Ref<Eigen::RowVector3d> barycentric) {
+  project_onto(t, q, t.tree->closest_point_and_primitive(q), distance, face, barycentric);
+}
+
+ClosestPoints sized(Index n) {
+  ClosestPoints out;
   out.distance.resize(n);
   out.face.resize(n);
   out.barycentric.resize(n, 3);
+  return out;
+}
+
+// The points' indices along a Morton (Z-order) curve over their bounding box,
+// 10 bits per axis.
+std::vector<Index> morton_order(const PointMatrix& points) {
+  const Index n = static_cast<Index>(points.rows());
+  std::vector<Index> order(n);
+  std::iota(order.begin(), order.end(), Index{0});
+  if (n == 0) return order;
+  const Eigen::RowVectorXd low = points.colwise().minCoeff(), high = points.colwise().maxCoeff();
+  const double extent = std::max((high - low).maxCoeff(), 1e-300);
+  auto spread = [](std::uint64_t x) {  // the bits of x, two zeros between each
+    x &= 0x3ff;
+    x = (x | (x << 16)) & 0x30000ff;
+    x = (x | (x << 8)) & 0x300f00f;
+    x = (x | (x << 4)) & 0x30c30c3;
+    return (x | (x << 2)) & 0x9249249;
+  };
+  std::vector<std::uint64_t> code(n);
+  for (Index p = 0; p < n; ++p) {
+    std::uint64_t c = 0;
+    for (int axis = 0; axis < 3; ++axis)
+      c |= spread(static_cast<std::uint64_t>(1023.0 * (points(p, axis) - low(axis)) / extent)) << axis;
+    code[p] = c;
+  }
+  std::sort(order.begin(), order.end(), [&](Index a, Index b) { return code[a] < code[b]; });
+  return order;
+}
+}  // namespace
+
+SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
+  const Tree& t = *tree_;
+  const Index n = static_cast<Index>(points.rows());
+  SurfaceProjection out = sized(n);
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index p = 0; p < n; ++p) {
     const Kernel::Point_3 q(points(p, 0), points(p, 1), points(p, 2));
-    const auto [closest, face] = t.tree->closest_point_and_primitive(q);
-    const double distance = std::sqrt(CGAL::to_double(CGAL::squared_distance(q, closest)));
+    double distance = 0;
+    project(t, q, &distance, &out.face(p), out.barycentric.row(p));
     const bool inside = (*t.side)(q) != CGAL::ON_UNBOUNDED_SIDE;
     out.distance(p) = inside ? -distance : distance;
-    const Index f = static_cast<Index>(face.idx());
-    out.face(p) = f;
-    // The closest point in the face's corners (faces were added in order).
-    const Eigen::Vector3d a = t.V.row(t.F(f, 0)), b = t.V.row(t.F(f, 1)), c = t.V.row(t.F(f, 2));
-    const Eigen::Vector3d x(closest.x(), closest.y(), closest.z());
-    const Eigen::Vector3d n3 = (b - a).cross(c - a);
-    const double area2 = n3.squaredNorm();
-    if (area2 > 0) {
-      const double wa = (c - b).cross(x - b).dot(n3) / area2, wb = (a - c).cross(x - c).dot(n3) / area2;
-      out.barycentric.row(p) << wa, wb, 1.0 - wa - wb;
-    } else {
-      out.barycentric.row(p) << 1.0, 0.0, 0.0;
+  }
+  return out;
+}
+
+ClosestPoints SignedDistance::closest(const PointMatrix& points) const {
+  const Tree& t = *tree_;
+  const Index n = static_cast<Index>(points.rows());
+  ClosestPoints out = sized(n);
+  // Queried in the order of a space-filling curve, each from its predecessor's
+  // answer as the tree's hint: neighbours have nearby closest points, and the
+  // tree's paths stay in cache.
+  const std::vector<Index> order = morton_order(points);
+  constexpr Index kChunk = 1024;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Index chunk = 0; chunk < (n + kChunk - 1) / kChunk; ++chunk) {
+    std::optional<std::pair<Kernel::Point_3, AabbTree::Primitive_id>> hint;
+    for (Index k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k) {
+      const Index p = order[k];
+      const Kernel::Point_3 q(points(p, 0), points(p, 1), points(p, 2));
+      const auto found = hint ? t.tree->closest_point_and_primitive(q, *hint) : t.tree->closest_point_and_primitive(q);
+      hint = found;
+      project_onto(t, q, found, &out.distance(p), &out.face(p), out.barycentric.row(p));
     }
   }
   return out;
+}
+
+ClosestPoints closest_points(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
+  if (points.cols() != 3) fail<InputError>("closest points are found for points in R^3, got R^", points.cols());
+  if (faces.rows() == 0) fail<InputError>("closest points need a mesh with faces");
+  if (vertices.cols() != 3 || faces.cols() != 3) fail<InputError>("closest points need a triangle mesh in R^3");
+  for (Index f = 0; f < faces.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (faces(f, c) < 0 || faces(f, c) >= vertices.rows())
+        fail<InputError>("face ", f, " refers to vertex ", faces(f, c), ", outside 0..", vertices.rows() - 1);
+  if (!points.allFinite()) fail<InputError>("closest points: the query points hold NaN or infinity");
+  return SignedDistance(vertices, faces).closest(points);
 }
 
 Eigen::VectorXd SignedDistance::distances(const PointMatrix& points) const { return (*this)(points).distance; }

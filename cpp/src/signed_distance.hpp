@@ -14,17 +14,15 @@
 // is zero to rounding either way.
 #pragma once
 
+#include "animanifold/surface_distance.hpp"
 #include "animanifold/types.hpp"
 
 #include <memory>
 
 namespace animanifold {
 
-struct SurfaceProjection {
-  Eigen::VectorXd distance;  // #P, negative inside
-  IndexVector face;          // #P, the face of the closest point
-  PointMatrix barycentric;   // #P by 3, the closest point in that face's corners
-};
+// The closest points with the distance signed: negative inside.
+using SurfaceProjection = ClosestPoints;
 
 class SignedDistance {
  public:
@@ -35,6 +33,8 @@ class SignedDistance {
 
   // `points` is #P by 3.
   SurfaceProjection operator()(const PointMatrix& points) const;
+  // The closest points alone: unsigned distances, no side test.
+  ClosestPoints closest(const PointMatrix& points) const;
   // The signed distances alone.
   Eigen::VectorXd distances(const PointMatrix& points) const;
   // The side alone: whether each point lies inside the surface or on it

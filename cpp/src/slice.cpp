@@ -222,6 +222,20 @@ void cancel_opposite_pairs(FaceSink& faces, const CutPoints& cuts) {
   faces.simplex.resize(kept);
 }
 
+// The cut points that `corners` use, in order, with `corners` renumbered
+// onto them (all of 0..count-1, untouched, when every point is used).
+std::vector<Index> used_points(std::vector<Index>& corners, Index count) {
+  std::vector<Index> renumbered(count, -1);
+  for (const Index c : corners) renumbered[c] = 0;
+  std::vector<Index> kept;
+  kept.reserve(count);
+  for (Index p = 0; p < count; ++p)
+    if (renumbered[p] == 0) renumbered[p] = static_cast<Index>(kept.size()), kept.push_back(p);
+  if (static_cast<Index>(kept.size()) != count)
+    for (Index& c : corners) c = renumbered[c];
+  return kept;
+}
+
 // Tets in R^4 → triangles in R^3 (Figure 2.6).
 void cut_tet(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts, FaceSink& faces) {
   Index f[3];
@@ -339,14 +353,22 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
     else cut_triangle(t, above, above_count, s, cuts, faces);
   }
 
+  cancel_opposite_pairs(faces, cuts);
+  // Only the cut points that corners of the frame use: on a vertex plane,
+  // a simplex whose faces there are degenerate (or cancelled) registers its
+  // corners too, and where the manifold holds copies of a vertex (split at a
+  // UV seam) those copies would be left loose in the frame.
+  const auto& all_cuts = cuts.cuts();
+  std::vector<Index> kept = used_points(faces.corners, static_cast<Index>(all_cuts.size()));
+  const Index P = static_cast<Index>(kept.size());
+  auto cut_at = [&](Index p) -> const auto& { return all_cuts[kept[p]]; };
+
   Slice out;
-  const auto& cut = cuts.cuts();
-  const Index P = static_cast<Index>(cut.size());
   out.vertices.resize(P, D - 1);
   out.vertex_edges.resize(P, 2);
   out.edge_parameter.resize(P);
   for (Index p = 0; p < P; ++p) {
-    const auto& c = cut[p];
+    const auto& c = cut_at(p);
     out.vertex_edges(p, 0) = c.a, out.vertex_edges(p, 1) = c.b;
     out.edge_parameter(p) = c.s;
     for (int d = 0, o = 0; d < D; ++d) {
@@ -355,7 +377,6 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
       out.vertices(p, o++) = c.a == c.b ? m.V(c.a, d) : (1.0 - c.s) * m.V(c.a, d) + c.s * m.V(c.b, d);
     }
   }
-  cancel_opposite_pairs(faces, cuts);
   const Index F = static_cast<Index>(faces.simplex.size());
   out.faces = Eigen::Map<const SimplexMatrix>(faces.corners.data(), F, k - 1);
   out.face_simplex = Eigen::Map<const IndexVector>(faces.simplex.data(), F);
@@ -363,7 +384,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   for (const auto& [name, table] : m.vertex_attributes) {
     PointMatrix values(P, table.cols());
     for (Index p = 0; p < P; ++p) {
-      const auto& c = cut[p];
+      const auto& c = cut_at(p);
       values.row(p) = c.a == c.b ? table.row(c.a) : ((1.0 - c.s) * table.row(c.a) + c.s * table.row(c.b)).eval();
     }
     out.vertex_attributes[name] = std::move(values);

@@ -24,6 +24,7 @@ from .holes import BooleanError, hole_space, intersect_solids, solid_measure, su
 from .manifold import AnimationManifold, HoleSpaceWarning, Slice, SliceMover, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
+from .morph_surface import SurfaceAttributes
 from .refine import Refinement, refine
 from .regularise import Regularisation, RegularisationMaps, regularise
 from .smooth import SmoothFrame, subdivide, subdivide_frame
@@ -40,6 +41,7 @@ __all__ = [
     "HoleSpaceWarning",
     "RestoreStatus",
     "Slice",
+    "SurfaceAttributes",
     "SliceMover",
     "SmoothFrame",
     "VoronoiSkeleton",

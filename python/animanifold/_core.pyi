@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'FillTriangulation', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'check_morph_frames', 'check_morph_input', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'FillTriangulation', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'check_morph_frames', 'check_morph_input', 'closest_points', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -441,6 +441,10 @@ def check_morph_frames(manifold: Complex, t0: typing.SupportsFloat | typing.Supp
 def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], name: str) -> None:
     """
     Raises ValueError naming the shape (`name`) and the face or vertex when morph() would refuse it.
+    """
+def closest_points(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+    """
+    (distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.
     """
 def conforming_delaunay_2d(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], edges: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> dict:
     """

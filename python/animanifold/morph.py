@@ -12,6 +12,7 @@ from . import _core
 from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is_empty, points_inside, solid_measure,
                     subtract_solid)
 from .manifold import AnimationManifold
+from .morph_surface import SurfaceAttributes, carry_surface_attributes, check_surface_attributes
 
 # The core's names (morph.hpp's tables, bound as enums): the seed's methods (§8.6, §8.5) and the
 # field method (morph_field.hpp); the seed's fills and perturbations.
@@ -34,6 +35,8 @@ def morph(
     interrupted: Callable[[], bool] | None = None,
     fan_flat_polygons: bool = True,
     test_hold: tuple[str, float] | None = None,
+    source_attributes: SurfaceAttributes | None = None,
+    target_attributes: SurfaceAttributes | None = None,
 ) -> AnimationManifold:
     """An animation manifold that is `source` at t0 and `target` at t1.
 
@@ -113,6 +116,14 @@ def morph(
     its frames are checked as above.
     perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
 
+    source_attributes, target_attributes: the inputs' UV maps (per face corner) and material indices
+    (per face), as animanifold.morph_surface.SurfaceAttributes, in the order of the faces given
+    here; 3D only. The result then carries them as the vertex attribute "uv" and the simplex
+    attribute "material_index" (exact at the ends; in between each part of a frame takes the look
+    of the input it lies closer to; vertices split where the charts differ: see morph_surface.py;
+    report: `surface_attributes`). Material indices are kept as given: number the target's after
+    the source's to show both.
+
     test_hold: (stage, seconds) for tests of cancellation: the core waits `seconds` on a stand-in
     child process at the start of that stage ("conforming" for every method), under the same polling
     of `interrupted` and Ctrl-C as its mesher.
@@ -141,8 +152,25 @@ def morph(
     if perturbation not in PERTURBATIONS:
         raise ValueError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
-    if method == "field":
-        return _field_morph(arrays, float(t0), float(t1), progress, interrupted, hold)
+    looks = (source_attributes, target_attributes)
+    if any(look is not None for look in looks):
+        if arrays[0].shape[1] != 3:
+            raise ValueError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
+        for name, mesh, look in (("source", source, source_attributes), ("target", target, target_attributes)):
+            check_surface_attributes(name, mesh, look)  # before minutes of morphing
+    manifold = (_field_morph(arrays, float(t0), float(t1), progress, interrupted, hold) if method == "field" else
+                _seed_morph(arrays, float(t0), float(t1), method, progress, max_push, fill, hole_checks, perturbation,
+                            interrupted, fan_flat_polygons, hold))
+    if any(look is not None for look in looks):
+        manifold = carry_surface_attributes(manifold, source, target, *looks)
+        _stage_finished(progress, "surface attributes", 1.0)
+    return manifold
+
+
+def _seed_morph(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float, fill: str,
+                hole_checks: int, perturbation: str, interrupted, fan_flat_polygons: bool,
+                hold: dict) -> AnimationManifold:
+    """The seed's methods (see morph()), with the perturbation retry."""
     if progress is not None:  # a retry (below) starts its stages again: the fraction never goes back
         user_progress, done = progress, [0.0]
 

@@ -54,6 +54,20 @@ def mesh_corners(mesh) -> np.ndarray:
     return co.reshape(-1, 3).astype(np.float64)[tv.reshape(-1, 3)]
 
 
+def triangle_looks(mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per loop triangle: corner positions (T, 3, 3) in local space, active-map UVs (T, 3, 2) and
+    material index (T,)."""
+    mesh.calc_loop_triangles()
+    T = len(mesh.loop_triangles)
+    loops = np.empty(3 * T, np.int32)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    material_index = np.empty(T, np.int32)
+    mesh.loop_triangles.foreach_get("material_index", material_index)
+    uv = np.empty(2 * len(mesh.loops), np.float32)
+    mesh.uv_layers.active.data.foreach_get("uv", uv)
+    return mesh_corners(mesh), uv.reshape(-1, 2)[loops.reshape(-1, 3)].astype(np.float64), material_index
+
+
 def mesh_vertices(mesh) -> np.ndarray:
     co = np.empty(3 * len(mesh.vertices), np.float32)
     mesh.vertices.foreach_get("co", co)

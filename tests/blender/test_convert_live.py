@@ -11,7 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, shown  # noqa: E402
+from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, shown, triangle_looks  # noqa: E402
 from build_demo_scene import KEYFRAMES  # noqa: E402
 
 pytestmark = pytest.mark.blender
@@ -51,21 +51,9 @@ def test_uvs_and_materials_carried(demo):
     assert me.uv_layers.active is not None and me.uv_layers.active.name == src.uv_layers.active.name
 
     def per_face(mesh):
-        mesh.calc_loop_triangles()
-        T = len(mesh.loop_triangles)
-        tl = np.empty(3 * T, np.int32)
-        mesh.loop_triangles.foreach_get("loops", tl)
-        tv = np.empty(3 * T, np.int32)
-        mesh.loop_triangles.foreach_get("vertices", tv)
-        mi = np.empty(T, np.int32)
-        mesh.loop_triangles.foreach_get("material_index", mi)
-        uv = np.empty(2 * len(mesh.loops), np.float32)
-        mesh.uv_layers.active.data.foreach_get("uv", uv)
-        co = mesh_vertices(mesh)[tv.reshape(-1, 3)]
-        uvs = uv.reshape(-1, 2)[tl.reshape(-1, 3)].astype(np.float64)
+        corners, uvs, material_index = triangle_looks(mesh)
         # corners (x, y, z, u, v) plus the material, as a canonical table
-        table = np.concatenate([co, uvs], axis=2)
-        return canonical_rows(table, mi)
+        return canonical_rows(np.concatenate([corners, uvs], axis=2), material_index)
 
     np.testing.assert_allclose(per_face(me), per_face(src), atol=1e-6, rtol=0)
     assert set(np.unique([p.material_index for p in me.polygons])) == {0, 1}

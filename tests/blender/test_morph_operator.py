@@ -14,7 +14,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 from blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, mesh_corners, mesh_vertices,  # noqa: E402
-                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown)
+                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks)
 from blender_helpers import select_pair as select  # noqa: E402
 from surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -184,6 +184,56 @@ def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(
     assert frame_matches(compare_with(morph, target))
 
 
+def textured(obj, name: str):
+    """Gives `obj` a material of its own (its UV map comes with the primitive)."""
+    material = bpy.data.materials.new(name)
+    obj.data.materials.append(material)
+    return material
+
+
+def world_corners(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The evaluated mesh's triangle corners: world positions (T*3, 3), active-map UVs (T*3, 2), and
+    the material each triangle shows (T,) as the material itself."""
+    corners, uv, index = triangle_looks(shown(obj))
+    m = np.array(obj.matrix_world)
+    positions = corners.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    materials = [obj.material_slots[i].material if obj.material_slots else None for i in index]
+    return positions, uv.reshape(-1, 2), materials
+
+
+@pytest.mark.parametrize("method", ["FIELD", "SKELETON"])
+def test_the_morph_shows_each_inputs_uv_map_and_material_at_its_end(empty_scene, method):
+    """Morph Selected on a textured UV sphere and torus: the result holds both materials and the UV
+    map, and at each end every corner of the frame is a corner of that input (its position and its
+    UV, on the right side of the seams) with the input's material."""
+    source, target = add_pair_sphere_torus()
+    source_material, target_material = textured(source, "sphere look"), textured(target, "torus look")
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected(method=method) == {"FINISHED"}
+    morph = bpy.context.active_object
+    assert [slot.material for slot in morph.material_slots] == [source_material, target_material]
+    assert morph.animanifold.uv_name == source.data.uv_layers.active.name
+    scene = bpy.context.scene
+    for frame, obj, material in ((scene.frame_start, source, source_material),
+                                 (scene.frame_end, target, target_material)):
+        scene.frame_set(frame)
+        positions, uv, materials = world_corners(morph)
+        input_positions, input_uv, _ = world_corners(obj)
+        corners = {(tuple(np.round(p, 4)), tuple(np.round(w, 4))) for p, w in zip(input_positions, input_uv)}
+        vertices = {tuple(np.round(p, 4)) for p in input_positions}
+        at_vertex = np.array([tuple(np.round(p, 4)) in vertices for p in positions])
+        assert at_vertex.mean() > 0.5, frame  # the conforming mesher adds few points (Steiner points)
+        missing = [(p, w) for p, w in zip(positions[at_vertex], uv[at_vertex])
+                   if (tuple(np.round(p, 4)), tuple(np.round(w, 4))) not in corners]
+        assert not missing, (frame, len(missing), missing[:3])
+        low, high = input_uv.min(axis=0) - 1e-6, input_uv.max(axis=0) + 1e-6
+        assert ((uv >= low) & (uv <= high)).all(), frame  # Steiner points: inside the map
+        assert all(m == material for m in materials), frame
+    scene.frame_set((scene.frame_start + scene.frame_end) // 2)
+    positions, uv, materials = world_corners(morph)
+    assert set(materials) <= {source_material, target_material} and np.isfinite(uv).all()
+
+
 def test_a_failing_core_is_reported_with_its_stage_and_nothing_changes(empty_scene, monkeypatch):
     from animanifold_blender import ops_morph
 
@@ -299,7 +349,10 @@ def test_the_transition_sets_how_long_the_torus_hole_takes_to_open(empty_scene):
         mesh = morph.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh()
         mesh.calc_loop_triangles()
         faces = np.array([t.vertices[:] for t in mesh.loop_triangles])
-        eulers[transition] = euler_characteristic(faces)
+        # the frame's vertices are split where the UV maps' charts differ (as Convert splits them
+        # at seams): its topology is that of its vertices welded by position
+        welded = np.unique(np.round(mesh_vertices(mesh), 6), axis=0, return_inverse=True)[1].reshape(-1)
+        eulers[transition] = euler_characteristic(welded[faces])
         morph.evaluated_get(bpy.context.evaluated_depsgraph_get()).to_mesh_clear()
         bpy.data.objects.remove(morph)
         for obj in (source, target):  # the morph hid its inputs
@@ -378,7 +431,8 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
     first = ["skeleton", "fill"] if best_method() == "skeleton" else ["conforming", "fill"]
     # the shared hole space first (a shape CGAL refuses fails before the morph), its check last
     assert stages[0] == "holes" and stages[1:1 + len(first)] == first
-    assert stages[-3:] == ["boundary", "validity", "hole validity"]
+    # the primitives' UV maps and (no) materials carried last
+    assert stages[-4:] == ["boundary", "validity", "hole validity", "surface attributes"]
 
 
 def test_undo_and_redo_of_a_morph(empty_scene):
@@ -682,8 +736,9 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     op.cancel(Context())
     assert op._job.wait(2.0) and op._job.cancelled and ("timer removed", "the timer") in calls
 
-    inputs = (ops_morph.world_mesh(bpy.context, source), ops_morph.world_mesh(bpy.context, target))
-    modal, op = _modal_operator(MorphJob(*inputs, t0=1.0, t1=24.0), (source, target, 1, 24) + inputs)
+    inputs = (ops_morph.morph_input(bpy.context, source), ops_morph.morph_input(bpy.context, target))
+    modal, op = _modal_operator(MorphJob(inputs[0].mesh, inputs[1].mesh, t0=1.0, t1=24.0),
+                                (source, target, 1, 24) + inputs)
     assert until_done(modal, 120.0) == {"FINISHED"}, op.reports
     made = bpy.context.active_object
     assert made.name == "Icosphere_to_Cube" and made.animanifold.is_manifold
