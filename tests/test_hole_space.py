@@ -318,6 +318,36 @@ def test_torus_morph_frames_keep_the_shared_tunnel(torus_morph):
         assert am.solid_measure(s.vertices, s.faces) == pytest.approx(am.solid_measure(vi, fi), rel=1e-12)
 
 
+def test_the_cut_frames_are_checked_as_the_user_gets_them(torus_morph):
+    """The report's checks of the hole-cut frames (the frames slice() returns) agree with the same
+    checks made here on those frames: crossings beyond 1e-9 of the size, and shells (pieces and
+    cavities) that the cut changes."""
+    from animanifold import _core
+    from animanifold.cavities import shell_volumes
+
+    _, _, m = torus_morph
+    report = m.validity
+    t0, t1 = m.time_range
+    times = t0 + (t1 - t0) * np.arange(1, 6) / 6
+    assert set(report["cut_crossing_frames"]) <= set(times)
+    assert {entry[0] for entry in report["cut_frame_pieces"]} <= set(times)
+
+    def shells(s):
+        volumes = shell_volumes(s.vertices, s.faces)
+        return int((volumes > 0).sum()), int((volumes < 0).sum())
+
+    for t in times:
+        raw, cut = m.slice(t, honour_holes=False), m.slice(t)
+        size = float(np.linalg.norm(np.ptp(raw.vertices, axis=0)))
+        crossing = bool(_core.self_intersections(cut.vertices, cut.faces, 1, 1e-9 * size))
+        assert crossing == (t in report["cut_crossing_frames"]), t
+        changed = [entry for entry in report["cut_frame_pieces"] if entry[0] == t]
+        if shells(raw) == shells(cut):
+            assert not changed, t
+        else:
+            assert changed == [[t, *shells(raw), *shells(cut)]], t
+
+
 def test_fast_paths_refuse_frames_cut_by_a_hole_space(torus_morph):
     m = torus_morph[2]
     assert m.topology_interval(2.0) is None  # live playback then slices every frame

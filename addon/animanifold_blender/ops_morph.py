@@ -38,7 +38,8 @@ from .operators import _unique_object_name
 # The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
 # method becomes the default once it meets the bar of its issue (speed, pops: see its notes).
-METHODS = tuple(getattr(importlib.import_module(am.morph.__module__), "METHODS", ("strip",)))
+_MORPH = importlib.import_module(am.morph.__module__)  # the module (am.morph is the function)
+METHODS = tuple(getattr(_MORPH, "METHODS", ("strip",)))
 BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
 _METHOD_TEXT = {
     "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
@@ -307,6 +308,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if not validity.get("holes_preserved", True):
             self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
                                      f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
+        for line in _MORPH.cut_frame_warnings(validity):
+            self.report({"WARNING"}, f"'{new.name}': {line}")
         if not manifold.check()["is_oriented_manifold"]:
             hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
                     else f" (the {method} method did not give a clean manifold for these shapes)")

@@ -29,7 +29,7 @@ from .manifold import AXES, AnimationManifold, axis_index, stitch
 from . import cli_skeleton
 from .meshio import read_mesh, write_mesh
 from .holes import BooleanError
-from .morph import METHODS, morph
+from .morph import METHODS, cut_frame_warnings, morph
 
 PROG = "animanifold"
 EXIT_USER_ERROR = 2
@@ -408,6 +408,8 @@ def run_morph(args: argparse.Namespace) -> int:
               f"{report['holes_preserved']}")
         for error in report["hole_errors"]:
             print(f"{PROG}: warning: {error}", file=sys.stderr)
+        for line in cut_frame_warnings(report):
+            print(f"{PROG}: warning: {line}", file=sys.stderr)
     if report.get("frames_cross_themselves"):
         print(f"{PROG}: warning: in-between frames run through themselves at times "
               f"{', '.join(f'{t:.3g}' for t in report['crossing_frames'])}", file=sys.stderr)

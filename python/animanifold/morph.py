@@ -11,6 +11,7 @@ import numpy as np
 from . import _core
 from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is_empty, points_inside, solid_measure,
                     subtract_solid)
+from .cavities import shell_volumes
 from .manifold import AnimationManifold
 from .morph_surface import SurfaceAttributes, carry_surface_attributes, check_surface_attributes
 
@@ -104,7 +105,10 @@ def morph(
     volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
     could be cut, and no point just inside H lies inside the cut frame,
     `hole_frames_verified` of `hole_frames_checked`; what failed is listed in
-    `hole_errors`). H is computed first, before the core's stages (`progress`
+    `hole_errors`). The cut frames, the ones the user gets, are checked too: `cut_crossing_frames`
+    lists those that run through themselves (the boolean leaves thin slivers), and
+    `cut_frame_pieces` [t, pieces, cavities of the raw frame, pieces, cavities of the cut one]
+    those whose shells the cut changes. H is computed first, before the core's stages (`progress`
     hears "holes" first), so that a shape CGAL cannot work on stops the morph in
     seconds, with an animanifold.BooleanError that names the input; "hole
     validity" follows the core's "validity", and `interrupted()` is polled
@@ -339,6 +343,41 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     return manifold
 
 
+def _check_cut_frame(t: float, raw: tuple[np.ndarray, np.ndarray], cut: tuple[np.ndarray, np.ndarray],
+                     report: dict) -> None:
+    """The frame the user gets (cut by the hole space) looked at as the raw frames are: whether the
+    boolean's slivers make it run through itself (`cut_crossing_frames`), and [t, pieces, cavities]
+    of the raw frame and then of the cut one where the cut changes them (`cut_frame_pieces`, 3D)."""
+    size = float(np.linalg.norm(np.ptp(raw[0], axis=0))) if len(raw[0]) else 0.0
+    try:
+        if len(cut[1]) and _core.self_intersections(*cut, 1, CROSSING_TOLERANCE * size):
+            report["cut_crossing_frames"].append(t)
+    except ValueError:  # the cut frame is not a manifold surface
+        report["cut_crossing_frames"].append(t)
+
+    def shells(frame) -> tuple[int, int]:
+        volumes = shell_volumes(*frame) if len(frame[1]) else np.zeros(0)
+        return int((volumes > 0).sum()), int((volumes < 0).sum())
+
+    if raw[1].shape[1] != 3:  # 2D frames are polygons: no shells
+        return
+    before, after = shells(raw), shells(cut)
+    if before != after:
+        report["cut_frame_pieces"].append([t, *before, *after])
+
+
+def cut_frame_warnings(report: dict) -> list[str]:
+    """What the checks of the hole-cut frames found, as sentences (for the CLI and Morph Selected)."""
+    lines = []
+    if report.get("cut_crossing_frames"):
+        lines.append("frames cut by the shared holes run through themselves (slivers of the boolean) at times "
+                     + ", ".join(f"{t:.3g}" for t in report["cut_crossing_frames"]))
+    if report.get("cut_frame_pieces"):
+        lines.append("cutting the shared holes changes the frames' pieces (time: pieces+cavities before -> after) "
+                     + ", ".join(f"{t:.3g}: {p0}+{c0} -> {p1}+{c1}" for t, p0, c0, p1, c1 in report["cut_frame_pieces"]))
+    return lines
+
+
 # Report keys of the core's frame checks (morph_validity.hpp), which it runs on 3D morphs only.
 _CORE_FRAME_CHECKS = ("frames_checked", "frames_capped", "topology_changes", "noise_frames")
 
@@ -416,7 +455,8 @@ def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: in
     frame raises Cancelled when the caller asks to stop."""
     hole = manifold.hole_space
     report = {"shared_hole_volume": 0.0, "hole_overlap_volume": 0.0, "holes_preserved": True,
-              "hole_frames_checked": 0, "hole_frames_verified": 0, "hole_errors": []}
+              "hole_frames_checked": 0, "hole_frames_verified": 0, "hole_errors": [],
+              "cut_crossing_frames": [], "cut_frame_pieces": []}
     if hole is None:
         return report
     volume = solid_measure(*hole)
@@ -433,6 +473,7 @@ def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: in
             report["holes_preserved"] = False
             report["hole_errors"].append(f"t={float(t):g}: the frame cannot be cut: {e}")
             continue
+        _check_cut_frame(float(t), frame, cut, report)
         # raw = (raw \ H) + (raw ∩ H): what the cut removed is the overlap.
         overlap = solid_measure(*frame) - solid_measure(*cut)
         report["hole_overlap_volume"] = max(report["hole_overlap_volume"], overlap / volume)
