@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -195,3 +197,36 @@ def test_closest_points_answer_on_a_known_shape_and_refuse_bad_faces():
     bad[3, 1] = len(vertices)
     with pytest.raises(ValueError, match=f"face 3 refers to vertex {len(vertices)}"):
         _core.closest_points(points, vertices, bad)
+
+
+def test_frames_cut_by_the_shared_holes_keep_their_look():
+    """A wobbly torus into a copy 5 % wider (the shared tunnel is cut out of every in-between
+    frame): the raw frames are split along the UV seam, so the cut welds them first, and the cut
+    frame takes its UVs and materials back, seam included."""
+    from shapes import torus as make_torus
+
+    v, f = make_torus(major=20, minor=9, wobble=0.1)
+    wider = v * [1.05, 1.05, 1.0]
+    materials = (v[f].mean(axis=1)[:, 2] > 0).astype(np.int32)
+    look = am.SurfaceAttributes(wrapped_uv(v, f), materials)
+    m = am.morph((v, f), (wider, f), method="strip", source_attributes=look, target_attributes=look)
+    assert m.hole_space is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a frame shown uncut warns
+        cut = m.slice(0.5)
+    raw = m.slice(0.5, honour_holes=False)
+    assert len(cut.faces) != len(raw.faces)  # the tunnel was cut out
+    uv = cut.vertex_attributes["uv"]
+    assert uv.shape == (len(cut.vertices), 2) and np.ptp(uv[cut.faces][..., 0], axis=1).max() < 0.5 * SEAM_JUMP
+    assert set(np.unique(cut.face_attributes["material_index"])) == {0, 1}
+    # welded by position, the cut frame is a closed surface
+    welded = np.unique(cut.vertices, axis=0, return_inverse=True)[1].reshape(-1)[cut.faces]
+    edges = np.sort(welded[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    assert (np.unique(edges, axis=0, return_counts=True)[1] == 2).all()
+    # where a cut corner is a raw vertex, its UV is one of that vertex's copies' UVs
+    raw_uv = {}
+    for p, w in zip(map(tuple, raw.vertices), raw.vertex_attributes["uv"]):
+        raw_uv.setdefault(p, []).append(w)
+    for p, w in zip(map(tuple, cut.vertices), uv):
+        if p in raw_uv:
+            assert min(np.abs(w - other).max() for other in raw_uv[p]) < 1e-9

@@ -17,6 +17,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from . import _core
+from .hole_cut import cut_frame
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
 
@@ -66,17 +67,14 @@ class Slice:
 
     @classmethod
     def _from_core(cls, axis: int, value: float, s: "_core.Slice") -> "Slice":
-        def squeeze(table: np.ndarray) -> np.ndarray:
-            return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
-
         return cls(
             axis=axis,
             value=value,
             vertices=s.vertices,
             faces=s.faces,
             normals=s.normals,
-            vertex_attributes={k: squeeze(v) for k, v in s.vertex_attributes.items()},
-            face_attributes={k: squeeze(v) for k, v in s.face_attributes.items()},
+            vertex_attributes={k: _squeezed(v) for k, v in s.vertex_attributes.items()},
+            face_attributes={k: _squeezed(v) for k, v in s.face_attributes.items()},
             vertex_edges=s.vertex_edges,
             edge_parameter=s.edge_parameter,
             face_simplex=s.face_simplex,
@@ -216,8 +214,10 @@ class AnimationManifold:
         time slices strictly between the first and last time are frame \\ H
         (validity 3 of §8.3); `honour_holes=False` gives the raw slice. Where
         H cuts the frame, the result's new points are not on manifold edges:
-        it has no vertex_edges / edge_parameter / face_simplex and no
-        attributes (normals are recomputed); where H does not touch the frame,
+        it has no vertex_edges / edge_parameter / face_simplex, its attributes
+        are taken back from the raw frame (hole_cut.py: copies split at UV
+        seams are welded for the cut and split again after it) and its normals
+        are recomputed; where H does not touch the frame,
         the raw slice comes back as it is. A frame that cannot be cut (it
         pinches or intersects itself: the morph is not valid there) comes back
         raw with a :class:`HoleSpaceWarning`; `honour_holes="strict"` raises
@@ -494,13 +494,21 @@ def _checked_hole_space(hole_space, dimension: int) -> tuple[np.ndarray, np.ndar
 
 
 def _subtract_holes(s: "_core.Slice", hole: tuple[np.ndarray, np.ndarray], axis: int, value: float):
-    """frame \\ hole for a core slice `s`: `s` itself when the hole cannot touch
-    it, else a Slice of the cut frame (no edge maps, no attributes)."""
-    vertices, faces, unchanged = _core.subtract_solid(s.vertices, s.faces, hole[0], hole[1])
-    if unchanged:
+    """frame \\ hole for a core slice `s`: `s` itself when the hole cannot touch it, else a Slice
+    of the cut frame (no edge maps; attributes carried: hole_cut.py)."""
+    cut = cut_frame(s.vertices, s.faces, s.vertex_attributes, s.face_attributes, hole)
+    if cut is None:
         return s
-    return Slice(axis=axis, value=value, vertices=vertices, faces=faces,
-                 normals=_core.frame_vertex_normals(vertices, faces))
+    return Slice(axis=axis, value=value, vertices=cut.vertices, faces=cut.faces,
+                 normals=_core.frame_vertex_normals(cut.vertices, cut.faces),
+                 vertex_attributes={k: _squeezed(v) for k, v in cut.vertex_attributes.items()},
+                 face_attributes={k: _squeezed(v) for k, v in cut.face_attributes.items()})
+
+
+def _squeezed(table: np.ndarray) -> np.ndarray:
+    """An attribute table of one column as a vector (as the Python API hands them out)."""
+    table = np.asarray(table)
+    return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
 
 
 def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:

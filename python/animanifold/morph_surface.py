@@ -27,8 +27,8 @@ that input's UV map there:
   on the right side of every seam: the ends are exact.
 
 UVs are per face corner (Blender's UV maps), so an input's seams are kept exactly. Frames that
-a hole space cuts (the seed's methods between the ends) lose their attributes in the cut; the
-field method cuts none.
+a hole space cuts (the seed's methods between the ends) are welded for the cut and take their
+attributes back from the raw frame (hole_cut.py); the field method cuts none.
 """
 
 from __future__ import annotations
@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
+from .barycentric import closest_in_triangles, plane_barycentric
 from .manifold import AnimationManifold
 
 # Corners within this share of the size of an input lie on it (the ends are exact to 1e-9).
@@ -221,8 +222,8 @@ def _split_and_map_uv(points: np.ndarray, simplices: np.ndarray, inputs: list[_I
         tolerance[mine] = same[k] + _SAME_UV_OFF_SURFACE * per_length * i.distance[vertex[mine]]
         corners, uvs = i.vertices[i.faces[own_face[mine]]], i.uv[own_face[mine]]
         p = points[vertex[mine], :3]
-        chart_uv[mine] = np.einsum("ij,ijk->ik", _plane_barycentric(p, corners), uvs)
-        inside, distance[mine] = _closest_in_triangles(p, corners)
+        chart_uv[mine] = np.einsum("ij,ijk->ik", plane_barycentric(p[:, None], corners)[:, 0], uvs)
+        inside, distance[mine] = closest_in_triangles(p, corners)
         inside_uv[mine] = np.einsum("ij,ijk->ik", inside, uvs)
     chart = _charts(vertex, of_target, chart_uv, tolerance)
     # One copy per (vertex, chart): the copy's UV where the vertex's closest point agrees with it.
@@ -343,54 +344,3 @@ def _nearest_own_uv(copy_of_pair: np.ndarray, distance: np.ndarray, inside_uv: n
     order = pairs[np.lexsort((distance[pairs], copy_of_pair[pairs]))]
     nearest = order[np.r_[True, copy_of_pair[order][1:] != copy_of_pair[order][:-1]]]
     return inside_uv[nearest]
-
-
-def _plane_barycentric(p: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """Barycentric coordinates (n, 3) of each p[k] projected onto the plane of triangles[k], not
-    clamped to the triangle: the face's linear map continued past its edges."""
-    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    n = np.cross(b - a, c - a)
-    area2 = np.einsum("ij,ij->i", n, n)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        wa = np.einsum("ij,ij->i", np.cross(c - b, p - b), n) / area2
-        wb = np.einsum("ij,ij->i", np.cross(a - c, p - c), n) / area2
-    w = np.column_stack([wa, wb, 1 - wa - wb])
-    w[~np.isfinite(w).all(axis=1)] = [1.0, 0.0, 0.0]
-    return w
-
-
-def _closest_in_triangles(p: np.ndarray, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Barycentric coordinates (n, 3) and distance (n,) of the closest point to each p[k] in the
-    triangle triangles[k] (n, 3, 3), by the regions of Ericson's Real-Time Collision Detection §5.1.5."""
-    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
-    ab, ac, ap = b - a, c - a, p - a
-    dot = lambda x, y: np.einsum("ij,ij->i", x, y)  # noqa: E731
-    d1, d2 = dot(ab, ap), dot(ac, ap)
-    bp, cp = p - b, p - c
-    d3, d4, d5, d6 = dot(ab, bp), dot(ac, bp), dot(ab, cp), dot(ac, cp)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    w = np.zeros((len(p), 3))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inside = 1.0 / (va + vb + vc)
-        w[:] = np.column_stack([1 - (vb + vc) * inside, vb * inside, vc * inside])  # interior
-        edge = {  # barycentric coordinates on an edge, s along it
-            "ab": lambda s: np.column_stack([1 - s, s, np.zeros_like(s)]),
-            "ac": lambda s: np.column_stack([1 - s, np.zeros_like(s), s]),
-            "bc": lambda s: np.column_stack([np.zeros_like(s), 1 - s, s]),
-        }
-        corner = lambda k: lambda s: np.tile(np.eye(3)[k], (len(s), 1))  # noqa: E731
-        # Ericson's tests in reverse, each overriding the ones after it, as his early exits do.
-        regions = [
-            ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), edge["bc"], (d4 - d3) / ((d4 - d3) + (d5 - d6))),
-            ((vb <= 0) & (d2 >= 0) & (d6 <= 0), edge["ac"], d2 / (d2 - d6)),
-            ((d6 >= 0) & (d5 <= d6), corner(2), d6),
-            ((vc <= 0) & (d1 >= 0) & (d3 <= 0), edge["ab"], d1 / (d1 - d3)),
-            ((d3 >= 0) & (d4 <= d3), corner(1), d3),
-            ((d1 <= 0) & (d2 <= 0), corner(0), d1),
-        ]
-        for where, weights, s in regions:
-            if where.any():
-                w[where] = weights(s[where])
-    w[~np.isfinite(w).all(axis=1)] = [1.0, 0.0, 0.0]  # a degenerate triangle: its first corner
-    closest = np.einsum("ij,ijk->ik", w, triangles)
-    return w, np.linalg.norm(closest - p, axis=1)
