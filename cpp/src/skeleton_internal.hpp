@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <vector>
 
 namespace animanifold::skeleton_detail {
@@ -83,5 +84,84 @@ EdgeTable edge_table(const SimplexMatrix& F);
 
 // Sorted neighbour lists of every vertex along mesh edges (segments or triangle edges).
 std::vector<std::vector<Index>> vertex_neighbours(const SimplexMatrix& F, Index vertex_count);
+
+// ---- bisector polygons (skeleton_bisectors.cpp) -----------------------------
+
+// The bounded bisector polygons b_ab between mesh vertices a < b < n, read
+// off the Delaunay triangulation: polygon k has sites a[k], b[k] and corners
+// ring[start[k] .. start[k + 1]) (Voronoi vertices, rows of
+// Delaunay::centers) in cyclic order; two corners in 2D. link holds, per
+// polygon edge i -> i + 1, the Delaunay vertex dual to it (3D; -1 in 2D).
+struct BisectorPolygons {
+  std::vector<Index> a, b, start{0}, ring, link;
+  size_t size() const { return a.size(); }
+  std::vector<Index> corners(size_t k) const { return {ring.begin() + start[k], ring.begin() + start[k + 1]}; }
+  std::vector<Index> links(size_t k) const { return {link.begin() + start[k], link.begin() + start[k + 1]}; }
+  void add(Index site_a, Index site_b, const std::vector<Index>& corners, const std::vector<Index>& links);
+};
+// `n` is the number of mesh vertices: the first n Delaunay points.
+BisectorPolygons bisector_polygons(const Delaunay& del, Index n);
+
+// The Voronoi edges of the polygons as an undirected graph over Voronoi
+// vertices (compressed rows: the neighbours of u are
+// neighbour[first[u] .. first[u + 1])), and per Voronoi vertex the first
+// site of a polygon it is a corner of (-1 for a vertex of no polygon).
+struct VoronoiEdgeGraph {
+  std::vector<Index> first, neighbour, site;
+};
+VoronoiEdgeGraph voronoi_edge_graph(const BisectorPolygons& polygons, size_t centre_count);
+
+// ---- welded output (skeleton_weld.cpp) ---------------------------------------
+
+// A polygon corner during clipping: its position, how it is keyed for
+// welding, and the carrier of the edge leaving it (a Voronoi edge u-v, or -1
+// for an edge cut along a hull plane).
+struct Corner {
+  Vec3 p;
+  std::array<Index, 3> key;  // {center, -1, -1}, {u, v, plane} or {-2, serial, 0}
+  std::array<Index, 2> carrier;
+};
+
+// The skeleton being assembled: corners welded by key (one vertex per
+// Voronoi vertex and per Voronoi edge cut by a hull plane; cuts of hull-cut
+// edges are never shared), faces with their side, sites and polygon.
+class SkeletonAssembly {
+ public:
+  SkeletonAssembly(size_t centre_count, Index site_count);
+  // The output vertex of a corner; `on_mesh` is recorded when it is new.
+  Index vertex(const Corner& c, bool on_mesh);
+  const Vec3& position(Index v) const { return vertices_[v]; }
+  // A new polygon between sites a and b: its id.
+  Index begin_polygon(Index a, Index b);
+  void add_face(const std::array<Index, 3>& face, bool inside, Index a, Index b, Index polygon);
+  // Drops vertices no face uses (corners of polygons that collapsed when welded).
+  void drop_unused(int D);
+  void write(VoronoiSkeleton& out, int D) const;
+  // Per Voronoi vertex: its output vertex, or -1.
+  const std::vector<Index>& centre_vertex() const { return centre_out_; }
+  // Per mesh vertex: whether a kept polygon has it as a site.
+  const std::vector<char>& is_site() const { return is_site_; }
+
+ private:
+  std::vector<Index> centre_out_;
+  std::map<std::array<Index, 3>, Index> cut_out_;
+  std::vector<Vec3> vertices_;
+  std::vector<Index> on_mesh_;
+  std::vector<std::array<Index, 3>> faces_;
+  std::vector<Index> side_, polygon_;
+  std::vector<std::array<Index, 2>> sites_;
+  std::vector<char> is_site_;
+  Index polygon_count_ = 0;
+};
+
+// ---- attachment (skeleton_attach.cpp) ----------------------------------------
+
+// §8.6.2: simplices attaching the mesh vertices whose Voronoi cell meets the
+// skeleton only in an edge or a vertex, over [mesh vertices; skeleton
+// vertices] (see VoronoiSkeleton::attachment). `edge_candidates` holds the
+// Voronoi edges of kept polygons as (link vertex, centre, centre) (3D).
+SimplexMatrix attachment_simplices(const Delaunay& del, Index n, int D, const SkeletonAssembly& assembly,
+                                   const std::vector<std::vector<Index>>& neighbours,
+                                   const std::vector<std::array<Index, 3>>& edge_candidates);
 
 }  // namespace animanifold::skeleton_detail
