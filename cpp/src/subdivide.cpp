@@ -3,6 +3,7 @@
 #include "animanifold/subdivide.hpp"
 
 #include "animanifold/errors.hpp"
+#include "subdivision_shared.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -21,6 +22,8 @@ ManifoldScheme parse_manifold_scheme(const std::string& name) {
 }
 
 namespace {
+
+using namespace subdivision_detail;
 
 // ---------------------------------------------------------------------------
 // Refinement tables, derived once from canonical reference cells so that every
@@ -226,28 +229,15 @@ struct Level {
 
 constexpr Index kMaxIndex = std::numeric_limits<Index>::max();
 
-Level refine(const Level& L) {
-  const Tables& T = tables();
-  const int k = L.k;
+// The next level's points: the old ones, the midpoint of every edge (after
+// them, in the edge table's order), then the centre of every octahedron;
+// with their keyframes and parents.
+void refine_points(const Level& L, const EdgeTable& edges, Level& N) {
   const Index V = static_cast<Index>(L.X.rows());
-  const size_t S = L.simplices.size() / k;
-  const size_t O = L.octs.size();
-
-  EdgeTable edges(V, [&](auto emit) {
-    for (size_t s = 0; s < S; ++s) {
-      const Index* c = &L.simplices[s * k];
-      for (int a = 0; a < k; ++a)
-        for (int b = a + 1; b < k; ++b) emit(c[a], c[b]);
-    }
-    for (const auto& o : L.octs)
-      for (const auto& e : T.oct_edges) emit(o[e[0]], o[e[1]]);
-  });
   const std::int64_t E = edges.size();
+  const size_t O = L.octs.size();
   const std::int64_t newV = static_cast<std::int64_t>(V) + E + static_cast<std::int64_t>(O);
   if (newV > kMaxIndex) fail<InputError>("subdivision would create ", newV, " vertices, more than 32-bit indices hold");
-
-  Level N;
-  N.k = k;
   const Eigen::Index C = L.X.cols();
   N.X.resize(newV, C);
   N.X.topRows(V) = L.X;
@@ -274,60 +264,79 @@ Level refine(const Level& L) {
     N.keyframe[m] = key;
     N.parents.row(m) << -1, -1;
   }
-  auto mid = [&](Index a, Index b) { return V + edges.find(a, b); };
+}
 
-  // Cells.
-  if (k == 4) {
-    N.simplices.reserve((4 * S + 8 * O) * 4);
-    N.simplex_root.reserve(4 * S + 8 * O);
-    N.octs.reserve(S + 6 * O);
-    N.oct_root.reserve(S + 6 * O);
-    for (size_t s = 0; s < S; ++s) {
-      const Index* c = &L.simplices[s * 4];
-      Index slot[10];
-      for (int i = 0; i < 4; ++i) slot[i] = c[i];
-      for (int e = 0; e < 6; ++e) slot[4 + e] = mid(c[kTetEdges[e][0]], c[kTetEdges[e][1]]);
-      for (const auto& child : T.tet_corner) {
-        for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
-        N.simplex_root.push_back(L.simplex_root[s]);
-      }
+// The midpoint of edge (a, b) in the next level.
+struct Midpoints {
+  const EdgeTable& edges;
+  Index V;
+  Index operator()(Index a, Index b) const { return V + edges.find(a, b); }
+};
+
+// Tetrahedra split into four corner tetrahedra and an octahedron,
+// octahedra into six corner octahedra and eight tetrahedra around the centre.
+void refine_tetrahedral_cells(const Level& L, const Midpoints& mid, Level& N) {
+  const Tables& T = tables();
+  const size_t S = L.simplices.size() / 4;
+  const size_t O = L.octs.size();
+  const std::int64_t E = mid.edges.size();
+  N.simplices.reserve((4 * S + 8 * O) * 4);
+  N.simplex_root.reserve(4 * S + 8 * O);
+  N.octs.reserve(S + 6 * O);
+  N.oct_root.reserve(S + 6 * O);
+  for (size_t s = 0; s < S; ++s) {
+    const Index* c = &L.simplices[s * 4];
+    Index slot[10];
+    for (int i = 0; i < 4; ++i) slot[i] = c[i];
+    for (int e = 0; e < 6; ++e) slot[4 + e] = mid(c[kTetEdges[e][0]], c[kTetEdges[e][1]]);
+    for (const auto& child : T.tet_corner) {
+      for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
+      N.simplex_root.push_back(L.simplex_root[s]);
+    }
+    std::array<Index, 6> oct;
+    for (int i = 0; i < 6; ++i) oct[i] = slot[T.tet_oct[i]];
+    N.octs.push_back(oct);
+    N.oct_root.push_back(L.simplex_root[s]);
+  }
+  for (size_t o = 0; o < O; ++o) {
+    const auto& c = L.octs[o];
+    Index slot[19];
+    for (int i = 0; i < 6; ++i) slot[i] = c[i];
+    for (int e = 0; e < 12; ++e) slot[6 + e] = mid(c[T.oct_edges[e][0]], c[T.oct_edges[e][1]]);
+    slot[18] = static_cast<Index>(mid.V + E + static_cast<std::int64_t>(o));
+    for (const auto& child : T.oct_corner) {
       std::array<Index, 6> oct;
-      for (int i = 0; i < 6; ++i) oct[i] = slot[T.tet_oct[i]];
+      for (int i = 0; i < 6; ++i) oct[i] = slot[child[i]];
       N.octs.push_back(oct);
-      N.oct_root.push_back(L.simplex_root[s]);
+      N.oct_root.push_back(L.oct_root[o]);
     }
-    for (size_t o = 0; o < O; ++o) {
-      const auto& c = L.octs[o];
-      Index slot[19];
-      for (int i = 0; i < 6; ++i) slot[i] = c[i];
-      for (int e = 0; e < 12; ++e) slot[6 + e] = mid(c[T.oct_edges[e][0]], c[T.oct_edges[e][1]]);
-      slot[18] = static_cast<Index>(V + E + static_cast<std::int64_t>(o));
-      for (const auto& child : T.oct_corner) {
-        std::array<Index, 6> oct;
-        for (int i = 0; i < 6; ++i) oct[i] = slot[child[i]];
-        N.octs.push_back(oct);
-        N.oct_root.push_back(L.oct_root[o]);
-      }
-      for (const auto& child : T.oct_tet) {
-        for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
-        N.simplex_root.push_back(L.oct_root[o]);
-      }
-    }
-  } else {
-    N.simplices.reserve(4 * S * 3);
-    N.simplex_root.reserve(4 * S);
-    for (size_t s = 0; s < S; ++s) {
-      const Index* c = &L.simplices[s * 3];
-      const Index slot[6] = {c[0], c[1], c[2], mid(c[0], c[1]), mid(c[0], c[2]), mid(c[1], c[2])};
-      for (const auto& child : T.tri_children) {
-        for (int i = 0; i < 3; ++i) N.simplices.push_back(slot[child[i]]);
-        N.simplex_root.push_back(L.simplex_root[s]);
-      }
+    for (const auto& child : T.oct_tet) {
+      for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
+      N.simplex_root.push_back(L.oct_root[o]);
     }
   }
+}
 
-  // Boundary features: facets split like their cells, creases like edges.
-  const int f = k - 1;
+// Triangles split into four.
+void refine_triangle_cells(const Level& L, const Midpoints& mid, Level& N) {
+  const Tables& T = tables();
+  const size_t S = L.simplices.size() / 3;
+  N.simplices.reserve(4 * S * 3);
+  N.simplex_root.reserve(4 * S);
+  for (size_t s = 0; s < S; ++s) {
+    const Index* c = &L.simplices[s * 3];
+    const Index slot[6] = {c[0], c[1], c[2], mid(c[0], c[1]), mid(c[0], c[2]), mid(c[1], c[2])};
+    for (const auto& child : T.tri_children) {
+      for (int i = 0; i < 3; ++i) N.simplices.push_back(slot[child[i]]);
+      N.simplex_root.push_back(L.simplex_root[s]);
+    }
+  }
+}
+
+// Boundary features: facets split like their cells, creases like edges.
+void refine_boundary(const Level& L, const Midpoints& mid, Level& N) {
+  const Tables& T = tables();
+  const int f = L.k - 1;
   const size_t B = L.boundary.size() / f;
   for (size_t b = 0; b < B; ++b) {
     const Index* c = &L.boundary[b * f];
@@ -343,7 +352,7 @@ Level refine(const Level& L) {
       N.boundary_patch.insert(N.boundary_patch.end(), 2, L.boundary_patch[b]);
     }
   }
-  if (k == 4) {
+  if (L.k == 4) {
     for (size_t i = 0; i + 1 < L.creases.size(); i += 2) {
       const Index a = L.creases[i], b = L.creases[i + 1], m = mid(a, b);
       N.creases.insert(N.creases.end(), {a, m, m, b});
@@ -352,6 +361,29 @@ Level refine(const Level& L) {
     N.creases = L.creases;
   }
   N.corners = L.corners;
+}
+
+Level refine(const Level& L) {
+  const Tables& T = tables();
+  const int k = L.k;
+  const Index V = static_cast<Index>(L.X.rows());
+  const size_t S = L.simplices.size() / k;
+  EdgeTable edges(V, [&](auto emit) {
+    for (size_t s = 0; s < S; ++s) {
+      const Index* c = &L.simplices[s * k];
+      for (int a = 0; a < k; ++a)
+        for (int b = a + 1; b < k; ++b) emit(c[a], c[b]);
+    }
+    for (const auto& o : L.octs)
+      for (const auto& e : T.oct_edges) emit(o[e[0]], o[e[1]]);
+  });
+  Level N;
+  N.k = k;
+  refine_points(L, edges, N);
+  const Midpoints mid{edges, V};
+  if (k == 4) refine_tetrahedral_cells(L, mid, N);
+  else refine_triangle_cells(L, mid, N);
+  refine_boundary(L, mid, N);
   return N;
 }
 
@@ -496,9 +528,7 @@ int time_index(const std::vector<double>& times, double t) {
   return (it != times.end() && *it == t) ? static_cast<int>(it - times.begin()) : -1;
 }
 
-}  // namespace
-
-ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options) {
+void check_manifold_input(const Complex& manifold, const ManifoldSubdivisionOptions& options) {
   manifold.validate();
   const int k = manifold.vertices_per_simplex();
   const int D = manifold.ambient_dimension();
@@ -508,13 +538,11 @@ ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSu
   if (D < k - 1) fail<InputError>("simplices of ", k, " vertices need at least ", k - 1, " coordinates, got ", D);
   if (options.levels < 0) fail<InputError>("subdivision levels must be >= 0, got ", options.levels);
   const Index S = static_cast<Index>(manifold.S.rows());
-  {
-    double growth = static_cast<double>(S);
-    for (int l = 0; l < options.levels; ++l) growth *= (k == 4 ? 8 : 4);
-    if (growth * k > static_cast<double>(kMaxIndex))
-      fail<InputError>(options.levels, " levels of subdivision of ", S, " simplices would make ", growth,
-                       " simplices, more than 32-bit indices hold");
-  }
+  double growth = static_cast<double>(S);
+  for (int l = 0; l < options.levels; ++l) growth *= (k == 4 ? 8 : 4);
+  if (growth * k > static_cast<double>(kMaxIndex))
+    fail<InputError>(options.levels, " levels of subdivision of ", S, " simplices would make ", growth,
+                     " simplices, more than 32-bit indices hold");
   for (Index s = 0; s < S; ++s)
     for (int a = 0; a < k; ++a)
       for (int b = a + 1; b < k; ++b)
@@ -522,38 +550,48 @@ ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSu
           fail<InputError>("simplex ", s, " repeats vertex ", manifold.S(s, a), ": it is degenerate");
   for (double t : options.keyframe_times)
     if (!std::isfinite(t)) fail<InputError>("keyframe time ", t, " is not finite");
+}
 
-  // Boundary facets (adjacency throws on facets shared by three or more simplices).
-  const FacetAdjacency adjacency = facet_adjacency(manifold.S);
-  const int f = k - 1;
-  const auto time_of = [&](Index v) { return manifold.V(v, D - 1); };
-
-  Level L;
-  L.k = k;
+// The boundary facets (stride k - 1); adjacency throws on facets shared by
+// three or more simplices.
+std::vector<Index> boundary_facet_list(const SimplexMatrix& S) {
+  const FacetAdjacency adjacency = facet_adjacency(S);
+  const int k = static_cast<int>(S.cols());
+  std::vector<Index> boundary;
   Index facet_buffer[4];
-  for (Index s = 0; s < S; ++s)
+  for (Index s = 0; s < S.rows(); ++s)
     for (int i = 0; i < k; ++i)
       if (adjacency.neighbour(s, i) < 0) {
-        facet(manifold.S.row(s).data(), k, i, facet_buffer);
-        L.boundary.insert(L.boundary.end(), facet_buffer, facet_buffer + f);
+        facet(S.row(s).data(), k, i, facet_buffer);
+        boundary.insert(boundary.end(), facet_buffer, facet_buffer + k - 1);
       }
+  return boundary;
+}
 
-  // Keyframe times: given, or every time of a facet lying on a hyperplane;
-  // the times of boundary facets on hyperplanes always count.
-  std::vector<double> times = options.keyframe_times;
-  auto flat_time = [&](const Index* c, int n, double& t) {
-    t = time_of(c[0]);
-    for (int i = 1; i < n; ++i)
-      if (time_of(c[i]) != t) return false;
-    return true;
-  };
+// Whether the n points c all have one time (the last coordinate), t.
+bool flat_time(const PointMatrix& V, const Index* c, int n, double& t) {
+  const Eigen::Index time = V.cols() - 1;
+  t = V(c[0], time);
+  for (int i = 1; i < n; ++i)
+    if (V(c[i], time) != t) return false;
+  return true;
+}
+
+// Keyframe times, sorted and each once: given, or every time of a facet
+// lying on a hyperplane; the times of boundary facets on hyperplanes always count.
+std::vector<double> keyframe_times(const Complex& manifold, const std::vector<Index>& boundary,
+                                   const std::vector<double>& given) {
+  const int k = manifold.vertices_per_simplex();
+  const int f = k - 1;
+  const Eigen::Index time = manifold.V.cols() - 1;
+  std::vector<double> times = given;
   double t = 0;
-  for (size_t b = 0; b < L.boundary.size(); b += f)
-    if (flat_time(&L.boundary[b], f, t)) times.push_back(t);
-  if (options.keyframe_times.empty()) {
+  for (size_t b = 0; b < boundary.size(); b += f)
+    if (flat_time(manifold.V, &boundary[b], f, t)) times.push_back(t);
+  if (given.empty()) {
     std::array<double, 4> ts;
-    for (Index s = 0; s < S; ++s) {
-      for (int i = 0; i < k; ++i) ts[i] = time_of(manifold.S(s, i));
+    for (Index s = 0; s < manifold.S.rows(); ++s) {
+      for (int i = 0; i < k; ++i) ts[i] = manifold.V(manifold.S(s, i), time);
       std::sort(ts.begin(), ts.begin() + k);
       // Some k-1 of the k vertices share a time iff the first or the last k-1 sorted ones do.
       if (ts[0] == ts[k - 2]) times.push_back(ts[0]);
@@ -562,79 +600,99 @@ ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSu
   }
   std::sort(times.begin(), times.end());
   times.erase(std::unique(times.begin(), times.end()), times.end());
+  return times;
+}
 
-  for (size_t b = 0; b < L.boundary.size(); b += f)
-    L.boundary_patch.push_back(flat_time(&L.boundary[b], f, t) ? time_index(times, t) : -1);
-
-  // Creases: (k-3)-faces of the boundary where the patch changes or the boundary is not a manifold.
-  {
-    struct Record {
-      std::array<Index, 2> key;
-      int patch;
-    };
-    std::vector<Record> records;
-    const size_t B = L.boundary_patch.size();
-    for (size_t b = 0; b < B; ++b) {
-      const Index* c = &L.boundary[b * f];
-      if (f == 3) {
-        for (const auto& e : kTriEdges)
-          records.push_back({{std::min(c[e[0]], c[e[1]]), std::max(c[e[0]], c[e[1]])}, L.boundary_patch[b]});
-      } else {
-        for (int i = 0; i < 2; ++i) records.push_back({{c[i], -1}, L.boundary_patch[b]});
-      }
-    }
-    std::sort(records.begin(), records.end(), [](const Record& a, const Record& b) {
-      return a.key != b.key ? a.key < b.key : a.patch < b.patch;
-    });
-    for (size_t begin = 0; begin < records.size();) {
-      size_t end = begin + 1;
-      while (end < records.size() && records[end].key == records[begin].key) ++end;
-      const bool crease = (end - begin != 2) || records[begin].patch != records[end - 1].patch;
-      if (crease) {
-        L.creases.push_back(records[begin].key[0]);
-        if (f == 3) L.creases.push_back(records[begin].key[1]);
-      }
-      begin = end;
-    }
+// Creases: (k-3)-faces of the boundary where the patch changes or the
+// boundary is not a manifold; for tetrahedra also the corners where creases
+// do not continue in exactly two segments.
+void find_creases(Level& L) {
+  const int f = L.k - 1;
+  struct Record {
+    std::array<Index, 2> key;
+    int patch;
+  };
+  std::vector<Record> records;
+  const size_t B = L.boundary_patch.size();
+  for (size_t b = 0; b < B; ++b) {
+    const Index* c = &L.boundary[b * f];
     if (f == 3) {
-      std::vector<Index> ends = L.creases;
-      std::sort(ends.begin(), ends.end());
-      for (size_t begin = 0; begin < ends.size();) {
-        size_t end = begin + 1;
-        while (end < ends.size() && ends[end] == ends[begin]) ++end;
-        if (end - begin != 2) L.corners.push_back(ends[begin]);
-        begin = end;
-      }
+      for (const auto& e : kTriEdges)
+        records.push_back({{std::min(c[e[0]], c[e[1]]), std::max(c[e[0]], c[e[1]])}, L.boundary_patch[b]});
+    } else {
+      for (int i = 0; i < 2; ++i) records.push_back({{c[i], -1}, L.boundary_patch[b]});
     }
   }
+  std::sort(records.begin(), records.end(), [](const Record& a, const Record& b) {
+    return a.key != b.key ? a.key < b.key : a.patch < b.patch;
+  });
+  for (size_t begin = 0; begin < records.size();) {
+    size_t end = begin + 1;
+    while (end < records.size() && records[end].key == records[begin].key) ++end;
+    const bool crease = (end - begin != 2) || records[begin].patch != records[end - 1].patch;
+    if (crease) {
+      L.creases.push_back(records[begin].key[0]);
+      if (f == 3) L.creases.push_back(records[begin].key[1]);
+    }
+    begin = end;
+  }
+  if (f != 3) return;
+  std::vector<Index> ends = L.creases;
+  std::sort(ends.begin(), ends.end());
+  for (size_t begin = 0; begin < ends.size();) {
+    size_t end = begin + 1;
+    while (end < ends.size() && ends[end] == ends[begin]) ++end;
+    if (end - begin != 2) L.corners.push_back(ends[begin]);
+    begin = end;
+  }
+}
 
-  // Positions and vertex attributes travel together through the stencils.
-  Eigen::Index C = D;
-  for (const auto& [name, table] : manifold.vertex_attributes) C += table.cols();
-  L.X.resize(manifold.V.rows(), C);
-  L.X.leftCols(D) = manifold.V;
-  {
-    Eigen::Index c = D;
-    for (const auto& [name, table] : manifold.vertex_attributes) {
-      L.X.middleCols(c, table.cols()) = table;
-      c += table.cols();
-    }
-  }
+// The manifold as level 0: its points with their attributes, simplices,
+// boundary patches, creases and keyframes.
+Level first_level(const Complex& manifold, std::vector<Index> boundary, const std::vector<double>& times) {
+  const int k = manifold.vertices_per_simplex();
+  const int f = k - 1;
+  const int D = manifold.ambient_dimension();
+  Level L;
+  L.k = k;
+  L.boundary = std::move(boundary);
+  double t = 0;
+  for (size_t b = 0; b < L.boundary.size(); b += f)
+    L.boundary_patch.push_back(flat_time(manifold.V, &L.boundary[b], f, t) ? time_index(times, t) : -1);
+  find_creases(L);
+  L.X = pack_columns(manifold.V, manifold.vertex_attributes);
   L.simplices.assign(manifold.S.data(), manifold.S.data() + manifold.S.size());
-  L.simplex_root.resize(S);
+  L.simplex_root.resize(manifold.S.rows());
   std::iota(L.simplex_root.begin(), L.simplex_root.end(), 0);
   L.keyframe.resize(manifold.V.rows());
   for (Eigen::Index v = 0; v < manifold.V.rows(); ++v) L.keyframe[v] = time_index(times, manifold.V(v, D - 1));
   L.parents.resize(manifold.V.rows(), 2);
   for (Eigen::Index v = 0; v < manifold.V.rows(); ++v) L.parents.row(v) << static_cast<Index>(v), static_cast<Index>(v);
+  return L;
+}
 
-  for (int level = 0; level < options.levels; ++level) {
-    L = refine(L);
-    if (options.scheme == ManifoldScheme::Schaefer) average(L, D, times, options.keep_keyframe_times);
+// Which of an octahedron's three diagonals (opposite pairs) is shortest,
+// ties broken by the smaller vertex id so that the choice is reproducible.
+int shortest_diagonal(const Level& L, const std::array<Index, 6>& c, int D) {
+  int best = 0;
+  double best_length = 0;
+  for (int p = 0; p < 3; ++p) {
+    const double length = (L.X.row(c[2 * p]).head(D) - L.X.row(c[2 * p + 1]).head(D)).squaredNorm();
+    const Index id = std::min(c[2 * p], c[2 * p + 1]);
+    const Index best_id = std::min(c[2 * best], c[2 * best + 1]);
+    const double tolerance = 1e-12 * std::max(length, best_length);
+    if (p == 0 || length < best_length - tolerance || (std::abs(length - best_length) <= tolerance && id < best_id)) {
+      best = p;
+      best_length = length;
+    }
   }
+  return best;
+}
 
-  // Output: octahedra cut along their shortest diagonal.
-  ManifoldSubdivision out;
+// The last level's simplices, octahedra cut along their shortest diagonal,
+// into out.manifold.S with their input simplex in out.simplex_parent.
+void cut_octahedra(const Level& L, int D, ManifoldSubdivision& out) {
+  const int k = L.k;
   const Tables& T = tables();
   const size_t outS = L.simplices.size() / k + 4 * L.octs.size();
   out.manifold.S.resize(static_cast<Eigen::Index>(outS), k);
@@ -644,37 +702,32 @@ ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSu
   Eigen::Index row = static_cast<Eigen::Index>(L.simplices.size() / k);
   for (size_t o = 0; o < L.octs.size(); ++o) {
     const auto& c = L.octs[o];
-    int best = 0;
-    double best_length = 0;
-    for (int p = 0; p < 3; ++p) {
-      const double length = (L.X.row(c[2 * p]).head(D) - L.X.row(c[2 * p + 1]).head(D)).squaredNorm();
-      const Index id = std::min(c[2 * p], c[2 * p + 1]);
-      const Index best_id = std::min(c[2 * best], c[2 * best + 1]);
-      const double tolerance = 1e-12 * std::max(length, best_length);
-      if (p == 0 || length < best_length - tolerance || (std::abs(length - best_length) <= tolerance && id < best_id)) {
-        best = p;
-        best_length = length;
-      }
-    }
-    for (const auto& child : T.oct_cut[best]) {
+    for (const auto& child : T.oct_cut[shortest_diagonal(L, c, D)]) {
       for (int i = 0; i < 4; ++i) out.manifold.S(row, i) = c[child[i]];
       out.simplex_parent(row) = L.oct_root[o];
       ++row;
     }
   }
+}
+
+}  // namespace
+
+ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options) {
+  check_manifold_input(manifold, options);
+  const int D = manifold.ambient_dimension();
+  std::vector<Index> boundary = boundary_facet_list(manifold.S);
+  const std::vector<double> times = keyframe_times(manifold, boundary, options.keyframe_times);
+  Level L = first_level(manifold, std::move(boundary), times);
+  for (int level = 0; level < options.levels; ++level) {
+    L = refine(L);
+    if (options.scheme == ManifoldScheme::Schaefer) average(L, D, times, options.keep_keyframe_times);
+  }
+
+  ManifoldSubdivision out;
+  cut_octahedra(L, D, out);
   out.manifold.V = L.X.leftCols(D);
-  {
-    Eigen::Index c = D;
-    for (const auto& [name, table] : manifold.vertex_attributes) {
-      out.manifold.vertex_attributes[name] = L.X.middleCols(c, table.cols());
-      c += table.cols();
-    }
-  }
-  for (const auto& [name, table] : manifold.simplex_attributes) {
-    SimplexMatrix inherited(static_cast<Eigen::Index>(outS), table.cols());
-    for (Eigen::Index s = 0; s < static_cast<Eigen::Index>(outS); ++s) inherited.row(s) = table.row(out.simplex_parent(s));
-    out.manifold.simplex_attributes[name] = std::move(inherited);
-  }
+  out.manifold.vertex_attributes = unpack_columns(L.X, D, manifold.vertex_attributes);
+  out.manifold.simplex_attributes = inherit_rows(manifold.simplex_attributes, out.simplex_parent);
   out.vertex_parents = std::move(L.parents);
   out.keyframe_times = Eigen::Map<const Eigen::VectorXd>(times.data(), static_cast<Eigen::Index>(times.size()));
   return out;
