@@ -46,125 +46,150 @@ double smallest(const std::array<double, 3>& w) { return std::min({w[0], w[1], w
 // vertex within roundoff of its boundary, so the edge is split instead.
 constexpr double kInnerMargin = 0.05;
 
-}  // namespace
-
-MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector<Index>& bad) {
-  MendReport report;
-  PointMatrix& P = surface.points;
-  const auto& faces = surface.faces;
-  auto corner = [&](Index f, int i) { return row(P, faces[f][i]); };
-
-  // Pieces of each parent, and how often each edge occurs among a parent's
-  // pieces: once on the parent's boundary (a piece of an input edge, a
-  // segment to TetGen), twice inside it.
-  std::map<Index, std::vector<Index>> pieces;
-  for (const Index s : bad) pieces.emplace(surface.parent[s], std::vector<Index>{});
-  for (Index f = 0; f < static_cast<Index>(faces.size()); ++f)
-    if (const auto it = pieces.find(surface.parent[f]); it != pieces.end()) it->second.push_back(f);
-  auto boundary_of = [&](Index parent) {
-    std::map<Edge, int> uses;
-    for (const Index f : pieces.at(parent))
-      for (int i = 0; i < 3; ++i) ++uses[edge_of(faces[f][i], faces[f][(i + 1) % 3])];
-    std::vector<Edge> boundary;
-    for (const auto& [e, count] : uses)
-      if (count == 1) boundary.push_back(e);
-    return boundary;
-  };
-  std::map<Index, std::vector<Edge>> boundaries;
-
-  std::map<Edge, Vec> split;                   // edge -> the point it is split at
-  std::vector<std::pair<Index, Vec>> centres;  // (piece, circumcentre) to insert inside
-  auto split_at_midpoint = [&](const Edge& e) { split.emplace(e, 0.5 * (row(P, e.first) + row(P, e.second))); };
-  for (const Index s : bad) {
-    const Index parent = surface.parent[s];
-    const Vec c = circumcentre(corner(s, 0), corner(s, 1), corner(s, 2));
-    if (!c.allFinite()) continue;  // a flat face: nothing sensible to add
-    auto [known, inserted] = boundaries.try_emplace(parent);
-    if (inserted) known->second = boundary_of(parent);
-    const std::vector<Edge>& boundary = known->second;
-
-    // A point in a segment's diametral ball would make it non-Delaunay in
-    // turn: split the segment instead (Ruppert's rule).
-    bool encroaches = false;
-    for (const Edge& e : boundary) {
-      const Vec a = row(P, e.first), b = row(P, e.second);
-      if ((c - 0.5 * (a + b)).squaredNorm() < 0.25 * (b - a).squaredNorm()) {
-        split_at_midpoint(e);
-        encroaches = true;
-      }
-    }
-    if (encroaches) continue;
-
-    // The piece of the parent that holds c best.
-    Index holder = -1;
-    std::array<double, 3> w{};
-    for (const Index f : pieces.at(parent)) {
-      const auto wf = barycentric(corner(f, 0), corner(f, 1), corner(f, 2), c);
-      if (holder < 0 || smallest(wf) > smallest(w)) holder = f, w = wf;
-    }
-    if (smallest(w) < 0) {
-      // Outside the input triangle, in no diametral ball: the boundary piece
-      // nearest c, which the face's circumcircle reaches over.
-      double nearest = kInf;
-      const Edge* pick = nullptr;
-      for (const Edge& e : boundary) {
-        const double d = (c - 0.5 * (row(P, e.first) + row(P, e.second))).squaredNorm();
-        if (d < nearest) nearest = d, pick = &e;
-      }
-      if (pick) split_at_midpoint(*pick);
-      continue;
-    }
-    if (smallest(w) < kInnerMargin) {
-      const int i = static_cast<int>(std::min_element(w.begin(), w.end()) - w.begin());
-      const Edge e = edge_of(faces[holder][(i + 1) % 3], faces[holder][(i + 2) % 3]);
-      if (std::find(boundary.begin(), boundary.end(), e) != boundary.end()) {
-        split_at_midpoint(e);
-      } else {
-        // An edge between two pieces of the parent: TetGen merges the pieces
-        // into one facet, so this edge constrains nothing and can take the
-        // point where c projects onto it.
-        const Vec a = row(P, e.first), b = row(P, e.second);
-        const double t = std::clamp((c - a).dot(b - a) / (b - a).squaredNorm(), 0.1, 0.9);
-        split.emplace(e, a + t * (b - a));
-      }
-      continue;
-    }
-    centres.emplace_back(holder, c);
+// The pieces each parent (input triangle) of the bad faces is refined into,
+// and the boundary of their union: the edges that occur once among a
+// parent's pieces (pieces of input edges, segments to TetGen); edges inside
+// the parent occur twice.
+class ParentPieces {
+ public:
+  ParentPieces(const ConstraintSurface& surface, const std::vector<Index>& bad) : faces_(surface.faces) {
+    for (const Index s : bad) pieces_.emplace(surface.parent[s], std::vector<Index>{});
+    for (Index f = 0; f < static_cast<Index>(faces_.size()); ++f)
+      if (const auto it = pieces_.find(surface.parent[f]); it != pieces_.end()) it->second.push_back(f);
   }
 
-  // New points: edge points first, then circumcentres.
+  const std::vector<Index>& pieces(Index parent) const { return pieces_.at(parent); }
+
+  const std::vector<Edge>& boundary(Index parent) {
+    auto [known, inserted] = boundaries_.try_emplace(parent);
+    if (inserted) {
+      std::map<Edge, int> uses;
+      for (const Index f : pieces_.at(parent))
+        for (int i = 0; i < 3; ++i) ++uses[edge_of(faces_[f][i], faces_[f][(i + 1) % 3])];
+      for (const auto& [e, count] : uses)
+        if (count == 1) known->second.push_back(e);
+    }
+    return known->second;
+  }
+
+ private:
+  const std::vector<std::array<Index, 3>>& faces_;
+  std::map<Index, std::vector<Index>> pieces_;
+  std::map<Index, std::vector<Edge>> boundaries_;
+};
+
+// Where the points go that mend the bad faces: edges to split (at the
+// point given) and circumcentres to insert inside a piece.
+struct MendPlan {
+  std::map<Edge, Vec> split;
+  std::vector<std::pair<Index, Vec>> centres;  // (piece, circumcentre)
+};
+
+// Chooses the point mending bad face s, whose circumcentre is c.
+void plan_face(const ConstraintSurface& surface, ParentPieces& parents, Index s, const Vec& c, MendPlan& plan) {
+  const PointMatrix& P = surface.points;
+  const auto& faces = surface.faces;
+  auto corner = [&](Index f, int i) { return row(P, faces[f][i]); };
+  auto split_at_midpoint = [&](const Edge& e) { plan.split.emplace(e, 0.5 * (row(P, e.first) + row(P, e.second))); };
+  const Index parent = surface.parent[s];
+  const std::vector<Edge>& boundary = parents.boundary(parent);
+
+  // A point in a segment's diametral ball would make it non-Delaunay in
+  // turn: split the segment instead (Ruppert's rule).
+  bool encroaches = false;
+  for (const Edge& e : boundary) {
+    const Vec a = row(P, e.first), b = row(P, e.second);
+    if ((c - 0.5 * (a + b)).squaredNorm() < 0.25 * (b - a).squaredNorm()) {
+      split_at_midpoint(e);
+      encroaches = true;
+    }
+  }
+  if (encroaches) return;
+
+  // The piece of the parent that holds c best.
+  Index holder = -1;
+  std::array<double, 3> w{};
+  for (const Index f : parents.pieces(parent)) {
+    const auto wf = barycentric(corner(f, 0), corner(f, 1), corner(f, 2), c);
+    if (holder < 0 || smallest(wf) > smallest(w)) holder = f, w = wf;
+  }
+  if (smallest(w) < 0) {
+    // Outside the input triangle, in no diametral ball: the boundary piece
+    // nearest c, which the face's circumcircle reaches over.
+    double nearest = kInf;
+    const Edge* pick = nullptr;
+    for (const Edge& e : boundary) {
+      const double d = (c - 0.5 * (row(P, e.first) + row(P, e.second))).squaredNorm();
+      if (d < nearest) nearest = d, pick = &e;
+    }
+    if (pick) split_at_midpoint(*pick);
+    return;
+  }
+  if (smallest(w) < kInnerMargin) {
+    const int i = static_cast<int>(std::min_element(w.begin(), w.end()) - w.begin());
+    const Edge e = edge_of(faces[holder][(i + 1) % 3], faces[holder][(i + 2) % 3]);
+    if (std::find(boundary.begin(), boundary.end(), e) != boundary.end()) {
+      split_at_midpoint(e);
+    } else {
+      // An edge between two pieces of the parent: TetGen merges the pieces
+      // into one facet, so this edge constrains nothing and can take the
+      // point where c projects onto it.
+      const Vec a = row(P, e.first), b = row(P, e.second);
+      const double t = std::clamp((c - a).dot(b - a) / (b - a).squaredNorm(), 0.1, 0.9);
+      plan.split.emplace(e, a + t * (b - a));
+    }
+    return;
+  }
+  plan.centres.emplace_back(holder, c);
+}
+
+// The planned points appended to the surface's points (edge points first,
+// then circumcentres): the point each split edge takes, and per face its
+// inner points. A circumcentre is deferred when its piece is being split.
+struct AddedPoints {
   std::map<Edge, Index> split_point;
+  std::vector<std::vector<Index>> inner;
+};
+AddedPoints add_points(ConstraintSurface& surface, const MendPlan& plan, MendReport& report) {
+  PointMatrix& P = surface.points;
+  const auto& faces = surface.faces;
+  AddedPoints out;
   Index next = static_cast<Index>(P.rows());
   std::vector<Vec> added;
-  for (const auto& [e, at] : split) split_point.emplace(e, next++), added.push_back(at);
+  for (const auto& [e, at] : plan.split) out.split_point.emplace(e, next++), added.push_back(at);
   std::set<Index> splitting;
   for (Index f = 0; f < static_cast<Index>(faces.size()); ++f)
     for (int i = 0; i < 3; ++i)
-      if (split_point.count(edge_of(faces[f][i], faces[f][(i + 1) % 3]))) splitting.insert(f);
-  std::vector<std::vector<Index>> inner = surface.inner;
-  inner.resize(faces.size());
-  for (const auto& [f, c] : centres) {
+      if (out.split_point.count(edge_of(faces[f][i], faces[f][(i + 1) % 3]))) splitting.insert(f);
+  out.inner = surface.inner;
+  out.inner.resize(faces.size());
+  for (const auto& [f, c] : plan.centres) {
     if (splitting.count(f)) {
       ++report.deferred;
       continue;
     }
     // Faces that share a circumcircle (cocircular corners) ask for one point.
-    const double tiny = 1e-9 * (corner(f, 1) - corner(f, 0)).norm();
+    const double tiny = 1e-9 * (row(P, faces[f][1]) - row(P, faces[f][0])).norm();
     bool duplicate = false;
-    for (const Index p : inner[f])
+    for (const Index p : out.inner[f])
       duplicate = duplicate || (p < P.rows() ? (row(P, p) - c).norm() : (added[p - P.rows()] - c).norm()) <= tiny;
     if (duplicate) continue;
-    inner[f].push_back(next++);
+    out.inner[f].push_back(next++);
     added.push_back(c);
     ++report.inner_points;
   }
-  report.edge_points = static_cast<Index>(split.size());
+  report.edge_points = static_cast<Index>(plan.split.size());
   const Index old_rows = static_cast<Index>(P.rows());
   P.conservativeResize(next, 3);
   for (size_t k = 0; k < added.size(); ++k) P.row(old_rows + static_cast<Index>(k)) = added[k].transpose();
+  return out;
+}
 
-  // Split every triangle along its split edges (orientation kept), one edge
-  // at a time; inner points follow the half that holds them best.
+// Splits every triangle along its split edges (orientation kept), one edge
+// at a time; inner points follow the half that holds them best.
+void split_faces(ConstraintSurface& surface, AddedPoints& added) {
+  const PointMatrix& P = surface.points;
+  const auto& faces = surface.faces;
   std::vector<std::array<Index, 3>> out_faces;
   std::vector<Index> out_parent;
   std::vector<std::vector<Index>> out_inner;
@@ -174,13 +199,13 @@ MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector
   };
   std::vector<Piece> stack;
   for (Index f = 0; f < static_cast<Index>(faces.size()); ++f) {
-    stack.push_back({faces[f], std::move(inner[f])});
+    stack.push_back({faces[f], std::move(added.inner[f])});
     while (!stack.empty()) {
       Piece piece = std::move(stack.back());
       stack.pop_back();
       int at = -1;
       for (int i = 0; i < 3 && at < 0; ++i)
-        if (split_point.count(edge_of(piece.tri[i], piece.tri[(i + 1) % 3]))) at = i;
+        if (added.split_point.count(edge_of(piece.tri[i], piece.tri[(i + 1) % 3]))) at = i;
       if (at < 0) {
         out_faces.push_back(piece.tri);
         out_parent.push_back(surface.parent[f]);
@@ -188,7 +213,7 @@ MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector
         continue;
       }
       const Index a = piece.tri[at], b = piece.tri[(at + 1) % 3], c = piece.tri[(at + 2) % 3];
-      const Index m = split_point.at(edge_of(a, b));
+      const Index m = added.split_point.at(edge_of(a, b));
       Piece first{{a, m, c}, {}}, second{{m, b, c}, {}};
       for (const Index p : piece.inner) {
         const Vec x = row(P, p);
@@ -203,6 +228,23 @@ MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector
   surface.faces = std::move(out_faces);
   surface.parent = std::move(out_parent);
   surface.inner = std::move(out_inner);
+}
+
+}  // namespace
+
+MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector<Index>& bad) {
+  MendReport report;
+  const PointMatrix& P = surface.points;
+  const auto& faces = surface.faces;
+  ParentPieces parents(surface, bad);
+  MendPlan plan;
+  for (const Index s : bad) {
+    const Vec c = circumcentre(row(P, faces[s][0]), row(P, faces[s][1]), row(P, faces[s][2]));
+    if (!c.allFinite()) continue;  // a flat face: nothing sensible to add
+    plan_face(surface, parents, s, c, plan);
+  }
+  AddedPoints added = add_points(surface, plan, report);
+  split_faces(surface, added);
   return report;
 }
 
