@@ -31,6 +31,7 @@ from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object,
 from .progress import MorphStages
 from .reporting import OperatorError, reporting
 
+MorphJob = am.MorphJob  # the morph in a worker thread that invoke() starts
 
 # Events that only move the view, passed on while a morph runs (am.MorphJob): everything else waits.
 _VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
@@ -142,8 +143,8 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             return {"CANCELLED"}
         self._running = inputs
         source, target, start, end, source_input, target_input = inputs
-        self._job = am.MorphJob(source_input.mesh, target_input.mesh,
-                                **self._options(start, end, source_input, target_input))
+        self._job = MorphJob(source_input.mesh, target_input.mesh,
+                             **self._options(start, end, source_input, target_input))
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
         wm.progress_begin(0, 100)
