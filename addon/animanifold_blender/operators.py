@@ -15,7 +15,7 @@ from .bake_object import bake_object
 from .convert import convert_object
 from .object_manifold import manifold_for
 from .operator_defaults import option
-from .properties import _BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
+from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 from .reporting import reporting
 
 
@@ -31,7 +31,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
     use_scene_range: BoolProperty(name="Scene Range", default=True)
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=250)
-    cache_directory: StringProperty(name="Cache Folder", subtype="DIR_PATH", options=_BLEND_RELATIVE)
+    cache_directory: StringProperty(name="Cache Folder", subtype="DIR_PATH", options=BLEND_RELATIVE)
 
     @classmethod
     def poll(cls, context):
@@ -75,7 +75,7 @@ class ANIMANIFOLD_OT_bake(Operator):
     alembic: BoolProperty(name="Alembic", default=True)
     use_mesh_cache: BoolProperty(name="Use Mesh Sequence Cache", default=False)
     export: EnumProperty(name="Sequence", items=EXPORT_ITEMS, default="NONE")
-    directory: StringProperty(name="Folder", subtype="DIR_PATH", options=_BLEND_RELATIVE)
+    directory: StringProperty(name="Folder", subtype="DIR_PATH", options=BLEND_RELATIVE)
 
     @classmethod
     def poll(cls, context):

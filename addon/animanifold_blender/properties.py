@@ -22,7 +22,7 @@ from . import interactive_deform, live
 from .object_manifold import prune_subdivided
 
 # Blender 4.5+ warns on '//' paths in add-on path properties unless they say they take them.
-_BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
+BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
 
 AXIS_ITEMS = (
     ("t", "t", "Time: the frame at the scene's current frame (the animation)"),
@@ -75,7 +75,7 @@ class AnimanifoldObjectSettings(PropertyGroup):
         name="Cache",
         description="Manifold cache file (.amf); '//' is relative to the .blend",
         subtype="FILE_PATH",
-        options=_BLEND_RELATIVE,
+        options=BLEND_RELATIVE,
         update=_reslice,
     )
     source: PointerProperty(name="Source", type=bpy.types.Object, description="The object this manifold was made from")
@@ -123,7 +123,7 @@ class AnimanifoldSceneSettings(PropertyGroup):
         name="Cache Folder",
         description="Folder for manifold caches; empty: beside the .blend (a temporary folder for an unsaved file)",
         subtype="DIR_PATH",
-        options=_BLEND_RELATIVE,
+        options=BLEND_RELATIVE,
     )
     bake_use_scene_range: BoolProperty(name="Scene Range", default=True,
                                        description="Bake the scene's frame range (clipped to the manifold)")
@@ -135,7 +135,7 @@ class AnimanifoldSceneSettings(PropertyGroup):
                                       description="Show the Alembic cache through a Mesh Sequence Cache modifier")
     bake_export: EnumProperty(name="Sequence", items=EXPORT_ITEMS, default="NONE")
     bake_directory: StringProperty(name="Folder", default="//animanifold_bake/", subtype="DIR_PATH",
-                                   options=_BLEND_RELATIVE,
+                                   options=BLEND_RELATIVE,
                                    description="Folder for Alembic and OBJ/PLY files ('//' is beside the .blend)")
 
 
