@@ -2,14 +2,21 @@
 (tetrahedra in x, y, z, t); frames come back sliced live on frame change and
 baked into data that plays and renders without the add-on.
 
-Modules: properties (settings), sampling (evaluated mesh → keyframes),
-live (slices → meshes), live_nodes (the geometry-nodes modifier that plays a
-topology interval), live_cuts (cuts kept between frames), handlers (frame
-change, load, undo), bake, operators, ui;
-ops_skeleton and ui_tools for the Voronoi skeleton; ops_deform for Laplacian
-deformation (anchor/handle vertex groups and an Empty, also in ui_tools);
-ops_morph for Morph Selected, which runs the core in morph_job's worker thread
-when invoked from the interface (Esc cancels).
+Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
+
+* registration: this file; properties (every setting); handlers (every
+  application handler, in order); ui, ui_tools (panels);
+* operators, thin (properties, poll, execute/invoke): operators (Convert, Bake,
+  Back to Live), ops_morph (Morph Selected; modal, the core in am.MorphJob's
+  worker thread, Esc cancels), ops_skeleton, ops_deform; `reporting` turns their
+  failures into reports;
+* what they run: convert, bake_object and bake, morph_object, deform_apply with
+  deform_constraints, deform_handle and interactive_deform;
+* live playback: live (a scene's frame), playback (the strategies), object_manifold
+  (the manifold an object shows), live_registry (all state kept between frames),
+  subdivision_cache, live_cuts, live_nodes (the geometry-nodes modifier);
+* Blender data in and out: sampling, mesh_input, mesh_writer, cache_paths,
+  object_names; the `animanifold` package through _lib.
 """
 
 bl_info = {
@@ -36,13 +43,11 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_properties()
-    ops_deform.register_properties()
     handlers.register_handlers()
 
 
 def unregister():
     handlers.unregister_handlers()
-    ops_deform.unregister_properties()
     properties.unregister_properties()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -1,18 +1,14 @@
-"""Finds the `animanifold` package: bundled inside the add-on (the zip made by
-scripts/package_addon.py) or importable from sys.path (dev tree, pip install)."""
+"""The `animanifold` package the add-on is built on: bundled inside the add-on (the zip
+made by scripts/package_addon.py puts it at `<add-on>/animanifold/`) or importable from
+sys.path (the dev tree, a pip install). Every add-on module imports it from here."""
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
-
-
-def _load():
-    bundled = f"{__package__}.animanifold"
-    if importlib.util.find_spec(bundled) is not None:
-        return importlib.import_module(bundled)
+try:
+    from . import animanifold as am
+except ImportError:
     try:
-        return importlib.import_module("animanifold")
+        import animanifold as am
     except ImportError as e:
         raise ImportError(
             "animanifold: the compiled 'animanifold' package was found neither inside the add-on "
@@ -20,5 +16,4 @@ def _load():
             "(scripts/package_addon.py) or put the project's python/ folder on sys.path."
         ) from e
 
-
-am = _load()
+__all__ = ["am"]

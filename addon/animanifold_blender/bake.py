@@ -8,8 +8,8 @@
   Mesh Sequence Cache modifier (Blender's native varying-topology cache);
 * an OBJ/PLY sequence (one file per frame).
 
-Every frame is sliced as live playback slices it (live.shown_manifold and
-live.frame_slice): the object's Smooth settings (manifold subdivision, frame
+Every frame is sliced as live playback slices it (object_manifold.shown_manifold
+and object_manifold.frame_slice): the object's Smooth settings (manifold subdivision, frame
 smoothing) are baked.
 
 Nothing here deletes the user's data: a re-bake builds the new data first and
@@ -23,15 +23,17 @@ import os
 import bpy
 import numpy as np
 
-from . import live, live_nodes
+from . import live_nodes, mesh_writer
 from ._lib import am
+from .object_manifold import frame_slice, shown_manifold
+from .reporting import ReportedError
 
 MODIFIER_NAME = "Animanifold Bake"
 CACHE_MODIFIER_NAME = "Animanifold Alembic"
 
 
-class BakeError(Exception):
-    pass
+class BakeError(ReportedError):
+    """A bake that cannot be made (the message says why)."""
 
 
 def frame_object_name(obj_name: str, frame: int) -> str:
@@ -41,7 +43,7 @@ def frame_object_name(obj_name: str, frame: int) -> str:
 def build_frames(obj, frames: list[int], collection_name: str, progress=None) -> bpy.types.Collection:
     """One mesh object per frame (the slice at that frame), in frame order, in a new
     collection that is not linked to any scene (the node group instances it)."""
-    manifold = live.shown_manifold(obj)  # subdivided as the object's Smooth settings say
+    manifold = shown_manifold(obj)  # subdivided as the object's Smooth settings say
     settings = obj.animanifold
     smoothed = settings.smooth_levels > 0
     materials = list(obj.data.materials)
@@ -49,15 +51,15 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
     mesh = None
     try:
         for i, frame in enumerate(frames):
-            s = live.frame_slice(obj, manifold, float(frame), "t")
+            s = frame_slice(obj, manifold, float(frame), "t")
             name = frame_object_name(obj.name, frame)
             mesh = bpy.data.meshes.new(name)
             for mat in materials:
                 mesh.materials.append(mat)
-            live.write_mesh(
+            mesh_writer.write_mesh(
                 mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                 material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
-                normals=live.frame_normals(s, smoothed),
+                normals=am.display.frame_normals(s, smoothed),
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)
@@ -304,12 +306,12 @@ def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list)
 def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=None) -> list[str]:
     """One file per frame (the slice as the object shows it, smoothing included; object
     space) with animanifold's mesh writer."""
-    manifold = live.shown_manifold(obj)
+    manifold = shown_manifold(obj)
     os.makedirs(directory, exist_ok=True)
     ext = {"OBJ": ".obj", "PLY": ".ply"}[fmt]
     written = []
     for i, frame in enumerate(frames):
-        s = live.frame_slice(obj, manifold, float(frame), "t")
+        s = frame_slice(obj, manifold, float(frame), "t")
         path = os.path.join(directory, f"{bpy.path.clean_name(obj.name)}_{frame:06d}{ext}")
         am.write_mesh(path, np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.faces))
         written.append(path)

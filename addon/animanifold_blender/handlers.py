@@ -1,8 +1,10 @@
-"""Application handlers: live slicing on frame change (before and after the
-frame is evaluated), re-attach after load, forget what was written after undo/redo.
+"""Application handlers, all registered here, in the order of _HANDLERS: live slicing
+on frame change (before and after the frame is evaluated), interactive deformation
+(solving when its Empty moves, and its preview shown over the frame the slicer
+wrote), re-attach after load, forget what was written after undo/redo.
 
-All are @persistent so they stay registered across file loads, and are
-found by name on register so reloading the add-on never doubles them.
+All are @persistent so they stay registered across file loads, and are found by
+name on register so reloading the add-on never doubles them.
 """
 
 from __future__ import annotations
@@ -10,7 +12,8 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import live
+from . import interactive_deform, live
+from .live_registry import registry
 
 
 @persistent
@@ -28,10 +31,22 @@ def animanifold_frame_change_post(scene, depsgraph=None):
 
 
 @persistent
+def animanifold_interactive_deform_frame_post(scene, depsgraph=None):
+    # After the slicer's post-frame handler (later in _HANDLERS): an object being
+    # deformed interactively shows its preview, not its cache's frame.
+    interactive_deform.on_frame_change(scene)
+
+
+@persistent
+def animanifold_interactive_deform_depsgraph_post(scene, depsgraph=None):
+    interactive_deform.on_depsgraph_update(scene)
+
+
+@persistent
 def animanifold_load_post(*_args):
     # A new file: forget caches and errors of the previous one, then show every
     # live manifold at its scene's current frame (its cache may have changed).
-    live.clear()
+    registry.clear()
     for scene in bpy.data.scenes:
         live.update_scene(scene, force=True)
 
@@ -40,12 +55,15 @@ def animanifold_load_post(*_args):
 def animanifold_undo_post(*_args):
     # Undo and redo restore meshes and modifiers together: what the add-on remembers
     # having written may be stale, so the next frame change writes in full.
-    live.forget_shown()
+    registry.forget_shown()
 
 
+# Appended in this order: handlers on the same list run in it.
 _HANDLERS = (
     (bpy.app.handlers.frame_change_pre, animanifold_frame_change_pre),
     (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
+    (bpy.app.handlers.frame_change_post, animanifold_interactive_deform_frame_post),
+    (bpy.app.handlers.depsgraph_update_post, animanifold_interactive_deform_depsgraph_post),
     (bpy.app.handlers.load_post, animanifold_load_post),
     (bpy.app.handlers.undo_post, animanifold_undo_post),
     (bpy.app.handlers.redo_post, animanifold_undo_post),
@@ -61,10 +79,11 @@ def _remove_by_name(handler_list, name):
 def register_handlers():
     for handler_list, fn in _HANDLERS:
         _remove_by_name(handler_list, fn.__name__)  # leftovers of an earlier load of the add-on
+    for handler_list, fn in _HANDLERS:
         handler_list.append(fn)
 
 
 def unregister_handlers():
     for handler_list, fn in _HANDLERS:
         _remove_by_name(handler_list, fn.__name__)
-    live.clear()
+    registry.clear()

@@ -2,7 +2,7 @@
 
 Between two vertex times of a manifold every frame has the same faces and each
 vertex slides along one manifold edge, so its position (and UV) is affine in
-the frame: p(t) = p(t0) + (t - t0) * rate. live.py writes the cut once per
+the frame: p(t) = p(t0) + (t - t0) * rate. playback.py writes the cut once per
 interval (its frame t0, the interval's middle) with `am_rate` (and `am_uv` /
 `am_uv_rate`) point attributes; the node group "Animanifold Live" reads the
 Scene Time and moves the vertices and rebuilds the UV map, so the object plays
@@ -17,7 +17,7 @@ the rest. So on integer frames the handler copies the frame, kept per frame
 the group passes the mesh through. On other frames (subframes, motion blur, no
 add-on) it moves the vertices from Frame and rebuilds the UV map from Cut Frame.
 
-Modifier inputs (set by live.py only):
+Modifier inputs (set by playback.py only):
   Active      off while the mesh holds a frame as it is (vertex times, sweeps,
               smoothing, custom normals): the geometry passes through;
   Frame       the frame the mesh's positions and UV map hold: at it, the mesh
@@ -29,13 +29,13 @@ Modifier inputs (set by live.py only):
   Animate UV  whether the UV map moves (the manifold has UVs);
   UV Map      its name.
 
-Only live.py writes the inputs, and every other writer of a manifold object's
+Only playback.py writes the inputs, and every other writer of a manifold object's
 mesh turns Active off (release): the UV map is rebuilt from `am_uv`, so Animate
 UV on a mesh without it would zero the UVs.
 
 Used from Blender 4.2 (the add-on's target; the group is built with the 4.0+
 interface API and tested with bpy 4.5); older Blenders (Debian's 3.4) keep
-writing every frame from the handler (live.py checks SUPPORTED).
+writing every frame from the handler (playback.py checks SUPPORTED).
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
-"""Reading a mesh object as the input of a morph or a skeleton: its evaluated mesh as closed
-triangles, and, for the morph, its look (UV map per corner, material per triangle) and where it
-sits in the world."""
+"""Reading mesh objects: the evaluated mesh as closed triangles (the input of a morph or a
+skeleton) with, for the morph, its look (UV map per corner, material per triangle) and where
+it sits in the world; and a mesh as it is, with its vertex groups and selected faces (the
+input of Laplacian deformation)."""
 
 from __future__ import annotations
 
@@ -82,3 +83,35 @@ def morph_looks(source: MorphInput, target: MorphInput) -> tuple[list, str | Non
     source_look = am.SurfaceAttributes(source.uv, in_slots(source.material_index, len(source.materials)))
     target_look = am.SurfaceAttributes(target.uv, remap[in_slots(target.material_index, len(remap))])
     return slots, source.uv_name or target.uv_name, source_look, target_look
+
+
+def mesh_arrays(mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(vertices (N, 3) local, triangles (T, 3)) of a mesh as it is (not evaluated)."""
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    mesh.calc_loop_triangles()
+    tri = np.empty(3 * len(mesh.loop_triangles), dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", tri)
+    return co.reshape(-1, 3).astype(np.float64), tri.reshape(-1, 3)
+
+
+def group_members(obj, name: str) -> np.ndarray | None:
+    """(N,) bool: vertices of `obj` in vertex group `name` with a weight > 0;
+    None when the object has no such group. (Blender exposes no array access
+    to deform weights, so this walks the vertices' group lists once.)"""
+    group = obj.vertex_groups.get(name)
+    if group is None:
+        return None
+    index = group.index
+    mesh = obj.data
+    members = [v.index for v in mesh.vertices for g in v.groups if g.group == index and g.weight > 0.0]
+    out = np.zeros(len(mesh.vertices), dtype=bool)
+    out[np.asarray(members, dtype=np.int64)] = True
+    return out
+
+
+def selected_faces(mesh) -> np.ndarray:
+    """Indices of the mesh's selected faces."""
+    flags = np.zeros(len(mesh.polygons), dtype=bool)
+    mesh.polygons.foreach_get("select", flags)
+    return np.flatnonzero(flags)

@@ -4,104 +4,38 @@ Two selected mesh objects (the active one is the target) become one manifold
 object that is the source at the start frame and the target at the end
 frame, in world space (the objects' transforms align them), played live and
 baked like a converted action. Validity (§8.3) is checked and reported; the
-sources are hidden, never changed; on failure nothing is added.
+sources are hidden, never changed; on failure nothing is added (the object is
+made by morph_object).
 
 The core solves every morph over a time span proportional to the shapes'
 size and maps it onto t0..t1 (the frame range here), so the morph is the same
 whatever the range.
 
 Invoked from the interface, the operator is modal: the core runs in a worker
-thread (morph_job), a timer shows its stage in the status bar, Esc cancels,
+thread (am.MorphJob), a timer shows its stage in the status bar, Esc cancels,
 and the object is made in the main thread once the job is done. Executed (a
 script, `blender -b`, redo), it blocks with a progress bar.
 """
 
 from __future__ import annotations
 
-import importlib
-import os
-import tempfile
 import time
-import uuid
 
 import bpy
-import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from bpy.types import Operator
 
-from . import live, live_nodes
 from ._lib import am
-from .morph_job import MorphJob
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
-from .operators import _unique_object_name
+from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
+from .progress import MorphStages
+from .reporting import OperatorError, reporting
 
-# The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
-# the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
-# method becomes the default once it meets the bar of its issue (speed, pops: see its notes).
-_MORPH = importlib.import_module(am.morph.__module__)  # the module (am.morph is the function)
-METHODS = tuple(getattr(_MORPH, "METHODS", ("strip",)))
-BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
-_METHOD_TEXT = {
-    "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
-                             "handles shapes of different genus"),
-    "field": ("Field", "Zero set of a blended signed-distance field over space-time: smooth in-betweens, holes "
-                       "open and close cleanly, ends exact"),
-    "strip": ("Strip", "Conforming fill and stripping only (§8.5): exact for shapes of the same topology, "
-                       "in-between frames may pinch when the genus changes"),
-}
-METHOD_ITEMS = tuple((m.upper(), *_METHOD_TEXT.get(m, (m.title(), f"The core's '{m}' method")))
-                     for m in sorted(METHODS, key=lambda m: m != BEST_METHOD))
+MorphJob = am.MorphJob  # the morph in a worker thread that invoke() starts
 
-
-# Events that only move the view, passed on while a morph runs (morph_job): everything else waits.
+# Events that only move the view, passed on while a morph runs (am.MorphJob): everything else waits.
 _VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
                 "INBETWEEN_MOUSEMOVE", "MOUSEROTATE", "NDOF_MOTION"}
-
-# End frames this close to the inputs (of the size) are exact for a single-precision mesh.
-SINGLE_PRECISION = 1e-7
-
-class _Stages:
-    """The progress bar (0–100) through reading the inputs (0–5), the core's stages
-    (5–85: it reports each one as it finishes, with the fraction of the whole
-    done), saving the cache and making the object; `where` names the stage
-    running, for the failure report."""
-
-    def __init__(self, wm):
-        self.wm = wm
-        self.where = "reading the inputs"
-        wm.progress_begin(0, 100)
-
-    def __call__(self, finished: str, fraction: float) -> bool:
-        self.where = f"after the core's {finished} stage"
-        self.wm.progress_update(5.0 + 80.0 * min(max(float(fraction), 0.0), 1.0))
-        return True  # never cancels
-
-    def at(self, where: str, value: float) -> None:
-        self.where = where
-        self.wm.progress_update(value)
-
-    def end(self) -> None:
-        self.wm.progress_end()
-
-
-def euler_characteristic(faces: np.ndarray) -> int:
-    """V - E + F of a closed triangle mesh (2 - 2·genus per component)."""
-    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    return int(len(np.unique(faces)) - len(np.unique(edges, axis=0)) + len(faces))
-
-
-def cache_path_for(name: str) -> tuple[str, str, str | None]:
-    """(path stored on the object, absolute path, note): beside the .blend, or a temporary folder."""
-    stem = bpy.path.clean_name(name)
-    if bpy.data.filepath:
-        folder = os.path.dirname(bpy.data.filepath)
-        blend_stem = bpy.path.clean_name(os.path.splitext(os.path.basename(bpy.data.filepath))[0])
-        filename = f"{blend_stem}.{stem}.amf"
-        return "//" + filename, os.path.join(folder, filename), None
-    folder = os.path.join(tempfile.gettempdir(), "animanifold")
-    absolute = os.path.join(folder, f"{stem}.{uuid.uuid4().hex[:8]}.amf")
-    return absolute, absolute, (f"The .blend is not saved: the morph cache is in the temporary folder {folder}; "
-                                "save the .blend and morph again to keep the cache beside it")
 
 
 class ANIMANIFOLD_OT_morph_selected(Operator):
@@ -145,21 +79,20 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         row.prop(self, "transition")
 
     def _inputs(self, context):
-        """(source, target, start, end, source input, target input) (mesh_input.MorphInput), or a report's
-        text when there is nothing to morph."""
+        """(source, target, start, end, source input, target input) (mesh_input.MorphInput); raises
+        when there is nothing to morph."""
         target = context.active_object
         # the other selected mesh (other selected objects, a camera or an empty, play no part)
         source = next(o for o in context.selected_objects if o.type == "MESH" and o is not target)
         scene = context.scene
         start, end = (scene.frame_start, scene.frame_end) if self.use_scene_range else (self.frame_start, self.frame_end)
         if end <= start:
-            return f"Morph failed: the frame range {start}–{end} is empty: the end frame must be after the start"
+            raise OperatorError(f"Morph failed: the frame range {start}–{end} is empty: the end frame must be after "
+                                "the start")
         try:
             return source, target, start, end, morph_input(context, source), morph_input(context, target)
         except ValueError as e:  # an open or non-manifold input, named
-            return self._input_message(e, source, target)
-        except Exception as e:  # the evaluated mesh could not be read: a report, not a traceback
-            return f"Morph failed reading the inputs: {type(e).__name__}: {e}"
+            raise OperatorError(self._input_message(e, source, target)) from e
 
     @staticmethod
     def _input_message(e: Exception, source, target) -> str:
@@ -168,26 +101,31 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
 
     def execute(self, context):
         """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
-        inputs = self._inputs(context)
-        if isinstance(inputs, str):
-            self.report({"ERROR"}, inputs)
+        inputs = self._read_inputs(context)
+        if inputs is None:
             return {"CANCELLED"}
         source, target, start, end, source_input, target_input = inputs
-        progress = _Stages(context.window_manager)
+        progress = MorphStages(context.window_manager)
         began = time.perf_counter()
-        try:
-            progress.at("in the core's conforming and fill stages", 5.0)
-            manifold = am.morph(source_input.mesh, target_input.mesh, progress=progress,
-                                **self._options(start, end, source_input, target_input))
-        except ValueError as e:  # the core names the input and what is wrong with it
-            self.report({"ERROR"}, self._input_message(e, source, target))
+        manifold = None
+        with reporting(self, lambda: f"Morph failed {progress.where}", name_type=True):
+            try:
+                progress.at("in the core's conforming and fill stages", 5.0)
+                manifold = am.morph(source_input.mesh, target_input.mesh, progress=progress,
+                                    **self._options(start, end, source_input, target_input))
+            except ValueError as e:  # the core names the input and what is wrong with it
+                raise OperatorError(self._input_message(e, source, target)) from e
+            finally:
+                progress.end()
+        if manifold is None:
             return {"CANCELLED"}
-        except Exception as e:  # the mesher or Qhull failed, or a bug: report, nothing left behind
-            self.report({"ERROR"}, f"Morph failed {progress.where}: {type(e).__name__}: {e}")
-            return {"CANCELLED"}
-        finally:
-            progress.end()
         return self._finish(context, source, target, start, end, source_input, target_input, manifold, began)
+
+    def _read_inputs(self, context):
+        """_inputs, or None once a failure is reported."""
+        with reporting(self, "Morph failed reading the inputs", name_type=True):
+            return self._inputs(context)
+        return None
 
     def _options(self, start, end, source_input, target_input) -> dict:
         """am.morph's options from the operator's properties and the inputs' looks."""
@@ -196,13 +134,12 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
                     source_attributes=source_look, target_attributes=target_look)
 
     def invoke(self, context, event):
-        """From the interface: the morph runs in a worker thread (morph_job), the status bar shows its
+        """From the interface: the morph runs in a worker thread (am.MorphJob), the status bar shows its
         stage, Esc cancels; the interface keeps drawing and the view can be turned meanwhile."""
         if bpy.app.background or context.window is None:
             return self.execute(context)
-        inputs = self._inputs(context)
-        if isinstance(inputs, str):
-            self.report({"ERROR"}, inputs)
+        inputs = self._read_inputs(context)
+        if inputs is None:
             return {"CANCELLED"}
         self._running = inputs
         source, target, start, end, source_input, target_input = inputs
@@ -261,117 +198,20 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
     def _finish(self, context, source, target, start, end, source_input, target_input, manifold, began):
         """Saves the cache, makes the object and reports what the validity checks found."""
         method = self.method.lower()
-        fs, ft = source_input.mesh[1], target_input.mesh[1]
-        slots, uv_name, _, _ = morph_looks(source_input, target_input)
-        name = _unique_object_name(f"{source.name}_to_{target.name}")
-        stored, absolute, note = cache_path_for(name)
-        created = []
-        try:
-            manifold.metadata.update({"source_object": source.name, "target_object": target.name,
-                                      "frame_range": [float(start), float(end)], "blender": bpy.app.version_string})
-            am.save(manifold, absolute)
-            created.append(absolute)
-            new = self._create_object(context, source, target, name, stored, absolute, manifold, start, end, slots,
-                                      uv_name)
-        except Exception as e:  # a full disk, a bug: report, nothing left behind
-            self._undo(created)
-            self.report({"ERROR"}, f"Morph failed while saving the cache or making the object: {type(e).__name__}: {e}")
+        made = None
+        with reporting(self, "Morph failed while saving the cache or making the object", name_type=True):
+            made = make_morph_object(context, source, target, start, end, source_input, target_input, manifold)
+        if made is None:
             return {"CANCELLED"}
-
-        validity = manifold.validity
-        if note:
-            self.report({"WARNING"}, note)
-        chi_s, chi_t = euler_characteristic(fs), euler_characteristic(ft)
-        topology = "" if chi_s == chi_t else (f"'{source.name}' (Euler characteristic {chi_s}) and '{target.name}' "
-                                              f"({chi_t}) differ in topology")
-        skeleton_hint = ("the skeleton method of §8.6 handles that: choose Method: Skeleton" if "skeleton" in METHODS
-                         else "that needs the skeleton method of §8.6, which this build does not have yet")
-        # Blender meshes are single precision: a quad is planar only to ~1e-7 of its size, and the
-        # end frame may take its other diagonal — ends that close count as reproduced here (the
-        # core's own test, at 1e-9, stays in the validity report).
-        ends_off = max(validity["source_distance"], validity["target_distance"])
-        if ends_off > SINGLE_PRECISION or validity["inverted_simplices"]:
-            hint = f" ({topology}: {skeleton_hint})" if topology and method == "strip" else ""
-            self.report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
-                                     f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
-                                     f"{validity['inverted_simplices']} inverted simplices{hint}")
-        if validity.get("frames_cross_themselves"):
-            self.report({"WARNING"}, f"'{new.name}': in-between frames run through themselves at "
-                                     f"{len(validity['crossing_frames'])} of {validity['crossing_frames_checked']} "
-                                     "checked times (a known limit of the skeleton push; see the validity report)")
-        if validity.get("bubble_frames"):
-            counts = ", ".join(f"{count} at {time_:.3g}" for time_, count in validity["bubble_frames"])
-            self.report({"WARNING"}, f"'{new.name}': some in-between frames hold bubbles enclosed in the solid "
-                                     f"({counts}; at most {100 * validity['largest_bubble_fraction']:.2g} % of the "
-                                     "volume): hidden under opaque materials, visible through glass (a known limit "
-                                     "of the skeleton push; see the validity report)")
-        if not validity.get("holes_preserved", True):
-            self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
-                                     f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
-        for line in _MORPH.cut_frame_warnings(validity):
-            self.report({"WARNING"}, f"'{new.name}': {line}")
-        if not manifold.check()["is_oriented_manifold"]:
-            hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
-                    else f" (the {method} method did not give a clean manifold for these shapes)")
-            self.report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface){hint}")
-        if "frames_checked" in validity:  # the core's frame checks of 3D morphs (morph_validity.hpp)
-            passed = not (validity["crossing_frames"] or validity["bubble_frames"] or validity["noise_frames"]
-                          or validity["inverted_simplices"] or validity["degenerate_simplices"])
-            self.report({"WARNING"} if not passed or validity["frames_capped"] else {"INFO"},
-                        f"'{new.name}': {validity['frames_checked']} frames checked"
-                        f"{' (cut short by the time budget)' if validity['frames_capped'] else ''}, the topology "
-                        f"changes {validity['topology_changes']} times between them; all checks passed: "
-                        f"{'yes' if passed else 'no'} ({len(validity['crossing_frames'])} crossing, "
-                        f"{len(validity['bubble_frames'])} with bubbles, {len(validity['noise_frames'])} with "
-                        f"topological noise, {validity['degenerate_simplices']} flat simplices)")
+        if made.note:
+            self.report({"WARNING"}, made.note)
+        new, validity = made.obj, manifold.validity
+        report_validity(self.report, new, manifold, method, source, target, source_input.mesh[1],
+                        target_input.mesh[1])
         stages = ", ".join(f"{stage} {seconds:.2f}" for stage, seconds in validity.get("stage_seconds", []))
         self.report({"INFO"}, f"'{new.name}': {method} morph, {len(manifold.simplices)} tets, frames {start}–{end}, "
-                              f"{time.perf_counter() - began:.2f} s ({stages}), cache {stored}")
+                              f"{time.perf_counter() - began:.2f} s ({stages}), cache {made.stored}")
         return {"FINISHED"}
-
-    @staticmethod
-    def _undo(created):
-        for path in created:
-            live.forget(path)
-            try:
-                os.unlink(path)
-            except OSError:
-                pass
-
-    @staticmethod
-    def _create_object(context, source, target, name, stored, absolute, manifold, start, end, slots, uv_name):
-        mesh = bpy.data.meshes.new(name)
-        for material in slots:  # the source's materials, then the target's (mesh_input.morph_looks)
-            mesh.materials.append(material)
-        new = bpy.data.objects.new(name, mesh)  # world-space geometry: identity transform
-        (source.users_collection[0] if source.users_collection else context.scene.collection).objects.link(new)
-        settings = new.animanifold
-        settings.frame_start, settings.frame_end = float(start), float(end)
-        settings.source = source
-        lo, hi = manifold.bounding_box
-        settings.time_scale = 2.0 * (float(np.linalg.norm((hi - lo)[:3])) or 1.0) / max(float(end - start), 1.0)
-        settings.sweep_value = float((lo[0] + hi[0]) / 2)
-        settings.cache_path = stored
-        if uv_name:
-            settings.uv_name = uv_name
-        settings.is_manifold = True
-        try:
-            live.remember(absolute, manifold)
-            live.update_object(new, live.scene_frame(context.scene))
-        except BaseException:
-            bpy.data.objects.remove(new)
-            bpy.data.meshes.remove(mesh)
-            live_nodes.remove_unused_group()  # made for the new object's first frame
-            raise
-        context.scene.render.use_lock_interface = True  # live updates during renders (see operators.py)
-        for obj in (source, target):
-            obj.hide_render = True
-            if obj.name in context.view_layer.objects:
-                obj.hide_set(True)
-                obj.select_set(False)
-        new.select_set(True)
-        context.view_layer.objects.active = new
-        return new
 
 
 classes = (ANIMANIFOLD_OT_morph_selected,)

@@ -15,9 +15,10 @@ import numpy as np
 from bpy.props import EnumProperty, IntProperty
 from bpy.types import Operator
 
-from . import live
 from ._lib import am
 from .mesh_input import closed_triangle_mesh
+from .mesh_writer import write_mesh
+from .reporting import reporting
 
 SIDE_ITEMS = (
     ("INTERNAL", "Internal", "The medial skeleton inside the shape"),
@@ -56,48 +57,50 @@ class ANIMANIFOLD_OT_skeleton(Operator):
 
     def execute(self, context):
         obj = context.active_object
-        wm = context.window_manager
-        wm.progress_begin(0, 3)
-        try:
-            vertices, faces = closed_triangle_mesh(context, obj)
-            wm.progress_update(1)
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always", am.SeparabilityWarning)
-                sk = am.voronoi_skeleton(vertices, faces, side=self.side.lower(), max_iterations=self.max_iterations,
-                                         wrap=None if self.wrap == "NONE" else self.wrap.lower())
-            wm.progress_update(2)
-        except ValueError as e:  # the core names what is wrong with the mesh
-            self.report({"ERROR"}, f"No skeleton for '{obj.name}': {e}")
-            return {"CANCELLED"}
-        except Exception as e:  # a bug: report it, nothing was added
-            self.report({"ERROR"}, f"Skeleton of '{obj.name}' failed unexpectedly: {type(e).__name__}: {e}")
-            return {"CANCELLED"}
-        finally:
-            wm.progress_end()
-        if len(sk.faces) == 0:
-            self.report({"WARNING"}, f"'{obj.name}' has no {self.side.lower()} skeleton (a convex shape has no "
-                                     "external one); nothing added")
-            return {"CANCELLED"}
+        with reporting(self, f"No skeleton for '{obj.name}'"):
+            wm = context.window_manager
+            wm.progress_begin(0, 3)
+            try:
+                vertices, faces = closed_triangle_mesh(context, obj)
+                wm.progress_update(1)
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always", am.SeparabilityWarning)
+                    sk = am.voronoi_skeleton(vertices, faces, side=self.side.lower(),
+                                             max_iterations=self.max_iterations,
+                                             wrap=None if self.wrap == "NONE" else self.wrap.lower())
+                wm.progress_update(2)
+            finally:
+                wm.progress_end()
+            if len(sk.faces) == 0:
+                self.report({"WARNING"}, f"'{obj.name}' has no {self.side.lower()} skeleton (a convex shape has no "
+                                         "external one); nothing added")
+                return {"CANCELLED"}
+            add_skeleton_object(context, obj, sk)
+            for w in caught:
+                self.report({"WARNING"}, str(w.message))
+            self.report({"INFO"}, f"'{obj.name}_skeleton': {len(sk.faces)} faces from {len(sk.refined_vertices)} mesh "
+                                  f"vertices ({'separable' if sk.separable else 'not separable'} after "
+                                  f"{sk.iterations} rounds)")
+            return {"FINISHED"}
+        return {"CANCELLED"}
 
-        name = f"{obj.name}_skeleton"
-        mesh = bpy.data.meshes.new(name)
-        live.write_mesh(mesh, sk.vertices, sk.faces)
-        side = mesh.attributes.new("side", "INT", "FACE")
-        side.data.foreach_set("value", (np.asarray(sk.side) == "external").astype(np.int32))
-        skeleton = bpy.data.objects.new(name, mesh)
-        skeleton.matrix_world = obj.matrix_world
-        collection = obj.users_collection[0] if obj.users_collection else context.scene.collection
-        collection.objects.link(skeleton)
-        for other in context.selected_objects:
-            other.select_set(False)
-        skeleton.select_set(True)
-        context.view_layer.objects.active = skeleton
 
-        for w in caught:
-            self.report({"WARNING"}, str(w.message))
-        self.report({"INFO"}, f"'{name}': {len(sk.faces)} faces from {len(sk.refined_vertices)} mesh vertices "
-                              f"({'separable' if sk.separable else 'not separable'} after {sk.iterations} rounds)")
-        return {"FINISHED"}
-
+def add_skeleton_object(context, obj, sk):
+    """A new object beside `obj` showing skeleton `sk` (its face attribute 'side': 0 internal,
+    1 external), selected and active."""
+    name = f"{obj.name}_skeleton"
+    mesh = bpy.data.meshes.new(name)
+    write_mesh(mesh, sk.vertices, sk.faces)
+    side = mesh.attributes.new("side", "INT", "FACE")
+    side.data.foreach_set("value", (np.asarray(sk.side) == "external").astype(np.int32))
+    skeleton = bpy.data.objects.new(name, mesh)
+    skeleton.matrix_world = obj.matrix_world
+    collection = obj.users_collection[0] if obj.users_collection else context.scene.collection
+    collection.objects.link(skeleton)
+    for other in context.selected_objects:
+        other.select_set(False)
+    skeleton.select_set(True)
+    context.view_layer.objects.active = skeleton
+    return skeleton
 
 classes = (ANIMANIFOLD_OT_skeleton,)

@@ -1,9 +1,11 @@
-"""Settings: per object (a manifold object's cache and slicing) and per scene
-(sampling and bake options used by the panel and as operator defaults)."""
+"""Settings: per object (a manifold object's cache and slicing; Laplacian deformation's
+groups, Empty and options) and per scene (sampling and bake options), shown by the
+panels and used as the operators' defaults."""
 
 from __future__ import annotations
 
 import math
+import traceback
 
 import bpy
 from bpy.props import (
@@ -16,10 +18,11 @@ from bpy.props import (
 )
 from bpy.types import PropertyGroup
 
-from . import live
+from . import interactive_deform, live
+from .object_manifold import prune_subdivided
 
 # Blender 4.5+ warns on '//' paths in add-on path properties unless they say they take them.
-_BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
+BLEND_RELATIVE = {"PATH_SUPPORTS_BLEND_RELATIVE"} if bpy.app.version >= (4, 5, 0) else set()
 
 AXIS_ITEMS = (
     ("t", "t", "Time: the frame at the scene's current frame (the animation)"),
@@ -43,19 +46,16 @@ EXPORT_ITEMS = (
 def _reslice(self, context):
     obj = self.id_data
     if isinstance(obj, bpy.types.Object) and live.is_live(obj) and context is not None and context.scene is not None:
-        try:
-            live.update_object(obj, live.scene_frame(context.scene))
-            live._ERRORS.pop(obj.name_full, None)
-        except Exception as e:  # shown in the panel; never raise from an update callback
-            live._ERRORS[obj.name_full] = f"{type(e).__name__}: {e}"
+        live.show_object(obj, live.scene_frame(context.scene))  # a failure goes to the panel
 
 
 def _resmooth(self, context):
     """A Smooth setting changed: free the subdivisions no object uses any more (and
     forget failed ones, so they are tried again), then re-slice."""
     try:
-        live.prune_subdivided()
-    except Exception as e:  # never raise from an update callback
+        prune_subdivided()
+    except Exception as e:  # called from a property's update: must not raise into Blender
+        traceback.print_exc()
         print(f"animanifold: cannot prune subdivided manifolds: {type(e).__name__}: {e}")
     _reslice(self, context)
 
@@ -75,7 +75,7 @@ class AnimanifoldObjectSettings(PropertyGroup):
         name="Cache",
         description="Manifold cache file (.amf); '//' is relative to the .blend",
         subtype="FILE_PATH",
-        options=_BLEND_RELATIVE,
+        options=BLEND_RELATIVE,
         update=_reslice,
     )
     source: PointerProperty(name="Source", type=bpy.types.Object, description="The object this manifold was made from")
@@ -123,7 +123,7 @@ class AnimanifoldSceneSettings(PropertyGroup):
         name="Cache Folder",
         description="Folder for manifold caches; empty: beside the .blend (a temporary folder for an unsaved file)",
         subtype="DIR_PATH",
-        options=_BLEND_RELATIVE,
+        options=BLEND_RELATIVE,
     )
     bake_use_scene_range: BoolProperty(name="Scene Range", default=True,
                                        description="Bake the scene's frame range (clipped to the manifold)")
@@ -135,19 +135,73 @@ class AnimanifoldSceneSettings(PropertyGroup):
                                       description="Show the Alembic cache through a Mesh Sequence Cache modifier")
     bake_export: EnumProperty(name="Sequence", items=EXPORT_ITEMS, default="NONE")
     bake_directory: StringProperty(name="Folder", default="//animanifold_bake/", subtype="DIR_PATH",
-                                   options=_BLEND_RELATIVE,
+                                   options=BLEND_RELATIVE,
                                    description="Folder for Alembic and OBJ/PLY files ('//' is beside the .blend)")
 
 
-classes = (AnimanifoldObjectSettings, AnimanifoldSceneSettings)
+METHOD_ITEMS = (
+    ("dual", "Dual", "Dual Laplacian (Au et al. 2006), restores features: best"),
+    ("graph", "Graph", "Graph-Laplacian weights from the per-vertex QP of eq. 4.2"),
+    ("uniform", "Uniform", "Equal weights (Taubin)"),
+    ("cotangent", "Cotangent", "Cotangent weights (plain triangle meshes only)"),
+)
+BOUNDARY_ITEMS = (
+    ("grow", "Grow", "Grow anchors/handles ring by ring when the dual method's ghosts leave too few constraints"),
+    ("ghost_anchors", "Ghost Anchors", "Keep every boundary ghost in place (boundaries stay put)"),
+    ("error", "Error", "Refuse, saying how many more constraints are needed"),
+)
+ENDPOINT_ITEMS = (
+    ("BOTH", "Both", "A slice vertex constrains both ends of the manifold edge it lies on"),
+    ("NEARER", "Nearer", "A slice vertex constrains the end of its manifold edge nearer in time"),
+)
+
+
+def _is_empty(_self, obj):
+    return obj.type == "EMPTY"
+
+
+def _interactive_toggled(self, context):
+    interactive_deform.toggled(self, context)
+
+
+class AnimanifoldDeformSettings(PropertyGroup):
+    """Per object: the Deform panel's values, used as the operator's defaults."""
+
+    anchor_group: StringProperty(name="Anchors", default="anchor",
+                                 description="Vertex group of the vertices that stay (empty: none)")
+    handle_group: StringProperty(name="Handles", default="handle",
+                                 description="Vertex group of the vertices the Empty moves (empty: none)")
+    empty: PointerProperty(name="Empty", type=bpy.types.Object, poll=_is_empty,
+                           description="The Empty whose motion moves the handles")
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default="dual")
+    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default="grow")
+    restore: BoolProperty(name="Restore", default=True, description="Dual method: restore features after the solve")
+    regularise: BoolProperty(name="Regularise", default=False,
+                             description="Manifold objects: split edges the deformation stretched (§4.5.1)")
+    time_weight: FloatProperty(name="Time Weight", default=1.0, min=0.0, soft_max=10.0,
+                               description="Regularise: length one frame counts for when measuring edges")
+    endpoints: EnumProperty(name="Edge Endpoints", items=ENDPOINT_ITEMS, default="BOTH")
+    use_selected_faces: BoolProperty(name="Selected Faces as Handles", default=False,
+                                     description="Manifold objects: a selected slice face makes the space-time "
+                                                 "simplex it was cut from a handle (a slice is written with every "
+                                                 "face selected: that counts as no selection)")
+    # Not kept from older files' "live": a session never outlives the Blender session that started it.
+    interactive: BoolProperty(name="Interactive", default=False, update=_interactive_toggled,
+                              description="Re-solve whenever the Empty moves (kept factorisation); Deform applies it")
+
+
+classes = (AnimanifoldObjectSettings, AnimanifoldSceneSettings, AnimanifoldDeformSettings)
 
 
 def register_properties():
     bpy.types.Object.animanifold = PointerProperty(type=AnimanifoldObjectSettings)
     bpy.types.Scene.animanifold = PointerProperty(type=AnimanifoldSceneSettings)
+    bpy.types.Object.animanifold_deform = PointerProperty(type=AnimanifoldDeformSettings)
 
 
 def unregister_properties():
-    for owner in (bpy.types.Scene, bpy.types.Object):
-        if hasattr(owner, "animanifold"):
-            del owner.animanifold
+    interactive_deform.clear()
+    for owner, name in ((bpy.types.Object, "animanifold_deform"), (bpy.types.Scene, "animanifold"),
+                        (bpy.types.Object, "animanifold")):
+        if hasattr(owner, name):
+            delattr(owner, name)

@@ -15,8 +15,10 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from .reporting import ReportedError
 
-class SamplingError(Exception):
+
+class SamplingError(ReportedError):
     """The object cannot be sampled into keyframes (the message says why and where)."""
 
 

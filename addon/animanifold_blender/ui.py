@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from bpy.types import Panel
 
-from . import bake, live
+from . import bake, live, subdivision_cache
+from .object_manifold import loaded_manifold
+from .subdivision_cache import subdivided_tets
 
 
 class VIEW3D_PT_animanifold(Panel):
@@ -101,11 +103,11 @@ class VIEW3D_PT_animanifold_smooth(Panel):
         row = col.row()
         row.enabled = settings.subdivision_levels > 0
         row.prop(settings, "keep_keyframe_times")
-        manifold = live.loaded_manifold(obj)  # never loads or subdivides while drawing
+        manifold = loaded_manifold(obj)  # never loads or subdivides while drawing
         if manifold is not None:
-            tets = live.subdivided_tets(manifold, settings.subdivision_levels)
+            tets = subdivided_tets(manifold, settings.subdivision_levels)
             kind = "tets" if manifold.dimension == 4 else "triangles"
-            if tets >= live.LARGE_TETS:
+            if tets >= subdivision_cache.LARGE_TETS:
                 col.label(text=f"{tets:,} {kind}: slow slicing, much memory", icon="ERROR")
             elif settings.subdivision_levels > 0:
                 col.label(text=f"{tets:,} {kind}", icon="INFO")

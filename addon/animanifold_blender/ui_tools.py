@@ -5,7 +5,8 @@ from __future__ import annotations
 
 from bpy.types import Panel
 
-from . import ops_deform
+from .deform_constraints import ANCHORS_KEY, HANDLES_KEY, stored
+from .interactive_deform import session
 
 
 class VIEW3D_PT_animanifold_tools(Panel):
@@ -47,19 +48,19 @@ class VIEW3D_PT_animanifold_tools(Panel):
                 box.prop(settings, "time_weight")
             box.prop(settings, "endpoints")
             box.prop(settings, "use_selected_faces")
-            anchors = len(ops_deform.stored(obj, ops_deform.ANCHORS_KEY))
-            handles = len(ops_deform.stored(obj, ops_deform.HANDLES_KEY))
+            anchors = len(stored(obj, ANCHORS_KEY))
+            handles = len(stored(obj, HANDLES_KEY))
             row = box.row(align=True)
             row.operator("animanifold.deform_store", icon="PINNED")
             row.operator("animanifold.deform_clear", text="", icon="X")
             if anchors or handles:
                 box.label(text=f"Stored: {anchors} anchors, {handles} handles")
-        running = obj.name_full in ops_deform.LIVE
+        running = session(obj) is not None
         row = box.row(align=True)
-        row.prop(settings, "live", toggle=True, icon="PLAY" if not running else "PAUSE")
-        row.operator("animanifold.deform", text="Apply Live" if running else "Deform", icon="MOD_SIMPLEDEFORM")
-        if settings.live and not running:
-            box.label(text="Live is not running: toggle it off and on", icon="ERROR")
+        row.prop(settings, "interactive", toggle=True, icon="PLAY" if not running else "PAUSE")
+        row.operator("animanifold.deform", text="Apply" if running else "Deform", icon="MOD_SIMPLEDEFORM")
+        if settings.interactive and not running:
+            box.label(text="Interactive is not running: toggle it off and on", icon="ERROR")
 
 
 classes = (VIEW3D_PT_animanifold_tools,)

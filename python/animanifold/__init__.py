@@ -29,6 +29,8 @@ from .refine import Refinement, refine
 from .regularise import Regularisation, RegularisationMaps, regularise
 from .smooth import SmoothFrame, subdivide, subdivide_frame
 from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
+from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
+from .morph_job import MorphJob
 
 __version__ = "0.1.0"
 
@@ -39,6 +41,7 @@ __all__ = [
     "SeparabilityWarning",
     "Deformer",
     "HoleSpaceWarning",
+    "MorphJob",
     "RestoreStatus",
     "Slice",
     "SurfaceAttributes",

@@ -141,9 +141,9 @@ def test_bake_failures_leave_the_scene_unchanged(converted, monkeypatch):
         bpy.ops.animanifold.bake(alembic=False, use_scene_range=False, frame_start=100, frame_end=120)
     assert scene_state() == before
     # A failure in the middle of building the frames removes what was built.
-    from animanifold_blender import live
+    from animanifold_blender import mesh_writer
 
-    real = live.write_mesh
+    real = mesh_writer.write_mesh
     calls = {"n": 0}
 
     def failing(*args, **kwargs):
@@ -152,7 +152,7 @@ def test_bake_failures_leave_the_scene_unchanged(converted, monkeypatch):
             raise RuntimeError("disk on fire")
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(live, "write_mesh", failing)
+    monkeypatch.setattr(mesh_writer, "write_mesh", failing)
     with pytest.raises(RuntimeError, match="Bake failed: disk on fire"):
         bpy.ops.animanifold.bake(alembic=False)
     monkeypatch.undo()

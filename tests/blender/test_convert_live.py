@@ -146,13 +146,13 @@ def test_sweep_axes_and_back_to_t(demo):
 def test_frame_changes_check_each_object_once_unless_animated(demo, monkeypatch):
     """The post-frame handler skips objects the pre-frame one showed at this frame,
     unless they are animated: a keyframed sweep value is read after evaluation."""
-    from animanifold_blender import live
+    from animanifold_blender import playback
 
     man = convert(demo)
     cache = cache_of(man)
     calls = []
-    update_object = live.update_object
-    monkeypatch.setattr(live, "update_object", lambda obj, frame, **kw: (calls.append(frame), update_object(obj, frame, **kw)))
+    update_object = playback.update_object
+    monkeypatch.setattr(playback, "update_object", lambda obj, frame, **kw: (calls.append(frame), update_object(obj, frame, **kw)))
     for frame in (20, 21, 21):
         calls.clear()
         bpy.context.scene.frame_set(frame)
@@ -299,7 +299,7 @@ def test_converting_twice_keeps_both_caches(demo, tmp_path):
 def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
     """Playback between two keyframes moves the vertices of one cut (the live modifier):
     the shown mesh is the same as a fresh cut, UVs included."""
-    from animanifold_blender import live
+    from animanifold_blender.live_registry import registry
 
     man = convert(demo)
     cache = cache_of(man)
@@ -318,6 +318,6 @@ def test_frames_within_a_keyframe_interval_only_move_vertices(demo):
         mesh.loops.foreach_get("vertex_index", corner_vertex)
         np.testing.assert_allclose(corner_uv.reshape(-1, 2), s.vertex_attributes["uv"][corner_vertex], atol=1e-6)
         inside = times[0] < frame < times[-1] and frame not in times
-        entry = live._SHOWN.get(man.name_full)
+        entry = registry.shown(man)
         assert entry is not None and (entry.interval is not None) == inside, \
             f"frame {frame}: the shown interval is {'missing' if inside else 'stale'}"

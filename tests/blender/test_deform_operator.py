@@ -345,43 +345,43 @@ def test_manifold_failures_change_nothing(manifold_object):
     fails(man, r"is not its slice at frame 36")
 
 
-def test_live_deform_resolves_on_empty_moves_and_applies(sphere):
-    from animanifold_blender import ops_deform
+def test_interactive_deform_resolves_on_empty_moves_and_applies(sphere):
+    from animanifold_blender import handlers, interactive_deform
 
     obj, empty = sphere
     v0 = mesh_vertices(obj.data)
     handles = np.flatnonzero(v0[:, 2] > 0.7)
     obj.animanifold_deform.method = "graph"
-    obj.animanifold_deform.live = True
-    assert obj.name_full in ops_deform.LIVE
-    assert ops_deform.animanifold_deform_depsgraph_post in bpy.app.handlers.depsgraph_update_post
+    obj.animanifold_deform.interactive = True
+    assert interactive_deform.session(obj) is not None
+    assert handlers.animanifold_interactive_deform_depsgraph_post in bpy.app.handlers.depsgraph_update_post
     empty.location.z += 1.0
     bpy.context.view_layer.update()  # runs depsgraph_update_post
-    ops_deform.animanifold_deform_depsgraph_post(bpy.context.scene)  # idempotent if it already ran
+    handlers.animanifold_interactive_deform_depsgraph_post(bpy.context.scene)  # idempotent if it already ran
     v1 = mesh_vertices(obj.data)
     np.testing.assert_allclose(v1[handles], v0[handles] + [0, 0, 0.5], atol=1e-6)
-    # Turning Live off shows the mesh as it was.
-    obj.animanifold_deform.live = False
+    # Turning Interactive off shows the mesh as it was.
+    obj.animanifold_deform.interactive = False
     np.testing.assert_allclose(mesh_vertices(obj.data), v0, atol=1e-6)
-    assert ops_deform.animanifold_deform_depsgraph_post not in bpy.app.handlers.depsgraph_update_post
-    # On again, move, and Deform applies the live result.
-    obj.animanifold_deform.live = True
+    assert interactive_deform.session(obj) is None and not interactive_deform.any_running()
+    # On again, move, and Deform applies the interactive result.
+    obj.animanifold_deform.interactive = True
     empty.location.z += 1.0
     bpy.context.view_layer.update()
-    ops_deform.animanifold_deform_depsgraph_post(bpy.context.scene)
+    handlers.animanifold_interactive_deform_depsgraph_post(bpy.context.scene)
     assert bpy.ops.animanifold.deform() == {"FINISHED"}
-    assert not obj.animanifold_deform.live and obj.name_full not in ops_deform.LIVE
+    assert not obj.animanifold_deform.interactive and interactive_deform.session(obj) is None
     np.testing.assert_allclose(mesh_vertices(obj.data)[handles], v0[handles] + [0, 0, 0.5], atol=1e-6)
-    assert ops_deform.animanifold_deform_depsgraph_post not in bpy.app.handlers.depsgraph_update_post
+    assert not interactive_deform.any_running()
 
 
-def test_live_cannot_start_without_handles_and_says_why(sphere):
-    from animanifold_blender import live, ops_deform
+def test_interactive_cannot_start_without_handles_and_says_why(sphere):
+    from animanifold_blender import interactive_deform, live
 
     obj, _ = sphere
     obj.animanifold_deform.handle_group = "missing"
-    obj.animanifold_deform.live = True
-    assert not obj.animanifold_deform.live and obj.name_full not in ops_deform.LIVE
+    obj.animanifold_deform.interactive = True
+    assert not obj.animanifold_deform.interactive and interactive_deform.session(obj) is None
     assert "no vertex group 'missing'" in live.last_error(obj)
 
 
@@ -394,8 +394,8 @@ def test_smoke_blender_binary_deforms_a_stitched_manifold(tmp_path):
     assert proc.returncode == 0 and "DEFORM SMOKE OK" in proc.stdout, proc.stdout[-4000:] + proc.stderr[-4000:]
 
 
-def test_live_manifold_preview_follows_frames_and_unregister_removes_the_handlers(manifold_object, addon):
-    from animanifold_blender import ops_deform
+def test_interactive_manifold_preview_follows_frames_and_unregister_removes_the_handlers(manifold_object, addon):
+    from animanifold_blender import handlers, interactive_deform
 
     man = manifold_object
     scene = bpy.context.scene
@@ -406,32 +406,34 @@ def test_live_manifold_preview_follows_frames_and_unregister_removes_the_handler
     empty = add_empty()
     man.animanifold_deform.empty = empty
     man.animanifold_deform.method = "graph"
-    man.animanifold_deform.live = True
-    state = ops_deform.LIVE[man.name_full]
+    man.animanifold_deform.interactive = True
+    state = interactive_deform.session(man)
     empty.location.x += 0.5
     bpy.context.view_layer.update()
-    ops_deform.animanifold_deform_depsgraph_post(scene)
+    handlers.animanifold_interactive_deform_depsgraph_post(scene)
     assert state.preview is not None
     for frame in (40, 36):
-        scene.frame_set(frame)  # the slicer shows the cache, then the live handler the preview
+        scene.frame_set(frame)  # the slicer shows the cache, then the interactive handler the preview
         expected = state.preview.slice(float(frame)).vertices
         np.testing.assert_allclose(np.sort(mesh_vertices(shown(man)), axis=0), np.sort(expected, axis=0), atol=1e-5)
     old_path = man.animanifold.cache_path
-    assert bpy.ops.animanifold.deform() == {"FINISHED"}  # applies the live result
-    assert man.animanifold.cache_path != old_path and not man.animanifold_deform.live
+    assert bpy.ops.animanifold.deform() == {"FINISHED"}  # applies the interactive result
+    assert man.animanifold.cache_path != old_path and not man.animanifold_deform.interactive
     new = am.load(bpy.path.abspath(man.animanifold.cache_path))
     np.testing.assert_allclose(new.points, state.current, atol=1e-12)
-    # Live again, then unregister: both live handlers are gone, nothing dangles.
+    # Interactive again, then unregister: both interactive handlers are gone, nothing dangles; the
+    # interactive handler runs after the slicer's on a frame change.
     add_group(man, "handle", [0])  # (applying re-sliced the object: its groups are gone)
     add_group(man, "anchor", [1])
-    man.animanifold_deform.live = True
+    man.animanifold_deform.interactive = True
     names = lambda lst: [getattr(h, "__name__", "") for h in lst]  # noqa: E731
-    assert "animanifold_deform_frame_post" in names(bpy.app.handlers.frame_change_post)
+    post = names(bpy.app.handlers.frame_change_post)
+    assert post.index("animanifold_interactive_deform_frame_post") > post.index("animanifold_frame_change_post")
     addon.unregister()
     try:
-        assert not ops_deform.LIVE
-        assert "animanifold_deform_frame_post" not in names(bpy.app.handlers.frame_change_post)
-        assert "animanifold_deform_depsgraph_post" not in names(bpy.app.handlers.depsgraph_update_post)
+        assert not interactive_deform.any_running()
+        assert "animanifold_interactive_deform_frame_post" not in names(bpy.app.handlers.frame_change_post)
+        assert "animanifold_interactive_deform_depsgraph_post" not in names(bpy.app.handlers.depsgraph_update_post)
         assert not hasattr(bpy.types.Object, "animanifold_deform")
     finally:
         addon.register()

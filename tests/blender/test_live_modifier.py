@@ -88,16 +88,16 @@ def assert_same(a: dict, b: dict, what: str) -> None:
 @pytest.fixture()
 def writes(monkeypatch):
     """Counts the meshes the add-on writes."""
-    from animanifold_blender import live
+    from animanifold_blender import mesh_writer
 
     count = {"n": 0}
-    write_mesh = live.write_mesh
+    write_mesh = mesh_writer.write_mesh
 
     def counted(*args, **kwargs):
         count["n"] += 1
         return write_mesh(*args, **kwargs)
 
-    monkeypatch.setattr(live, "write_mesh", counted)
+    monkeypatch.setattr(mesh_writer, "write_mesh", counted)
     return count
 
 
@@ -106,10 +106,10 @@ def frame_work(monkeypatch):
     """Records the frames the handler copies into the mesh (write_frame), the frames it
     computes (live_cuts.interval_frame, but for a cut's own frame) and the corner
     gathers of UV maps (live_cuts.corner_values)."""
-    from animanifold_blender import live, live_cuts
+    from animanifold_blender import live_cuts, mesh_writer
 
     work = {"written": [], "computed": [], "gathers": 0}
-    write, compute, gather = live.write_frame, live_cuts.interval_frame, live_cuts.corner_values
+    write, compute, gather = mesh_writer.write_frame, live_cuts.interval_frame, live_cuts.corner_values
 
     def counted_write(mesh, uv_name, frame):
         scene = bpy.context.scene
@@ -125,7 +125,7 @@ def frame_work(monkeypatch):
         work["gathers"] += 1
         return gather(*args)
 
-    monkeypatch.setattr(live, "write_frame", counted_write)
+    monkeypatch.setattr(mesh_writer, "write_frame", counted_write)
     monkeypatch.setattr(live_cuts, "interval_frame", counted_compute)
     monkeypatch.setattr(live_cuts, "corner_values", counted_gather)
     return work
@@ -138,11 +138,11 @@ def assert_bounds_and_normals(man, s, what):
     box = np.array([tuple(c) for c in ev.bound_box])
     np.testing.assert_allclose(box.min(0), s.vertices.min(0), atol=1e-5, err_msg=f"{what}: bounds")
     np.testing.assert_allclose(box.max(0), s.vertices.max(0), atol=1e-5, err_msg=f"{what}: bounds")
-    from animanifold_blender import live
+    from animanifold_blender import mesh_writer
 
     fresh = bpy.data.meshes.new("fresh")
     try:
-        live.write_mesh(fresh, s.vertices, s.faces)
+        mesh_writer.write_mesh(fresh, s.vertices, s.faces)
         expected = np.empty(3 * len(fresh.vertices), np.float32)
         fresh.vertices.foreach_get("normal", expected)
     finally:
@@ -217,12 +217,12 @@ def test_copied_frames_have_their_own_bounds_and_normals(demo):
 
 
 def test_frames_beyond_the_frame_budget_are_moved_by_the_modifier(demo, frame_work, monkeypatch):
-    from animanifold_blender import live
+    from animanifold_blender.live_registry import registry
 
     man, cache = convert(demo)
     goto(25)  # enters (24, 36), whose middle is 30: frame 25 computed and kept
-    assert frame_work["computed"] == [25.0] and live._CUTS.frame_nbytes > 0
-    monkeypatch.setattr(live._CUTS, "frame_budget", live._CUTS.frame_nbytes)  # no room for another
+    assert frame_work["computed"] == [25.0] and registry.cuts.frame_nbytes > 0
+    monkeypatch.setattr(registry.cuts, "frame_budget", registry.cuts.frame_nbytes)  # no room for another
     for frame in (26, 27, 25, 30, 26, 31):
         goto(frame)
         assert_shows(man, cache, frame)
@@ -286,14 +286,14 @@ def test_crossing_keyframes_and_intervals_writes_once_each(demo, writes):
 
 
 def test_kept_cuts_are_reused_and_match_fresh_ones(demo):
-    from animanifold_blender import live
+    from animanifold_blender.live_registry import registry
 
     man, cache = convert(demo)
     goto(5.5)
     first = snapshot(man.data)
     goto(12)
     goto(30)
-    live._CUTS.clear()  # the next visit slices again and lets Blender compute the edges
+    registry.cuts.clear()  # the next visit slices again and lets Blender compute the edges
     goto(5.5)
     fresh = snapshot(man.data)
     goto(30)
@@ -498,7 +498,8 @@ def _uv_colour_cycles(man, scene) -> None:
 def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_path, monkeypatch):
     """Cycles renders the modifier's frame (positions and UVs) as it renders the same frame
     written by the handler; with the UVs left as cut, it would not."""
-    from animanifold_blender import live
+    from animanifold_blender import playback
+    from animanifold_blender.live_registry import registry
 
     man, cache = convert(demo)
     scene = bpy.context.scene
@@ -508,8 +509,8 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     assert modifier_inputs(man)["Active"] and modifier_inputs(man)["Frame"] == 30.0
     driven = _render(scene, tmp_path / "driven.exr")
 
-    monkeypatch.setattr(live, "can_drive", lambda *a, **k: False)  # the handler writes the frame
-    live.forget_shown()
+    monkeypatch.setattr(playback, "can_drive", lambda *a, **k: False)  # the handler writes the frame
+    registry.forget_shown()
     goto(frame)
     assert not modifier_inputs(man)["Active"]
     np.testing.assert_allclose(mesh_vertices(man.data), cache.slice(frame).vertices, atol=1e-6)
@@ -518,7 +519,7 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     assert np.abs(driven - written).max() < 1e-4  # measured 5e-7
 
     monkeypatch.undo()  # the modifier again, its UV map left as cut (frame 30)
-    live.forget_shown()
+    registry.forget_shown()
     goto(frame)
     mod = man.modifiers[MODIFIER]
     mod[{i.name: i.identifier for i in mod.node_group.interface.items_tree}["Animate UV"]] = False
@@ -534,7 +535,8 @@ def test_animation_render_gets_each_copied_frame(demo, tmp_path, monkeypatch, fr
     and Cycles renders what the handler-written frame renders. Were the copy missing
     (the modifier told the mesh holds the frame while it holds another), the render
     would show the cut's frame."""
-    from animanifold_blender import live
+    from animanifold_blender import mesh_writer, playback
+    from animanifold_blender.live_registry import registry
 
     man, cache = convert(demo)
     scene = bpy.context.scene
@@ -555,12 +557,12 @@ def test_animation_render_gets_each_copied_frame(demo, tmp_path, monkeypatch, fr
     def lie(mesh, uv_name, frame):  # says it copied the frame, writes nothing
         return True
 
-    monkeypatch.setattr(live, "write_frame", lie)
-    live.forget_shown()
+    monkeypatch.setattr(mesh_writer, "write_frame", lie)
+    registry.forget_shown()
     stale = animation("stale")
 
-    monkeypatch.setattr(live, "can_drive", lambda *a, **k: False)  # the handler writes whole frames
-    live.forget_shown()
+    monkeypatch.setattr(playback, "can_drive", lambda *a, **k: False)  # the handler writes whole frames
+    registry.forget_shown()
     for f in frames:
         goto(f)
         assert not modifier_inputs(man)["Active"]

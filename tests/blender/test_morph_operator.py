@@ -57,9 +57,9 @@ def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
     assert source.hide_get() and target.hide_get()
     # turned into world space, the cube's squares are bent by rounding: still convex (§8.4), and
     # no frame runs through itself (on the Delaunay route such pairs could)
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
 
-    validity = live.manifold_for(morph).validity
+    validity = object_manifold.manifold_for(morph).validity
     assert validity["exact_convex_fill"] and not validity["frames_cross_themselves"], validity
     scene.frame_set(1)
     assert same_points(world_vertices(morph), world_vertices(source))
@@ -116,11 +116,11 @@ def sphere_to_torus(empty_scene):
 
 
 def test_sphere_to_torus_is_a_manifold_object_that_starts_as_the_sphere(sphere_to_torus):
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
 
     source, target, morph = sphere_to_torus
     assert morph.animanifold.is_manifold and morph.name == "Sphere_to_Torus"
-    manifold = live.manifold_for(morph)
+    manifold = object_manifold.manifold_for(morph)
     assert manifold.time_range == (5.0, 29.0)
     assert manifold.metadata["morph"]["method"] == best_method()
     assert manifold.validity["inverted_simplices"] == 0
@@ -166,9 +166,9 @@ def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(
     assert bpy.ops.animanifold.morph_selected(method="FIELD") == {"FINISHED"}
     out = capfd.readouterr().out
     morph = bpy.context.active_object
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
 
-    manifold = live.manifold_for(morph)
+    manifold = object_manifold.manifold_for(morph)
     assert manifold.metadata["morph"]["method"] == "field" and manifold.hole_space is None
     validity = manifold.validity
     assert validity["ends_reproduced"] and validity["inverted_simplices"] == 0
@@ -275,14 +275,14 @@ def test_uv_sphere_to_a_turned_mirrored_cube_reproduces_both_ends_over_a_long_ra
 def morph_with_clean_frames(source, target, **options) -> dict:
     """Morph Selected over the scene's range: no checked frame runs through itself or holds a
     bubble, and the frames at the range's ends match the inputs. Returns the validity report."""
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
 
     scene = bpy.context.scene
     bpy.context.view_layer.update()
     select(source, target)
     assert bpy.ops.animanifold.morph_selected(**options) == {"FINISHED"}
     morph = bpy.context.active_object
-    validity = live.manifold_for(morph).validity
+    validity = object_manifold.manifold_for(morph).validity
     assert validity["ends_reproduced"], validity
     assert not validity["frames_cross_themselves"] and validity["bubble_frames"] == [], validity
     for frame, obj in ((scene.frame_start, source), (scene.frame_end, target)):
@@ -388,9 +388,9 @@ def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_s
     bpy.ops.mesh.primitive_cube_add(size=1.5)
     select(source, bpy.context.active_object)
     assert bpy.ops.animanifold.morph_selected(method="STRIP") == {"FINISHED"}
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
 
-    assert live.manifold_for(bpy.context.active_object).metadata["morph"]["method"] == "strip"
+    assert object_manifold.manifold_for(bpy.context.active_object).metadata["morph"]["method"] == "strip"
 
 
 def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
@@ -410,7 +410,7 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
 
     stages = []
 
-    class Recording(ops_morph._Stages):
+    class Recording(ops_morph.MorphStages):
         def __init__(self, wm):
             super().__init__(WM())
 
@@ -418,7 +418,7 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
             stages.append(finished)
             return super().__call__(finished, fraction)
 
-    monkeypatch.setattr(ops_morph, "_Stages", Recording)
+    monkeypatch.setattr(ops_morph, "MorphStages", Recording)
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1)
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_cube_add(size=1.5)
@@ -548,9 +548,9 @@ def test_two_tori_carry_their_shared_tunnel_into_playback(empty_scene):
     select(source, target)
     assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=21) == {"FINISHED"}
     morph = bpy.context.active_object
-    from animanifold_blender import live
+    from animanifold_blender import live, object_manifold
 
-    manifold = live.manifold_for(morph)
+    manifold = object_manifold.manifold_for(morph)
     assert manifold.hole_space is not None and manifold.validity["shared_hole_volume"] > 0
     scene = bpy.context.scene
     for frame in (1, 6, 11, 16, 21):
@@ -577,51 +577,15 @@ def test_an_object_and_its_duplicate_morph_into_the_object_at_every_frame(empty_
     select(source, target)
     assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=12) == {"FINISHED"}
     morph = bpy.context.active_object
-    from animanifold_blender import live
+    from animanifold_blender import live, object_manifold
 
-    report = live.manifold_for(morph).validity
+    report = object_manifold.manifold_for(morph).validity
     assert report["inputs_coincide"] and report["shared_stripped_simplices"] > 0, report
     scene = bpy.context.scene
     for frame in (1, 3, 6, 7.5, 10, 12):
         scene.frame_set(int(frame), subframe=frame % 1)
         assert live.last_error(morph) is None, live.last_error(morph)
         assert frame_matches(compare_with(morph, source)), (frame, compare_with(morph, source))
-
-
-def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled(addon):
-    """Morph Selected from the interface runs the core in a worker thread (morph_job), so Blender
-    keeps drawing and Esc can stop it; run as a script (and here) it blocks, as before. The core
-    is held 30 s at its conforming stage (its test hold: a stand-in child process where the mesher
-    would run): meanwhile the main thread gets the GIL (the interface can run Python), and a cancel
-    after 1 s ends the job within a second, with nothing built."""
-    from animanifold_blender._lib import am
-    from animanifold_blender.morph_job import MorphJob
-    from shapes import icosphere, torus
-
-    job = MorphJob(icosphere(1), torus(), t0=1.0, t1=24.0, test_hold=("conforming", 30.0))
-    ticks, began = 0, time.perf_counter()
-    while time.perf_counter() - began < 1.0:
-        time.sleep(0.01)
-        ticks += 1
-    assert not job.done and ticks > 50, ticks  # the GIL was free for the main thread
-    job.cancel()
-    asked = time.perf_counter()
-    assert job.wait(5.0) and time.perf_counter() - asked < 1.0
-    assert job.cancelled and job.cancelling and job.manifold is None and job.error is None
-
-    # a job left to finish gives what the blocking call gives
-    source, target = icosphere(1), torus()
-    job = MorphJob(source, target, t0=1.0, t1=24.0)
-    assert job.wait(120.0) and not job.cancelled and job.error is None
-    blocking = am.morph(source, target, t0=1.0, t1=24.0)
-    assert np.array_equal(job.manifold.simplices, blocking.simplices)
-    assert np.array_equal(job.manifold.points, blocking.points)
-    assert job.stage == "hole validity" and job.fraction == 1.0
-
-    # an input the core refuses comes back as the job's error, not raised in the thread
-    v, f = icosphere(1)
-    job = MorphJob((v, f[1:]), target)
-    assert job.wait(30.0) and isinstance(job.error, ValueError) and "open" in str(job.error)
 
 
 @pytest.mark.slow
@@ -678,7 +642,7 @@ def _modal_operator(job, running):
     op.report = lambda kind, text: op.reports.append((set(kind), text))
     for name in ("_status", "_finish", "_stop_waiting", "cancel"):
         setattr(op, name, functools.partial(getattr(cls, name), op))
-    op._input_message, op._undo, op._create_object = cls._input_message, cls._undo, cls._create_object
+    op._input_message = cls._input_message
     return functools.partial(cls.modal, op), op
 
 
@@ -688,7 +652,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     tick and the operator cancels, adding nothing; a finished job's object is made by modal() in
     the main thread, as execute() makes it."""
     from animanifold_blender import ops_morph
-    from animanifold_blender.morph_job import MorphJob
+    from animanifold.morph_job import MorphJob
     from shapes import icosphere, torus
 
     calls = []

@@ -83,7 +83,8 @@ def mesh_state(mesh) -> dict:
 
 
 def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
-    from animanifold_blender import live
+    from animanifold_blender import object_manifold
+    from animanifold_blender.live_registry import registry
 
     man = convert(demo)
     cache = cache_of(man)
@@ -105,7 +106,7 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
     assert len(mesh.polygons) == 4 * F  # Loop: every triangle in four
     assert len(mesh.vertices) == V + E  # a point per vertex and per edge: seams are not boundaries
     assert is_closed(mesh)  # still closed: no cracks along the UV seams
-    s = live.frame_slice(man, live.shown_manifold(man), 17.0)
+    s = object_manifold.frame_slice(man, object_manifold.shown_manifold(man), 17.0)
     np.testing.assert_allclose(mesh_vertices(mesh), s.vertices, atol=1e-6, rtol=0)
     np.testing.assert_array_equal(corner_vertices(mesh), s.faces)
     distance = surface_distance(mesh_vertices(mesh), base_corners)
@@ -116,7 +117,7 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
     assert mesh.uv_layers.active.name == settings.uv_name
     assert all(p.use_smooth for p in mesh.polygons[:10])
     # Playing inside a keyframe interval cuts and refines every frame (no vertex sliding).
-    assert live._SHOWN[man.name_full].mover is None and not live._SHOWN[man.name_full].driven
+    assert registry.shown(man).mover is None and not registry.shown(man).driven
     for frame in (18, 19.5, 23):
         scene.frame_set(int(frame), subframe=frame - int(frame))
         s = cache.slice(frame)
@@ -124,7 +125,7 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
         assert is_closed(shown(man)), f"frame {frame}"
         if frame == 19.5:
             assert surface_distance(mesh_vertices(shown(man)), s.vertices[s.faces]).max() < SMOOTH_TOLERANCE
-        assert live._SHOWN[man.name_full].mover is None and not live._SHOWN[man.name_full].driven
+        assert registry.shown(man).mover is None and not registry.shown(man).driven
     # A crease angle change re-slices at once; two levels: 16x.
     scene.frame_set(17)
     smooth = mesh_vertices(shown(man))
@@ -139,7 +140,8 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
 
 
 def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
-    from animanifold_blender import live
+    from animanifold_blender import cache_paths, object_manifold
+    from animanifold_blender.live_registry import registry
 
     man = convert(demo)
     cache = cache_of(man)
@@ -175,7 +177,7 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     for frame in (5, 13, 30, 47):
         scene.frame_set(frame)
     assert calls == [True]
-    subdivided = live.shown_manifold(man)
+    subdivided = object_manifold.shown_manifold(man)
     assert len(subdivided.simplices) == 8 * len(cache.simplices)
     assert subdivided.time_range == cache.time_range  # the first and last frame stay at their times
     assert set(np.unique(subdivided.points[subdivided.boundary(), 3])) == {1.0, 48.0}
@@ -185,23 +187,24 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     # manifold edges) works on it.
     scene.frame_set(30)
     scene.frame_set(31)
-    assert live._SHOWN[man.name_full].driven
+    assert registry.shown(man).driven
     np.testing.assert_allclose(mesh_vertices(shown(man)), subdivided.slice(31.0).vertices, atol=1e-6, rtol=0)
     # Without keyframe times kept: another subdivision; the first one, which no object
     # asks for any more, is freed (so switching back computes it again, once).
     settings.keep_keyframe_times = False
     assert calls == [True, False]
-    assert list(live._SUBDIVIDED[live.cache_abspath(man)].manifolds) == [(1, False)]
+    assert registry.subdivisions.kept(cache_paths.cache_abspath(man)) == [(1, False)]
     settings.keep_keyframe_times = True
     scene.frame_set(2)
     assert calls == [True, False, True]
-    subdivided = live.shown_manifold(man)
+    subdivided = object_manifold.shown_manifold(man)
     scene.frame_set(1)
     np.testing.assert_allclose(mesh_vertices(shown(man)), subdivided.slice(1.0).vertices, atol=1e-6, rtol=0)
 
 
 def test_back_to_zero_gives_exactly_the_old_mesh(demo):
     from animanifold_blender import live
+    from animanifold_blender.live_registry import registry
 
     man = convert(demo)
     settings = man.animanifold
@@ -212,13 +215,13 @@ def test_back_to_zero_gives_exactly_the_old_mesh(demo):
     settings.smooth_levels = 1
     smoothed = mesh_state(shown(man))
     assert len(smoothed["corners"]) > 4 * len(before["corners"])
-    assert live._SUBDIVIDED
+    assert len(registry.subdivisions)
     settings.smooth_levels = 0
     settings.subdivision_levels = 0
     after = mesh_state(shown(man))
     for name in before:
         np.testing.assert_array_equal(after[name], before[name], err_msg=name)
-    assert not live._SUBDIVIDED  # nobody asks for the subdivision: its memory is freed
+    assert not len(registry.subdivisions)  # nobody asks for the subdivision: its memory is freed
     assert live.last_error(man) is None
 
 
@@ -250,8 +253,9 @@ def test_bake_with_smoothing_bakes_what_plays_live(demo, tmp_path):
 
 
 def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
-    from animanifold_blender import live
-    from animanifold_blender.ops_deform import OperatorError, slice_constraints
+    from animanifold_blender import live, subdivision_cache
+    from animanifold_blender.deform_constraints import slice_constraints
+    from animanifold_blender.reporting import OperatorError
 
     man = convert(demo)
     settings = man.animanifold
@@ -276,7 +280,7 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
         bpy.ops.animanifold.bake(alembic=False)
     assert scene_state() == state
     # A result that would not fit in memory is refused before it is tried.
-    monkeypatch.setattr(live, "_available_memory", lambda: 2**20)
+    monkeypatch.setattr(subdivision_cache, "available_memory", lambda: 2**20)
     settings.subdivision_levels = 1
     assert "would make 21,504 tets" in live.last_error(man)
     assert calls == [1]
@@ -334,7 +338,7 @@ class _Layout:
 def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
     from types import SimpleNamespace
 
-    from animanifold_blender import live, ui
+    from animanifold_blender import subdivision_cache, ui
 
     man = convert(demo)
     bpy.context.scene.frame_set(17)
@@ -356,5 +360,5 @@ def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
     assert ("label", "21,504 tets", "INFO") in log
     assert ("label", f"{len(shown(man).polygons):,} faces this frame", "INFO") in log
     assert ("prop", "keep_keyframe_times", True) in log and ("prop", "crease_angle", True) in log
-    monkeypatch.setattr(live, "LARGE_TETS", 10_000)
+    monkeypatch.setattr(subdivision_cache, "LARGE_TETS", 10_000)
     assert ("label", "21,504 tets: slow slicing, much memory", "ERROR") in draw()

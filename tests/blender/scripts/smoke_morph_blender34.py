@@ -29,7 +29,7 @@ bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("animanifold_blender", default_set=True, handle_error=None)
 assert hasattr(bpy.ops.animanifold, "morph_selected")
 import animanifold_blender  # noqa: E402  (the installed copy)
-from animanifold_blender import live, ops_morph  # noqa: E402
+from animanifold_blender import object_manifold, ops_morph  # noqa: E402
 
 assert "animanifold_blender" in animanifold_blender._lib.am.__name__, animanifold_blender._lib.am.__name__
 
@@ -99,7 +99,7 @@ name = morph.name
 assert name == "Sphere_to_Torus" and morph.animanifold.is_manifold, name
 assert morph.animanifold.cache_path.startswith("//"), morph.animanifold.cache_path
 assert sphere.hide_get() and torus.hide_get() and sphere.hide_render and torus.hide_render
-manifold = live.manifold_for(morph)
+manifold = object_manifold.manifold_for(morph)
 method = manifold.metadata["morph"]["method"]
 assert method == ops_morph.BEST_METHOD, (method, ops_morph.BEST_METHOD)
 assert manifold.time_range == (1.0, 24.0), manifold.time_range

@@ -100,9 +100,9 @@ def step():
         morph = bpy.data.objects[name]
         if not morph.animanifold.is_manifold:
             finish(False, f"{name} is not a manifold object")
-        from animanifold_blender import live
+        from animanifold_blender import object_manifold
 
-        validity = live.manifold_for(morph).validity
+        validity = object_manifold.manifold_for(morph).validity
         if not validity["ends_reproduced"]:
             finish(False, f"ends not reproduced: {validity['source_distance']}, {validity['target_distance']}")
         scene.frame_set(12)

@@ -1,5 +1,5 @@
 """A morph computed in a worker thread, so that Blender's interface keeps drawing
-and Esc can cancel it (Morph Selected run from the interface: see ops_morph).
+and Esc can cancel it (the add-on's Morph Selected, run from the interface).
 
 The core releases the GIL for its stages and TetGen runs in a child process,
 so the main thread stays free while the thread waits on them. The thread
@@ -15,11 +15,12 @@ from __future__ import annotations
 import threading
 import time
 
-from ._lib import am
+from . import _core
+from .morph import morph
 
 
 class MorphJob:
-    """`am.morph(source, target, **options)` in a daemon thread, started at once."""
+    """`morph(source, target, **options)` in a daemon thread, started at once."""
 
     def __init__(self, source, target, **options):
         self.stage = "reading the inputs"  # the core's last finished stage, for the status bar
@@ -40,9 +41,9 @@ class MorphJob:
 
     def _run(self, source, target, options) -> None:
         try:
-            self.manifold = am.morph(source, target, progress=self._progress, interrupted=self._cancel.is_set,
-                                     **options)
-        except am._core.Cancelled:
+            self.manifold = morph(source, target, progress=self._progress, interrupted=self._cancel.is_set,
+                                  **options)
+        except _core.Cancelled:
             self.cancelled = True
         except BaseException as e:  # handed to the main thread, which reports it
             self.error = e

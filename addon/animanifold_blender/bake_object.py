@@ -1,0 +1,82 @@
+"""Bake Frames: a manifold object's frames baked with bake's pieces in order (the node-group
+bake, then optionally Alembic, a Mesh Sequence Cache and an OBJ/PLY sequence). Everything
+that can fail on the settings is checked first; on a failure the node-group bake is rolled
+back and the files it wrote are removed.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+
+from . import bake
+from .cache_paths import is_blend_relative
+from .object_manifold import manifold_for, shown_manifold
+from .progress import Progress
+from .reporting import OperatorError
+
+
+def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alembic_wanted: bool,
+                use_cache: bool, export: str, directory: str) -> str:
+    """Bakes `obj` (see the module); the report's text."""
+    scene = context.scene
+    manifold_for(obj)  # validates the cache before anything changes
+    manifold = shown_manifold(obj)  # and subdivides it (Smooth settings) before anything changes
+    if use_scene_range:
+        start, end = scene.frame_start, scene.frame_end
+    t0, t1 = manifold.time_range
+    first, last = max(start, math.ceil(t0 - 1e-9)), min(end, math.floor(t1 + 1e-9))
+    if last < first:
+        raise OperatorError(f"the frames {start}–{end} are outside the manifold's frames {t0:g}–{t1:g}: nothing to bake")
+    frames = list(range(first, last + 1))
+
+    alembic = alembic_wanted and bake.alembic_supported()
+    directory = directory or "//animanifold_bake/"
+    if use_cache and not alembic:
+        raise OperatorError("a Mesh Sequence Cache needs the Alembic bake, which this Blender "
+                            + ("does not support" if not bake.alembic_supported() else "was told to skip"))
+    if (alembic or export != "NONE") and is_blend_relative(directory) and not bpy.data.filepath:
+        raise OperatorError(f"the bake folder '{directory}' is relative to the .blend, which is not saved yet: "
+                            "save the .blend or choose an absolute folder")
+    folder = bpy.path.abspath(directory)
+    chunk = "" if (first, last) == (scene.frame_start, scene.frame_end) else f"_{first:06d}-{last:06d}"
+    stem = bpy.path.clean_name(obj.name)
+
+    progress = Progress(context, 2 * len(frames) + 2)
+    transaction = bake.NodeGroupBake(obj)
+    written = []
+    try:
+        transaction.apply(frames, progress)
+        notes = [f"{len(frames)} frames {first}–{last} (node group)"]
+        if alembic:
+            path = os.path.join(folder, f"{stem}{chunk}.abc")
+            existed = os.path.exists(path)
+            bake.export_alembic(context, obj, path, first, last)
+            if not existed:
+                written.append(path)
+            stored = bpy.path.relpath(path) if bpy.data.filepath and is_blend_relative(directory) else path
+            notes.append(f"Alembic {stored}")
+            if use_cache:
+                bake.use_mesh_sequence_cache(obj, path, stored, transaction.new_cache_files)
+                notes.append("shown by a Mesh Sequence Cache modifier")
+        progress(len(frames) + 1)
+        if export != "NONE":
+            files = bake.export_sequence(obj, frames, folder, export, lambda i: progress(len(frames) + 1 + i))
+            notes.append(f"{len(files)} {export} files in {folder}")
+    except BaseException:
+        transaction.rollback()
+        for path in written:
+            try:
+                os.unlink(path)
+            except OSError:
+                pass
+        raise
+    finally:
+        progress.end()
+    transaction.commit()
+    notes[0] = f"{len(frames)} frames {first}–{last} in collection '{transaction.collection.name}' (node group)"
+    if alembic_wanted and not bake.alembic_supported():
+        notes.append("no Alembic: this Blender was built without it")
+    return f"Baked '{obj.name}': " + "; ".join(notes)

@@ -1,0 +1,119 @@
+"""Subdivisions of loaded manifolds (a manifold object's Manifold Levels), each computed
+once and kept, within a memory budget.
+
+The shown manifold of an object with Manifold Levels > 0 is its cache's manifold
+subdivided (Schaefer et al.) that many times, keyed by (levels, keep_keyframe_times)
+beside the loaded manifold it came from; a new version of the file makes them stale.
+A subdivision that fails, or would not fit in half the free memory, is remembered
+as failed so that playback does not retry it on every frame; a settings change
+(prune) forgets the failures and frees what no object asks for any more.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from .reporting import ReportedError
+
+# Peak memory of one subdivision, per output tet (measured ~45 bytes: points, tets,
+# attributes, the intermediate level); with room for the slicer's index built later.
+BYTES_PER_TET = 100
+# The panel warns from this many shown tets on (slower slicing, more memory).
+LARGE_TETS = 2_000_000
+
+
+class SmoothingError(ReportedError):
+    """Subdivision of a manifold object's manifold failed or would not fit in memory."""
+
+
+@dataclass
+class _Subdivided:
+    """The subdivisions of one loaded manifold (`base`), by (levels, keep_keyframe_times);
+    `failed` keeps the message of a subdivision that failed, so that playback does not
+    retry it on every frame (a settings change clears it)."""
+
+    base: object
+    manifolds: dict
+    failed: dict
+
+
+def subdivided_tets(manifold, levels: int) -> int:
+    """Simplices after `levels` of subdivision: each level splits a tet into 8
+    (a triangle of a 2D animation into 4)."""
+    return len(manifold.simplices) * (2 ** (manifold.dimension - 1)) ** int(levels)
+
+
+def available_memory() -> int | None:
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):  # not Linux: no check
+        return None
+
+
+class SubdivisionCache:
+    """Subdivided manifolds by cache path (see the module)."""
+
+    def __init__(self):
+        self._entries: dict[str, _Subdivided] = {}
+
+    def subdivided(self, path: str, base, levels: int, keep_keyframe_times: bool, name: str):
+        """`base` (the manifold loaded from `path`) subdivided `levels` times, computed once and
+        kept; raises SmoothingError (and remembers it) when it fails or would not fit in memory.
+        `name` (the object's) words the errors."""
+        entry = self._entries.get(path)
+        if entry is None or entry.base is not base:  # a new file version: older subdivisions are stale
+            entry = self._entries[path] = _Subdivided(base, {}, {})
+        key = (levels, bool(keep_keyframe_times))
+        manifold = entry.manifolds.get(key)
+        if manifold is not None:
+            return manifold
+        if key in entry.failed:
+            raise SmoothingError(entry.failed[key])
+        try:
+            manifold = _subdivide(base, levels, key[1], name)
+        except SmoothingError as e:
+            entry.failed[key] = str(e)
+            raise
+        entry.manifolds[key] = manifold
+        return manifold
+
+    def kept(self, path: str) -> list[tuple[int, bool]]:
+        """The (levels, keep_keyframe_times) kept for `path`."""
+        entry = self._entries.get(path)
+        return [] if entry is None else list(entry.manifolds)
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def drop(self, path: str) -> None:
+        self._entries.pop(path, None)
+
+    def clear(self) -> None:
+        self._entries.clear()
+
+    def prune(self, wanted: set[tuple[str, int, bool]]) -> None:
+        """Keeps only the (path, levels, keep_keyframe_times) in `wanted` and forgets the failures."""
+        for path, entry in list(self._entries.items()):
+            entry.failed.clear()
+            for key in list(entry.manifolds):
+                if (path,) + key not in wanted:
+                    del entry.manifolds[key]
+            if not entry.manifolds:
+                del self._entries[path]
+
+
+def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str):
+    tets = subdivided_tets(base, levels)
+    available = available_memory()
+    if available is not None and tets * BYTES_PER_TET > available // 2:
+        raise SmoothingError(
+            f"{levels} subdivision levels of '{name}' would make {tets:,} tets "
+            f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
+    try:
+        return base.welded().subdivide(levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times)
+    except MemoryError:
+        raise SmoothingError(f"out of memory subdividing '{name}' {levels} levels ({tets:,} tets): "
+                             "use fewer levels") from None
+    except (ValueError, RuntimeError) as e:
+        raise SmoothingError(f"cannot subdivide '{name}': {e}") from e
