@@ -32,8 +32,8 @@ sys.path[:0] = [str(ROOT / "python"), str(ROOT / "tests")]
 
 import animanifold as am  # noqa: E402
 from animanifold import _core  # noqa: E402
-from laplacian_shapes import block, face_normals, folded_edges  # noqa: E402
-from shapes import icosphere  # noqa: E402
+from helpers.laplacian_shapes import block, face_normals, folded_edges  # noqa: E402
+from helpers.shapes import icosphere  # noqa: E402
 
 SEED_TABLE = {  # Figure 4.12 (the dissertation's block, ~2500 vertices, 2008 hardware)
     "uniform": ("0.11 s", "0.01 s", "---"),

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import animanifold as am  # noqa: E402
-from shapes import icosphere  # noqa: E402
+from helpers.shapes import icosphere  # noqa: E402
 
 
 def peak_mb() -> float:

@@ -13,6 +13,7 @@ APT_PACKAGES=(
 )
 PIP_PACKAGES=(
   "numpy<2" pytest hypothesis matplotlib scipy scikit-build-core pybind11
+  lizard  # the complexity check (scripts/check-complexity.sh)
   "bpy>=4.5,<4.6"
 )
 
@@ -37,7 +38,7 @@ PYTHON="${PYTHON:-python3}"
 if ! "$PYTHON" - <<'PY' 2>/dev/null
 import importlib.metadata as md, sys
 need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "hypothesis": None,
-        "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None,
+        "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None, "lizard": None,
         "bpy": lambda v: v.startswith("4.5")}
 for name, ok in need.items():
     v = md.version(name)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Runs every test: C++ (ctest) and Python (pytest, including the Blender tests).
+# Runs every test: the complexity check, C++ (ctest) and Python (pytest, including the Blender tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
+bash scripts/check-complexity.sh  # after the build, which installs lizard
 ctest --test-dir build --output-on-failure
 python3 -m pytest "$@"

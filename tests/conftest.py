@@ -1,4 +1,4 @@
-"""Shared fixtures. tests/ is on sys.path (rootdir conftest), so `shapes` imports."""
+"""Shared fixtures. tests/ is on sys.path (rootdir conftest), so `helpers.shapes` imports."""
 
 from __future__ import annotations
 

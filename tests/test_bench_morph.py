@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from shapes import icosphere
+from helpers.shapes import icosphere
 
 _spec = importlib.util.spec_from_file_location(
     "bench_morph", Path(__file__).resolve().parents[1] / "bench" / "bench_morph.py")
@@ -101,7 +101,7 @@ def test_the_bar_table_of_a_tiny_pair_holds_real_measures():
     """bench/morph_bar.py on icosphere(1) -> torus, the field method only, no peer, 4 frames:
     a row per method asked, the ends exact, no noise, and a row that raises is reported as
     an error row instead of stopping the table."""
-    from shapes import torus as shapes_torus
+    from helpers.shapes import torus as shapes_torus
 
     bar = bench.morph_bar
     pair = bar.Pair("sphere->torus", bar.normalised(icosphere(1)), bar.normalised(shapes_torus()))

@@ -10,8 +10,8 @@ import pytest
 
 import animanifold as am
 from animanifold import cache
-from shapes import icosphere
-from test_stitch import TIMES, wobble
+from helpers.shapes import icosphere
+from helpers.keyframes import TIMES, wobble
 
 
 @pytest.fixture

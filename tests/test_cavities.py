@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from animanifold.cavities import cavities, shell_volumes, surface_components
-from shapes import icosphere, torus
+from helpers.shapes import icosphere, torus
 
 
 def test_a_hollow_sphere_has_one_cavity_of_the_inner_spheres_volume():

@@ -318,7 +318,7 @@ def test_morph_writes_a_manifold_that_starts_and_ends_as_the_inputs(capsys, tmp_
 
 
 def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
-    from shapes import torus
+    from helpers.shapes import torus
 
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "s.obj", 1.5 * v, f)
@@ -342,7 +342,7 @@ def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path):
 
 
 def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path):
-    from shapes import torus
+    from helpers.shapes import torus
 
     v, f = icosphere(2)
     am.write_mesh(tmp_path / "s.obj", 1.5 * v, f)
@@ -360,7 +360,7 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path):
 
 
 def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(capsys, tmp_path, monkeypatch):
-    from shapes import torus
+    from helpers.shapes import torus
 
     def refuse(vertices, faces):  # a stand-in for CGAL refusing a real model's hole space
         raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized "

@@ -8,7 +8,7 @@ import pytest
 
 import animanifold as am
 from animanifold import display
-from shapes import cube
+from helpers.shapes import cube
 
 
 @pytest.fixture

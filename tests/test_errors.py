@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import animanifold as am
-from shapes import icosphere
+from helpers.shapes import icosphere
 
 
 @pytest.fixture

@@ -12,10 +12,10 @@ import pytest
 
 import animanifold as am
 from animanifold import _core, cache
-from shapes import cube, icosphere, polygon, torus
-from test_morph import blob, polygons
-from test_slice import assert_closed_oriented_surface
-from shared_files import shared_mesh
+from helpers.shapes import cube, icosphere, polygon, torus
+from helpers.contours import blob, polygons
+from helpers.surface_properties import assert_closed_oriented_surface
+from helpers.shared_files import shared_mesh
 
 
 def euler(faces: np.ndarray) -> int:

@@ -11,8 +11,8 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from laplacian_shapes import block, face_normals, folded_edges, uniform_delta
-from shapes import icosphere, polygon
+from helpers.laplacian_shapes import block, face_normals, folded_edges, uniform_delta
+from helpers.shapes import icosphere, polygon
 
 METHODS_3D = ("uniform", "cotangent", "graph", "dual")
 METHODS_ANY = ("uniform", "graph", "dual")

@@ -13,34 +13,14 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from shapes import cube, cylinder, face_normals, icosphere, torus
-from test_slice import assert_closed_oriented_surface
+from helpers.contours import blob, polygon_area, polygons
+from helpers.shapes import cube, cylinder, face_normals, icosphere, torus
+from helpers.surface_properties import assert_closed_oriented_surface
 
 
 def morph(source, target, **kwargs):
     complex_, report = _core.morph(*source, *target, **kwargs)
     return am.AnimationManifold(complex_), report
-
-
-def blob(n, radius, centre, wobble=0.0, lobes=3):
-    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
-    r = radius * (1 + wobble * np.cos(lobes * a))
-    return np.stack([centre[0] + r * np.cos(a), centre[1] + r * np.sin(a)], 1)
-
-
-def polygons(*loops):
-    points, edges, offset = [], [], 0
-    for loop in loops:
-        n = len(loop)
-        points.append(loop)
-        edges.append(np.stack([offset + np.arange(n), offset + (np.arange(n) + 1) % n], 1))
-        offset += n
-    return np.concatenate(points), np.concatenate(edges).astype(np.int32)
-
-
-def polygon_area(s):
-    p, q = s.vertices[s.faces[:, 0]], s.vertices[s.faces[:, 1]]
-    return 0.5 * np.sum(p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0])
 
 
 def volume(s):

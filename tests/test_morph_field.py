@@ -84,7 +84,7 @@ def assert_the_bar(source, target, pop_ratio=POP_RATIO):
     return manifold, measures
 
 
-# Pairs that miss the bar today, with what was measured (issue notes): not strict, because whether
+# Pairs that miss the bar, with what misses it: not strict, because whether
 # a frame near a thin gap picks up a transient handle depends on the mesher's exact points.
 _NEAR_THE_BUNNY = ("transient topology next to the bunny: a frame in the time slab next to it (t = 0.04 or "
                    "0.96) has a handle or a second piece (Euler characteristic -2 to -8) where its ears "
@@ -133,7 +133,7 @@ def test_a_point_outside_both_inputs_stays_outside_every_frame():
     """Validity 3 without a boolean: outside both inputs the signed distances are positive at both
     ends, so their blend is too. A torus into a larger torus about the same axis: their shared hole
     stays empty."""
-    from shapes import torus
+    from helpers.shapes import torus
 
     small, large = torus(minor_radius=0.25, major=24, minor=12), torus(minor_radius=0.3, major=24, minor=12)
     large = (large[0] * 1.2, large[1])
@@ -150,7 +150,7 @@ def test_a_point_outside_both_inputs_stays_outside_every_frame():
 def test_the_field_morphs_report_says_what_it_checked():
     """The frame checks say when the budget (a quarter of the morph's own time) cut them short of
     the 24 spread frames, the frames' topology changes are counted, and no hole space is kept."""
-    from shapes import icosphere, torus
+    from helpers.shapes import icosphere, torus
 
     manifold = am.morph(icosphere(2), torus(), method="field")
     report = manifold.validity
@@ -160,7 +160,7 @@ def test_the_field_morphs_report_says_what_it_checked():
     assert manifold.hole_space is None
     assert [stage for stage, _ in report["stage_seconds"]][-1] == "validity"
     # what it says about crossings holds for the frames it names (this pair has some, shallow, in
-    # the slab next to the middle: a known defect, see the issue's notes)
+    # the slab next to the middle: a known defect of the field method)
     assert report["frames_cross_themselves"] == bool(report["crossing_frames"])
     size = max(np.linalg.norm(np.ptp(shape[0], axis=0)) for shape in (icosphere(2), torus()))
     for t in report["crossing_frames"]:

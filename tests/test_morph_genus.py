@@ -17,18 +17,13 @@ from scipy.spatial import ConvexHull
 
 import animanifold as am
 from animanifold import _core
-from shapes import cone, cube, cylinder, genus3_plate, icosphere, strip_capped_cylinder, torus, uv_sphere, voxel_surface
-from test_morph import blob, polygon_area, polygons
-from test_slice import assert_closed_oriented_surface
-from shared_files import shared_mesh
+from helpers.shapes import cone, cube, cylinder, genus3_plate, icosphere, strip_capped_cylinder, torus, uv_sphere, voxel_surface
+from helpers.contours import blob, polygon_area, polygons
+from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
+from helpers.shared_files import shared_mesh
 from animanifold.procedural import smooth_genus3
 
 TIMES = np.linspace(0.0, 1.0, 41)
-
-
-def euler_characteristic(faces: np.ndarray) -> int:
-    edges = np.unique(np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1), axis=0)
-    return len(np.unique(faces)) - len(edges) + len(faces)
 
 
 def components(vertex_count: int, faces: np.ndarray) -> int:
@@ -38,11 +33,6 @@ def components(vertex_count: int, faces: np.ndarray) -> int:
     graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(vertex_count, vertex_count))
     labels = connected_components(graph, directed=False)[1]
     return len(np.unique(labels[np.unique(faces)]))
-
-
-def enclosed_volume(vertices: np.ndarray, faces: np.ndarray) -> float:
-    tri = vertices[faces]
-    return float(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum() / 6)
 
 
 def two_spheres():

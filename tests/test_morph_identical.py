@@ -16,11 +16,10 @@ import pytest
 import animanifold as am
 from animanifold import _core
 from animanifold.meshio import read_mesh
-from shapes import torus
-from test_morph import blob, polygon_area, polygons
-from test_morph_genus import enclosed_volume, euler_characteristic
-from test_slice import assert_closed_oriented_surface
-from shared_files import shared_mesh
+from helpers.shapes import torus
+from helpers.contours import blob, polygon_area, polygons
+from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
+from helpers.shared_files import shared_mesh
 
 # Frames strictly inside the range, some away from any round fraction.
 TIMES = [0.01, 0.1, 0.25, 0.37, 0.5, 0.61, 0.75, 0.9, 0.99]
@@ -99,7 +98,7 @@ def test_identical_inputs_need_no_hole_space_when_cgal_cannot_compute_it(monkeyp
 
 
 def test_a_hole_space_cgal_refuses_stops_the_morph_before_it_runs(monkeypatch):
-    from shapes import icosphere
+    from helpers.shapes import icosphere
 
     monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse_hole_space)
     ran = []

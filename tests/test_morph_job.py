@@ -9,7 +9,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold.morph_job import MorphJob
-from shapes import icosphere, torus
+from helpers.shapes import icosphere, torus
 
 
 def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled():

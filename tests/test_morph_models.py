@@ -14,10 +14,9 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from shapes import icosphere
-from test_morph_genus import enclosed_volume, euler_characteristic
-from test_slice import assert_closed_oriented_surface
-from shared_files import shared_mesh
+from helpers.shapes import icosphere
+from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
+from helpers.shared_files import shared_mesh
 
 MODELS = ["bunny.off", "decimated-knight.off"]
 TIMES = [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0]

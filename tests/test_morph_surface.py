@@ -9,7 +9,7 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from shapes import icosphere, torus
+from helpers.shapes import icosphere, torus
 
 # The torus's UV map wraps around its axis: u jumps from 1 back to 0 across one seam.
 SEAM_JUMP = 1.0
@@ -203,7 +203,7 @@ def test_frames_cut_by_the_shared_holes_keep_their_look():
     """A wobbly torus into a copy 5 % wider (the shared tunnel is cut out of every in-between
     frame): the raw frames are split along the UV seam, so the cut welds them first, and the cut
     frame takes its UVs and materials back, seam included."""
-    from shapes import torus as make_torus
+    from helpers.shapes import torus as make_torus
 
     v, f = make_torus(major=20, minor=9, wobble=0.1)
     wider = v * [1.05, 1.05, 1.0]

@@ -10,7 +10,7 @@ import pytest
 import animanifold as am
 from animanifold import _core
 from animanifold.regularise import _inherit, edges_of, manhattan_lengths
-from shapes import icosphere
+from helpers.shapes import icosphere
 
 METHODS = ("dual", "graph", "uniform")
 

@@ -12,8 +12,8 @@ import pytest
 import animanifold as am
 from animanifold import skeleton as skel
 
-from shapes import cube, icosphere
-from shared_files import shared_mesh
+from helpers.shapes import cube, icosphere
+from helpers.shared_files import shared_mesh
 
 # ---------------------------------------------------------------- helpers
 

@@ -7,26 +7,15 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from shapes import cube, face_normals, icosphere, polygon
-from test_stitch import TIMES, wobble
+from helpers.shapes import cube, face_normals, icosphere, polygon
+from helpers.keyframes import TIMES, wobble
+from helpers.surface_properties import assert_closed_oriented_surface, edges_of
 
 
 def canonical_faces(faces: np.ndarray) -> set[tuple[int, ...]]:
     """Faces up to rotation of their indices (orientation kept)."""
     r = np.argmin(faces, axis=1)
     return {tuple(np.roll(f, -i)) for f, i in zip(faces, r)}
-
-
-def edges_of(faces: np.ndarray) -> np.ndarray:
-    return np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-
-
-def assert_closed_oriented_surface(faces: np.ndarray) -> None:
-    """Every directed edge appears once and its reverse once: closed, 2-manifold, consistently oriented."""
-    directed = edges_of(faces)
-    assert len(np.unique(directed, axis=0)) == len(directed), "an edge is used twice in the same direction"
-    forward = {tuple(e) for e in directed}
-    assert all((b, a) in forward for a, b in directed), "an edge has no opposite: the slice has a hole"
 
 
 @pytest.fixture(scope="module")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from shapes import cube, icosphere, polygon
+from helpers.shapes import cube, icosphere, polygon
 
 import animanifold as am
 from animanifold import _core

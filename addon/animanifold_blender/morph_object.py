@@ -23,7 +23,7 @@ from .playback import update_object
 
 # The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
-# method becomes the default once it meets the bar of its issue (speed, pops: see its notes).
+# method is not the default: it does not yet meet the morph's bar (speed, pops: bench/bench_morph.py).
 _MORPH = importlib.import_module(am.morph.__module__)  # the module (am.morph is the function)
 METHODS = tuple(getattr(_MORPH, "METHODS", ("strip",)))
 BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"

@@ -51,9 +51,11 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
                                   description="Morph over the scene's frame range (else Start–End)")
     frame_start: IntProperty(name="Start", default=1, description="Frame where the morph is the source")
     frame_end: IntProperty(name="End", default=48, description="Frame where the morph is the target")
-    transition: FloatProperty(name="Transition", default=0.45, min=0.05, max=0.49, subtype="FACTOR",
+    # Shown as "Max Push", the name the README and the CLI (--max-push) use: am.morph's max_push.
+    transition: FloatProperty(name="Max Push", default=0.45, min=0.05, max=0.49, subtype="FACTOR",
                               description="Skeleton method: the share of the range over which the source's holes "
-                                          "and dents close after the start and the target's open before the end")
+                                          "and dents close after the start and the target's open before the end "
+                                          "(max_push)")
 
     @classmethod
     def poll(cls, context):

@@ -79,8 +79,9 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // inputs, every mending round, CGAL's checks) is 0.48-0.73 s for the shared
   // 1,000-7,200-face models with their skeletons, 0.38 s for a 20,480-face
   // sphere; this allows 5 s + 0.5 ms a face per run (8.6 s for 7,200 faces).
-  // It was 20 s + 2 ms a face: the fan cylinder -> torus froze Blender for
-  // 70 s (three perturbations) before its report; 31 s now.
+  // A longer allowance keeps Blender frozen that much longer on an input that
+  // loops (the fan cylinder -> torus tries three perturbations before its
+  // report).
   const double timeout_seconds = 5.0 + 5e-4 * static_cast<double>(faces.size());
   const std::vector<char> bytes = [&] {
     try {

@@ -6,9 +6,9 @@
 // other plane. Pushing the free vertices into time inside A itself deforms
 // A's simplices, and the thinnest of them — slivers between points in two
 // parallel planes are everywhere in a Delaunay fill — stop the push at
-// once: on a sphere -> 3holes.off three free vertices in four went less than
-// a tenth of their way, the mean push was 0.2 % of the range, and the
-// target's holes opened in the last 2 % of it, through bubbles.
+// once: on a sphere -> 3holes.off three free vertices in four go less than
+// a tenth of their way, the mean push is 0.2 % of the range, and the
+// target's holes open in the last 2 % of it, through bubbles.
 //
 // Instead the fill's plane moves into time by the layer's thickness, and the
 // layer between it and the end is made of prisms over K's cells, each split

@@ -1,6 +1,6 @@
 // The skeleton method of morphing (§8.6): skeleton points, the conforming
 // fills with free points, and the classification of each plane (see
-// morph_skeleton.hpp; splits in morph_split.cpp, the push in morph_push.cpp).
+// morph_skeleton.hpp; splits in morph_split.cpp, the push in morph_layers.cpp).
 #include "morph_skeleton.hpp"
 
 #include "animanifold/complex.hpp"
@@ -195,8 +195,8 @@ std::vector<bool> on_convex_hull(const PointMatrix& points, const PointMatrix& V
 
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt) {
   PointMatrix out = perturbed_by_position(V, scale, salt);
-  // Points on the hull where they are. (Until session 8 only those of flat
-  // sides, planes of four points or more.)
+  // Points on the hull where they are: its corners as well as its flat
+  // sides' points (see morph_skeleton.hpp).
   const std::vector<bool> on = on_convex_hull(V, V);
   for (Index v = 0; v < V.rows(); ++v)
     if (on[v]) out.row(v) = V.row(v);

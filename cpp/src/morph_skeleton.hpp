@@ -64,20 +64,19 @@ PointMatrix hull_cap_points(const PointMatrix& V, const SimplexMatrix& F);
 // points of a flat side (a voxel plate's top, collinear points along its
 // hull edges) bump in and out of the hull, and the fill's lateral boundary
 // holds slivers there that fold once the exact coordinates are back: frames
-// that run through themselves. Moved within their sides (as this did until
-// session 7), they still broke the parallels between a cube's side and a
-// voxel plate's side facing it: a 1.2x cube -> the voxel plate ran through
-// itself at 5 of 5 checked frames (0 since). Keeping only the flat sides'
-// points (until session 8) left a sphere's hull corners perturbed: where two
-// mirror-image corners of an icosphere and an edge of the voxel plate
-// parallel to their chord lie in one hyperplane of R^4 (a facet of the
-// fill's hull), the perturbation bent it and the slivers across it folded at
-// the exact coordinates — an icosphere -> the voxel plate sticking out of it
-// ran through itself at 5 of 5 frames, Blender's UV sphere -> its torus at 1
-// with a bubble of 24 % (0 and none now). The exact Delaunay fill resolves
-// the ties of unmoved points itself. Not the default (a cube's corners then
-// stay exact and its fill's ties are not broken: see
-// MorphOptions::perturbation).
+// that run through themselves. Moving those points within their sides is
+// not enough: it breaks the parallels between a cube's side and a voxel
+// plate's side facing it (a 1.2x cube -> the voxel plate runs through itself
+// at 5 of 5 checked frames that way). Keeping only the flat sides' points is
+// not enough either: where two mirror-image corners of an icosphere and an
+// edge of the voxel plate parallel to their chord lie in one hyperplane of
+// R^4 (a facet of the fill's hull), perturbing the corners bends it and the
+// slivers across it fold at the exact coordinates (an icosphere -> the voxel
+// plate sticking out of it, Blender's UV sphere -> its torus). So every hull
+// point stays; the exact Delaunay fill resolves the ties of unmoved points
+// itself. The default (MorphOptions::perturbation); the Python morph()
+// retries with perturbed_by_position when frames still run through
+// themselves.
 PointMatrix perturbed_along_hull_faces(const PointMatrix& V, double scale, std::uint64_t salt);
 
 struct ConformingInput {

@@ -5,8 +5,8 @@
 using namespace animanifold;
 
 TEST(FailedPerturbations, NamesEveryFailureOnceWithThePerturbationsItHappenedAt) {
-  // The fan-capped cylinder -> torus: TetGen ran out of time twice, then
-  // failed otherwise; the report used to give only the last failure.
+  // The fan-capped cylinder -> torus: TetGen runs out of time twice, then
+  // fails otherwise; the report must name every failure, not only the last.
   const std::string slow = "the source: TetGen ... (it did not finish within 13 s and was stopped)";
   const std::string moved = "the source: TetGen moved input point 6865";
   EXPECT_EQ(failed_perturbations({{1e-7, slow}, {1e-6, slow}, {1e-5, moved}}),

@@ -1,4 +1,7 @@
-"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo``.
+"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo|morph|skeleton``.
+
+stitch, slice, frames, info and demo read and write animation manifolds; morph makes one
+between two closed meshes; skeleton (cli_skeleton.py) writes a mesh's Voronoi skeleton.
 
 Each sub-command is a small function from parsed arguments to an exit code.
 Anything the user can get wrong — a missing or unreadable file, a damaged

@@ -12,7 +12,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import canonical, mesh_corners, run_fresh_blender, scene_state  # noqa: E402
+from helpers.blender_helpers import canonical, mesh_corners, run_fresh_blender, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -202,7 +202,7 @@ def test_farm_chunks_in_separate_processes(converted):
     import subprocess
     import sys
 
-    from blender_helpers import SCENES
+    from helpers.blender_helpers import SCENES
 
     man, cache, tmp = converted
     bpy.ops.wm.save_mainfile()

@@ -13,10 +13,10 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, mesh_corners, mesh_vertices,  # noqa: E402
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, mesh_corners, mesh_vertices,  # noqa: E402
                              run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks)
-from blender_helpers import select_pair as select  # noqa: E402
-from surface_checks import compare_frame, frame_matches  # noqa: E402
+from helpers.blender_helpers import select_pair as select  # noqa: E402
+from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -297,7 +297,7 @@ def test_a_64_sided_cylinder_with_fan_caps_morphs_into_a_torus(empty_scene):
     n-gons into fans writes them), into Blender's torus: on those caps TetGen crashed at every
     perturbation and Morph Selected failed after 5 s. The core fans such caps from their centres
     first; the first frame is the cylinder as the user made it."""
-    from shapes import cylinder
+    from helpers.shapes import cylinder
 
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, 24
@@ -313,11 +313,11 @@ def test_a_64_sided_cylinder_with_fan_caps_morphs_into_a_torus(empty_scene):
 
 
 def test_blenders_default_uv_sphere_into_its_default_torus_has_clean_frames(empty_scene):
-    """Both primitives as Blender adds them, at the origin, over a new scene's frames 1-250: the
-    sphere's corners perturbed bent the hyperplanes of R^4 they share with the torus's, the frames
-    ran through themselves at 1 of 5 checked times (the retry no better) and held a bubble of
-    24 % of the volume before the end. The retry keeps every point on the inputs' hulls in place.
-    (Over frames 1-24 the old retry happened to come out clean: the checks fall elsewhere.)"""
+    """Both primitives as Blender adds them, at the origin, over a new scene's frames 1-250: with
+    the sphere's hull corners perturbed, the hyperplanes of R^4 they share with the torus's bend,
+    the frames run through themselves and hold a bubble before the end; the first try keeps every
+    point on the inputs' hulls in place. Frames 1-250, not 1-24: over 24 frames the checked times
+    miss the frames where a bent hyperplane shows."""
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, 250
     bpy.ops.mesh.primitive_uv_sphere_add()
@@ -332,7 +332,7 @@ def test_the_transition_sets_how_long_the_torus_hole_takes_to_open(empty_scene):
     """Transition (the core's max_push): the share of the range over which the target's hole opens.
     At 0.2 the torus's free vertices go at most 0.98 x 0.9 x 0.2 of the range into it, and a frame
     at 70 % of the range is still a closed blob; at the default (0.45) the hole is open there."""
-    from test_morph_genus import euler_characteristic
+    from helpers.surface_properties import euler_characteristic
 
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, 101
@@ -538,7 +538,7 @@ def test_two_tori_carry_their_shared_tunnel_into_playback(empty_scene):
     succeeds (raw, with a warning, where the frame cannot be cut)."""
     import warnings
 
-    from test_morph_genus import euler_characteristic
+    from helpers.surface_properties import euler_characteristic
 
     bpy.ops.mesh.primitive_torus_add(major_segments=20, minor_segments=8, major_radius=1.0, minor_radius=0.35)
     source = bpy.context.active_object
@@ -653,7 +653,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     the main thread, as execute() makes it."""
     from animanifold_blender import ops_morph
     from animanifold.morph_job import MorphJob
-    from shapes import icosphere, torus
+    from helpers.shapes import icosphere, torus
 
     calls = []
 

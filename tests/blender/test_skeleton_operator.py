@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from blender_helpers import scene_state  # noqa: E402
+from helpers.blender_helpers import scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 

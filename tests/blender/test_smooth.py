@@ -11,7 +11,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, scene_state, shown  # noqa: E402
+from helpers.blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, scene_state, shown  # noqa: E402
 
 pytestmark = pytest.mark.blender
 

@@ -38,10 +38,22 @@ struct Complex {
 // the orientation rule of §2.4.
 void facet(const Index* simplex, int k, int i, Index* out);
 
+// Inputs:
+//   S  #S by k simplices (vertex indices)
+// Outputs:
+//   (#S*k) by (k-1) facets, oriented by §2.4's rule
+// Throws: nothing (indices are not checked: see Complex::validate)
+//
 // All facets, simplex-major: row s*k + i is facet i of simplex s.
 // (#S*k) by (k-1).
 SimplexMatrix facets(const SimplexMatrix& S);
 
+// Inputs:
+//   S  #S by k simplices
+// Outputs:
+//   neighbour, opposite  #S by k (FacetAdjacency), -1 on the boundary
+// Throws: InputError when a facet is shared by more than two simplices
+//
 // Simplex-to-simplex adjacency across facets.
 struct FacetAdjacency {
   SimplexMatrix neighbour;  // #S by k: simplex across facet i, or -1 on the boundary
@@ -51,10 +63,23 @@ struct FacetAdjacency {
 // (naming the facet's vertices) since adjacency is then not a function.
 FacetAdjacency facet_adjacency(const SimplexMatrix& S);
 
+// Inputs:
+//   S  #S by k simplices
+// Outputs:
+//   #B by (k-1) boundary facets, oriented outward
+// Throws: nothing
+//
 // The facets that belong to exactly one simplex, oriented outward (as facets
 // of their simplex). #B by (k-1).
 SimplexMatrix boundary_facets(const SimplexMatrix& S);
 
+// check_manifold:
+// Inputs:
+//   S  #S by k simplices
+// Outputs:
+//   ManifoldReport: facet counts by kind, misoriented and degenerate simplices
+// Throws: nothing (what is wrong is counted, not thrown)
+//
 // What a manifold check found. A valid oriented pseudo-manifold has
 // nonmanifold == 0 and misoriented == 0.
 struct ManifoldReport {
@@ -69,19 +94,48 @@ struct ManifoldReport {
 };
 ManifoldReport check_manifold(const SimplexMatrix& S);
 
+// Inputs:
+//   V  #V by D points
+//   S  #S by D+1 simplices
+// Outputs:
+//   #S signed volumes
+// Throws: InputError when S does not have D+1 columns
+//
 // Signed volume of full-dimensional simplices (k = D+1 vertices in R^D):
 // det[v1-v0, ..., vD-v0] / D!. #S vector.
 Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S);
 
+// Inputs:
+//   V  #V by D points
+//   S  #S by k+1 simplices, any k <= D
+// Outputs:
+//   #S unsigned k-volumes
+// Throws: nothing
+//
 // Unsigned k-volume of k-simplices in any ambient dimension (length, area,
 // volume, ...), from the Gram determinant. #S vector.
 Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S);
 
+// Inputs:
+//   V        #V by D points, D <= 4
+//   corners  D+1 indices into V
+// Outputs:
+//   the relative volume, 0 (flat) to about 1
+// Throws: nothing
+//
 // How far from flat the full-dimensional simplex `corners` (D+1 rows of V,
 // #V by D, D <= 4) is: |det[v1 - v0, ...]| over its longest edge to the
 // power D — 1 for a cube's corner, 0 for a flat simplex, whatever its size.
 double relative_volume(const PointMatrix& V, const Index* corners);
 
+// vertex_star:
+// Inputs:
+//   S             #S by k simplices
+//   vertex_count  #V
+// Outputs:
+//   VertexStar: offsets (#V+1) and incident simplices
+// Throws: nothing
+//
 // Vertex-to-simplex incidence in compressed form: the simplices incident to
 // vertex v are `simplices[offsets[v] .. offsets[v+1])`.
 struct VertexStar {

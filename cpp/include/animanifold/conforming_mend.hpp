@@ -43,6 +43,13 @@ struct MendReport {
   Index added() const { return inner_points + edge_points; }
 };
 
+// Inputs:
+//   surface  the constraint surface (updated in place)
+//   bad      rows of surface.faces that are not Delaunay
+// Outputs:
+//   surface with points added; MendReport: how many, and where
+// Throws: nothing
+//
 // Adds points on `surface` for the faces `bad` (rows of surface.faces: the
 // mesher's refined faces that are not faces of the Delaunay triangulation).
 // For each, in the input triangle it lies in (its parent):

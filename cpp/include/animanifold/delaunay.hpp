@@ -37,6 +37,14 @@ struct DelaunayTriangulation {
   std::vector<Index> slivers;
 };
 
+// delaunay:
+// Inputs:
+//   points  #P by d, d >= 2
+//   joggle  let Qhull perturb the input ('QJ')
+// Outputs:
+//   DelaunayTriangulation: #S by d+1 positive simplices, flat ones left out
+// Throws: InputError, std::runtime_error (see below)
+//
 // `points` is #P by d (d >= 2). With `joggle`, Qhull perturbs the input by a
 // tiny random amount ('QJ') so that every simplex it returns is proper: the
 // result is a Delaunay triangulation of points within roundoff of the input,
@@ -47,6 +55,12 @@ struct DelaunayTriangulation {
 // Qhull fails.
 DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 
+// Inputs:
+//   points  #P by d, d = 3 or 4
+// Outputs:
+//   DelaunayTriangulation: every cell proper, slivers listed
+// Throws: InputError (see below)
+//
 // The same in R^3 and R^4 through CGAL's dD Delaunay triangulation (exact
 // predicates, symbolic perturbation of cospherical points, incremental along
 // a space-filling curve). On points on two parallel hyperplanes — a morph's
@@ -58,6 +72,12 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 // coinciding or too few points.
 DelaunayTriangulation delaunay_exact(const PointMatrix& points);
 
+// Inputs:
+//   points  #P by 3
+// Outputs:
+//   #T by 4 positive tets
+// Throws: InputError (see below)
+//
 // The Delaunay tetrahedralization of points in R^3 (#P by 3) through CGAL's
 // Delaunay_triangulation_3: positively oriented tets (#T by 4). Much faster
 // than delaunay_exact() in R^3; ties among cospherical points are broken its
@@ -88,6 +108,15 @@ struct ConformingDelaunay {
   Index mended_points = 0;
 };
 
+// conforming_delaunay_3d:
+// Inputs:
+//   points         #P by 3
+//   faces          #F by 3 constraint triangles
+//   while_meshing  optional poll while TetGen runs
+// Outputs:
+//   ConformingDelaunay: points (input first), tets, refined constraints and their parents
+// Throws: InputError, std::runtime_error (see below); whatever while_meshing throws
+//
 // Constraint triangles `faces` (#F by 3) over `points` (#P by 3); points that
 // belong to no face (skeleton vertices, say) are inserted too. `simplices`
 // are CGAL's exact Delaunay triangulation of the result's points. Throws
@@ -98,9 +127,23 @@ struct ConformingDelaunay {
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
                                           const std::function<void()>& while_meshing = {});
 
+// Inputs:
+//   points  #P by 2
+//   edges   #E by 2 constraint segments
+// Outputs:
+//   ConformingDelaunay: points (input first), triangles, refined segments
+// Throws: InputError for bad indices; std::runtime_error when CGAL's mesher fails
+//
 // Constraint segments `edges` (#E by 2) over `points` (#P by 2).
 ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const SimplexMatrix& edges);
 
+// Inputs:
+//   simplices  #S by k+1
+//   faces      #F by k
+// Outputs:
+//   the rows of faces missing from simplices
+// Throws: InputError when faces have more columns than simplices
+//
 // Rows of `faces` (#F by k) that are not faces of any simplex of `simplices`
 // (compared as vertex sets). Empty when the triangulation conforms.
 IndexVector missing_facets(const SimplexMatrix& simplices, const SimplexMatrix& faces);

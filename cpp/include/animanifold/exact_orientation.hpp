@@ -12,6 +12,13 @@
 
 namespace animanifold {
 
+// Inputs:
+//   points   #P by D, D = 2, 3 or 4
+//   corners  D+1 indices into points
+// Outputs:
+//   -1, 0 or +1
+// Throws: InputError for another D
+//
 // The sign (-1, 0, +1) of det[p1 - p0, ..., pD - p0] for the D+1 rows
 // `corners` of `points` (#P by D, D = 2, 3 or 4), computed exactly.
 int exact_orientation(const PointMatrix& points, const Index* corners);

@@ -30,6 +30,13 @@ struct FannedMesh {
   Index polygons = 0;  // how many flat polygons were fanned
 };
 
+// Inputs:
+//   V, F         #V by 3 points, #F by 3 triangles, closed and outward
+//   min_corners  the fewest corners a polygon needs to be fanned
+// Outputs:
+//   FannedMesh: the input's vertices then the centres, faces not fanned then the fans
+// Throws: nothing
+//
 // The closed, outward triangle mesh (V, F) (#V by 3, #F by 3) with every
 // flat convex polygon of at least `min_corners` corners triangulated again as
 // a fan from the mean of its corners. A flat polygon is a set of

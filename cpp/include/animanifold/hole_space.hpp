@@ -56,6 +56,12 @@ struct Solid {
   bool empty() const { return faces.rows() == 0; }
 };
 
+// Inputs:
+//   V, F  the closed outward shape C: #V by d points, #F by d faces (d = 3 or 2)
+// Outputs:
+//   Solid: the boundary of CH(C) \ C, empty when C is convex
+// Throws: InputError when C intersects itself; BooleanError when CGAL refuses it
+//
 // The hole space H_C = CH(C) \ C of the closed outward shape C = (V, F)
 // (3D mesh or 2D polygons), as a closed outward solid; empty (0 rows) when C
 // is convex. Only the vertices that faces use count for the hull. C must not
@@ -72,10 +78,24 @@ struct Solid {
 // that size, which later Booleans may refuse after rounding).
 Solid hole_space(const PointMatrix& V, const SimplexMatrix& F);
 
+// Inputs:
+//   VA, FA, VB, FB  the two solids' boundaries
+// Outputs:
+//   Solid: A ∩ B
+// Throws: InputError for mismatched dimensions or invalid boundaries; BooleanError when CGAL refuses
+//
 // The solid A ∩ B (both 3D or both 2D). Empty when they do not overlap.
 Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const PointMatrix& VB,
                        const SimplexMatrix& FB);
 
+// subtract_solid:
+// Inputs:
+//   V, F    the frame (a closed outward boundary)
+//   VH, FH  the solid to subtract
+// Outputs:
+//   Subtraction: the result and whether the frame is unchanged
+// Throws: InputError for mismatched dimensions; BooleanError when CGAL refuses
+//
 // The frame minus the solid H: (V, F) \ (VH, FH).
 struct Subtraction {
   Solid solid;
@@ -88,12 +108,25 @@ struct Subtraction {
 Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& VH,
                            const SimplexMatrix& FH);
 
+// Inputs:
+//   V, F  a triangle mesh in R^3
+// Outputs:
+//   whether two faces cross
+// Throws: InputError (see below)
+//
 // Whether the triangle mesh (V, F) in R^3 intersects itself: two faces
 // meet other than at the vertices and edges they share (CGAL's exact test).
 // Faces of zero area count as intersecting. (V, F) must be a 2-manifold
 // (closed or not); InputError otherwise.
 bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F);
 
+// Inputs:
+//   V, F    a closed outward triangle mesh in R^3
+//   points  #P by 3
+// Outputs:
+//   #P flags: inside or on the mesh
+// Throws: InputError (see below)
+//
 // Whether each of the points (#P by 3) lies inside the closed outward
 // triangle mesh (V, F) in R^3, or on it; a point in a cavity or a tunnel is
 // outside. CGAL's Side_of_triangle_mesh (exact predicates) over an AABB tree:
@@ -102,6 +135,12 @@ bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F);
 Eigen::Array<bool, Eigen::Dynamic, 1> points_inside_solid(const PointMatrix& V, const SimplexMatrix& F,
                                                           const PointMatrix& points);
 
+// Inputs:
+//   V, F  a closed outward boundary
+// Outputs:
+//   its signed volume (3D) or area (2D)
+// Throws: nothing
+//
 // The volume (3D) or area (2D) enclosed by a closed, outward boundary:
 // negative when it is inside out, 0 for an empty solid.
 double solid_measure(const PointMatrix& V, const SimplexMatrix& F);

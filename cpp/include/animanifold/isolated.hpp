@@ -22,6 +22,14 @@ struct IsolatedFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Inputs:
+//   work             the call to isolate; returns bytes
+//   timeout_seconds  > 0: the child's time limit
+//   while_waiting    optional poll, about every kWaitTick seconds
+// Outputs:
+//   the bytes `work` returned
+// Throws: IsolatedFailure (see below); whatever while_waiting throws
+//
 // Runs `work` in a forked child process and returns the bytes it returned.
 // Throws IsolatedFailure when the child ends any other way: killed by a
 // signal (an assertion's SIGABRT, a SIGSEGV), exiting on its own, or by an

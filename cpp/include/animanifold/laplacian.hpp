@@ -88,6 +88,15 @@ std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count);
 // e_j = v_j − v_i (k by D rows); λ = 0 gives eq. 4.3. k weights summing to 1.
 Eigen::VectorXd graph_laplacian_weights(const PointMatrix& edges, const GraphWeightOptions& options);
 
+// Inputs:
+//   V       #V by D points
+//   S       #S by D simplices
+//   method  Uniform, Cotangent or Graph
+//   graph   the graph Laplacian's QP parameters
+// Outputs:
+//   #V by #V sparse W, rows summing to one
+// Throws: InputError (see below, and for a mesh with indices out of range)
+//
 // Primal weight matrix W (#V by #V, row i holds w_ij, rows sum to one); the
 // Laplacian is I − W. `method` is Uniform, Cotangent or Graph; boundary
 // vertices use eq. 4.3 whatever the method (§4.4.1). An isolated vertex has an
@@ -96,6 +105,13 @@ Eigen::VectorXd graph_laplacian_weights(const PointMatrix& edges, const GraphWei
 SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, LaplacianMethod method,
                                const GraphWeightOptions& graph = {});
 
+// Inputs:
+//   S             #S by n+1 simplices
+//   vertex_count  #V
+// Outputs:
+//   DualOperator: D (centroids and ghosts by #V), neighbours, ghost facets
+// Throws: InputError when a facet is shared by more than two simplices
+//
 // The dual operator of §4.2.1 with the ghost vertices of §4.4.2.
 // Dual vertex s < #S is the centroid of simplex s; dual vertex #S + g is the
 // ghost across boundary facet g: the centroid of the simplex obtained by
@@ -112,6 +128,15 @@ struct DualOperator {
 };
 DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count);
 
+// laplacian_system:
+// Inputs:
+//   V        #V by D points
+//   S        #S by D simplices
+//   options  method, graph weights, zero-detail vertices
+// Outputs:
+//   DifferentialSystem: L, Δ and, for the dual scheme, its operator and heights
+// Throws: InputError for an invalid mesh or a method its simplices do not allow
+//
 // L V = Δ for the input points: L is rows by #V (#V rows for primal schemes,
 // #S rows for the dual one), Δ = L·V exactly (so the input is reproduced
 // when nothing moves), except for rows zeroed by `zero_detail_vertices`.
@@ -162,12 +187,27 @@ struct DeformerInfo {
   std::int64_t factor_nonzeros = 0;
 };
 
+// Inputs:
+//   transform  (D+1) by (D+1) affine map T
+//   s          in [0, 1]
+// Outputs:
+//   (D+1) by (D+1) T^s
+// Throws: InputError for reflections and rotations by exactly π
+//
 // The affine map T^s for s in [0, 1] (T is (D+1) by (D+1) affine): polar
 // factors R^s S^s about T's least-squares fixed point c, plus s times the
 // translation left along the rotation axis: x ↦ R^s S^s (x − c) + c + s·r.
 // T^0 = I, T^1 = T. InputError for reflections and rotations by exactly π.
 Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 
+// Inputs (constructor):
+//   V, S     #V by D points, #S by D simplices
+//   anchors  vertices that stay
+//   handles  vertices that follow deform()/deform_to()
+//   options  Laplacian, boundary rule, constraint weight, restore settings
+// Outputs: deform(), deform_to() and restore() give #V by D points
+// Throws: InputError (see below and on each method)
+//
 // Laplacian editing with a kept factorisation.
 //
 //   Deformer d(V, S, anchors, handles, options);   // build L, factor once
@@ -229,6 +269,11 @@ class Deformer {
   std::unique_ptr<Impl> impl_;
 };
 
+// Inputs: as Deformer, plus transform ((D+1) by (D+1)), restore settings and steps
+// Outputs:
+//   #V by D deformed points
+// Throws: InputError as Deformer
+//
 // One-off: builds a Deformer, moves the handles by `transform` (in `steps`
 // increments) and returns the points, restored (dual scheme) when
 // `restore_iterations` > 0.

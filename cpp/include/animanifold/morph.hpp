@@ -253,6 +253,12 @@ struct Cancelled : std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
 };
 
+// Inputs:
+//   V, F  the input: #V by d points, #F by d faces
+//   name  "source" or "target", for the message
+// Outputs: nothing
+// Throws: InputError (see below)
+//
 // What morph() checks of each input first: throws InputError naming the
 // shape (`name`: "source", "target") and the face or vertex when it is not a
 // closed, consistently outward-oriented manifold without self-intersections
@@ -260,18 +266,44 @@ struct Cancelled : std::runtime_error {
 // out of range.
 void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::string& name);
 
+// Inputs:
+//   source_points, source_faces  the source: #V by d points, #F by d faces (d = 3 or 2)
+//   target_points, target_faces  the target, in the same dimension
+//   options                      times, method, push, fill, perturbation, progress, interrupt
+// Outputs:
+//   Morph: the manifold (n-simplices in R^(n+1), source at t0, target at t1) and the MorphReport
+// Throws: InputError, std::runtime_error (see below); Cancelled when progress()
+//   returns false or interrupted() returns true
+//
 // Throws InputError naming the shape and face when an input is not a closed,
 // consistently oriented manifold (open inputs are refused), and
 // std::runtime_error when a mesher fails.
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
             const SimplexMatrix& target_faces, const MorphOptions& options = {});
 
+// Inputs:
+//   V, F  the closed outward shape
+//   gap   the least distance kept from the surface and between points
+// Outputs:
+//   #K by d skeleton points off the surface
+// Throws: InputError as voronoi_skeleton; std::runtime_error when Qhull fails
+//
 // §8.6.1 step 1 of the skeleton method: the vertices of the external Voronoi skeleton of the closed outward shape
 // (V, F) that lie off the surface, at least `gap` from it and from each
 // other (on symmetric shapes many Voronoi vertices lie within roundoff of one
 // place and would only make slivers). #K by d; empty for convex shapes.
 PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& F, double gap);
 
+// Inputs:
+//   points       the fill's points, #P by n+1
+//   A            #A by n+2 simplices
+//   first, last  the constraint plane's points (or a mask, below)
+//   constraint   the closed outward refined faces, indexing points
+//   exact        optional: the points unperturbed
+// Outputs:
+//   per simplex of A, whether its projection lies outside the constraint
+// Throws: InputError when the plane mask does not match the points
+//
 // Marks, for each simplex of the fill `A` (#A by n+2 over `points`), whether
 // its projection onto the constraint plane of the points in [first, last)
 // lies outside the closed constraint `constraint` (refined faces, outward,
@@ -286,6 +318,15 @@ std::vector<bool> outside_of_constraint(const PointMatrix& points, const Simplex
 std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, const std::vector<bool>& plane,
                                         const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
 
+// Inputs:
+//   points      #P by n (or more) points
+//   cells       #C by n+1 cells of a triangulation holding the constraint's faces
+//   constraint  the closed outward faces
+//   flat        optional: cells never outside
+// Outputs:
+//   per cell, whether it lies outside the shape
+// Throws: std::runtime_error when a constraint face is not a face of the triangulation
+//
 // For each cell (row of n+1 vertices: tets in R^3, triangles in R^2, over
 // the first n coordinates of `points`) of a triangulation whose faces include
 // the closed outward `constraint`: whether it lies outside the shape, found

@@ -23,6 +23,14 @@
 
 namespace animanifold {
 
+// Inputs:
+//   manifold        tets in R^4
+//   t0, t1          its range
+//   VS, FS, VT, FT  the morph's inputs
+//   budget_seconds  time for the bisection rounds
+// Outputs:
+//   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
+// Throws: nothing of its own
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, double budget_seconds, MorphReport& report);
 

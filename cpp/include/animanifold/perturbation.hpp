@@ -23,13 +23,35 @@
 
 namespace animanifold {
 
+// Inputs:
+//   p          d coordinates
+//   component  which coordinate's offset
+//   salt       varies the hash between uses
+// Outputs:
+//   an offset in [-1, 1]
+// Throws: nothing
+//
 // An offset in [-1, 1] for coordinate `component` of the point `p` (`d`
 // coordinates), a function of p's exact bits (-0.0 and 0.0 alike) and `salt`.
 double position_hash_offset(const double* p, int d, int component, std::uint64_t salt);
 
+// Inputs:
+//   points  #P by d
+//   scale   the largest offset per coordinate
+//   salt    as position_hash_offset
+// Outputs:
+//   #P by d perturbed points
+// Throws: nothing
+//
 // `points` (#P by d) each moved by scale * position_hash_offset, per coordinate.
 PointMatrix perturbed_by_position(const PointMatrix& points, double scale, std::uint64_t salt);
 
+// Inputs:
+//   attempts  (perturbation, what failed), in the order tried
+// Outputs:
+//   one message naming each failure once
+// Throws: nothing
+//
 // What failed at each perturbation a retry tried, as one message: each
 // failure once, with all the perturbations (fractions of the size) it
 // happened at — "the source: TetGen ... (it did not finish within 13 s) with

@@ -84,6 +84,15 @@ struct Refinement {
   PointMatrix applied_barycentric;
 };
 
+// Inputs:
+//   input              the complex (#V by D points, #S by k simplices, attributes)
+//   split_vertices     T by m split faces, -1 padded
+//   split_barycentric  T by m coordinates
+//   options            sliver tolerance and order
+// Outputs:
+//   Refinement: the refined complex and how each split, vertex and simplex maps to the input
+// Throws: InputError (see below)
+//
 // Applies the split tuples to `input` (validated: see Complex::validate).
 //
 // split_vertices  T by m (1 <= m <= k): row t holds the vertex ids of the
@@ -99,6 +108,13 @@ struct Refinement {
 Refinement refine(const Complex& input, const SimplexMatrix& split_vertices, const PointMatrix& split_barycentric,
                   const RefineOptions& options = {});
 
+// Inputs:
+//   V  #V by D points
+//   S  #S by k simplices
+// Outputs:
+//   #S degeneracies (0 for a regular simplex)
+// Throws: InputError for indices out of range or more than kMaxRefineVertices vertices
+//
 // The degeneracy measure of §6.3 for each simplex: the variance of its edge
 // lengths divided by their squared mean (0 for a regular simplex, growing as
 // it turns into a sliver). Normalising by the squared mean makes the measure

@@ -8,6 +8,15 @@
 
 namespace animanifold {
 
+// Inputs:
+//   V          #V by d points (d = 3 or 2)
+//   F          #F by d faces (triangles, or segments)
+//   max_pairs  at most this many pairs (0: all)
+//   tolerance  depth below which a crossing is left out (0: none)
+// Outputs:
+//   pairs of face indices that cross; empty when the shape is simple
+// Throws: InputError when the shape is not a manifold of the right dimension
+//
 // Pairs of faces of the closed, manifold shape (V, F) that intersect other
 // than along the edges and corners they share: triangles in R^3 (CGAL's
 // Polygon_mesh_processing::self_intersections on a Surface_mesh) or

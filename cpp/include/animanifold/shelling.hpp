@@ -18,6 +18,14 @@
 
 namespace animanifold {
 
+// Inputs:
+//   S           #S by k+1 simplices of a triangulated ball
+//   candidates  rows of S that may be removed
+//   may_open    whether a boundary facet (sorted vertex ids) may open
+// Outputs:
+//   per row of S, whether it was removed
+// Throws: InputError for simplices of more than 4 dimensions
+//
 // `S` (#S by k+1, k <= 4): the simplices of a triangulated ball (its
 // boundary facets, those in one simplex only, a closed manifold).
 // `candidates`: rows of S that may be removed. A candidate is removed when

@@ -19,6 +19,15 @@ struct SimplexQPResult {
   bool converged = false;   // the KKT conditions hold to working precision
 };
 
+// Inputs:
+//   H               k by k symmetric positive definite
+//   g               k
+//   lower           the floor of every weight (k * lower <= 1)
+//   max_iterations  0: 20·k + 20
+// Outputs:
+//   SimplexQPResult: weights (k), objective, iterations, converged
+// Throws: InputError (see below)
+//
 // min_w ½ wᵀ H w + gᵀ w  such that  Σ w_j = 1  and  w_j >= lower for all j.
 //
 // H (k by k) must be symmetric positive definite (the graph Laplacian adds a

@@ -37,6 +37,15 @@ struct WrapResult {
   Index input_faces = 0;
 };
 
+// Inputs:
+//   V, F     the shape: #V by D points, #F by D faces
+//   shape    Box, Sphere or None
+//   density  subdivisions of each box edge
+//   margin   distance from the bounding box, in bounding-box diagonals
+// Outputs:
+//   WrapResult: the input followed by the wrap (oriented inward)
+// Throws: InputError for density < 1, margin <= 0, or a shape that is not closed and outward
+//
 // Encloses the input in an axis-aligned box or a sphere (circle/rectangle in
 // R^2) placed `margin` bounding-box diagonals away from the input's bounding
 // box. `density` is the number of subdivisions of each box edge (sphere: about
@@ -59,6 +68,13 @@ struct DihedralReport {
   Eigen::VectorXd angles;    // the surface angle at each row of `sharp`
 };
 
+// Inputs:
+//   V, F   the shape: #V by D points, #F by D faces
+//   limit  radians
+// Outputs:
+//   DihedralReport: the sharpest angle and every angle sharper than limit
+// Throws: nothing
+//
 // The surface angle across an edge is pi minus the angle between the two
 // face normals (the smaller of the two dihedral angles, so a sharp convex
 // ridge and a sharp concave crease both count); at a polygon corner it is the
@@ -97,6 +113,13 @@ struct EncroachmentRule {
   double in_plane_angle = 0.3;
 };
 
+// Inputs:
+//   V, F  the shape: #V by D points, #F by D faces
+//   rule  which edge encroachments count
+// Outputs:
+//   one Encroachment per encroached simplex
+// Throws: nothing
+//
 // Every encroached simplex with its closest encroacher.
 std::vector<Encroachment> encroachments(const PointMatrix& V, const SimplexMatrix& F,
                                         const EncroachmentRule& rule = {});
@@ -110,6 +133,14 @@ struct SeparabilityResult {
   Index remaining = 0;    // encroached simplices left when the cap was hit
 };
 
+// Inputs:
+//   V, F            the closed, outward shape
+//   max_iterations  splitting rounds at most
+//   rule            which edge encroachments count
+// Outputs:
+//   SeparabilityResult: the refined mesh, whether it is separable, rounds and splits
+// Throws: InputError unless (V, F) is closed, manifold and oriented outward
+//
 // The iterative algorithm of Figure 7.9 / §7.6.6: each encroached simplex is
 // split at the closest point to its closest encroacher (§7.6.3); edges first,
 // faces whose edges are untouched in the same round. Stops when separable or
@@ -158,8 +189,23 @@ struct VoronoiSkeleton {
   double seconds_extraction = 0;
 };
 
+// Inputs:
+//   V, F     the closed, outward shape: #V by D points, #F by D faces (D = 2 or 3)
+//   options  sides, separability rounds and rule, wrap, attachment
+// Outputs:
+//   VoronoiSkeleton: skeleton vertices and faces with their side and sites, the
+//   separable mesh they belong to, the attachment, diagnostics
+// Throws: InputError naming the culprit when the shape is not closed, manifold
+//   and outward; std::runtime_error when Qhull fails
 VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, const SkeletonOptions& options = {});
 
+// Inputs:
+//   faces_V, faces  the faces to test: points and #T by D faces
+//   V, F            the mesh
+// Outputs:
+//   per face, whether it touches or crosses the mesh
+// Throws: InputError for indices out of range or faces that are not segments in R^2 or triangles in R^3
+//
 // Which of `faces` (triangles in R^3, segments in R^2) intersect the mesh
 // (V, F), decided with CGAL's exact predicates. Touching counts.
 std::vector<bool> faces_intersecting_mesh(const PointMatrix& faces_V, const SimplexMatrix& faces,

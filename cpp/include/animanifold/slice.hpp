@@ -42,6 +42,13 @@ struct Slice {
   IndexVector face_simplex;  // F: the manifold simplex each face was cut from
 };
 
+// Inputs (constructor):
+//   V     #V by D points
+//   S     #S by k simplices
+//   axis  0..D-1
+// Outputs: stab(value) appends the simplices whose extent holds value
+// Throws: InputError when axis is out of range
+//
 // An interval index over the simplices' extents along one axis: a sorted
 // array of [min, max] intervals augmented with subtree maxima (an implicit
 // interval tree), so a stabbing query costs O(log #S + hits), not O(#S).
@@ -66,6 +73,17 @@ class IntervalIndex {
   double lowest_, highest_;
 };
 
+// Inputs:
+//   manifold  n-simplices in R^(n+1) (#S by D over #V by D points)
+//   axis      0..D-1 (D-1 is time)
+//   value     where to cut
+//   index     optional IntervalIndex built on the same manifold and axis
+// Outputs:
+//   Slice: vertices P by D-1, faces F by n, normals, interpolated attributes,
+//   each vertex's manifold edge and parameter, each face's simplex
+// Throws: InputError for other simplices than tets in R^4 or triangles in R^3, an axis
+//   out of range, a value that is not finite, or an index built on another axis
+//
 // Slices `manifold` at `value` along `axis` (0..D-1; D-1 is time).
 // `index`, when given, must have been built on the same manifold and axis;
 // without it every simplex is tested.

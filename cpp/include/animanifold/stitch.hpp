@@ -35,6 +35,13 @@ struct StitchInput {
   IndexVector vertex_order;
 };
 
+// Inputs:
+//   input  StitchInput: frames (m*k) by d, faces l by d, times m, attributes, vertex_order
+// Outputs:
+//   the manifold: (m*k) by d+1 points (time last), n*l*(m-1) by d+1 simplices,
+//   vertex attributes per point, face attributes per simplex
+// Throws: see below
+//
 // Throws InputError naming the keyframe, vertex or face at fault: fewer than
 // two keyframes, frames not a multiple of the keyframe count, non-finite
 // coordinates, non-increasing times, face indices out of range or repeated,

@@ -86,6 +86,14 @@ struct ManifoldSubdivision {
   Eigen::VectorXd keyframe_times;
 };
 
+// Inputs:
+//   manifold  #V by D points, #S by 4 tets (or by 3 triangles)
+//   options   levels, scheme, keyframe times to keep
+// Outputs:
+//   ManifoldSubdivision: the refined manifold, each vertex's parents, each
+//   simplex's input simplex, the keyframe times used
+// Throws: InputError (see below)
+//
 // Subdivides a manifold of tetrahedra (4 columns) or triangles (3 columns)
 // embedded in R^D (D >= columns - 1; the last coordinate is time).
 // Throws InputError when the complex is invalid (see Complex::validate), when
@@ -120,6 +128,14 @@ struct FrameSubdivision {
   Index crease_count = 0;              // number of input edges made sharp
 };
 
+// Inputs:
+//   vertices, faces    #V by 3 points, #F by 3 triangles or #F by 4 quads
+//   options            levels, scheme, creases, limit projection
+//   vertex_attributes  refined with the points; face_attributes inherited
+// Outputs:
+//   FrameSubdivision: refined vertices, faces, normals, attributes, face parents
+// Throws: InputError (see below)
+//
 // Refines a polygon mesh (#V by 3 points; #F by 3 triangles or #F by 4 quads)
 // with OpenSubdiv (Far::TopologyRefiner + PrimvarRefiner): Loop needs
 // triangles, Catmull-Clark takes either. Throws InputError naming the
@@ -130,6 +146,14 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
                                  const VertexAttributes& vertex_attributes = {},
                                  const SimplexAttributes& face_attributes = {});
 
+// Inputs:
+//   vertices, segments  #V by d points, #E by 2 directed segments
+//   options             levels, crease angle
+//   attributes          refined (vertex) or inherited (segment)
+// Outputs:
+//   FrameSubdivision with segments as faces
+// Throws: InputError for segments out of range
+//
 // Frames of 2D animations are polylines, which OpenSubdiv does not refine:
 // cubic B-spline subdivision (midpoints, then 1/8, 3/4, 1/8 at old points;
 // limit 1/6, 2/3, 1/6) with corners kept where the curve turns by more than
@@ -142,6 +166,13 @@ FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMa
                                     const VertexAttributes& vertex_attributes = {},
                                     const SimplexAttributes& segment_attributes = {});
 
+// Inputs:
+//   frame    a Slice
+//   options  as subdivide_frame
+// Outputs:
+//   the refined Slice (no vertex_edges: refined points are on no manifold edge)
+// Throws: InputError as subdivide_frame / subdivide_polyline
+//
 // A sliced frame refined by subdivide_frame (Loop on the triangles of a 3D
 // frame) or subdivide_polyline (the segments of a 2D animation's frame): the
 // vertices, faces, normals and vertex attributes are those of the refined

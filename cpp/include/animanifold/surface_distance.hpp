@@ -8,22 +8,41 @@
 
 namespace animanifold {
 
+// Inputs:
+//   points    #P by d
+//   vertices  #V by d
+//   faces     #F by d (triangles in R^3, segments in R^2)
+// Outputs:
+//   the largest point-to-surface distance (+infinity for an empty surface)
+// Throws: InputError when the dimensions disagree or are not 2 or 3
+//
 // Largest distance from any of `points` (#P by d) to the surface made of
 // `faces` (#F by d: triangles in R^3, segments in R^2) over `vertices`.
 // Returns +infinity when the surface is empty and there are points.
 double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces);
 
+// Inputs: as max_distance_to_surface
+// Outputs:
+//   #P distances
+// Throws: InputError when the dimensions disagree or are not 2 or 3
+//
 // The distance from each of `points` to the surface (+infinity for all when
 // the surface has no proper face).
 Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces);
 
-// The closest point on a closed, consistently oriented triangle mesh to
-// each of `points` (#P by 3), through CGAL's AABB tree.
+// closest_points:
+// Inputs:
+//   points    #P by 3
+//   vertices  #V by 3
+//   faces     #F by 3, a closed, consistently oriented triangle mesh
+// Outputs:
+//   ClosestPoints: per point its unsigned distance, the face its closest
+//   point lies on, and that point's barycentric coordinates (#P by 3)
+// Throws: InputError naming the face when the mesh is not a manifold
 //
-// Outputs: its distance (unsigned), the face it lies on (the first such
-// face the tree finds where several touch it: an edge or a corner), and its
-// barycentric coordinates in that face's corners (#P by 3, summing to 1).
-// Throws InputError naming the face when the mesh is not a manifold.
+// The closest point on the mesh to each of `points`, through CGAL's AABB
+// tree. Where several faces touch it (an edge or a corner), the face is the
+// first the tree finds; the barycentric coordinates sum to 1.
 struct ClosestPoints {
   Eigen::VectorXd distance;
   IndexVector face;

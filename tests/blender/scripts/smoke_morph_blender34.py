@@ -20,9 +20,9 @@ import bpy
 import numpy as np
 
 zip_path, scenes_dir, out_dir = sys.argv[sys.argv.index("--") + 1:][:3]
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tests/blender
-from blender_helpers import select_pair as select  # noqa: E402
-from surface_checks import compare_frame, frame_matches  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # tests/, for helpers
+from helpers.blender_helpers import select_pair as select  # noqa: E402
+from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)

@@ -17,8 +17,8 @@ import addon_utils
 import bpy
 
 zip_path = sys.argv[sys.argv.index("--") + 1]
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # tests/blender
-from blender_helpers import select_pair  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # tests/, for helpers
+from helpers.blender_helpers import select_pair  # noqa: E402
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("animanifold_blender", default_set=True, handle_error=None)
 
