@@ -171,8 +171,8 @@ def shown_manifold(obj):
                 f"{levels} subdivision levels of '{obj.name}' would make {tets:,} tets "
                 f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
         try:
-            manifold = base.welded().subdivide(levels=levels, scheme="schaefer",
-                                                       keep_keyframe_times=key[1])
+            manifold = am.subdivide(am.weld(base), levels=levels, scheme="schaefer",
+                                    keep_keyframe_times=key[1])
         except MemoryError:
             raise SmoothingError(f"out of memory subdividing '{obj.name}' {levels} levels ({tets:,} tets): "
                                  "use fewer levels") from None
@@ -220,7 +220,7 @@ def frame_slice(obj, manifold, value: float, axis: str = "t"):
     s = manifold.slice(value, axis)
     if settings.smooth_levels <= 0:
         return s
-    return am.smooth.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
+    return am.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
 
 
 def frame_normals(s, smoothed: bool) -> np.ndarray | None:

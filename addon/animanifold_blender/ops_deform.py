@@ -306,6 +306,11 @@ def new_cache_path(obj) -> tuple[str, str]:
 
 # -- the operators ------------------------------------------------------------------
 
+def _laplacian_options(opt) -> "am.LaplacianOptions":
+    """The solve the operator's method, boundary rule and restore switch ask for."""
+    return am.LaplacianOptions(method=opt["method"], boundary=opt["boundary"], restore=bool(opt["restore"]))
+
+
 class ANIMANIFOLD_OT_deform(Operator):
     """Laplacian deformation: anchors stay, handles follow the Empty's motion since its last use
     (a manifold object through space and time, or a plain mesh)"""
@@ -388,11 +393,11 @@ class ANIMANIFOLD_OT_deform(Operator):
         try:
             progress(1)
             if manifold is not None:
-                extra = {}
+                regularise = None
                 if opt["regularise"]:
-                    extra = {"regularise": True, "axis_weights": [1.0, 1.0, 1.0, float(opt["time_weight"])]}
-                moved = manifold.deform(anchors, handles, T, method=opt["method"], boundary=opt["boundary"],
-                                        restore=opt["restore"], **extra)
+                    regularise = am.RegulariseOptions(axis_weights=(1.0, 1.0, 1.0, float(opt["time_weight"])))
+                moved = am.deform(manifold, anchors, handles, T,
+                                  options=am.DeformOptions(_laplacian_options(opt), regularise))
                 progress(3)
                 summary = moved.metadata.get("regularisation") if opt["regularise"] else None
                 if summary is not None:
@@ -404,8 +409,8 @@ class ANIMANIFOLD_OT_deform(Operator):
                     notes.append("the object shows its bake, which still has the old frames: bake again")
             else:
                 points, triangles = mesh_arrays(obj.data)
-                moved = am.laplacian_deform(points, triangles, anchors, handles, T, method=opt["method"],
-                                            boundary=opt["boundary"], restore=opt["restore"])
+                moved = am.laplacian_deform(points, triangles, anchors, handles, T,
+                                            options=_laplacian_options(opt))
                 progress(3)
                 write_points(obj.data, moved)
                 where = ""

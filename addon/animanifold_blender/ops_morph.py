@@ -18,7 +18,6 @@ script, `blender -b`, redo), it blocks with a progress bar.
 
 from __future__ import annotations
 
-import importlib
 import os
 import tempfile
 import time
@@ -35,11 +34,10 @@ from .morph_job import MorphJob
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .operators import _unique_object_name
 
-# The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
+# The methods this build of the core has (animanifold.morph_pipeline.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
 # method becomes the default once it meets the bar of its issue (speed, pops: see its notes).
-_MORPH = importlib.import_module(am.morph.__module__)  # the module (am.morph is the function)
-METHODS = tuple(getattr(_MORPH, "METHODS", ("strip",)))
+METHODS = tuple(getattr(am.morph_pipeline, "METHODS", ("strip",)))
 BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
 _METHOD_TEXT = {
     "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
@@ -308,7 +306,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if not validity.get("holes_preserved", True):
             self.report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
                                      f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
-        for line in _MORPH.cut_frame_warnings(validity):
+        for line in am.morph_pipeline.cut_frame_warnings(validity):
             self.report({"WARNING"}, f"'{new.name}': {line}")
         if not manifold.check()["is_oriented_manifold"]:
             hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
