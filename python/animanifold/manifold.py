@@ -110,6 +110,12 @@ class AnimationManifold:
 
     # -- data ---------------------------------------------------------------
     @property
+    def core_complex(self) -> "_core.Complex":
+        """The native complex holding the arrays, for functions that hand it to the core
+        (subdivision, benchmarks) without copying."""
+        return self._complex
+
+    @property
     def points(self) -> np.ndarray:
         """(N, D) float64, read-only: (x, y, z, t) or (x, y, t)."""
         return self._complex.points

@@ -48,7 +48,7 @@ def subdivide(
     if keyframe_times is None:
         keyframe_times = manifold.metadata.get("keyframe_times") or []
     times = [float(t) for t in keyframe_times]
-    result = _core.subdivide_manifold(manifold._complex, int(levels), scheme, bool(keep_keyframe_times), times)
+    result = _core.subdivide_manifold(manifold.core_complex, int(levels), scheme, bool(keep_keyframe_times), times)
     metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
     metadata["keyframe_times"] = np.asarray(result["keyframe_times"]).tolist()
     history = list(manifold.metadata.get("subdivisions", []))
