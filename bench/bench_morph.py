@@ -85,7 +85,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 import animanifold as am  # noqa: E402
 import morph_bar  # noqa: E402  (the --bar mode)
-from animanifold.morph import METHODS  # noqa: E402  (am.morph is the function)
+from animanifold.morph_pipeline import METHODS  # noqa: E402
 from animanifold.procedural import icosphere, smooth_genus3  # noqa: E402
 
 # §8.7.1, keyed by our stage names where there is a counterpart.

@@ -71,7 +71,7 @@ def main() -> None:
     coords /= coords.sum(axis=1, keepdims=True)
 
     start = time.perf_counter()
-    r = am.refine(points, simplices, (ids, coords), epsilon=1e-3, order=args.order)
+    r = am.refine_complex(points, simplices, (ids, coords), epsilon=1e-3, order=args.order)
     elapsed = time.perf_counter() - start
     applied = int(np.count_nonzero(r.new_vertex_of_split >= 0))
     print(f"order={args.order}: {n:,} splits ({applied:,} applied, {n - applied:,} removed by epsilon) in "

@@ -107,7 +107,7 @@ def main() -> int:
 
     # The core Slicer that AnimationManifold.slice uses, driven directly so the
     # one-off cost of the index is timed apart from per-frame cost.
-    slicer = _core.Slicer(manifold._complex)
+    slicer = _core.Slicer(manifold.core_complex)
     index_bytes, seconds = timed(slicer.index_memory_bytes, TIME_AXIS)
     print(f"index       built in {seconds:.3f} s, {index_bytes / 2**20:.0f} MiB ({tets / seconds / 1e6:.1f} M tets/s)")
     first_t = 0.5 * (times[0] + times[1])
@@ -133,7 +133,7 @@ def main() -> int:
         f"mean {without_index.mean() * 1e3:7.2f} ms  (every tet tested; "
         f"{np.median(without_index) / np.median(with_index):.0f}x slower)"
     )
-    _, seconds = timed(_core.slice, manifold._complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
+    _, seconds = timed(_core.slice, manifold.core_complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
     print(f"            brute force {seconds:.3f} s (_core.slice: no index)")
 
     rate = touched / with_index / 1e9

@@ -53,7 +53,7 @@ def main() -> None:
     for keep in (False, True):
         before = peak_mb()
         t0 = time.perf_counter()
-        m1 = m.subdivide(levels=1, keep_keyframe_times=keep)
+        m1 = am.subdivide(m, levels=1, keep_keyframe_times=keep)
         dt = time.perf_counter() - t0
         after = peak_mb()
         out_mb = (m1.points.nbytes + m1.simplices.nbytes) / 2**20

@@ -366,7 +366,7 @@ def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(ca
         raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized "
                               "intersections of constraints")
 
-    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse)
+    monkeypatch.setattr(sys.modules["animanifold.morph_pipeline"], "hole_space", refuse)
     am.write_mesh(tmp_path / "s.obj", *torus(minor_radius=0.4, major=16, minor=8))
     am.write_mesh(tmp_path / "t.obj", *torus(minor_radius=0.3, major=16, minor=8))
     code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "m"))

@@ -374,7 +374,7 @@ def test_hole_space_survives_save_and_load(torus_morph, tmp_path):
     assert struct.unpack_from("<I", am.save(plain, tmp_path / "plain.amf").read_bytes(), 8)[0] == 1
     assert am.load(tmp_path / "plain.amf").hole_space is None
     # welding keeps it
-    assert m.welded().hole_space[1].tobytes() == m.hole_space[1].tobytes()
+    assert am.weld(m).hole_space[1].tobytes() == m.hole_space[1].tobytes()
 
 
 def test_damaged_hole_space_in_a_cache_is_refused(torus_morph, tmp_path):

@@ -432,7 +432,7 @@ def test_one_off_deformation_picks_steps_from_the_rotation():
     bottom, top = np.flatnonzero(V[:, 2] < 1e-9), np.flatnonzero(V[:, 2] > V[:, 2].max() - 1e-9)
     angle = 3 * np.pi / 4
     T = am.handle_transform(rotation=am.rotation_matrix([0, 0, 1], angle), center=[0, 0, V[:, 2].max()], dimension=3)
-    assert am.deform.steps_for_rotation(am.deform.rotation_angle(T[:3, :3])) == 3
+    assert am.laplacian.steps_for_rotation(am.laplacian.rotation_angle(T[:3, :3])) == 3
     out = am.laplacian_deform(V, F, bottom, top, T)  # dual, steps="auto", restored
     assert ((face_normals(out, F) * twisted_normals(V, F, angle)).sum(1) > 0).all()
     # Explicit positions: the best-fit rotation of the handles gives the same count.
@@ -582,7 +582,7 @@ def test_animation_manifold_deform_returns_a_new_manifold_with_earlier_frames_un
     k = len(v)
     anchors = np.arange(2 * k)
     handles = np.arange(3 * k, 4 * k)
-    moved = m.deform(anchors, handles, am.handle_transform(translation=[0, 1.0, 0, 0], dimension=4))
+    moved = am.deform(m, anchors, handles, am.handle_transform(translation=[0, 1.0, 0, 0], dimension=4))
     assert isinstance(moved, am.AnimationManifold) and moved is not m
     np.testing.assert_array_equal(moved.simplices, m.simplices)
     np.testing.assert_allclose(moved.points[: 2 * k], m.points[: 2 * k], atol=1e-12)

@@ -127,7 +127,7 @@ def test_progress_reports_stages_and_can_cancel():
 def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next_frame(monkeypatch):
     """"holes" runs before the core's stages (a shape CGAL refuses fails in seconds), "hole validity"
     after them, polling `interrupted` between frames: a cancel there slices no further frame."""
-    morph_module = sys.modules["animanifold.morph"]  # (the package's `morph` is the function)
+    morph_module = sys.modules["animanifold.morph_pipeline"]
     source, target = torus(minor_radius=0.36, major=12, minor=6), torus(major=12, minor=6)  # a shared hole
     stages = []
     am.morph(source, target, progress=lambda stage, fraction: stages.append(stage) or True)
@@ -233,7 +233,7 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
     stand-ins here: the decision is what is tested."""
     import sys
 
-    morph_module = sys.modules["animanifold.morph"]  # the module (am.morph is the function)
+    morph_module = sys.modules["animanifold.morph_pipeline"]
     calls = []
 
     class Made:
@@ -266,7 +266,7 @@ def test_the_auto_perturbation_falls_back_when_the_hulls_exact_points_fail(monke
     is not retried. Stand-in morphs: the decision is what is tested."""
     import sys
 
-    morph_module = sys.modules["animanifold.morph"]
+    morph_module = sys.modules["animanifold.morph_pipeline"]
     calls = []
 
     class Made:

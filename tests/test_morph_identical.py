@@ -84,7 +84,7 @@ def refuse_hole_space(vertices, faces):
 
 
 def test_identical_inputs_need_no_hole_space_when_cgal_cannot_compute_it(monkeypatch):
-    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse_hole_space)
+    monkeypatch.setattr(sys.modules["animanifold.morph_pipeline"], "hole_space", refuse_hole_space)
     shape = torus(wobble=0.2)
     m = am.morph(shape, shape)
     report = m.validity
@@ -100,7 +100,7 @@ def test_identical_inputs_need_no_hole_space_when_cgal_cannot_compute_it(monkeyp
 def test_a_hole_space_cgal_refuses_stops_the_morph_before_it_runs(monkeypatch):
     from helpers.shapes import icosphere
 
-    monkeypatch.setattr(sys.modules["animanifold.morph"], "hole_space", refuse_hole_space)
+    monkeypatch.setattr(sys.modules["animanifold.morph_pipeline"], "hole_space", refuse_hole_space)
     ran = []
     monkeypatch.setattr(_core, "morph", lambda *a, **k: ran.append(1))
     with pytest.raises(am.BooleanError) as error:

@@ -184,7 +184,7 @@ def test_icosahedron_example_of_section_6_4():
         ([B, C], [0.5, 0.5]),
         ([A, B, C], [0.3, 0.3, 0.4]),
     ]
-    r = am.refine(V, F, splits, epsilon=1e-3, order="given")
+    r = am.refine_complex(V, F, splits, epsilon=1e-3, order="given")
     D = r.new_vertex_of_split[0]
     assert D == 12
     # Operation 2 is discarded: it coincides with D.
@@ -201,7 +201,7 @@ def test_icosahedron_example_of_section_6_4():
     assert_valid_refinement(V, F, r, splits, 1e-3)
 
     # The greedy order inserts the same points and removes the same split.
-    g = am.refine(V, F, splits, epsilon=1e-3, order="degeneracy")
+    g = am.refine_complex(V, F, splits, epsilon=1e-3, order="degeneracy")
     assert list(g.new_vertex_of_split < 0) == [False, True, False, False]
     assert np.sort(g.points, axis=0) == pytest.approx(np.sort(r.points, axis=0))
 
@@ -237,7 +237,7 @@ def as_splits(S: np.ndarray, drawn) -> list:
 def test_random_batches_keep_a_valid_oriented_complex(shape, order, data):
     V, S = SHAPES[shape]()
     splits = as_splits(S, data.draw(split_strategy(S.shape[1], len(S))))
-    r = am.refine(V, S, splits, epsilon=1e-3, order=order)
+    r = am.refine_complex(V, S, splits, epsilon=1e-3, order=order)
     assert_valid_refinement(V, S, r, splits, 1e-3)
 
 
@@ -250,7 +250,7 @@ def test_random_batch_with_zero_epsilon_inserts_every_point_exactly():
         m = rng.integers(2, 5)
         w = rng.uniform(0.05, 1, m)
         splits.append((rng.permutation(S[s])[:m], w / w.sum()))
-    r = am.refine(V, S, splits, epsilon=0.0, order="degeneracy")
+    r = am.refine_complex(V, S, splits, epsilon=0.0, order="degeneracy")
     assert np.all(r.new_vertex_of_split >= 0)
     for t, (ids, w) in enumerate(splits):
         assert np.linalg.norm(r.points[r.new_vertex_of_split[t]] - w @ V[ids]) < 1e-12
@@ -297,8 +297,8 @@ def contour_splits(V, F, count: int) -> list:
 def test_degeneracy_order_gives_the_same_vertices_and_no_worse_slivers(count):
     V, F = cube_surface()
     splits = contour_splits(V, F, count)
-    given_ = am.refine(V, F, splits, order="given")
-    greedy = am.refine(V, F, splits, order="degeneracy")
+    given_ = am.refine_complex(V, F, splits, order="given")
+    greedy = am.refine_complex(V, F, splits, order="degeneracy")
     for r in (given_, greedy):
         assert_valid_refinement(V, F, r, splits, 1e-3)
     # Same vertex set (the points may be moved by at most the sliver tolerance).
@@ -338,7 +338,7 @@ def test_animation_manifold_refine_keeps_attributes_and_slices():
     for s in rng.integers(0, len(m.simplices), 80):
         w = rng.dirichlet(np.ones(4))
         splits.append((m.simplices[s], w))
-    refined, r = m.refine(splits, epsilon=1e-3, order="degeneracy")
+    refined, r = am.refine(m, splits, epsilon=1e-3, order="degeneracy")
     assert isinstance(refined, am.AnimationManifold)
     assert refined.metadata == m.metadata
     assert refined.check()["is_oriented_manifold"]
@@ -356,8 +356,8 @@ def test_bulk_arrays_match_the_list_form():
     V, S = cube_tets()
     ids = np.array([[0, 7, -1], [S[2, 0], S[2, 1], S[2, 2]]])
     coords = np.array([[0.5, 0.5, 0.0], [0.2, 0.3, 0.5]])
-    bulk = am.refine(V, S, (ids, coords))
-    listed = am.refine(V, S, [([0, 7], [0.5, 0.5]), (S[2, :3], [0.2, 0.3, 0.5])])
+    bulk = am.refine_complex(V, S, (ids, coords))
+    listed = am.refine_complex(V, S, [([0, 7], [0.5, 0.5]), (S[2, :3], [0.2, 0.3, 0.5])])
     assert np.array_equal(bulk.points, listed.points) and np.array_equal(bulk.simplices, listed.simplices)
 
 
@@ -378,14 +378,14 @@ def test_bulk_arrays_match_the_list_form():
 def test_bad_splits_raise_value_errors_naming_them(splits, message):
     V, S = cube_tets()
     with pytest.raises(ValueError, match=message):
-        am.refine(V, S, splits)
+        am.refine_complex(V, S, splits)
 
 
 def test_bad_options_raise_value_errors():
     V, S = cube_tets()
     with pytest.raises(ValueError, match="unknown order"):
-        am.refine(V, S, [], order="random")
+        am.refine_complex(V, S, [], order="random")
     with pytest.raises(ValueError, match="epsilon"):
-        am.refine(V, S, [([0, 7], [0.5, 0.5])], epsilon=0.7)
+        am.refine_complex(V, S, [([0, 7], [0.5, 0.5])], epsilon=0.7)
     with pytest.raises(ValueError, match="simplex 1 repeats vertex 3"):
-        am.refine(V, np.array([[0, 1, 2, 4], [3, 3, 5, 6]]), [])
+        am.refine_complex(V, np.array([[0, 1, 2, 4], [3, 3, 5, 6]]), [])

@@ -9,10 +9,12 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from animanifold.regularise import _inherit, edges_of, manhattan_lengths
+from animanifold.regularisation import _inherit, edges_of, manhattan_lengths
 from helpers.shapes import icosphere
 
 METHODS = ("dual", "graph", "uniform")
+GRAPH = am.LaplacianOptions(method="graph")
+REGULARISED = am.DeformOptions(regularise=am.RegulariseOptions())
 
 
 def pulled_sphere():
@@ -40,11 +42,11 @@ def max_length(points, simplices):
 @pytest.mark.parametrize("method", METHODS)
 def test_large_extrusion_is_regularised_into_a_valid_manifold(method):
     v, f, anchors, handles, T = pulled_sphere()
-    plain = am.laplacian_deform(v, f, anchors, handles, T, method=method)
+    plain = am.laplacian_deform(v, f, anchors, handles, T, options=am.LaplacianOptions(method=method))
     mean0 = mean_length(v, f)
     assert max_length(plain, f) / mean0 > 3.0, "the extrusion should stretch edges well past 2x the mean"
 
-    points, simplices, maps = am.regularise(v, f, anchors, handles, T, method=method)
+    points, simplices, maps = am.regularise(v, f, anchors, handles, T, laplacian=am.LaplacianOptions(method=method))
     assert maps.converged and maps.iterations >= 1 and sum(maps.splits) == len(maps.new_vertices) > 0
     assert maps.epsilon == pytest.approx(2 * mean0)
     ratio = max_length(points, simplices) / mean0
@@ -69,7 +71,7 @@ def test_large_extrusion_is_regularised_into_a_valid_manifold(method):
 def test_zero_motion_changes_nothing_even_with_edges_longer_than_epsilon():
     v, f, anchors, handles, _ = pulled_sphere()
     for method in METHODS:
-        points, simplices, maps = am.regularise(v, f, anchors, handles, np.eye(4), method=method)
+        points, simplices, maps = am.regularise(v, f, anchors, handles, np.eye(4), laplacian=am.LaplacianOptions(method=method))
         np.testing.assert_array_equal(simplices, f)
         np.testing.assert_allclose(points, v, atol=1e-12)
         assert maps.splits == () and maps.converged and len(maps.new_vertices) == 0
@@ -77,7 +79,7 @@ def test_zero_motion_changes_nothing_even_with_edges_longer_than_epsilon():
     m, k = stitched(times=(0.0, 10.0, 30.0))
     lengths = manhattan_lengths(m.points, edges_of(m.simplices, len(m.points)))
     assert lengths.max() > 2 * lengths.mean()
-    out = m.deform(np.arange(k), np.arange(2 * k, 3 * k), np.eye(5), regularise=True)
+    out = am.deform(m, np.arange(k), np.arange(2 * k, 3 * k), np.eye(5), options=REGULARISED)
     np.testing.assert_array_equal(out.simplices, m.simplices)
     np.testing.assert_allclose(out.points, m.points, atol=1e-9)
     assert out.metadata["regularisation"]["iterations"] == 0
@@ -85,15 +87,15 @@ def test_zero_motion_changes_nothing_even_with_edges_longer_than_epsilon():
 
 def test_iteration_cap_is_reported():
     v, f, anchors, handles, T = pulled_sphere()
-    _, _, full = am.regularise(v, f, anchors, handles, T, method="graph")
+    _, _, full = am.regularise(v, f, anchors, handles, T, laplacian=GRAPH)
     assert full.converged and full.iterations >= 2
-    points, simplices, capped = am.regularise(v, f, anchors, handles, T, method="graph", max_iterations=1)
+    points, simplices, capped = am.regularise(v, f, anchors, handles, T, laplacian=GRAPH, options=am.RegulariseOptions(max_iterations=1))
     assert not capped.converged and capped.iterations == 1
     assert capped.max_edge_length > capped.epsilon
-    points, simplices, none = am.regularise(v, f, anchors, handles, T, method="graph", max_iterations=0)
+    points, simplices, none = am.regularise(v, f, anchors, handles, T, laplacian=GRAPH, options=am.RegulariseOptions(max_iterations=0))
     assert not none.converged and none.splits == ()
     np.testing.assert_array_equal(simplices, f)
-    np.testing.assert_allclose(points, am.laplacian_deform(v, f, anchors, handles, T, method="graph"), atol=1e-12)
+    np.testing.assert_allclose(points, am.laplacian_deform(v, f, anchors, handles, T, options=GRAPH), atol=1e-12)
 
 
 def test_stretched_handle_edges_split_into_handles_that_follow_the_transform():
@@ -102,7 +104,7 @@ def test_stretched_handle_edges_split_into_handles_that_follow_the_transform():
     handle positions give the same result (targets interpolated)."""
     v, f, anchors, handles, _ = pulled_sphere()
     T = am.handle_transform(scale=3.0, center=[0, 0, 1.0], translation=[0, 0, 2.0], dimension=3)
-    points, simplices, maps = am.regularise(v, f, anchors, handles, T, method="graph")
+    points, simplices, maps = am.regularise(v, f, anchors, handles, T, laplacian=GRAPH)
     assert maps.converged
     new_handles = np.setdiff1d(maps.handles, handles)
     assert len(new_handles) > 0 and (new_handles >= len(v)).all()
@@ -110,7 +112,7 @@ def test_stretched_handle_edges_split_into_handles_that_follow_the_transform():
     expected = rest[maps.handles] @ T[:3, :3].T + T[:3, 3]
     np.testing.assert_allclose(points[maps.handles], expected, atol=1e-9)
     moved = v[handles] @ T[:3, :3].T + T[:3, 3]
-    p2, s2, m2 = am.regularise(v, f, anchors, handles, handle_positions=moved, method="graph")
+    p2, s2, m2 = am.regularise(v, f, anchors, handles, handle_positions=moved, laplacian=GRAPH)
     np.testing.assert_array_equal(s2, simplices)
     np.testing.assert_allclose(p2, points, atol=1e-9)
     np.testing.assert_array_equal(m2.handles, maps.handles)
@@ -128,8 +130,8 @@ def test_animation_manifold_deform_regularises_and_keeps_anchored_frames():
     anchors = np.arange(2 * k)  # keyframes 0 and 1
     handles = np.arange(3 * k, 4 * k)  # keyframe 3
     T = am.handle_transform(translation=[3.0, 0, 0, 0], dimension=4)
-    plain = m.deform(anchors, handles, T)
-    out = m.deform(anchors, handles, T, regularise=True)
+    plain = am.deform(m, anchors, handles, T)
+    out = am.deform(m, anchors, handles, T, options=REGULARISED)
     summary = out.metadata["regularisation"]
     assert summary["converged"] and summary["added_vertices"] == len(out.points) - len(m.points) > 0
     assert out.check()["is_oriented_manifold"]
@@ -155,9 +157,9 @@ def test_axis_weights_change_the_measure():
     anchors, handles = np.arange(k), np.arange(2 * k, 3 * k)
     T = am.handle_transform(translation=[2.0, 0, 0, 0], dimension=4)
     w = np.array([1.0, 1.0, 1.0, 0.0])  # measure edges in space only
-    out = m.deform(anchors, handles, T, regularise=True, method="graph", axis_weights=w)
+    out = am.deform(m, anchors, handles, T, options=am.DeformOptions(GRAPH, am.RegulariseOptions(axis_weights=w)))
     spatial = out.metadata["regularisation"]
-    timed = m.deform(anchors, handles, T, regularise=True, method="graph").metadata["regularisation"]
+    timed = am.deform(m, anchors, handles, T, options=am.DeformOptions(GRAPH, am.RegulariseOptions())).metadata["regularisation"]
     spatial_mean = manhattan_lengths(m.points, edges_of(m.simplices, len(m.points)), w).mean()
     assert spatial["epsilon"] == pytest.approx(2 * spatial_mean) and spatial["epsilon"] < timed["epsilon"]
     assert spatial["converged"] and spatial["added_vertices"] > 0
@@ -171,12 +173,30 @@ def test_input_errors():
     with pytest.raises(ValueError, match="exactly one of transform"):
         am.regularise(v, f, anchors, handles, T, handle_positions=v[handles])
     with pytest.raises(ValueError, match="epsilon must be a positive number"):
-        am.regularise(v, f, anchors, handles, T, epsilon=-1.0)
+        am.RegulariseOptions(epsilon=-1.0)
     with pytest.raises(ValueError, match="axis_weights must be 3"):
-        am.regularise(v, f, anchors, handles, T, axis_weights=[1, 1])
+        am.regularise(v, f, anchors, handles, T, options=am.RegulariseOptions(axis_weights=[1, 1]))
     with pytest.raises(ValueError, match="max_iterations"):
-        am.regularise(v, f, anchors, handles, T, max_iterations=-1)
+        am.RegulariseOptions(max_iterations=-1)
     with pytest.raises(ValueError, match=r"handle_positions must be \(\d+, 3\)"):
         am.regularise(v, f, anchors, handles, handle_positions=v[:3])
     with pytest.raises(ValueError, match="both an anchor and a handle"):
         am.regularise(v, f, anchors, anchors, T)
+
+
+def test_option_errors_name_the_field():
+    with pytest.raises(ValueError, match="axis_weights must be finite non-negative"):
+        am.RegulariseOptions(axis_weights=[1, -1, 1])
+    with pytest.raises(ValueError, match="unknown method 'cotan'"):
+        am.LaplacianOptions(method="cotan")
+    with pytest.raises(ValueError, match="unknown boundary rule 'pin'"):
+        am.LaplacianOptions(boundary="pin")
+    with pytest.raises(ValueError, match="steps must be 'auto' or an integer >= 1"):
+        am.LaplacianOptions(steps=0)
+    with pytest.raises(ValueError, match="restore_iterations"):
+        am.LaplacianOptions(restore_iterations=-1)
+    with pytest.raises(ValueError, match="tolerance must be a finite non-negative number"):
+        am.LaplacianOptions(tolerance=float("nan"))
+    with pytest.raises(ValueError, match="regularise must be None or a RegulariseOptions"):
+        am.DeformOptions(regularise=True)
+    assert am.RegulariseOptions(axis_weights=np.array([1, 1, 0.5])).axis_weights == (1.0, 1.0, 0.5)

@@ -55,7 +55,7 @@ def turning_angles(paths: np.ndarray) -> np.ndarray:
 
 def test_one_level_is_conforming_oriented_with_eight_times_the_tets():
     m = moving_sphere(ZIGZAG[:4] * [1, 0.3, 0])
-    m1 = m.subdivide(levels=1)
+    m1 = am.subdivide(m, levels=1)
     assert len(m1.simplices) == 8 * len(m.simplices)
     report = m1.check()
     assert report["is_oriented_manifold"], report
@@ -81,7 +81,7 @@ def test_one_level_is_conforming_oriented_with_eight_times_the_tets():
 def test_two_levels_give_sixty_four_times_the_tets():
     v, f = icosphere(0)
     m = am.stitch([v, v + [0.5, 0, 0], v + [1, 0.2, 0]], f, [0, 1, 2])
-    m2 = m.subdivide(levels=2)
+    m2 = am.subdivide(m, levels=2)
     assert len(m2.simplices) == 64 * len(m.simplices)
     assert m2.check()["is_oriented_manifold"]
     assert len(m2.boundary()) == 16 * len(m.boundary())
@@ -153,8 +153,8 @@ def test_keep_keyframe_times_keeps_keyframes_on_their_hyperplanes():
     path = np.array([[0, 0, 0], [0.4, 0.1, 0], [0.8, 0.15, 0], [1.2, 0.1, 0], [1.6, 0, 0]])
     v, f = icosphere(2)
     m = am.stitch([0.5 * v + p for p in path], f, TIMES)
-    m1 = m.subdivide(levels=1, keep_keyframe_times=True)
-    free = m.subdivide(levels=1, keep_keyframe_times=False)
+    m1 = am.subdivide(m, levels=1, keep_keyframe_times=True)
+    free = am.subdivide(m, levels=1, keep_keyframe_times=False)
     edges = np.unique(np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [0, 2]]]), axis=1), axis=0)
     for i, t in enumerate(TIMES):
         on_plane = np.count_nonzero(m1.points[:, -1] == t)
@@ -206,7 +206,7 @@ def test_attributes_follow_the_same_stencils_and_simplex_attributes_are_inherite
 def test_two_dimensional_animation_subdivides_triangles_and_keeps_contours_closed():
     pv, pe = polygon(12)
     m = am.stitch([pv + [0.2 * i, 0.1 * (i % 2)] for i in range(4)], pe, [0, 1, 2, 3])
-    m1 = m.subdivide(levels=2, keep_keyframe_times=True)
+    m1 = am.subdivide(m, levels=2, keep_keyframe_times=True)
     assert len(m1.simplices) == 16 * len(m.simplices)
     assert m1.check()["is_oriented_manifold"]
     assert set(np.unique(m1.points[m1.boundary(), -1])) == {0.0, 3.0}
@@ -225,7 +225,7 @@ def test_open_keyframes_keep_their_side_boundary():
     v, f = cube()
     half = f[:6]  # three faces of the cube: an open surface
     m = am.stitch([v + [0.1 * i, 0, 0] for i in range(3)], half, [0, 1, 2])
-    m1 = m.subdivide(levels=1)
+    m1 = am.subdivide(m, levels=1)
     assert m1.check()["is_oriented_manifold"]
     boundary = m1.boundary()
     assert len(boundary) == 4 * len(m.boundary())
@@ -236,24 +236,24 @@ def test_open_keyframes_keep_their_side_boundary():
 
 def test_level_zero_and_input_errors():
     m = moving_sphere(ZIGZAG[:2], subdivisions=0)
-    same = m.subdivide(levels=0)
+    same = am.subdivide(m, levels=0)
     np.testing.assert_array_equal(same.points, m.points)
     np.testing.assert_array_equal(same.simplices, m.simplices)
     with pytest.raises(ValueError, match="levels"):
-        m.subdivide(levels=-1)
+        am.subdivide(m, levels=-1)
     with pytest.raises(ValueError, match="scheme"):
-        m.subdivide(scheme="loop")
+        am.subdivide(m, scheme="loop")
     nonmanifold = np.vstack([m.simplices, m.simplices[:1, [1, 0, 2, 3]]])
     with pytest.raises(ValueError, match="shared by 3 simplices"):
-        am.AnimationManifold.from_arrays(m.points, nonmanifold).subdivide()
+        am.subdivide(am.AnimationManifold.from_arrays(m.points, nonmanifold))
     degenerate = m.simplices.copy()
     degenerate[0, 1] = degenerate[0, 0]
     with pytest.raises(ValueError, match="simplex 0 repeats vertex"):
-        am.AnimationManifold.from_arrays(m.points, degenerate).subdivide()
+        am.subdivide(am.AnimationManifold.from_arrays(m.points, degenerate))
 
 
 def test_subdivided_manifold_round_trips_through_the_cache(tmp_path):
-    m1 = moving_sphere(ZIGZAG[:3], subdivisions=0).subdivide(levels=1, keep_keyframe_times=True)
+    m1 = am.subdivide(moving_sphere(ZIGZAG[:3], subdivisions=0), levels=1, keep_keyframe_times=True)
     am.save(m1, tmp_path / "m.amf")
     back = am.load(tmp_path / "m.amf")
     np.testing.assert_array_equal(back.points, m1.points)
@@ -376,7 +376,7 @@ def test_contour_frames_of_2d_animations_smooth_as_bspline_curves():
 def test_welding_closes_seams_before_smoothing():
     """Split copies (as at UV seams) are boundaries until welded; a welded frame smooths into a closed surface."""
     from animanifold.procedural import icosphere as ico
-    from animanifold.weld import weld_copies
+    from animanifold.seams import weld_copies
 
     v, f = ico(1)
     # split vertex 0 into a copy used by half of its faces (a seam)
@@ -391,8 +391,8 @@ def test_welding_closes_seams_before_smoothing():
     # stitch orders the copy next to its original, so both sides of the seam split alike and welding
     # leaves only the two keyframes as boundary
     assert m.check()["boundary_facets"] > 2 * len(f)
-    assert m.welded().check()["boundary_facets"] == 2 * len(f)
-    assert m.welded().check()["is_oriented_manifold"]
-    s = am.smooth.smooth_slice(m.slice(0.5), 1)
+    assert am.weld(m).check()["boundary_facets"] == 2 * len(f)
+    assert am.weld(m).check()["is_oriented_manifold"]
+    s = am.smooth_slice(m.slice(0.5), 1)
     assert _core.check_manifold(s.faces)["boundary_facets"] == 0
     assert weld_copies(v, f) is None  # nothing to merge

@@ -68,8 +68,8 @@ def deform_object(context, obj, opt: dict, empty, report) -> set:
             where = _deform_manifold(context, obj, manifold, anchors, handles, T, opt, notes, progress)
         else:
             points, triangles = mesh_arrays(obj.data)
-            moved = am.laplacian_deform(points, triangles, anchors, handles, T, method=opt["method"],
-                                        boundary=opt["boundary"], restore=opt["restore"])
+            moved = am.laplacian_deform(points, triangles, anchors, handles, T,
+                                        options=_laplacian_options(opt))
             progress(3)
             write_points(obj.data, moved)
             where = ""
@@ -82,13 +82,17 @@ def deform_object(context, obj, opt: dict, empty, report) -> set:
     return {"FINISHED"}
 
 
+def _laplacian_options(opt) -> "am.LaplacianOptions":
+    """The solve the operator's method, boundary rule and restore switch ask for."""
+    return am.LaplacianOptions(method=opt["method"], boundary=opt["boundary"], restore=bool(opt["restore"]))
+
+
 def _deform_manifold(context, obj, manifold, anchors, handles, T, opt, notes, progress) -> str:
     """Deforms a manifold object's manifold into a new cache; the report's words on where it went."""
-    extra = {}
+    regularise = None
     if opt["regularise"]:
-        extra = {"regularise": True, "axis_weights": [1.0, 1.0, 1.0, float(opt["time_weight"])]}
-    moved = manifold.deform(anchors, handles, T, method=opt["method"], boundary=opt["boundary"],
-                            restore=opt["restore"], **extra)
+        regularise = am.RegulariseOptions(axis_weights=(1.0, 1.0, 1.0, float(opt["time_weight"])))
+    moved = am.deform(manifold, anchors, handles, T, options=am.DeformOptions(_laplacian_options(opt), regularise))
     progress(3)
     summary = moved.metadata.get("regularisation") if opt["regularise"] else None
     if summary is not None:

@@ -5,7 +5,6 @@ nothing is left behind. Then what the validity checks (§8.3) found, as warnings
 
 from __future__ import annotations
 
-import importlib
 import os
 from dataclasses import dataclass
 
@@ -21,11 +20,10 @@ from .mesh_input import morph_looks
 from .object_names import unique_object_name
 from .playback import update_object
 
-# The methods this build of the core has (animanifold.morph.METHODS); the best one is the default:
+# The methods this build of the core has (animanifold.morph_pipeline.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
 # method is not the default: it does not yet meet the morph's bar (speed, pops: bench/bench_morph.py).
-_MORPH = importlib.import_module(am.morph.__module__)  # the module (am.morph is the function)
-METHODS = tuple(getattr(_MORPH, "METHODS", ("strip",)))
+METHODS = tuple(getattr(am.morph_pipeline, "METHODS", ("strip",)))
 BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
 _METHOD_TEXT = {
     "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
@@ -149,7 +147,7 @@ def report_validity(report, new, manifold, method: str, source, target, fs, ft) 
     if not validity.get("holes_preserved", True):
         report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
                                  f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
-    for line in _MORPH.cut_frame_warnings(validity):
+    for line in am.morph_pipeline.cut_frame_warnings(validity):
         report({"WARNING"}, f"'{new.name}': {line}")
     if not manifold.check()["is_oriented_manifold"]:
         hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"

@@ -71,7 +71,7 @@ def frame_slice(obj, manifold, value: float, axis: str = "t"):
     s = manifold.slice(value, axis)
     if settings.smooth_levels <= 0:
         return s
-    return am.smooth.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
+    return am.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
 
 
 def slice_value(obj, manifold, frame: float) -> float:

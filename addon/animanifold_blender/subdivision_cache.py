@@ -111,7 +111,7 @@ def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str):
             f"{levels} subdivision levels of '{name}' would make {tets:,} tets "
             f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
     try:
-        return base.welded().subdivide(levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times)
+        return am.subdivide(am.weld(base), levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times)
     except MemoryError:
         raise SmoothingError(f"out of memory subdividing '{name}' {levels} levels ({tets:,} tets): "
                              "use fewer levels") from None

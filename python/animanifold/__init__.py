@@ -7,10 +7,13 @@ topology. ::
     import animanifold as am
     m = am.stitch(frames, faces, times)      # keyframes with correspondence
     s = m.slice(0.5)                          # s.vertices, s.faces, s.normals
-    m2 = m.subdivide(levels=1)                # smooth shape and motion (Schaefer et al.)
+    m2 = am.subdivide(m, levels=1)            # smooth shape and motion (Schaefer et al.)
     s2 = m.slice(0.5, smooth_levels=2)        # Loop-smoothed frame (OpenSubdiv)
-    m2 = m.deform(anchors, handles, am.handle_transform(translation=[0, 0, 1, 0]))
-    m3 = m.deform(anchors, handles, T, regularise=True)   # split stretched edges (§4.5.1)
+    m2 = am.deform(m, anchors, handles, am.handle_transform(translation=[0, 0, 1, 0]))
+    m3 = am.deform(m, anchors, handles, T,    # split stretched edges (§4.5.1)
+                   options=am.DeformOptions(regularise=am.RegulariseOptions()))
+    m4, r = am.refine(m, splits)              # barycentric refinement (chapter 6)
+    m5 = am.weld(m)                           # seams (split copies of points) closed
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
     m = am.morph((VS, FS), (VT, FT))          # chapters 5, 8; m.slice(t) honours shared holes
@@ -19,16 +22,20 @@ topology. ::
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
 from .cache import CacheError, load, save
-from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
+from .deformation import DeformOptions, deform
+from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
-from .manifold import AnimationManifold, HoleSpaceWarning, Slice, SliceMover, axis_index, stitch
+from .laplacian import Deformer, LaplacianOptions, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
+from .manifold import AnimationManifold, HoleSpaceWarning, SliceMover, axis_index, stitch
 from .meshio import read_mesh, write_mesh
-from .morph import morph
+from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
-from .refine import Refinement, refine
-from .regularise import Regularisation, RegularisationMaps, regularise
-from .smooth import SmoothFrame, subdivide, subdivide_frame
+from .refinement import Refinement, refine, refine_complex
+from .regularisation import Regularisation, RegularisationMaps, RegulariseOptions, regularise
 from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
+from .slices import Slice
+from .subdivision import subdivide
+from .welding import weld
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
 from .morph_job import MorphJob
 
@@ -39,6 +46,7 @@ __all__ = [
     "BooleanError",
     "CacheError",
     "SeparabilityWarning",
+    "DeformOptions",
     "Deformer",
     "HoleSpaceWarning",
     "MorphJob",
@@ -49,25 +57,31 @@ __all__ = [
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",
+    "deform",
     "handle_transform",
     "hole_space",
     "intersect_solids",
+    "LaplacianOptions",
     "laplacian_deform",
     "load",
     "morph",
     "read_mesh",
     "refine",
+    "refine_complex",
     "Refinement",
     "Regularisation",
     "RegularisationMaps",
+    "RegulariseOptions",
     "regularise",
     "rotation_matrix",
     "save",
+    "smooth_slice",
     "solid_measure",
     "stitch",
     "subdivide",
     "subdivide_frame",
     "subtract_solid",
     "voronoi_skeleton",
+    "weld",
     "write_mesh",
 ]

@@ -27,12 +27,13 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from .cache import load, save
-from .manifold import AXES, AnimationManifold, axis_index, stitch
 from . import cli_skeleton
-from .meshio import read_mesh, write_mesh
+from .cache import load, save
+from .demo import run_demo as build_demo
 from .holes import BooleanError
-from .morph import METHODS, cut_frame_warnings, morph
+from .manifold import AXES, AnimationManifold, axis_index, stitch
+from .meshio import read_mesh, write_mesh
+from .morph_pipeline import METHODS, cut_frame_warnings, morph
 
 PROG = "animanifold"
 EXIT_USER_ERROR = 2
@@ -258,8 +259,6 @@ def run_info(args: argparse.Namespace) -> int:
 
 
 def run_demo(args: argparse.Namespace) -> int:
-    from .demo import run_demo as demo  # the demo pulls in matplotlib: import only when asked
-
     if args.frames < 1:
         raise UserError(f"--frames must be at least 1, got {args.frames}")
     if not args.no_picture:
@@ -268,7 +267,7 @@ def run_demo(args: argparse.Namespace) -> int:
         except ImportError:
             raise UserError("the contact sheet needs matplotlib (pip install matplotlib), or pass --no-picture") from None
     start = time.perf_counter()
-    result = demo(args.output, frame_count=args.frames, small=args.small, picture=not args.no_picture)
+    result = build_demo(args.output, frame_count=args.frames, small=args.small, picture=not args.no_picture)
     keyframes = ", ".join(f"{t:g}" for t in result.keyframe_times)
     print(f"keyframes   {len(result.keyframe_times)} at t = {keyframes} ({result.keyframe_faces} faces each)")
     print(f"manifold    {result.tets:,} tets, stitched in {result.seconds['stitch'] * 1e3:.1f} ms: {result.cache}")

@@ -14,7 +14,7 @@ from typing import Sequence
 
 import numpy as np
 
-from .manifold import Slice
+from .slices import Slice
 
 # Light from the upper front left, as in a default 3-point setup's key light.
 _LIGHT = np.array([-0.4, -0.6, 0.7]) / np.linalg.norm([-0.4, -0.6, 0.7])

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .cache import save
+from .contact_sheet import render_contact_sheet
 from .manifold import stitch
 from .meshio import write_mesh
 from .procedural import demo_keyframes
@@ -74,8 +75,6 @@ def run_demo(output: str | Path, frame_count: int = 12, small: bool = False, pic
 
     sheet = None
     if picture:
-        from .contact_sheet import render_contact_sheet
-
         start = time.perf_counter()
         sheet = output / "contact_sheet.png"
         chosen = [slices[i] for i in sheet_selection(frame_count, SHEET_PANELS)]

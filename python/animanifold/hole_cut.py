@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _core
 from .barycentric import plane_barycentric
-from .weld import weld_copies
+from .seams import weld_copies
 
 # Corner values that agree to this share of their magnitude (and absolutely, near zero) are one
 # vertex's: interpolating one chart from neighbouring raw faces differs only by rounding.

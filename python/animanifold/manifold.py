@@ -1,23 +1,26 @@
-"""The animation manifold: numpy in, numpy out, backed by the native core.
+"""The animation manifold data type: numpy in, numpy out, backed by the native core.
 
 An :class:`AnimationManifold` holds points (N, D) — (x, y, z, t) or (x, y, t) —
 and oriented simplices (M, D) in the core's own memory; the arrays it returns
 are read-only views, not copies. :meth:`AnimationManifold.slice` cuts a frame
 (or a sweep view along x, y or z) through a cached interval index, so a frame
-costs what it cuts.
+costs what it cuts. Operations that make a new manifold are free functions in
+their own modules: :func:`animanifold.refine`, :func:`animanifold.deform`,
+:func:`animanifold.subdivide`, :func:`animanifold.weld`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import warnings
-from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import numpy as np
 
 from . import _core
+from .frame_smoothing import smooth_slice
 from .hole_cut import cut_frame
+from .slices import Slice, squeezed
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
 
@@ -42,54 +45,30 @@ def axis_index(axis: str | int, dimension: int) -> int:
     return index % dimension
 
 
-@dataclass(frozen=True)
-class Slice:
-    """One frame: the iso-slice of a manifold at `value` along `axis`.
-
-    vertices (P, D-1) are the coordinates other than the slicing axis, in
-    order; faces (F, 3) triangles — (F, 2) segments for 2D animations —
-    oriented like the keyframes; normals (P, D-1) unit smooth normals.
-    vertex_edges (P, 2) and edge_parameter (P,) say which manifold edge each
-    vertex lies on (a == b for a manifold vertex); face_simplex (F,) which
-    manifold simplex each face was cut from.
-    """
-
-    axis: int
-    value: float
-    vertices: np.ndarray
-    faces: np.ndarray
-    normals: np.ndarray
-    vertex_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
-    face_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
-    vertex_edges: np.ndarray | None = None
-    edge_parameter: np.ndarray | None = None
-    face_simplex: np.ndarray | None = None
-
-    @classmethod
-    def _from_core(cls, axis: int, value: float, s: "_core.Slice") -> "Slice":
-        return cls(
-            axis=axis,
-            value=value,
-            vertices=s.vertices,
-            faces=s.faces,
-            normals=s.normals,
-            vertex_attributes={k: _squeezed(v) for k, v in s.vertex_attributes.items()},
-            face_attributes={k: _squeezed(v) for k, v in s.face_attributes.items()},
-            vertex_edges=s.vertex_edges,
-            edge_parameter=s.edge_parameter,
-            face_simplex=s.face_simplex,
-        )
-
-
 class AnimationManifold:
     """An n-manifold of n-simplices in R^(n+1) whose last coordinate is time.
 
-    A morph's manifold also carries a hole space H (§8.6.5): the holes its
-    source and target share, as a solid in R^n ((vertices, faces) like a
-    frame). Time slices strictly between the first and last time are then
-    returned as frame \\ H (validity 3 of §8.3); see :meth:`slice`.
-    :meth:`welded` and :meth:`refine` keep it (the shape does not change);
-    :meth:`deform` and :meth:`subdivide` return manifolds without it.
+    What it holds:
+
+    * points (N, D) float64, D = 4 for animated surfaces (x, y, z, t), 3 for
+      animated contours (x, y, t);
+    * simplices (M, D) int32, oriented n-simplices (tets in R^4, triangles in R^3);
+    * vertex_attributes: name -> (N, c) float64 (UVs, ...), interpolated by slices;
+    * simplex_attributes: name -> (M, c) int32 (material index, ...), inherited;
+    * metadata: a plain dict (keyframe_times, keyframe_vertices / _faces from
+      :func:`stitch`, a morph's validity report, subdivisions, regularisation);
+    * hole_space: for a morph, the holes its source and target share
+      (§8.6.5), a solid in R^n as (vertices, faces) like a frame, or None.
+
+    Invariants: points, simplices and attributes never change after
+    construction (the arrays are read-only; the core checks indices are in
+    range and points finite), so the slicer and time range are cached.
+    Operations return new manifolds. Time slices strictly between the first
+    and last time of a manifold with a hole space H are frame \\ H
+    (validity 3 of §8.3); see :meth:`slice`. :func:`animanifold.weld` and
+    :func:`animanifold.refine` keep H (the shape does not change);
+    :func:`animanifold.deform` and :func:`animanifold.subdivide` return
+    manifolds without it.
     """
 
     def __init__(
@@ -130,6 +109,12 @@ class AnimationManifold:
         return cls(_core.Complex(points, simplices, va, sa), metadata, hole_space)
 
     # -- data ---------------------------------------------------------------
+    @property
+    def core_complex(self) -> "_core.Complex":
+        """The native complex holding the arrays, for functions that hand it to the core
+        (subdivision, benchmarks) without copying."""
+        return self._complex
+
     @property
     def points(self) -> np.ndarray:
         """(N, D) float64, read-only: (x, y, z, t) or (x, y, t)."""
@@ -241,8 +226,6 @@ class AnimationManifold:
             if isinstance(smooth_levels, bool) or int(smooth_levels) != smooth_levels or smooth_levels < 0:
                 raise ValueError(f"smooth_levels must be a non-negative integer, got {smooth_levels!r}")
             if isinstance(s, Slice):  # cut by the hole space
-                from .smooth import smooth_slice
-
                 return smooth_slice(s, int(smooth_levels), float(crease_angle))
             s = _core.smooth_slice(s, int(smooth_levels), float(crease_angle), True)
             smooth = Slice._from_core(a, float(value), s)
@@ -276,34 +259,6 @@ class AnimationManifold:
         frames of one interval, keep a :class:`SliceMover` instead."""
         return SliceMover(self, s).at(value)
 
-    def subdivide(
-        self,
-        levels: int = 1,
-        scheme: str = "schaefer",
-        keep_keyframe_times: bool = False,
-        keyframe_times: Sequence[float] | None = None,
-    ) -> "AnimationManifold":
-        """A new manifold refined `levels` times (Schaefer et al. 2004); see :func:`animanifold.smooth.subdivide`."""
-        from .smooth import subdivide
-
-        return subdivide(self, levels, scheme, keep_keyframe_times, keyframe_times)
-
-    def welded(self) -> "AnimationManifold":
-        """This manifold with exact copies of points merged (seams closed; see
-        :mod:`animanifold.weld`); merged points keep the first copy's vertex
-        attributes, so UVs are smeared in the cells along a seam. Returns self
-        when nothing merges."""
-        from .weld import weld_copies
-
-        weld = weld_copies(self.points, self.simplices)
-        if weld is None:
-            return self
-        kept, simplices = weld
-        vertex_attributes = {k: np.asarray(v)[kept] for k, v in self.vertex_attributes.items()}
-        metadata = {k: v for k, v in self.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
-        return AnimationManifold.from_arrays(self.points[kept], simplices, vertex_attributes,
-                                             dict(self.simplex_attributes), metadata, self._hole_space)
-
     def check(self) -> dict:
         """Manifold validity: facet counts, non-manifold and misoriented facets."""
         return _core.check_manifold(self.simplices)
@@ -315,96 +270,6 @@ class AnimationManifold:
     def vertex_normals(self) -> np.ndarray:
         """Area-weighted unit normals (N, D) from the wedge product (§2.3)."""
         return _core.vertex_normals(self.points, self.simplices)
-
-    def refine(self, splits, epsilon: float = 1e-3, order: str = "degeneracy") -> tuple:
-        """Barycentric refinement (chapter 6): the refined manifold and the maps.
-
-        splits, epsilon and order as in :func:`animanifold.refine`. Returns a
-        new manifold (attributes interpolated / inherited, metadata kept) and
-        the :class:`~animanifold.refine.Refinement` with new_vertex_of_split,
-        parent_simplex and the other maps.
-        """
-        from .refine import refine
-
-        r = refine(
-            self.points,
-            self.simplices,
-            splits,
-            epsilon=epsilon,
-            order=order,
-            vertex_attributes=self.vertex_attributes,
-            simplex_attributes=self.simplex_attributes,
-        )
-        return AnimationManifold.from_arrays(
-            r.points, r.simplices, r.vertex_attributes, r.simplex_attributes, self.metadata, self._hole_space
-        ), r
-
-    def deform(
-        self,
-        anchors,
-        handles,
-        transform: np.ndarray | None = None,
-        *,
-        handle_positions: np.ndarray | None = None,
-        method: str = "dual",
-        boundary: str = "grow",
-        restore: bool = True,
-        max_iterations: int = 50,
-        tolerance: float = 1e-6,
-        steps: int | str = "auto",
-        regularise: bool = False,
-        epsilon: float | None = None,
-        axis_weights=None,
-        regularise_iterations: int = 10,
-        **options,
-    ) -> "AnimationManifold":
-        """Laplacian deformation through space and time (chapter 4): anchors
-        stay, handles move by `transform` ((D+1)x(D+1) affine) or to
-        `handle_positions` (H, D), in `steps` increments (default: one per
-        π/4 of rotation). Returns a new manifold with the same
-        simplices and attributes; see :class:`animanifold.Deformer` for the
-        methods, boundary rules and options (`max_iterations` and `tolerance`
-        are the restore's).
-
-        regularise=True applies the offline regularisation of §4.5.1 (see
-        :func:`animanifold.regularise`: `epsilon`, `axis_weights`, at most
-        `regularise_iterations` rounds): stretched edges are split, so the
-        result has more vertices (the input's first) and simplices, with
-        attributes interpolated / inherited; its metadata["regularisation"]
-        says how it ended (iterations, splits, converged, ...).
-
-        A vertex whose time the solve changed by round-off only (less than
-        1e-9 of the time range; a transform that keeps time leaves it
-        unchanged in exact arithmetic for the primal methods) keeps its exact
-        time, so slicing at a keyframe still returns the keyframe."""
-        if regularise:
-            from .regularise import regularise as _regularise
-
-            points, simplices, maps = _regularise(
-                self.points, self.simplices, anchors, handles, transform, handle_positions=handle_positions,
-                epsilon=epsilon, axis_weights=axis_weights, method=method, boundary=boundary, restore=restore,
-                restore_iterations=max_iterations, tolerance=tolerance, steps=steps,
-                max_iterations=regularise_iterations, vertex_attributes=self.vertex_attributes,
-                simplex_attributes=self.simplex_attributes, **options,
-            )
-            points = np.array(points)
-            points[: len(self.points)] = _keep_times(self.points, points[: len(self.points)])
-            metadata = dict(self.metadata)
-            metadata["regularisation"] = maps.summary()
-            return AnimationManifold.from_arrays(
-                points, simplices, maps.vertex_attributes, maps.simplex_attributes, metadata
-            )
-        from .deform import laplacian_deform
-
-        points = laplacian_deform(
-            self.points, self.simplices, anchors, handles, transform, handle_positions=handle_positions,
-            method=method, boundary=boundary, restore=restore, max_iterations=max_iterations,
-            tolerance=tolerance, steps=steps, **options,
-        )
-        points = _keep_times(self.points, points)
-        return AnimationManifold.from_arrays(
-            points, self.simplices, dict(self.vertex_attributes), dict(self.simplex_attributes), self.metadata
-        )
 
 
 class SliceMover:
@@ -501,24 +366,8 @@ def _subtract_holes(s: "_core.Slice", hole: tuple[np.ndarray, np.ndarray], axis:
         return s
     return Slice(axis=axis, value=value, vertices=cut.vertices, faces=cut.faces,
                  normals=_core.frame_vertex_normals(cut.vertices, cut.faces),
-                 vertex_attributes={k: _squeezed(v) for k, v in cut.vertex_attributes.items()},
-                 face_attributes={k: _squeezed(v) for k, v in cut.face_attributes.items()})
-
-
-def _squeezed(table: np.ndarray) -> np.ndarray:
-    """An attribute table of one column as a vector (as the Python API hands them out)."""
-    table = np.asarray(table)
-    return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
-
-
-def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:
-    """`after` with the time column reset to `before`'s where it moved by round-off only."""
-    after = np.array(after)
-    t0, t1 = before[:, -1], after[:, -1]
-    span = float(t0.max() - t0.min()) if len(t0) else 0.0
-    same = np.abs(t1 - t0) <= 1e-9 * max(span, 1.0)
-    after[same, -1] = t0[same]
-    return after
+                 vertex_attributes={k: squeezed(v) for k, v in cut.vertex_attributes.items()},
+                 face_attributes={k: squeezed(v) for k, v in cut.face_attributes.items()})
 
 
 def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
@@ -536,7 +385,7 @@ def _seam_order(stacked: np.ndarray) -> np.ndarray:
     """The keyframe vertices ordered by index, except that copies of one point
     (same position in every keyframe: a vertex split at a UV seam) follow the
     first copy. Stitching in this order splits the prisms on both sides of a
-    seam alike, so AnimationManifold.welded() closes the seam completely."""
+    seam alike, so animanifold.weld() closes the seam completely."""
     m, k, d = stacked.shape
     tracks = np.ascontiguousarray(stacked.transpose(1, 0, 2).reshape(k, m * d))
     _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .frame_smoothing import subdivide_frame
+
 
 def icosahedron() -> tuple[np.ndarray, np.ndarray]:
     """The regular icosahedron on the unit sphere: (12, 3) vertices, (20, 3) outward faces."""
@@ -177,8 +179,6 @@ def smooth_genus(holes: int, levels: int = 2) -> tuple[np.ndarray, np.ndarray]:
     Loop-subdivided `levels` times onto its limit surface (OpenSubdiv, no creases), centred at the
     origin. levels=2 gives 32·(26·holes+22) triangles: 1,596 vertices and 3,200 triangles for
     3 holes, 1,182 / 2,368 for 2, 2,424 / 4,864 for 5. Genus-n morph and speed inputs."""
-    from .smooth import subdivide_frame  # local: the other builders here need numpy only
-
     holes = _count(holes, "holes")
     filled = np.ones((2 * holes + 1, 3, 2), bool)
     filled[1 : 2 * holes : 2, 1, :] = False
@@ -226,8 +226,6 @@ def ring_of_holes(holes: int = 4, levels: int = 2) -> tuple[np.ndarray, np.ndarr
     is flat. Voxels are 0.3 across (0.6 high): the default wheel is 4.2 wide and centred at the
     origin. Defaults: 5,242 vertices, 10,496 triangles, genus 4 (the ~5k-vertex genus-4 speed
     model); more than 7 holes widen the wheel to `holes` voxels in radius."""
-    from .smooth import subdivide_frame
-
     holes = _count(holes, "holes", 1)
     m = max(7, holes)  # radius in voxels; the grid is 2m x 2m with cell centres at half-integers
     x = np.arange(2 * m) - m + 0.5
@@ -307,8 +305,6 @@ def thick_genus(holes: int = 3, triangles: int = 13000) -> tuple[np.ndarray, np.
     2·(26·holes+22)·k²·4^L nearest `triangles` (fewest splits on ties, so it stays as round as
     smooth_genus). Defaults: k=1, L=3: 6,396 vertices, 12,800 triangles, genus 3 (the ~13k-face
     genus-3 speed model). The same 3.5 x 1.5 x 1 size as smooth_genus(holes)."""
-    from .smooth import subdivide_frame
-
     holes, triangles = _count(holes, "holes"), _count(triangles, "triangles", 1)
     base = 2 * (26 * holes + 22)  # triangles of the unsubdivided slab
     options = [(k, level) for k in range(1, 9) for level in range(1, 7)]
@@ -328,8 +324,6 @@ def limbs(levels: int = 2) -> tuple[np.ndarray, np.ndarray]:
     5.5 x 1.5 x 4 overall); the vertex mean is the origin. levels=2: 2,914 vertices,
     5,824 triangles. For thin parts (slicing, morphing and collision tolerances along narrow
     tubes)."""
-    from .smooth import subdivide_frame
-
     filled = np.zeros((11, 3, 8), bool)
     filled[0:5, :, 5:8] = True  # body
     filled[[0, 0, 4, 4], [0, 2, 0, 2], 0:5] = True  # legs under the body's four bottom corners

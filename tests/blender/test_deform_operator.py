@@ -304,7 +304,7 @@ def test_manifold_regularise_adds_vertices_and_stays_a_manifold(manifold_object)
     assert new.check()["is_oriented_manifold"]
     # Converged: no edge is both longer than ε and stretched, so none is longer than ε or
     # than the longest edge of the input (edges long already are left alone).
-    from animanifold.regularise import edges_of, manhattan_lengths
+    from animanifold.regularisation import edges_of, manhattan_lengths
 
     w = np.array([1.0, 1.0, 1.0, 0.05])
     longest = manhattan_lengths(old.points, edges_of(old.simplices, len(old.points)), w).max()

@@ -378,7 +378,7 @@ def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_s
 
     from animanifold_blender import ops_morph
 
-    assert ops_morph.METHODS == tuple(importlib.import_module("animanifold.morph").METHODS)
+    assert ops_morph.METHODS == tuple(importlib.import_module("animanifold.morph_pipeline").METHODS)
     assert ops_morph.BEST_METHOD == ("skeleton" if "skeleton" in ops_morph.METHODS else "strip")
     props = bpy.ops.animanifold.morph_selected.get_rna_type().properties["method"]
     assert props.default == ops_morph.BEST_METHOD.upper()

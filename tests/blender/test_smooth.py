@@ -152,13 +152,13 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     scene.frame_set(24)
     F = len(shown(man).polygons)
     calls = []
-    real = type(cache).subdivide
+    real = am.subdivide
 
-    def counting(self, *args, **kwargs):
+    def counting(manifold, *args, **kwargs):
         calls.append(kwargs.get("keep_keyframe_times"))
-        return real(self, *args, **kwargs)
+        return real(manifold, *args, **kwargs)
 
-    monkeypatch.setattr(type(cache), "subdivide", counting)
+    monkeypatch.setattr(am, "subdivide", counting)
     settings.subdivision_levels = 1
     assert calls == [True]
     for frame in (24, 1, 48):
@@ -264,11 +264,11 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
     before = mesh_state(shown(man))
     calls = []
 
-    def out_of_memory(self, *args, **kwargs):
+    def out_of_memory(manifold, *args, **kwargs):
         calls.append(1)
         raise MemoryError()
 
-    monkeypatch.setattr(am.AnimationManifold, "subdivide", out_of_memory)
+    monkeypatch.setattr(am, "subdivide", out_of_memory)
     settings.subdivision_levels = 2  # must not raise
     assert "out of memory" in live.last_error(man)
     for frame in (18, 30):

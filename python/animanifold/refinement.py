@@ -1,13 +1,17 @@
 """Barycentric refinement (chapter 6): insert vertices into a simplicial complex of any dimension.
 
+:func:`refine_complex` refines raw arrays; :func:`refine` refines an
+:class:`~animanifold.AnimationManifold` and returns a new one.
+
 A split is ``(vertex_ids, barycentric)``: a simplex of the complex (an edge, a
 triangle, a tet, ... given by vertex indices) and coordinates over its
 vertices. Each applied split adds one vertex and splits every simplex around
 that face, so the result stays a conforming, consistently oriented complex::
 
     import animanifold as am
-    r = am.refine(points, simplices, [([0, 1], [0.5, 0.5]), ([1, 2, 3], [0.2, 0.3, 0.5])])
+    r = am.refine_complex(points, simplices, [([0, 1], [0.5, 0.5]), ([1, 2, 3], [0.2, 0.3, 0.5])])
     r.points, r.simplices, r.new_vertex_of_split, r.parent_simplex
+    refined, r = am.refine(manifold, splits)      # the same on an animation manifold
 
 Pending splits that a split destroys are re-homed by eq. 6.1; coordinates
 below ``epsilon`` are dropped (the split moves to the lower face) and a split
@@ -23,6 +27,7 @@ from typing import Mapping
 import numpy as np
 
 from . import _core
+from .manifold import AnimationManifold
 
 ORDERS = {"given": _core.RefineOrder.given, "degeneracy": _core.RefineOrder.degeneracy}
 
@@ -62,6 +67,28 @@ class Refinement:
 
 
 def refine(
+    manifold: AnimationManifold,
+    splits,
+    epsilon: float = 1e-3,
+    order: str = "degeneracy",
+) -> tuple[AnimationManifold, Refinement]:
+    """Barycentric refinement of an animation manifold (chapter 6).
+
+    splits, epsilon and order as in :func:`refine_complex`. Returns a new
+    manifold (vertex attributes interpolated, simplex attributes inherited,
+    metadata and hole space kept: the shape does not change) and the
+    :class:`Refinement` with new_vertex_of_split, parent_simplex and the
+    other maps.
+    """
+    r = refine_complex(manifold.points, manifold.simplices, splits, epsilon=epsilon, order=order,
+                       vertex_attributes=manifold.vertex_attributes,
+                       simplex_attributes=manifold.simplex_attributes)
+    refined = AnimationManifold.from_arrays(r.points, r.simplices, r.vertex_attributes, r.simplex_attributes,
+                                            manifold.metadata, manifold.hole_space)
+    return refined, r
+
+
+def refine_complex(
     points: np.ndarray,
     simplices: np.ndarray,
     splits,
@@ -182,4 +209,4 @@ def _tables(tables: Mapping[str, np.ndarray] | None, dtype, what: str) -> tuple[
     return squeezed, out
 
 
-__all__ = ["Refinement", "refine"]
+__all__ = ["Refinement", "refine", "refine_complex"]

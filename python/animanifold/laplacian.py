@@ -8,6 +8,8 @@
     moved = d.deform(T, steps="auto")              # large rotations: one increment per π/4
     restored = d.restore(max_iterations=50, tolerance=1e-6)
     d.status                                       # RestoreStatus(iterations, motion, converged)
+    moved = am.laplacian_deform(points, simplices, anchors, handles, T,
+                                options=am.LaplacianOptions(method="graph"))   # one-off
 
 points are (N, D) with D = 3 (triangles in R^3: surfaces, animated contours)
 or D = 4 (tets in R^4: animated surfaces); the last column is time for an
@@ -148,6 +150,59 @@ def _check_steps(steps) -> int:
     return int(steps)
 
 
+@dataclass(frozen=True)
+class LaplacianOptions:
+    """How a one-off Laplacian deformation builds and runs its :class:`Deformer`.
+
+    method: "dual" (default), "graph", "uniform" or "cotangent" (see the module doc).
+    boundary: "grow" (default), "ghost_anchors" or "error": what the dual
+      method does when ghost dual vertices leave too few constraints.
+    restore: restore features after the solve (dual method only; default True).
+    restore_iterations: cap on the restore's rounds (default 50).
+    tolerance: the restore stops when the largest vertex motion, relative to
+      the bounding-box diagonal, falls below it (default 1e-6).
+    steps: handle motion increments, an integer >= 1 or "auto" (default: one
+      per π/4 of the handles' rotation for the dual method, else 1).
+    lam, xi, ridge: graph-Laplacian λ of eq. 4.2, weight floor ξ, and ridge
+      (defaults 0.1, 1e-3, 1e-8).
+    constraint_weight: 0 (default) makes anchors and handles hard
+      constraints; > 0 makes them soft rows of that weight.
+    """
+
+    method: str = "dual"
+    boundary: str = "grow"
+    restore: bool = True
+    restore_iterations: int = 50
+    tolerance: float = 1e-6
+    steps: int | str = "auto"
+    lam: float = 0.1
+    xi: float = 1e-3
+    ridge: float = 1e-8
+    constraint_weight: float = 0.0
+
+    def __post_init__(self):
+        if self.method not in METHODS:
+            raise ValueError(f"unknown method {self.method!r}: use one of {', '.join(METHODS)}")
+        if self.boundary not in BOUNDARY_RULES:
+            raise ValueError(f"unknown boundary rule {self.boundary!r}: use one of {', '.join(BOUNDARY_RULES)}")
+        if not isinstance(self.restore, (bool, np.bool_)):
+            raise ValueError(f"restore must be True or False, got {self.restore!r}")
+        if not _is_count(self.restore_iterations):
+            raise ValueError(f"restore_iterations must be a non-negative integer, got {self.restore_iterations!r}")
+        if self.steps != "auto" and not (_is_count(self.steps) and self.steps >= 1):
+            raise ValueError(f"steps must be 'auto' or an integer >= 1, got {self.steps!r}")
+        for name in ("tolerance", "lam", "xi", "ridge", "constraint_weight"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not np.isfinite(value) \
+                    or value < 0:
+                raise ValueError(f"{name} must be a finite non-negative number, got {value!r}")
+
+
+def _is_count(value) -> bool:
+    """Whether `value` is a non-negative integer (bools are not counts)."""
+    return not isinstance(value, bool) and isinstance(value, (int, np.integer)) and value >= 0
+
+
 class Deformer:
     """Laplacian editing of a mesh or animation manifold, factored once.
 
@@ -216,6 +271,14 @@ class Deformer:
             zero_detail_vertices=zero.tolist(),
         )
         self.status: RestoreStatus | None = None
+
+    @classmethod
+    def from_options(cls, points, simplices, anchors, handles, options: LaplacianOptions,
+                     zero_detail_vertices=None) -> "Deformer":
+        """A Deformer with the method, boundary rule and Laplacian parameters of `options`."""
+        return cls(points, simplices, anchors, handles, options.method, options.boundary, lam=options.lam,
+                   xi=options.xi, ridge=options.ridge, constraint_weight=options.constraint_weight,
+                   zero_detail_vertices=zero_detail_vertices)
 
     # -- solving ------------------------------------------------------------
     def deform(
@@ -294,19 +357,21 @@ def laplacian_deform(
     handle_transform: np.ndarray | None = None,
     *,
     handle_positions: np.ndarray | None = None,
-    method: str = "dual",
-    boundary: str = "grow",
-    restore: bool = True,
-    max_iterations: int = 50,
-    tolerance: float = 1e-6,
-    steps: int | str = "auto",
-    **options,
+    options: LaplacianOptions = LaplacianOptions(),
 ) -> np.ndarray:
-    """One-off deformation: builds a :class:`Deformer`, moves the handles (in
-    ``steps`` increments, by default one per π/4 of rotation) and (dual method,
-    ``restore=True``) restores features. Returns (N, D) points."""
-    d = Deformer(points, simplices, anchors, handles, method, boundary, **options)
-    out = d.deform(handle_transform, handle_positions=handle_positions, steps=steps)
-    if restore and method == "dual":
-        out = d.restore(max_iterations, tolerance)
+    """One-off deformation: builds a :class:`Deformer` as `options` say, moves
+    the handles (by `handle_transform` or to `handle_positions`) and, for the
+    dual method with ``options.restore``, restores features. Returns (N, D)
+    points."""
+    d = Deformer.from_options(points, simplices, anchors, handles, options)
+    return solve(d, handle_transform, handle_positions, options)
+
+
+def solve(deformer: Deformer, handle_transform, handle_positions, options: LaplacianOptions) -> np.ndarray:
+    """Moves `deformer`'s handles in ``options.steps`` increments and restores
+    features when ``options.restore`` asks for it and the method has a restore
+    (dual only). Returns the deformer's new (N, D) points."""
+    out = deformer.deform(handle_transform, handle_positions=handle_positions, steps=options.steps)
+    if options.restore and deformer.method == "dual":
+        out = deformer.restore(options.restore_iterations, options.tolerance)
     return out

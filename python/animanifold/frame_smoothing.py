@@ -1,79 +1,29 @@
-"""Smoothing: subdivision of animation manifolds and of sliced frames.
+"""Smoothing one frame: subdivision of a frame mesh (§10.3.1).
 
-Two kinds of smoothness (§4.3, §10.2.2, §10.3.1):
-
-* :func:`subdivide` refines the whole manifold with the tetrahedral scheme of
-  Schaefer, Hakenberg and Warren (2004): shape *and* motion paths become
-  smooth together. One level multiplies the tets by 8 (triangles by 4 for 2D
-  animations). The first and last keyframe stay the boundary, on their time
-  hyperplanes; ``keep_keyframe_times=True`` keeps every keyframe's points at
-  its time.
-* :func:`subdivide_frame` refines one frame mesh with OpenSubdiv (Loop for
-  triangles, Catmull-Clark for triangles or quads), with infinitely sharp
-  creases on edges whose dihedral angle exceeds ``crease_angle`` degrees (or
-  given as ``crease_edges``). Frames of 2D animations are polylines, which
-  OpenSubdiv does not refine: they get cubic B-spline subdivision with
-  corners where they turn by more than ``crease_angle``.
-  ``AnimationManifold.slice(t, smooth_levels=n)`` does this for a sliced frame.
+:func:`subdivide_frame` refines one frame mesh with OpenSubdiv (Loop for
+triangles, Catmull-Clark for triangles or quads), with infinitely sharp
+creases on edges whose dihedral angle exceeds ``crease_angle`` degrees (or
+given as ``crease_edges``). Frames of 2D animations are polylines, which
+OpenSubdiv does not refine: they get cubic B-spline subdivision with corners
+where they turn by more than ``crease_angle``. :func:`smooth_slice` does this
+for a sliced frame (what ``AnimationManifold.slice(t, smooth_levels=n)``
+returns for a frame the hole space cut). The whole manifold is smoothed by
+:func:`animanifold.subdivide` (:mod:`animanifold.subdivision`).
 """
 
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 
 from . import _core
+from .seams import weld_copies
+from .slices import Slice
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .manifold import AnimationManifold
-
-MANIFOLD_SCHEMES = ("schaefer", "linear")
 FRAME_SCHEMES = ("loop", "catmull-clark", "bspline")
-
-
-def subdivide(
-    manifold: "AnimationManifold",
-    levels: int = 1,
-    scheme: str = "schaefer",
-    keep_keyframe_times: bool = False,
-    keyframe_times: Sequence[float] | None = None,
-    return_parents: bool = False,
-):
-    """A new manifold: `levels` of subdivision of `manifold`.
-
-    scheme: "schaefer" (split and average: smooth) or "linear" (split only).
-    keyframe_times: the times whose hyperplanes count as keyframes; by default
-    the manifold's metadata ``keyframe_times`` (set by :func:`stitch`), else
-    inferred by the core from facets lying on time hyperplanes.
-    The result's metadata records the subdivision (``subdivisions``) and the
-    keyframe times used. With ``return_parents`` the result is
-    ``(manifold, vertex_parents, simplex_parent)``: vertex_parents (V', 2)
-    relative to the previous level — (v, v) for a kept vertex (same id),
-    (a, b) for the midpoint of edge (a, b), (-1, -1) for an octahedron
-    centre — and simplex_parent (S',) the input simplex of each output one.
-    """
-    from .manifold import AnimationManifold
-
-    if scheme not in MANIFOLD_SCHEMES:
-        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(MANIFOLD_SCHEMES)}")
-    if isinstance(levels, bool) or int(levels) != levels or levels < 0:
-        raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
-    if keyframe_times is None:
-        keyframe_times = manifold.metadata.get("keyframe_times") or []
-    times = [float(t) for t in keyframe_times]
-    result = _core.subdivide_manifold(manifold._complex, int(levels), scheme, bool(keep_keyframe_times), times)
-    metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
-    metadata["keyframe_times"] = np.asarray(result["keyframe_times"]).tolist()
-    history = list(manifold.metadata.get("subdivisions", []))
-    history.append({"levels": int(levels), "scheme": scheme, "keep_keyframe_times": bool(keep_keyframe_times)})
-    metadata["subdivisions"] = history
-    out = AnimationManifold(result["manifold"], metadata)
-    if return_parents:
-        return out, result["vertex_parents"], result["simplex_parent"]
-    return out
 
 
 @dataclass(frozen=True)
@@ -175,13 +125,11 @@ def _squeeze(table: np.ndarray) -> np.ndarray:
     return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
 
 
-def smooth_slice(s: "Slice", levels: int, crease_angle: float = 30.0) -> "Slice":
+def smooth_slice(s: Slice, levels: int, crease_angle: float = 30.0) -> Slice:
     """A frame refined by OpenSubdiv (:func:`subdivide_frame`) after welding
     its split copies (UV seams would otherwise be boundaries and open); the
     result keeps `s`'s value and axis, with face_simplex mapped through the
     refinement and no vertex_edges (its points are not on manifold edges)."""
-    from .weld import weld_copies
-
     if not len(s.faces):
         return dataclasses.replace(s, vertex_edges=None, edge_parameter=None)
     weld = weld_copies(s.vertices, s.faces)

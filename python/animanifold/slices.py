@@ -1,0 +1,55 @@
+"""A frame: the iso-slice of an animation manifold at one value along one axis."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+
+from . import _core
+
+
+@dataclass(frozen=True)
+class Slice:
+    """One frame: the iso-slice of a manifold at `value` along `axis`.
+
+    vertices (P, D-1) are the coordinates other than the slicing axis, in
+    order; faces (F, 3) triangles — (F, 2) segments for 2D animations —
+    oriented like the keyframes; normals (P, D-1) unit smooth normals.
+    vertex_edges (P, 2) and edge_parameter (P,) say which manifold edge each
+    vertex lies on (a == b for a manifold vertex); face_simplex (F,) which
+    manifold simplex each face was cut from.
+    """
+
+    axis: int
+    value: float
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    vertex_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+    face_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
+    vertex_edges: np.ndarray | None = None
+    edge_parameter: np.ndarray | None = None
+    face_simplex: np.ndarray | None = None
+
+    @classmethod
+    def _from_core(cls, axis: int, value: float, s: "_core.Slice") -> "Slice":
+        return cls(
+            axis=axis,
+            value=value,
+            vertices=s.vertices,
+            faces=s.faces,
+            normals=s.normals,
+            vertex_attributes={k: squeezed(v) for k, v in s.vertex_attributes.items()},
+            face_attributes={k: squeezed(v) for k, v in s.face_attributes.items()},
+            vertex_edges=s.vertex_edges,
+            edge_parameter=s.edge_parameter,
+            face_simplex=s.face_simplex,
+        )
+
+
+def squeezed(table: np.ndarray) -> np.ndarray:
+    """An attribute table of one column as a vector (as the Python API hands them out)."""
+    table = np.asarray(table)
+    return table[:, 0] if table.ndim == 2 and table.shape[1] == 1 else table
