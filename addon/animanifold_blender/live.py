@@ -343,13 +343,13 @@ def display_vertices(manifold, s, axis: str, time_scale: float) -> np.ndarray:
 @dataclass
 class _Shown:
     """What an object's mesh holds after a full write: the frame `value`, and for
-    a cut of a topology interval either the mover that slides its vertices on
-    later frames (written by the handler) or, when `driven`, nothing to do: the
-    live modifier moves them."""
+    a cut of a topology interval either its am.IntervalFrame, from which the
+    handler writes later frames, or, when `driven`, nothing to do: the live
+    modifier moves them."""
 
     key: tuple
     interval: tuple | None
-    mover: object  # am.SliceMover of the written cut (handler-moved intervals)
+    interval_frame: object  # am.IntervalFrame of the written cut (handler-moved intervals)
     corner_vertex: np.ndarray | None  # the corners as written (for the UV layer)
     counts: tuple  # (vertices, faces) of the mesh as written
     value: float = math.nan
@@ -402,7 +402,7 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     frame into the mesh, and on other frames the modifier moves the vertices
     (and rebuilds the UV map) with the scene frame. Elsewhere the first frame is cut and
     written in full and the next ones slide the vertices along their manifold
-    edges (AnimationManifold.move_slice), rewriting positions, UVs and normals.
+    edges (AnimationManifold.interval_frame), rewriting positions, UVs and normals.
     Frames refined by OpenSubdiv (smooth_levels > 0) are not on manifold
     edges: each is cut, refined and written in full.
 
@@ -428,8 +428,10 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         return  # a sweep view (or a vertex time) on a frame change: nothing moved
     live_nodes.release(obj)
     interval = None if smoothed else manifold.topology_interval(value, settings.axis)
-    if shown is not None and interval is not None and shown.interval == interval and shown.mover is not None:
-        s = shown.mover.at(value)
+    carried = ["uv"] + (["normal"] if normals_wanted else [])
+    if (shown is not None and interval is not None and shown.interval == interval
+            and shown.interval_frame is not None):
+        s = shown.interval_frame.at(value, attributes=carried, normals=False)
         write_positions(mesh, display_vertices(manifold, s, settings.axis, settings.time_scale),
                         shown.corner_vertex, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                         normals=slice_normals(s) if normals_wanted else None)
@@ -437,7 +439,8 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         return
 
     _SHOWN.pop(obj.name_full, None)  # until the write is done, the mesh shows nothing known
-    s = frame_slice(obj, manifold, value, settings.axis)
+    moving = None if interval is None else manifold.interval_frame(value, settings.axis)
+    s = frame_slice(obj, manifold, value, settings.axis) if moving is None else moving.slice
     uv = s.vertex_attributes.get("uv")
     faces = s.faces
     if settings.axis == "y":  # (x, z, t) shown as (x, t, z): an odd permutation, keep faces outward
@@ -452,11 +455,7 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         smooth=s.face_attributes.get("smooth"),
         normals=frame_normals(s, smoothed) if normals_wanted else None,
     )
-    mover = None
-    if interval is not None:
-        carried = ["uv"] + (["normal"] if normals_wanted else [])
-        mover = am.SliceMover(manifold, s, attributes=carried, normals=False)
-    _SHOWN[obj.name_full] = _Shown(key, interval, mover, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
+    _SHOWN[obj.name_full] = _Shown(key, interval, moving, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
                                    _counts(mesh), value)
 
 
@@ -482,7 +481,7 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: _Shown | None
         vertices, corner_uv, mesh_value = cut.vertices, cut.corner_uv, value
     else:
         cut_key = interval
-        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold, manifold.slice(value, "t"), interval))
+        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold.interval_frame(value, "t")))
         vectors = {live_nodes.RATE: cut.rate}
         if cut.uv_rate is not None:
             vectors[live_nodes.UV] = cut.uv

@@ -21,7 +21,8 @@ from ._core import Complex as _Complex  # noqa: F401  (import check: the native 
 from .cache import CacheError, load, save
 from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
-from .manifold import AnimationManifold, HoleSpaceWarning, Slice, SliceMover, axis_index, stitch
+from .interval_frame import IntervalFrame
+from .manifold import AnimationManifold, HoleSpaceWarning, Slice, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph import morph
 from .morph_surface import SurfaceAttributes
@@ -39,10 +40,10 @@ __all__ = [
     "SeparabilityWarning",
     "Deformer",
     "HoleSpaceWarning",
+    "IntervalFrame",
     "RestoreStatus",
     "Slice",
     "SurfaceAttributes",
-    "SliceMover",
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",
