@@ -49,7 +49,7 @@ TEST(IntervalFrame, MovedVerticesAreTheSlicesInsideTheInterval) {
     ASSERT_GT(frame.hi, value);
     for (double w : {0.01, 0.3, 0.5, 0.99}) {
       const double at = frame.lo + w * (frame.hi - frame.lo);
-      const Slice fresh = slice(*m, axis, at);
+      const Slice fresh = slicer.slice(axis, at);  // indexed, as the frame: same face order
       ASSERT_TRUE(same(fresh.faces, frame.slice.faces)) << "axis " << axis << " at " << at;
       ASSERT_TRUE(same(fresh.vertex_edges, frame.slice.vertex_edges)) << "axis " << axis << " at " << at;
       const double dt = at - value;
@@ -99,8 +99,9 @@ TEST(IntervalFrame, NoIntervalOnAVertexCoordinateOrOutside) {
 TEST(Slicer, ThreadsTakingTheFirstSlicesAtOnceGetTheSerialSlices) {
   const auto m = octahedron_animation();
   const std::vector<double> values = {0.1, 0.5, 0.9, 1.2};
+  Slicer serial_slicer(m);
   std::vector<Slice> serial;
-  for (double v : values) serial.push_back(slice(*m, 3, v));
+  for (double v : values) serial.push_back(serial_slicer.slice(3, v));
   for (int round = 0; round < 20; ++round) {
     Slicer slicer(m);  // fresh: no index yet
     std::vector<Slice> got(values.size());
