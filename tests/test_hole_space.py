@@ -352,7 +352,7 @@ def test_fast_paths_refuse_frames_cut_by_a_hole_space(torus_morph):
     m = torus_morph[2]
     assert m.topology_interval(2.0) is None  # live playback then slices every frame
     with pytest.raises(ValueError, match="cut by it"):
-        am.SliceMover(m, m.slice(2.0, honour_holes=False))
+        m.interval_frame(2.0)
     assert m.slice(0.0, axis="x").vertex_edges is not None  # sweep views are not cut
     with pytest.raises(ValueError, match="honour_holes must be True, False or 'strict'"):
         m.slice(2.0, honour_holes="yes")
@@ -437,4 +437,4 @@ def test_convex_morph_has_no_hole_space_and_keeps_its_fast_paths():
     # (the centres of the hull's facets between the planes lie at half the range: a cut there)
     assert m.topology_interval(0.3) is not None
     s = m.slice(0.3)
-    assert am.SliceMover(m, s).at(0.4).vertices.shape == s.vertices.shape
+    assert m.interval_frame(0.3).at(0.4).vertices.shape == s.vertices.shape

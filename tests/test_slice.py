@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import threading
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import pytest
 
@@ -197,24 +200,66 @@ def test_bad_axis_and_value_raise(animation):
         c.slice(0.0, axis="z")
 
 
-def test_move_slice_equals_a_fresh_slice_inside_the_topology_interval(animation):
+def test_interval_frame_moves_to_a_fresh_slice_inside_the_topology_interval(animation):
     *_, m = animation
     assert m.topology_interval(0.3, "t") is None  # a keyframe: the topology changes there
     assert m.topology_interval(-1.0, "t") is None and m.topology_interval(2.6) is None
     assert m.topology_interval(0.5) == (0.3, 1.0)
-    first = m.slice(0.4)
+    frame = m.interval_frame(0.4)
+    assert frame.interval == (0.3, 1.0) and frame.value == 0.4
     for t in (0.31, 0.55, 0.999):
-        moved, fresh = m.move_slice(first, t), m.slice(t)
+        moved, fresh = frame.at(t), m.slice(t)
         np.testing.assert_array_equal(moved.faces, fresh.faces)
         np.testing.assert_array_equal(moved.vertex_edges, fresh.vertex_edges)
         np.testing.assert_allclose(moved.vertices, fresh.vertices, atol=1e-12)
+        np.testing.assert_allclose(moved.edge_parameter, fresh.edge_parameter, atol=1e-12)
         np.testing.assert_allclose(moved.normals, fresh.normals, atol=1e-12)
         np.testing.assert_allclose(moved.vertex_attributes["uv"], fresh.vertex_attributes["uv"], atol=1e-12)
         np.testing.assert_array_equal(moved.face_attributes["material_index"], fresh.face_attributes["material_index"])
+    only_uv = frame.at(0.5, attributes=["uv"], normals=False)
+    assert list(only_uv.vertex_attributes) == ["uv"] and only_uv.normals is None
     with pytest.raises(ValueError, match="not in the topology interval"):
-        m.move_slice(first, 1.2)
+        frame.at(1.2)
+    with pytest.raises(ValueError, match="no topology interval"):
+        m.interval_frame(0.3)  # a keyframe
+    with pytest.raises(ValueError, match="no topology interval"):
+        m.interval_frame(2.6)  # after the last keyframe
     # sweep views too
-    sweep = m.slice(0.05, axis="x")
     lo, hi = m.topology_interval(0.05, "x")
     inside = 0.5 * (lo + hi)
-    np.testing.assert_allclose(m.move_slice(sweep, inside).vertices, m.slice(inside, axis="x").vertices, atol=1e-12)
+    np.testing.assert_allclose(m.interval_frame(0.05, "x").at(inside).vertices, m.slice(inside, axis="x").vertices,
+                               atol=1e-12)
+
+
+def test_topology_interval_is_bounded_by_the_nearest_vertex_coordinates(animation):
+    *_, m = animation
+    for axis in range(4):
+        values = np.unique(m.points[:, axis])
+        for i in (1, len(values) // 2, len(values) - 1):
+            lo, hi = values[i - 1], values[i]
+            assert m.topology_interval(0.5 * (lo + hi), axis) == (lo, hi)
+            assert m.topology_interval(lo, axis) is None
+
+
+def test_threads_slicing_a_fresh_manifold_at_once_get_the_serial_slices(animation):
+    v, f, uv, frames, _ = animation
+    values = [0.2, 0.5, 0.7, 1.4]
+
+    def fresh():
+        return am.stitch(frames, f, TIMES, vertex_attributes={"uv": uv})
+
+    serial = [fresh().slice(t) for t in values]
+    for _ in range(5):  # each round a fresh manifold: its indices are built by the racing threads
+        m = fresh()
+        slicer = _core.Slicer(m._complex)
+        barrier = threading.Barrier(len(values))
+
+        def cut(t):
+            barrier.wait()
+            return slicer.slice(m.dimension - 1, t)
+
+        with ThreadPoolExecutor(len(values)) as pool:
+            results = list(pool.map(cut, values))
+        for got, want in zip(results, serial):
+            np.testing.assert_array_equal(got.faces, want.faces)
+            np.testing.assert_array_equal(got.vertices, want.vertices)

@@ -65,29 +65,24 @@ class Cut:
         return sum(a.nbytes for a in arrays if a is not None)
 
 
-def interval_cut(manifold, s, interval: tuple[float, float]) -> Cut:
-    """The cut of `interval` from time slice `s` in it (not smoothed: it has vertex_edges),
-    shown at the interval's middle: every vertex at its place on its edge there,
-    with the rate at which it slides along the edge."""
-    lo, hi = interval
+def interval_cut(frame) -> Cut:
+    """The cut of the topology interval of `frame`, an am.IntervalFrame of a time
+    slice (the core's frame, edges and rates), shown at the interval's middle:
+    every vertex at its place on its edge there, with the rate at which it slides
+    along the edge."""
+    lo, hi = frame.interval
     middle = float(np.float32((lo + hi) / 2))  # as the modifier's float input holds it
     if not lo < middle < hi:  # an interval too short for float32: any frame of it
-        middle = float(s.value)
-    a = np.asarray(s.vertex_edges[:, 0], dtype=np.int64)
-    b = np.asarray(s.vertex_edges[:, 1], dtype=np.int64)
-    points = manifold.points
-    start_time = points[a, -1]
-    inverse_span = (1.0 / (points[b, -1] - start_time))[:, None]  # edges cross the interval: never zero
-    dt = (middle - start_time)[:, None]
-    rate = (points[b, :3] - points[a, :3]) * inverse_span
+        middle = float(frame.value)
+    s = frame.slice
+    dt = middle - frame.value
     faces = _faces(s)
     cut = Cut(middle, faces, _own(s.face_attributes.get("material_index")), _own(s.face_attributes.get("smooth")),
-              _f32(points[a, :3] + dt * rate), None, rate=_f32(rate))
-    uv = manifold.vertex_attributes.get("uv")
-    if uv is not None and s.vertex_attributes.get("uv") is not None:
-        uv = np.asarray(uv)[:, :2]
-        uv_rate = (uv[b] - uv[a]) * inverse_span
-        now = uv[a] + dt * uv_rate
+              _f32(s.vertices + dt * frame.rate), None, rate=_f32(frame.rate))
+    uv_rate = frame.attribute_rates.get("uv")
+    if uv_rate is not None:
+        uv_rate = np.asarray(uv_rate)[:, :2]
+        now = np.asarray(s.vertex_attributes["uv"])[:, :2] + dt * uv_rate
         cut.corner_uv = corner_values(now, faces)
         cut.uv = _padded(now)
         cut.uv_rate = _padded(uv_rate)

@@ -1,12 +1,17 @@
 """The geometry-nodes modifier that plays a topology interval without the add-on's help.
 
-Between two vertex times of a manifold every frame has the same faces and each
-vertex slides along one manifold edge, so its position (and UV) is affine in
-the frame: p(t) = p(t0) + (t - t0) * rate. playback.py writes the cut once per
-interval (its frame t0, the interval's middle) with `am_rate` (and `am_uv` /
-`am_uv_rate`) point attributes; the node group "Animanifold Live" reads the
-Scene Time and moves the vertices and rebuilds the UV map, so the object plays
-without the handler.
+The graph mirrors one core function, ``Slicer::interval_frame`` (slice.hpp;
+am.AnimationManifold.interval_frame): between two vertex times of a manifold
+every frame has the same faces and each vertex slides along one manifold edge,
+so its position (and UV) is affine in the frame: p(t) = p(t0) + (t - t0) * rate,
+with the rates the core gives. playback.py writes the cut once per interval (its
+frame t0, the interval's middle; live_cuts.interval_cut) with `am_rate` (and
+`am_uv` / `am_uv_rate`) point attributes; the node group "Animanifold Live"
+reads the Scene Time and evaluates that formula for the vertices and the UV
+map, so the object plays without the handler. It lives in Blender's graph, not
+in Python, because Blender 4.2+ then plays, renders and exports the frames with
+no Python call per frame; tests/blender/test_live_modifier.py checks it against
+the core's interval frame.
 
 With the handler, integer frames cost it less: rebuilding the UV map here is
 most of a frame's cost (600k corners for a 50k-triangle source, six per vertex;
@@ -98,6 +103,9 @@ def _identifiers(group) -> dict[str, str]:
 
 
 def _build():
+    """The node group: the graph of the core's interval frame (Slicer::interval_frame),
+    p(t) = p(Frame) + (t - Frame) * am_rate and uv(t) = am_uv + (t - Cut Frame) * am_uv_rate
+    with t the scene frame clamped to (Start, End); see the module's docstring."""
     group = bpy.data.node_groups.new(GROUP_NAME, "GeometryNodeTree")
     group[GROUP_TAG] = GROUP_VERSION
     iface = group.interface

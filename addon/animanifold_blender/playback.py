@@ -11,7 +11,7 @@ as its settings allow. Three strategies, chosen per frame by update_object:
   computes no edges.
 * moved (sweep views, custom normals, older Blender): the first frame of an interval is
   cut and written in full, the next ones slide its vertices along their manifold edges
-  (am.SliceMover), rewriting positions, UVs and normals.
+  (am.IntervalFrame), rewriting positions, UVs and normals.
 * full (frames refined by OpenSubdiv, which are not on manifold edges): every frame is
   sliced, refined and written in full.
 
@@ -36,13 +36,13 @@ from .object_manifold import frame_slice, shown_manifold, slice_value
 @dataclass
 class Shown:
     """What an object's mesh holds after a full write: the frame `value`, and for
-    a cut of a topology interval either the mover that slides its vertices on
-    later frames (written by the handler) or, when `driven`, nothing to do: the
-    live modifier moves them."""
+    a cut of a topology interval either its am.IntervalFrame, from which the
+    handler writes later frames, or, when `driven`, nothing to do: the live
+    modifier moves them."""
 
     key: tuple
     interval: tuple | None
-    mover: object  # am.SliceMover of the written cut (handler-moved intervals)
+    interval_frame: object  # am.IntervalFrame of the written cut (handler-moved intervals)
     corner_vertex: np.ndarray | None  # the corners as written (for the UV layer)
     counts: tuple  # (vertices, faces) of the mesh as written
     value: float = math.nan
@@ -78,7 +78,7 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     frame into the mesh, and on other frames the modifier moves the vertices
     (and rebuilds the UV map) with the scene frame. Elsewhere the first frame is cut and
     written in full and the next ones slide the vertices along their manifold
-    edges (am.SliceMover), rewriting positions, UVs and normals.
+    edges (AnimationManifold.interval_frame), rewriting positions, UVs and normals.
     Frames refined by OpenSubdiv (smooth_levels > 0) are not on manifold
     edges: each is cut, refined and written in full.
 
@@ -104,8 +104,10 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         return  # a sweep view (or a vertex time) on a frame change: nothing moved
     live_nodes.release(obj)
     interval = None if smoothed else manifold.topology_interval(value, settings.axis)
-    if shown is not None and interval is not None and shown.interval == interval and shown.mover is not None:
-        s = shown.mover.at(value)
+    carried = ["uv"] + (["normal"] if normals_wanted else [])
+    if (shown is not None and interval is not None and shown.interval == interval
+            and shown.interval_frame is not None):
+        s = shown.interval_frame.at(value, attributes=carried, normals=False)
         positions = am.display.display_vertices(manifold, s, settings.axis, settings.time_scale)
         mesh_writer.write_positions(mesh, positions, shown.corner_vertex, uv=s.vertex_attributes.get("uv"),
                                     uv_name=settings.uv_name or "UVMap",
@@ -114,7 +116,8 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         return
 
     registry.forget_shown_of(obj)  # until the write is done, the mesh shows nothing known
-    s = frame_slice(obj, manifold, value, settings.axis)
+    moving = None if interval is None else manifold.interval_frame(value, settings.axis)
+    s = frame_slice(obj, manifold, value, settings.axis) if moving is None else moving.slice
     uv = s.vertex_attributes.get("uv")
     faces = s.faces
     if settings.axis == "y":  # (x, z, t) shown as (x, t, z): an odd permutation, keep faces outward
@@ -129,11 +132,7 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         smooth=s.face_attributes.get("smooth"),
         normals=am.display.frame_normals(s, smoothed) if normals_wanted else None,
     )
-    mover = None
-    if interval is not None:
-        carried = ["uv"] + (["normal"] if normals_wanted else [])
-        mover = am.SliceMover(manifold, s, attributes=carried, normals=False)
-    registry.set_shown(obj, Shown(key, interval, mover, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
+    registry.set_shown(obj, Shown(key, interval, moving, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
                                   _counts(mesh), value))
 
 
@@ -159,7 +158,7 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
         vertices, corner_uv, mesh_value = cut.vertices, cut.corner_uv, value
     else:
         cut_key = interval
-        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold, manifold.slice(value, "t"), interval))
+        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold.interval_frame(value, "t")))
         vectors = {live_nodes.RATE: cut.rate}
         if cut.uv_rate is not None:
             vectors[live_nodes.UV] = cut.uv

@@ -14,6 +14,20 @@ void bind_slice(py::module_& m) {
       .def_readonly("edge_parameter", &Slice::edge_parameter)
       .def_readonly("face_simplex", &Slice::face_simplex);
 
+  py::class_<IntervalFrame, std::shared_ptr<IntervalFrame>>(
+      m, "IntervalFrame",
+      "A frame with how it moves inside its topology interval (lo, hi): at v in it, the slice has the same "
+      "faces and vertex p is at slice.vertices[p] + (v - value) * rate[p] (vertex attributes and "
+      "edge_parameter likewise, with attribute_rates and parameter_rate).")
+      .def_readonly("axis", &IntervalFrame::axis)
+      .def_readonly("value", &IntervalFrame::value, "The value the slice was cut at.")
+      .def_readonly("slice", &IntervalFrame::slice, "The Slice at `value`.")
+      .def_property_readonly("interval", [](const IntervalFrame& f) { return py::make_tuple(f.lo, f.hi); },
+                             "The open topology interval (lo, hi) around `value`.")
+      .def_readonly("rate", &IntervalFrame::rate, "(P, D-1): d vertices / d value.")
+      .def_readonly("attribute_rates", &IntervalFrame::attribute_rates, "Name -> (P, c): d attribute / d value.")
+      .def_readonly("parameter_rate", &IntervalFrame::parameter_rate, "(P,): d edge_parameter / d value.");
+
   py::class_<Slicer>(m, "Slicer", "A manifold with its cached interval indices (one per slicing axis).")
       .def(py::init<std::shared_ptr<const Complex>>(), py::arg("manifold"), py::keep_alive<1, 2>())
       .def("slice",
@@ -22,6 +36,22 @@ void bind_slice(py::module_& m) {
              return std::make_shared<Slice>(s.slice(axis, value, use_index));
            },
            py::arg("axis"), py::arg("value"), py::arg("use_index") = true)
+      .def("interval_frame",
+           [](Slicer& s, int axis, double value) {
+             py::gil_scoped_release release;
+             return std::make_shared<IntervalFrame>(s.interval_frame(axis, value));
+           },
+           py::arg("axis"), py::arg("value"),
+           "The frame at `value` with its topology interval and rates; ValueError where it has none "
+           "(a vertex coordinate, outside the manifold).")
+      .def("topology_interval",
+           [](Slicer& s, int axis, double value) {
+             py::gil_scoped_release release;
+             return s.index(axis).topology_interval(value);
+           },
+           py::arg("axis"), py::arg("value"),
+           "The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has "
+           "the same faces), or None where the faces change (a vertex coordinate, outside the manifold).")
       .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"));
 
   m.def("slice",

@@ -10,6 +10,14 @@
 
 namespace animanifold {
 
+namespace {
+
+// Values this share of the manifold's extent along the axis away from a
+// vertex's coordinate slice at the vertex's (see slice()).
+constexpr double kSnapToVertices = 1e-12;
+
+}  // namespace
+
 // ---------------------------------------------------------------- interval index
 
 IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis) : axis_(axis) {
@@ -44,6 +52,19 @@ IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int a
     }
   };
   Builder{nodes_}.build(0, nodes_.size());
+  vertex_values_.assign(V.col(axis).begin(), V.col(axis).end());
+  std::sort(vertex_values_.begin(), vertex_values_.end());
+  vertex_values_.erase(std::unique(vertex_values_.begin(), vertex_values_.end()), vertex_values_.end());
+}
+
+std::optional<std::pair<double, double>> IntervalIndex::topology_interval(double value) const {
+  // The same snap as slice(): a value it would move onto a vertex has that vertex's faces.
+  const double snap = kSnapToVertices * (highest_ - lowest_);
+  const auto above = std::upper_bound(vertex_values_.begin(), vertex_values_.end(), value);
+  if (above == vertex_values_.begin() || above == vertex_values_.end()) return std::nullopt;
+  const double lo = *(above - 1), hi = *above;
+  if (value - lo <= snap || hi - value <= snap) return std::nullopt;
+  return std::make_pair(lo, hi);
 }
 
 void IntervalIndex::stab(double value, std::vector<Index>& out) const {
@@ -65,7 +86,9 @@ void IntervalIndex::stab(double value, std::vector<Index>& out) const {
   }
 }
 
-size_t IntervalIndex::memory_bytes() const { return nodes_.size() * sizeof(Node); }
+size_t IntervalIndex::memory_bytes() const {
+  return nodes_.size() * sizeof(Node) + vertex_values_.size() * sizeof(double);
+}
 
 // ---------------------------------------------------------------- slicing
 
@@ -277,10 +300,6 @@ void cut_triangle(const Index* t, const bool* above, int above_count, Index sour
   faces.add(seg, source);
 }
 
-// Values this share of the manifold's extent along the axis away from a
-// vertex's coordinate slice at the vertex's (see slice()).
-constexpr double kSnapToVertices = 1e-12;
-
 }  // namespace
 
 Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
@@ -411,12 +430,17 @@ namespace animanifold {
 Slicer::Slicer(std::shared_ptr<const Complex> manifold) : manifold_(std::move(manifold)) {
   if (!manifold_) fail<InputError>("Slicer needs a manifold");
   indices_.resize(manifold_->ambient_dimension());
+  index_built_ = std::make_unique<std::once_flag[]>(indices_.size());
 }
 
 const IntervalIndex& Slicer::index(int axis) {
   if (axis < 0 || axis >= static_cast<int>(indices_.size()))
     fail<InputError>("slicing axis ", axis, " is outside 0..", indices_.size() - 1);
-  if (!indices_[axis]) indices_[axis] = std::make_unique<IntervalIndex>(manifold_->V, manifold_->S, axis);
+  // Threads slicing a fresh manifold at once (the bindings release the GIL)
+  // would otherwise each build the index and replace one another's while in use.
+  std::call_once(index_built_[axis], [&] {
+    indices_[axis] = std::make_unique<IntervalIndex>(manifold_->V, manifold_->S, axis);
+  });
   return *indices_[axis];
 }
 

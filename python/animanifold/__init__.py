@@ -25,8 +25,9 @@ from .cache import CacheError, load, save
 from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
+from .interval_frame import IntervalFrame
 from .laplacian import Deformer, LaplacianOptions, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
-from .manifold import AnimationManifold, HoleSpaceWarning, SliceMover, axis_index, stitch
+from .manifold import AnimationManifold, HoleSpaceWarning, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
@@ -49,11 +50,11 @@ __all__ = [
     "DeformOptions",
     "Deformer",
     "HoleSpaceWarning",
+    "IntervalFrame",
     "MorphJob",
     "RestoreStatus",
     "Slice",
     "SurfaceAttributes",
-    "SliceMover",
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",

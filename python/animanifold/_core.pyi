@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'FillTriangulation', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'check_morph_frames', 'check_morph_input', 'closest_points', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'FillTriangulation', 'IntervalFrame', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Slice', 'Slicer', 'VoronoiSkeleton', 'affine_power', 'boundary_facets', 'boundary_vertices', 'check_closed_oriented', 'check_manifold', 'check_morph_frames', 'check_morph_input', 'closest_points', 'conforming_delaunay_2d', 'conforming_delaunay_3d', 'delaunay', 'delaunay_exact', 'dihedral_test', 'distances_to_surface', 'drop_component', 'dual_operator', 'edge_length_degeneracy', 'encroachments', 'external_skeleton_points', 'faces_intersecting_mesh', 'facet_adjacency', 'facets', 'frame_vertex_normals', 'graph_laplacian_weights', 'hole_space', 'intersect_solids', 'laplacian_system', 'make_voronoi_separable', 'missing_facets', 'morph', 'points_inside_solid', 'primal_weights', 'read_mesh', 'refine', 'self_intersections', 'signed_volumes', 'simplex_normals', 'simplex_qp', 'simplex_volumes', 'slice', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wedge', 'wrap', 'write_mesh']
 class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
@@ -65,8 +65,53 @@ class Slicer:
         ...
     def index_memory_bytes(self, axis: typing.SupportsInt | typing.SupportsIndex) -> int:
         ...
+    def interval_frame(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> IntervalFrame:
+        """
+        The frame at `value` with its topology interval and rates; ValueError where it has none (a vertex coordinate, outside the manifold).
+        """
     def slice(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex, use_index: bool = True) -> Slice:
         ...
+    def topology_interval(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float] | None:
+        """
+        The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has the same faces), or None where the faces change (a vertex coordinate, outside the manifold).
+        """
+class IntervalFrame:
+    """
+    A frame with how it moves inside its topology interval (lo, hi): at v in it, the slice has the same faces and vertex p is at slice.vertices[p] + (v - value) * rate[p] (vertex attributes and edge_parameter likewise, with attribute_rates and parameter_rate).
+    """
+    @property
+    def attribute_rates(self) -> dict[str, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        Name -> (P, c): d attribute / d value.
+        """
+    @property
+    def axis(self) -> int:
+        ...
+    @property
+    def interval(self) -> tuple:
+        """
+        The open topology interval (lo, hi) around `value`.
+        """
+    @property
+    def parameter_rate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (P,): d edge_parameter / d value.
+        """
+    @property
+    def rate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (P, D-1): d vertices / d value.
+        """
+    @property
+    def slice(self) -> Slice:
+        """
+        The Slice at `value`.
+        """
+    @property
+    def value(self) -> float:
+        """
+        The value the slice was cut at.
+        """
 class MorphMethod:
     """
     How a morph fills the space between its inputs.

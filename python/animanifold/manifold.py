@@ -20,6 +20,7 @@ import numpy as np
 from . import _core
 from .frame_smoothing import smooth_slice
 from .hole_cut import cut_frame
+from .interval_frame import IntervalFrame
 from .slices import Slice, squeezed
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
@@ -79,7 +80,6 @@ class AnimationManifold:
     ):
         self._complex = complex_
         self._slicer: _core.Slicer | None = None
-        self._axis_values: dict[int, np.ndarray] = {}  # sorted distinct vertex coordinates per axis
         self._time_range: tuple[float, float] | None = None
         self.metadata: dict = dict(metadata or {})
         self._hole_space = _checked_hole_space(hole_space, self.dimension)
@@ -211,9 +211,7 @@ class AnimationManifold:
         if honour_holes not in (True, False, "strict"):
             raise ValueError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
         a = axis_index(axis, self.dimension)
-        if self._slicer is None:
-            self._slicer = _core.Slicer(self._complex)
-        s = self._slicer.slice(a, float(value), use_index)
+        s = self._core_slicer().slice(a, float(value), use_index)
         if honour_holes and self._honours_holes(a, float(value)):
             try:
                 s = _subtract_holes(s, self._hole_space, a, float(value))
@@ -235,29 +233,33 @@ class AnimationManifold:
     def topology_interval(self, value: float, axis: str | int = "t") -> tuple[float, float] | None:
         """The open interval (lo, hi) around `value` in which every slice has the
         same faces and cuts the same edges (no vertex lies between lo and hi
-        along the axis): within it, :meth:`move_slice` gives any frame from one
-        cut. None when `value` is a vertex coordinate or outside the manifold,
-        and for time slices of a manifold with a hole space strictly inside its
-        time range: the hole space cuts those frames (:meth:`slice`), which
-        changes their faces from frame to frame, so callers fall back to
+        along the axis): within it, :meth:`interval_frame` gives any frame from
+        one cut. None when `value` is a vertex coordinate or outside the
+        manifold, and for time slices of a manifold with a hole space strictly
+        inside its time range: the hole space cuts those frames (:meth:`slice`),
+        which changes their faces from frame to frame, so callers fall back to
         slicing every frame (as live playback in Blender does)."""
         a = axis_index(axis, self.dimension)
-        if self._honours_holes(a, float(value)):
-            return None
-        values = self._axis_values.get(a)
-        if values is None:
-            values = self._axis_values[a] = np.unique(self.points[:, a])
-        i = int(np.searchsorted(values, value))
-        if i == 0 or i == len(values) or values[i] == value:
-            return None
-        return float(values[i - 1]), float(values[i])
+        return None if self._honours_holes(a, float(value)) else self._core_slicer().topology_interval(a, float(value))
 
-    def move_slice(self, s: Slice, value: float) -> Slice:
-        """The slice at `value` from `s`, a slice in the same topology interval
-        (see :meth:`topology_interval`): same faces, vertices slid along the
-        same manifold edges, attributes and normals interpolated. For many
-        frames of one interval, keep a :class:`SliceMover` instead."""
-        return SliceMover(self, s).at(value)
+    def interval_frame(self, value: float, axis: str | int = "t") -> IntervalFrame:
+        """The frame at `value` along `axis` with its topology interval and every
+        vertex's rate along its manifold edge (:class:`IntervalFrame`: its
+        :meth:`~IntervalFrame.at` gives any frame of the interval). ValueError
+        where :meth:`topology_interval` is None."""
+        a = axis_index(axis, self.dimension)
+        if self._honours_holes(a, float(value)):
+            raise ValueError(
+                f"the frame at {value} of a manifold with a hole space is cut by it, and the cut changes from "
+                "frame to frame: slice every frame (AnimationManifold.slice) instead of moving one")
+        f = self._core_slicer().interval_frame(a, float(value))
+        return IntervalFrame(Slice._from_core(a, float(value), f.slice), f.interval, f.rate,
+                             {k: squeezed(v) for k, v in f.attribute_rates.items()}, f.parameter_rate)
+
+    def _core_slicer(self) -> "_core.Slicer":
+        if self._slicer is None:
+            self._slicer = _core.Slicer(self._complex)
+        return self._slicer
 
     def check(self) -> dict:
         """Manifold validity: facet counts, non-manifold and misoriented facets."""
@@ -270,64 +272,6 @@ class AnimationManifold:
     def vertex_normals(self) -> np.ndarray:
         """Area-weighted unit normals (N, D) from the wedge product (§2.3)."""
         return _core.vertex_normals(self.points, self.simplices)
-
-
-class SliceMover:
-    """Every frame of one topology interval from a single cut.
-
-    Within :meth:`AnimationManifold.topology_interval` the frames share their
-    faces and cut edges; only where each vertex sits on its edge changes.
-    The mover gathers both ends of every cut edge once, so each frame is a
-    multiply-add over the slice's vertices (what live playback needs).
-    `attributes` names the vertex attributes to carry (default: all);
-    `normals=False` skips the smooth normals.
-    """
-
-    def __init__(self, manifold: AnimationManifold, s: Slice, attributes=None, normals: bool = True):
-        if manifold._honours_holes(s.axis, s.value):
-            raise ValueError(
-                f"the frame at {s.value} of a manifold with a hole space is cut by it, and the cut changes from "
-                "frame to frame: slice every frame (AnimationManifold.slice) instead of moving one")
-        if s.vertex_edges is None:
-            raise ValueError("a smoothed slice (or one cut by a hole space) cannot be moved: slice again")
-        interval = manifold.topology_interval(s.value, s.axis)
-        if interval is None:
-            raise ValueError(f"the slice at {s.value} lies on a vertex: its topology changes there")
-        self.slice, self.interval = s, interval
-        a, b = s.vertex_edges[:, 0], s.vertex_edges[:, 1]
-        P = manifold.points
-        others = [c for c in range(manifold.dimension) if c != s.axis]
-        self._start = P[a, s.axis]
-        self._inverse_span = 1.0 / (P[b, s.axis] - self._start)  # edges cross the interval: never zero
-
-        def ends(table: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            lo = table[a]
-            return lo, table[b] - lo
-
-        self._tables = {"vertices": ends(P[:, others])}
-        self._normals = normals
-        names = manifold.vertex_attributes.keys() if attributes is None else attributes
-        self._attributes = {name: ends(manifold.vertex_attributes[name]) for name in names
-                            if name in manifold.vertex_attributes}
-
-    def at(self, value: float) -> Slice:
-        lo, hi = self.interval
-        if not lo < value < hi:
-            raise ValueError(f"value {value} is not in the topology interval {self.interval} of the slice at {self.slice.value}")
-        weight = ((value - self._start) * self._inverse_span)[:, None]
-
-        def lerp(ends):
-            start, span = ends
-            return start + weight * span
-
-        vertices = lerp(self._tables["vertices"])
-        normals = _core.frame_vertex_normals(vertices, self.slice.faces) if self._normals else None
-        attributes = {}
-        for name, ends in self._attributes.items():
-            moved = lerp(ends)
-            attributes[name] = moved[:, 0] if moved.shape[1] == 1 else moved
-        return dataclasses.replace(self.slice, value=float(value), vertices=vertices,
-                                   normals=normals, vertex_attributes=attributes, edge_parameter=weight[:, 0])
 
 
 def _checked_hole_space(hole_space, dimension: int) -> tuple[np.ndarray, np.ndarray] | None:

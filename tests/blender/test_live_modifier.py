@@ -205,6 +205,38 @@ def test_inside_an_interval_the_handler_copies_only_kept_frames(demo, writes, fr
     assert len(frame_work["written"]) > len(set(integer))  # the second loop copied them again
 
 
+def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
+    """The graph of live_nodes._build mirrors Slicer::interval_frame: with the handler
+    silenced once the cut is written, the modifier alone moves the mesh, and the
+    evaluated vertices and UVs at times across the interval are the core's interval
+    frame there (to float32: the mesh and the modifier hold single precision)."""
+    from animanifold_blender import live
+
+    man, cache = convert(demo)
+    goto(5.5)
+    frame = cache.interval_frame(5.5)
+    lo, hi = frame.interval
+    assert modifier_inputs(man)["Active"] and (modifier_inputs(man)["Start"], modifier_inputs(man)["End"]) == (lo, hi)
+    monkeypatch.setattr(live, "update_scene", lambda *args, **kwargs: 0)
+    times = [lo + 0.25, 5.5, float(np.floor(hi)) if np.floor(hi) < hi else hi - 0.5, hi - 0.25]
+    for t in times:
+        goto(t)
+        expected = frame.at(t)
+        mesh = shown(man)
+        np.testing.assert_allclose(mesh_vertices(mesh), expected.vertices, atol=float32_tolerance(expected.vertices),
+                                   rtol=0, err_msg=f"frame {t}")
+        cv = corner_vertex(mesh)
+        np.testing.assert_array_equal(cv.reshape(-1, 3), expected.faces, err_msg=f"frame {t}: faces")
+        uv = expected.vertex_attributes["uv"][cv]
+        np.testing.assert_allclose(corner_uv(mesh, man.animanifold.uv_name), uv, atol=float32_tolerance(uv), rtol=0,
+                                   err_msg=f"frame {t}: UVs")
+
+
+def float32_tolerance(values: np.ndarray) -> float:
+    """A few roundings of single precision at the magnitude of `values`."""
+    return 8 * float(np.finfo(np.float32).eps) * max(1.0, float(np.abs(values).max()))
+
+
 def test_copied_frames_have_their_own_bounds_and_normals(demo):
     man, cache = convert(demo)
     for frame in (25, 27, 33, 30, 27.5):  # copied by the handler, the cut's own, moved by the modifier

@@ -117,7 +117,7 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
     assert mesh.uv_layers.active.name == settings.uv_name
     assert all(p.use_smooth for p in mesh.polygons[:10])
     # Playing inside a keyframe interval cuts and refines every frame (no vertex sliding).
-    assert registry.shown(man).mover is None and not registry.shown(man).driven
+    assert registry.shown(man).interval_frame is None and not registry.shown(man).driven
     for frame in (18, 19.5, 23):
         scene.frame_set(int(frame), subframe=frame - int(frame))
         s = cache.slice(frame)
@@ -125,7 +125,7 @@ def test_frame_smoothing_gives_loop_counts_close_to_the_slice(demo):
         assert is_closed(shown(man)), f"frame {frame}"
         if frame == 19.5:
             assert surface_distance(mesh_vertices(shown(man)), s.vertices[s.faces]).max() < SMOOTH_TOLERANCE
-        assert registry.shown(man).mover is None and not registry.shown(man).driven
+        assert registry.shown(man).interval_frame is None and not registry.shown(man).driven
     # A crease angle change re-slices at once; two levels: 16x.
     scene.frame_set(17)
     smooth = mesh_vertices(shown(man))

@@ -24,6 +24,9 @@
 #include "animanifold/complex.hpp"
 
 #include <memory>
+#include <mutex>
+#include <optional>
+#include <utility>
 #include <vector>
 
 namespace animanifold {
@@ -57,6 +60,13 @@ class IntervalIndex {
   IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis);
   // Appends the simplices whose extent along the axis contains `value`.
   void stab(double value, std::vector<Index>& out) const;
+  // The topology interval around `value`: the open interval (lo, hi) between
+  // the nearest vertex coordinates below and above it along the axis. No
+  // vertex lies inside, so every slice there cuts the same edges into the same
+  // faces. Empty when `value` lies on a vertex coordinate (or within the
+  // rounding slice() snaps to one) or outside (lowest, highest): the faces
+  // change there.
+  std::optional<std::pair<double, double>> topology_interval(double value) const;
   int axis() const { return axis_; }
   double lowest() const { return lowest_; }
   double highest() const { return highest_; }
@@ -68,6 +78,7 @@ class IntervalIndex {
     Index simplex;
   };
   std::vector<Node> nodes_;  // sorted by low; implicit tree over indices
+  std::vector<double> vertex_values_;  // the distinct vertex coordinates along the axis, sorted
   int levels_ = 0;
   int axis_;
   double lowest_, highest_;
@@ -100,19 +111,47 @@ Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex
 
 namespace animanifold {
 
+// A frame with how it moves inside its topology interval: live playback.
+//
+// Inside the open interval (lo, hi) every slice has the faces, vertex_edges,
+// face attributes and face_simplex of `slice`, and each of its vertices
+// slides linearly along its manifold edge (a, b): at any v in (lo, hi)
+//   vertex p          = slice.vertices(p)          + (v - value) * rate(p)
+//   attribute p       = slice.vertex_attributes(p) + (v - value) * attribute_rates(p)
+//   edge_parameter p  = slice.edge_parameter(p)    + (v - value) * parameter_rate(p)
+// which is slice(manifold, axis, v) up to rounding. Normals are not linear:
+// recompute them from the moved vertices (frame_vertex_normals).
+struct IntervalFrame {
+  int axis;
+  double value;         // the value `slice` was cut at
+  Slice slice;          // its vertex_edges(p) = (a, b) is the edge vertex p slides on; a < b
+  double lo, hi;        // the topology interval around `value` (IntervalIndex::topology_interval)
+  PointMatrix rate;     // P by D-1: d vertices / d value, (V(b) - V(a)) / (V(b, axis) - V(a, axis))
+  VertexAttributes attribute_rates;  // per vertex attribute, P by its columns: d attribute / d value
+  Eigen::VectorXd parameter_rate;    // P: d edge_parameter / d value, 1 / (V(b, axis) - V(a, axis))
+};
+
 // Keeps a manifold with what repeated slicing needs: one interval index per
 // axis, each built on first use. Slicing the same manifold for every frame
-// of a timeline then costs what each frame cuts.
+// of a timeline then costs what each frame cuts. Safe to use from several
+// threads at once: the first use of an axis builds its index once, and the
+// others wait for it.
 class Slicer {
  public:
   explicit Slicer(std::shared_ptr<const Complex> manifold);
   Slice slice(int axis, double value, bool use_index = true);
+  // The frame at `value` along `axis` with its topology interval and rates
+  // (IntervalFrame). Throws InputError when `value` has no topology interval
+  // (it lies on a vertex coordinate or outside the manifold: the faces change
+  // there) and for what slice() rejects.
+  IntervalFrame interval_frame(int axis, double value);
   const IntervalIndex& index(int axis);
   const Complex& manifold() const { return *manifold_; }
 
  private:
   std::shared_ptr<const Complex> manifold_;
   std::vector<std::unique_ptr<IntervalIndex>> indices_;
+  std::unique_ptr<std::once_flag[]> index_built_;  // one per axis
 };
 
 }  // namespace animanifold

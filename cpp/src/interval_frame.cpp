@@ -1,0 +1,48 @@
+#include "animanifold/errors.hpp"
+#include "animanifold/slice.hpp"
+
+#include <cmath>
+
+namespace animanifold {
+
+namespace {
+
+// Per slice vertex p on edge (a, b): (table(b) - table(a)) * inverse_span(p),
+// the rate at which a quantity interpolated along the edge changes with the value.
+PointMatrix edge_rates(const PointMatrix& table, const SimplexMatrix& edges, const Eigen::VectorXd& inverse_span) {
+  PointMatrix rates(edges.rows(), table.cols());
+  for (Index p = 0; p < edges.rows(); ++p)
+    rates.row(p) = (table.row(edges(p, 1)) - table.row(edges(p, 0))) * inverse_span(p);
+  return rates;
+}
+
+}  // namespace
+
+IntervalFrame Slicer::interval_frame(int axis, double value) {
+  if (!std::isfinite(value)) fail<InputError>("slicing value is not finite");
+  const IntervalIndex& idx = index(axis);
+  const auto interval = idx.topology_interval(value);
+  if (!interval)
+    fail<InputError>("the slice at ", value, " along axis ", axis,
+                     " has no topology interval: it lies on a vertex coordinate or outside the manifold, "
+                     "where the faces change");
+  const Complex& m = *manifold_;
+  IntervalFrame out{axis, value, animanifold::slice(m, axis, value, &idx), interval->first, interval->second, {}, {}, {}};
+  const SimplexMatrix& edges = out.slice.vertex_edges;
+  const Index P = edges.rows();
+  // Inside the interval no vertex lies on the plane (topology_interval keeps
+  // values clear of slice()'s snap), so every slice vertex is on an edge whose
+  // ends lie on either side: the span is never zero.
+  out.parameter_rate.resize(P);
+  for (Index p = 0; p < P; ++p) out.parameter_rate(p) = 1.0 / (m.V(edges(p, 1), axis) - m.V(edges(p, 0), axis));
+
+  out.rate.resize(P, m.V.cols() - 1);
+  for (Index p = 0; p < P; ++p)
+    for (int d = 0, o = 0; d < m.V.cols(); ++d)
+      if (d != axis) out.rate(p, o++) = (m.V(edges(p, 1), d) - m.V(edges(p, 0), d)) * out.parameter_rate(p);
+  for (const auto& [name, table] : m.vertex_attributes)
+    out.attribute_rates[name] = edge_rates(table, edges, out.parameter_rate);
+  return out;
+}
+
+}  // namespace animanifold

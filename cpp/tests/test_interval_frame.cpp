@@ -1,0 +1,117 @@
+// Slicer::interval_frame (slice.hpp): a frame, its topology interval and rates.
+#include "animanifold/errors.hpp"
+#include "animanifold/slice.hpp"
+#include "animanifold/stitch.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <thread>
+
+#include "fixtures.hpp"
+
+using namespace animanifold;
+
+namespace {
+
+// The octahedron through keyframes at 0, 0.4 and 1.5, growing then moving,
+// with a per-keyframe vertex attribute that changes between them.
+std::shared_ptr<const Complex> octahedron_animation() {
+  Eigen::Matrix3d offset;
+  offset << 0, 0, 0, 0.2, 0, 0, 1, 1, 0;
+  StitchInput in = fixtures::octahedron_keyframes({0.0, 0.4, 1.5}, {1.0, 1.5, 1.0}, offset);
+  PointMatrix weight(18, 2);
+  for (Index r = 0; r < 18; ++r) weight.row(r) << r, 0.5 * r * r;
+  in.vertex_attributes["weight"] = weight;
+  return std::make_shared<const Complex>(stitch(in));
+}
+
+std::set<std::pair<Index, Index>> cut_edges(const Slice& s) {
+  std::set<std::pair<Index, Index>> edges;
+  for (Index p = 0; p < s.vertex_edges.rows(); ++p) edges.insert({s.vertex_edges(p, 0), s.vertex_edges(p, 1)});
+  return edges;
+}
+
+template <class Matrix>
+bool same(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() && a == b;
+}
+
+}  // namespace
+
+TEST(IntervalFrame, MovedVerticesAreTheSlicesInsideTheInterval) {
+  const auto m = octahedron_animation();
+  Slicer slicer(m);
+  for (int axis : {3, 0}) {  // time, and a sweep view
+    const double value = axis == 3 ? 0.9 : 0.1;
+    const IntervalFrame frame = slicer.interval_frame(axis, value);
+    ASSERT_LT(frame.lo, value);
+    ASSERT_GT(frame.hi, value);
+    for (double w : {0.01, 0.3, 0.5, 0.99}) {
+      const double at = frame.lo + w * (frame.hi - frame.lo);
+      const Slice fresh = slicer.slice(axis, at);  // indexed, as the frame: same face order
+      ASSERT_TRUE(same(fresh.faces, frame.slice.faces)) << "axis " << axis << " at " << at;
+      ASSERT_TRUE(same(fresh.vertex_edges, frame.slice.vertex_edges)) << "axis " << axis << " at " << at;
+      const double dt = at - value;
+      EXPECT_LT((frame.slice.vertices + dt * frame.rate - fresh.vertices).cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LT((frame.slice.edge_parameter + dt * frame.parameter_rate - fresh.edge_parameter).cwiseAbs().maxCoeff(),
+                1e-12);
+      const PointMatrix& weight = frame.slice.vertex_attributes.at("weight");
+      EXPECT_LT((weight + dt * frame.attribute_rates.at("weight") - fresh.vertex_attributes.at("weight"))
+                    .cwiseAbs()
+                    .maxCoeff(),
+                1e-10);
+    }
+  }
+}
+
+TEST(IntervalFrame, TheIntervalEndsWhereTheFacesChange) {
+  const auto m = octahedron_animation();
+  Slicer slicer(m);
+  const IntervalFrame frame = slicer.interval_frame(3, 0.9);
+  EXPECT_EQ(frame.lo, 0.4);  // the keyframes on either side
+  EXPECT_EQ(frame.hi, 1.5);
+  const auto inside = cut_edges(frame.slice);
+  EXPECT_EQ(cut_edges(slice(*m, 3, 0.4 + 1e-9)), inside);
+  EXPECT_EQ(cut_edges(slice(*m, 3, 1.5 - 1e-9)), inside);
+  EXPECT_NE(cut_edges(slice(*m, 3, 0.4)), inside);
+  EXPECT_NE(cut_edges(slice(*m, 3, 0.4 - 1e-9)), inside);
+  // A sweep view: every vertex coordinate along x bounds an interval.
+  std::set<double> xs(m->V.col(0).begin(), m->V.col(0).end());
+  const IntervalFrame sweep = slicer.interval_frame(0, 0.1);
+  const auto above = xs.upper_bound(0.1);
+  EXPECT_EQ(sweep.hi, *above);
+  EXPECT_EQ(sweep.lo, *std::prev(above));
+  EXPECT_NE(cut_edges(slice(*m, 0, sweep.hi + 1e-9)), cut_edges(sweep.slice));
+  EXPECT_NE(cut_edges(slice(*m, 0, sweep.lo - 1e-9)), cut_edges(sweep.slice));
+}
+
+TEST(IntervalFrame, NoIntervalOnAVertexCoordinateOrOutside) {
+  Slicer slicer(octahedron_animation());
+  for (double value : {0.4, 0.0, 1.5, -0.1, 2.0, 0.4 + 1e-15}) {
+    EXPECT_FALSE(slicer.index(3).topology_interval(value)) << value;
+    EXPECT_THROW(slicer.interval_frame(3, value), InputError) << value;
+  }
+  EXPECT_THROW(slicer.interval_frame(4, 0.9), InputError);
+  EXPECT_THROW(slicer.interval_frame(3, std::nan("")), InputError);
+}
+
+TEST(Slicer, ThreadsTakingTheFirstSlicesAtOnceGetTheSerialSlices) {
+  const auto m = octahedron_animation();
+  const std::vector<double> values = {0.1, 0.5, 0.9, 1.2};
+  Slicer serial_slicer(m);
+  std::vector<Slice> serial;
+  for (double v : values) serial.push_back(serial_slicer.slice(3, v));
+  for (int round = 0; round < 20; ++round) {
+    Slicer slicer(m);  // fresh: no index yet
+    std::vector<Slice> got(values.size());
+    std::vector<std::thread> threads;
+    for (size_t i = 0; i < values.size(); ++i)
+      threads.emplace_back([&, i] { got[i] = slicer.slice(3, values[i]); });
+    for (auto& t : threads) t.join();
+    for (size_t i = 0; i < values.size(); ++i) {
+      ASSERT_TRUE(same(got[i].faces, serial[i].faces)) << "round " << round << " value " << values[i];
+      ASSERT_TRUE(same(got[i].vertices, serial[i].vertices)) << "round " << round << " value " << values[i];
+    }
+  }
+}
