@@ -30,7 +30,7 @@ MODIFIER_NAME = "Animanifold Bake"
 CACHE_MODIFIER_NAME = "Animanifold Alembic"
 
 
-class BakeError(Exception):
+class BakeError(am.Error):
     pass
 
 

@@ -42,7 +42,7 @@ _CACHE: dict[str, tuple[tuple[int, int], object]] = {}
 _ERRORS: dict[str, str] = {}
 
 
-class SmoothingError(RuntimeError):
+class SmoothingError(am.Error, RuntimeError):
     """Subdivision of a manifold object's manifold failed or would not fit in memory."""
 
 

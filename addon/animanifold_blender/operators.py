@@ -23,7 +23,7 @@ from ._lib import am
 from .properties import _BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 
 
-class OperatorError(Exception):
+class OperatorError(am.Error):
     """A failure to report to the user (the message is the report)."""
 
 

@@ -15,8 +15,10 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from ._lib import am
 
-class SamplingError(Exception):
+
+class SamplingError(am.Error):
     """The object cannot be sampled into keyframes (the message says why and where)."""
 
 

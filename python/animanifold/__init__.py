@@ -18,6 +18,7 @@ topology. ::
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
+from ._core import Error
 from .cache import CacheError, load, save
 from .deform import Deformer, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
@@ -36,6 +37,7 @@ __all__ = [
     "AnimationManifold",
     "BooleanError",
     "CacheError",
+    "Error",
     "SeparabilityWarning",
     "Deformer",
     "HoleSpaceWarning",

@@ -24,6 +24,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ._core import Error
 from .cache import load, save
 from .manifold import AXES, AnimationManifold, axis_index, stitch
 from . import cli_skeleton
@@ -38,7 +39,7 @@ MESH_FORMATS = ("obj", "ply", "off", "stl")  # what the core's CGAL IO writes, b
 FRAME_FORMATS = ("obj", "ply", "off")
 
 
-class UserError(Exception):
+class UserError(Error):
     """A problem with the user's input that the command line detects itself."""
 
 
