@@ -90,7 +90,7 @@ def bench_block():
     print(f"\n== Figure 4.11 block: {len(V)} vertices, {len(F)} triangles; bottom cap {len(bottom)} anchors, "
           f"top cap {len(top)} handles; rotations π/4, π/2, 3π/4 ==")
     t0 = time.perf_counter()
-    _core.primal_weights(V, F, "graph")
+    _core._testing.primal_weights(V, F, "graph")
     qp = time.perf_counter() - t0
     print(f"graph-Laplacian weights alone (one QP per vertex, eq. 4.2): {qp * 1e3:.1f} ms "
           f"= {qp / len(V) * 1e6:.1f} µs/vertex (seed: 55.41 s for the whole initialise, CGAL QP)")
@@ -126,7 +126,7 @@ def bench_surface():
         init, deform, restore, statuses, _, d = time_method(V, F, bottom, top, method, [T], solves=5)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} "
-              f"{(f'{restore:.2f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info['factor_nonzeros']:11d}")
+              f"{(f'{restore:.2f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}")
 
 
 def bench_tets():
@@ -144,14 +144,14 @@ def bench_tets():
     print(f"\n== ~100k animation manifold: {len(P)} vertices, {len(S)} tets in R^4; "
           f"{len(anchors)} anchors (3 keyframes at each end), {len(handles)} handles dragged back 1.0 in time ==")
     t0 = time.perf_counter()
-    _core.primal_weights(P, S, "graph")
+    _core._testing.primal_weights(P, S, "graph")
     print(f"graph-Laplacian weights alone: {time.perf_counter() - t0:.2f} s")
     print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
     for method in ("uniform", "graph", "dual"):
         init, deform, restore, statuses, _, d = time_method(P, S, anchors, handles, method, [T], solves=2, restore_cap=30)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.0f}ms {1 / deform:9.2f} "
-              f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info['factor_nonzeros']:11d}",
+              f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}",
               flush=True)
 
 

@@ -80,7 +80,7 @@ def main() -> None:
           f"peak memory (ru_maxrss) {peak_mib():.0f} MiB")
     if args.check:
         report = _core.check_manifold(r.simplices)
-        volume = (_core.simplex_volumes(r.points, r.simplices).sum(), _core.simplex_volumes(points, simplices).sum())
+        volume = (_core._testing.simplex_volumes(r.points, r.simplices).sum(), _core._testing.simplex_volumes(points, simplices).sum())
         print(f"check: oriented manifold {report['is_oriented_manifold']}, volume {volume[0]:.9g} vs {volume[1]:.9g}")
 
 

@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
 # Builds the core, the Python module (into python/animanifold/) and the C++
-# tests in build/, incrementally. Installs dependencies first when missing.
+# tests in build/, incrementally, and regenerates the module's type stub
+# python/animanifold/_core.pyi. Installs dependencies first when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
 cmake --build build -j2 >> build.log 2>&1 || { tail -60 build.log; exit 1; }
 rm -f build.log
+# The committed stub follows the bindings (scripts/check-stubs.sh checks it).
+stub=$(mktemp)
+bash scripts/generate-stubs.sh > "$stub"
+cmp -s "$stub" python/animanifold/_core.pyi || cp "$stub" python/animanifold/_core.pyi
+rm -f "$stub"

@@ -14,6 +14,7 @@ APT_PACKAGES=(
 PIP_PACKAGES=(
   "numpy<2" pytest hypothesis matplotlib scipy scikit-build-core pybind11
   lizard  # the complexity check (scripts/check-complexity.sh)
+  "pybind11-stubgen==3.0.0"  # pinned: its output is compared with the committed _core.pyi
   "bpy>=4.5,<4.6"
 )
 
@@ -39,6 +40,7 @@ if ! "$PYTHON" - <<'PY' 2>/dev/null
 import importlib.metadata as md, sys
 need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "hypothesis": None,
         "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None, "lizard": None,
+        "pybind11-stubgen": lambda v: v == "3.0.0",
         "bpy": lambda v: v.startswith("4.5")}
 for name, ok in need.items():
     v = md.version(name)

@@ -4,5 +4,6 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 bash scripts/check-complexity.sh  # after the build, which installs lizard
+bash scripts/check-stubs.sh
 ctest --test-dir build --output-on-failure
 python3 -m pytest "$@"

@@ -20,9 +20,9 @@ def circumsphere(points: np.ndarray) -> tuple[np.ndarray, float]:
 @pytest.mark.parametrize("dimension", [2, 3, 4])
 def test_qhull_delaunay_is_delaunay_and_fills_the_hull(rng, dimension):
     points = rng.random((40, dimension))
-    simplices, flat, _ = _core.delaunay(points)
+    simplices, flat, _ = _core._testing.delaunay(points)
     assert flat == 0
-    volumes = _core.signed_volumes(points, simplices)
+    volumes = _core._testing.signed_volumes(points, simplices)
     assert (volumes > 0).all()
     # empty circumspheres (brute force)
     for s in simplices:
@@ -41,11 +41,11 @@ def perturbed_sphere(rng, subdivisions, scale=(1, 1, 1)):
 
 def test_tetgen_conforming_delaunay_keeps_the_surface_and_is_delaunay(rng):
     v, f = perturbed_sphere(rng, 2)
-    r = _core.conforming_delaunay_3d(v, f)
+    r = _core._testing.conforming_delaunay_3d(v, f)
     assert r["is_delaunay"] and r["non_delaunay_faces"] == 0
     np.testing.assert_array_equal(r["points"][: len(v)], v)
     # every refined constraint is a face of the tetrahedralization and lies in its parent triangle
-    assert len(_core.missing_facets(r["simplices"], r["constraints"])) == 0
+    assert len(_core._testing.missing_facets(r["simplices"], r["constraints"])) == 0
     parent_normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
     tri = r["points"][r["constraints"]]
     normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -60,13 +60,13 @@ def test_tetgen_conforming_delaunay_keeps_the_surface_and_is_delaunay(rng):
 def test_theorem_5_2_1_fill_between_two_conforming_sections_contains_both(rng):
     v, f = perturbed_sphere(rng, 2)
     w, g = perturbed_sphere(rng, 2, scale=(1.5, 1, 0.7))
-    s, t = _core.conforming_delaunay_3d(v, f), _core.conforming_delaunay_3d(w, g)
+    s, t = _core._testing.conforming_delaunay_3d(v, f), _core._testing.conforming_delaunay_3d(w, g)
     ps, pt = s["points"], t["points"]
     fill_points = np.concatenate([np.c_[ps, np.zeros(len(ps))], np.c_[pt, np.ones(len(pt))]])
-    fill, flat, _ = _core.delaunay(fill_points)
+    fill, flat, _ = _core._testing.delaunay(fill_points)
     assert flat == 0
-    assert len(_core.missing_facets(fill, s["constraints"])) == 0
-    assert len(_core.missing_facets(fill, t["constraints"] + len(ps))) == 0
+    assert len(_core._testing.missing_facets(fill, s["constraints"])) == 0
+    assert len(_core._testing.missing_facets(fill, t["constraints"] + len(ps))) == 0
 
 
 def test_theorem_fails_visibly_without_conforming(rng):
@@ -75,15 +75,15 @@ def test_theorem_fails_visibly_without_conforming(rng):
     v = v * (1 + 0.02 * rng.random((len(v), 1)))
     v[:, 2] *= np.where(v[:, 0] > 0.3, 0.2, 1.0)  # a deep dent: non-Delaunay surface triangles
     fill_points = np.concatenate([np.c_[v, np.zeros(len(v))], np.c_[v * 1.2, np.ones(len(v))]])
-    fill, _, _ = _core.delaunay(fill_points)
-    assert len(_core.missing_facets(fill, f)) > 0
+    fill, _, _ = _core._testing.delaunay(fill_points)
+    assert len(_core._testing.missing_facets(fill, f)) > 0
 
 
 def test_cgal_conforming_delaunay_2d_splits_a_non_delaunay_edge():
     # the long edge (0, 1) crosses the Delaunay edge between the two close points 2 and 3
     p = np.array([[0.0, 0], [10, 0], [5, 0.5], [5, -0.5], [0, 3], [10, -3]])
     e = np.array([[0, 1], [4, 0], [1, 5]], np.int32)
-    r = _core.conforming_delaunay_2d(p, e)
+    r = _core._testing.conforming_delaunay_2d(p, e)
     assert r["is_delaunay"]
     assert len(r["points"]) > len(p), "the long edge needs Steiner points"
     np.testing.assert_array_equal(r["points"][: len(p)], p)
@@ -92,31 +92,31 @@ def test_cgal_conforming_delaunay_2d_splits_a_non_delaunay_edge():
         chain = r["constraints"][r["constraint_parent"] == edge_id]
         assert chain[0, 0] == a and chain[-1, 1] == b
         np.testing.assert_array_equal(chain[1:, 0], chain[:-1, 1])
-    assert len(_core.missing_facets(r["simplices"], r["constraints"])) == 0
-    assert (_core.signed_volumes(r["points"], r["simplices"]) > 0).all()
+    assert len(_core._testing.missing_facets(r["simplices"], r["constraints"])) == 0
+    assert (_core._testing.signed_volumes(r["points"], r["simplices"]) > 0).all()
 
 
 def test_bad_input_is_refused(rng):
     with pytest.raises(ValueError, match="at least 4 points"):
-        _core.delaunay(rng.random((3, 3)))
+        _core._testing.delaunay(rng.random((3, 3)))
     with pytest.raises(ValueError, match="constraint triangle 0 refers to point 99"):
-        _core.conforming_delaunay_3d(rng.random((10, 3)), np.array([[0, 1, 99]], np.int32))
+        _core._testing.conforming_delaunay_3d(rng.random((10, 3)), np.array([[0, 1, 99]], np.int32))
     with pytest.raises(ValueError, match="point 2 coincides with point 0"):
-        _core.conforming_delaunay_2d(np.array([[0.0, 0], [1, 0], [0, 0], [0, 1]]), np.array([[0, 1]], np.int32))
+        _core._testing.conforming_delaunay_2d(np.array([[0.0, 0], [1, 0], [0, 0], [0, 1]]), np.array([[0, 1]], np.int32))
 
 
 def test_exact_delaunay_agrees_with_qhull_on_points_in_general_position():
     rng = np.random.default_rng(7)
     for d in (3, 4):
         points = rng.normal(size=(300, d))
-        exact, flat, _ = _core.delaunay_exact(points)
-        qhull, _, _ = _core.delaunay(points)
+        exact, flat, _ = _core._testing.delaunay_exact(points)
+        qhull, _, _ = _core._testing.delaunay(points)
         assert flat == 0
         assert {tuple(sorted(s)) for s in exact} == {tuple(sorted(s)) for s in qhull}
         edges = points[exact[:, 1:]] - points[exact[:, :1]]
         assert (np.linalg.det(edges) > 0).all()  # positively oriented
     with pytest.raises(ValueError, match="points 0 and 5 coincide"):
-        _core.delaunay_exact(np.vstack([points[:5], points[:1]]))
+        _core._testing.delaunay_exact(np.vstack([points[:5], points[:1]]))
 
 
 def test_exact_delaunay_of_two_parallel_planes_keeps_both_triangulations():
@@ -124,8 +124,8 @@ def test_exact_delaunay_of_two_parallel_planes_keeps_both_triangulations():
     rng = np.random.default_rng(3)
     a, b = rng.normal(size=(60, 3)), rng.normal(size=(50, 3)) * 0.7
     points = np.vstack([np.c_[a, np.zeros(60)], np.c_[b, np.ones(50)]])
-    simplices, flat, _ = _core.delaunay_exact(points)
+    simplices, flat, _ = _core._testing.delaunay_exact(points)
     assert flat == 0
     for offset, plane in ((0, a), (60, b)):
-        cells, _, _ = _core.delaunay_exact(plane)
-        assert len(_core.missing_facets(simplices, (cells + offset).astype(np.int32))) == 0
+        cells, _, _ = _core._testing.delaunay_exact(plane)
+        assert len(_core._testing.missing_facets(simplices, (cells + offset).astype(np.int32))) == 0

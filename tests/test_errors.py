@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import animanifold as am
+from animanifold import _core
 from helpers.shapes import icosphere
 
 
@@ -99,3 +100,71 @@ def test_mesh_io_errors_name_the_file(tmp_path):
     (tmp_path / "empty.off").write_text("OFF\n0 0 0\n")
     with pytest.raises(OSError, match="empty.off"):
         am.read_mesh(tmp_path / "empty.off")
+
+
+# -- one error model: every error is an animanifold.Error and keeps its builtin --
+
+
+def test_the_package_error_is_the_cores():
+    assert am.Error is _core.Error
+    assert issubclass(am.Error, Exception)
+
+
+def test_bad_input_is_an_input_error_and_a_value_error():
+    simplices = np.array([[0, 1, 2, 3], [0, 1, 2, 9]])
+    with pytest.raises(_core.InputError, match="simplex 1 refers to vertex 9") as caught:
+        am.AnimationManifold.from_arrays(np.zeros((4, 4)), simplices)
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, ValueError)
+
+
+def test_a_missing_file_is_a_file_error_and_an_os_error(tmp_path):
+    with pytest.raises(_core.FileError, match="nope.obj' does not exist") as caught:
+        am.read_mesh(tmp_path / "nope.obj")
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, OSError)
+
+
+def test_a_refused_boolean_operand_is_a_boolean_error_and_a_runtime_error(sphere):
+    v, f = sphere
+    with pytest.raises(am.BooleanError, match=r"the shape is not closed \(3 boundary edges\)") as caught:
+        am.hole_space(v, f[:-1])
+    assert am.BooleanError is _core.BooleanError
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, RuntimeError)
+
+
+def test_a_cancelled_morph_is_an_error_but_no_runtime_error(sphere):
+    # Callers retry a failed mesher on RuntimeError; a cancel must not be retried.
+    v, f = sphere
+    with pytest.raises(_core.Cancelled) as caught:
+        _core.morph(v, f, v * 1.2, f, progress=lambda stage, fraction: False)
+    assert isinstance(caught.value, am.Error) and not isinstance(caught.value, RuntimeError)
+
+
+@pytest.mark.parametrize("core_type, python_type, builtin", [
+    ("InputError", "InputError", ValueError),
+    ("IOError", "FileError", OSError),
+    ("BooleanError", "BooleanError", RuntimeError),
+    ("MeshingError", "MeshingError", RuntimeError),
+])
+def test_each_core_exception_goes_through_the_translator_with_its_message(core_type, python_type, builtin):
+    message = f"TetGen failed while meshing the source (face 7): {core_type}"
+    with pytest.raises(getattr(_core, python_type)) as caught:
+        _core._testing.raise_error(core_type, message)
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, builtin)
+    assert str(caught.value) == message
+
+
+def test_cancelled_goes_through_the_translator():
+    with pytest.raises(_core.Cancelled, match="cancelled") as caught:
+        _core._testing.raise_error("Cancelled", "")
+    assert isinstance(caught.value, am.Error)
+
+
+def test_the_packages_own_errors_are_animanifold_errors(tmp_path, sphere):
+    from animanifold import cli
+    (tmp_path / "junk.amf").write_bytes(b"not a cache")
+    with pytest.raises(am.CacheError, match="junk.amf") as caught:
+        am.load(tmp_path / "junk.amf")
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, ValueError)
+    with pytest.raises(cli.UserError, match="--fps must be a positive number") as caught:
+        cli.keyframe_times(2, None, -1.0, ["a.obj", "b.obj"])
+    assert isinstance(caught.value, am.Error)

@@ -60,8 +60,8 @@ def winding_numbers(points: np.ndarray, solid) -> np.ndarray:
 
 def hull_volume(points: np.ndarray) -> float:
     """Volume of the convex hull of 3D points: the sum of their Delaunay tets (Qhull, not CGAL)."""
-    simplices, _, _ = _core.delaunay(np.ascontiguousarray(points))
-    return float(np.abs(_core.signed_volumes(np.ascontiguousarray(points), simplices)).sum())
+    simplices, _, _ = _core._testing.delaunay(np.ascontiguousarray(points))
+    return float(np.abs(_core._testing.signed_volumes(np.ascontiguousarray(points), simplices)).sum())
 
 
 def hull_volume_of_regular_torus(v: np.ndarray, f: np.ndarray, major: int, minor: int) -> float:

@@ -132,7 +132,7 @@ def test_simplex_qp_matches_brute_force_active_sets(rng, k):
         lam = [0.0, 0.1, 1.0, 5.0][trial % 4]
         lower = [0.0, 1e-3, 0.05][trial % 3]
         _, H, g = random_qp(rng, k, D, lam)
-        w, value, iterations, converged = _core.simplex_qp(H, g, lower)
+        w, value, iterations, converged = _core._testing.simplex_qp(H, g, lower)
         w_ref, value_ref = qp_reference(H, g, lower)
         assert converged
         assert abs(w.sum() - 1) < 1e-12 and (w >= lower - 1e-14).all()
@@ -167,7 +167,7 @@ def test_simplex_qp_on_one_ring_sized_problems_matches_projected_gradient(rng):
     for k in (16, 24, 40):
         for lam in (0.0, 0.1):
             _, H, g = random_qp(rng, k, 4, lam, ridge=1e-4)
-            w, value, _, converged = _core.simplex_qp(H, g, 1e-3)
+            w, value, _, converged = _core._testing.simplex_qp(H, g, 1e-3)
             _, value_ref = projected_gradient_reference(H, g, 1e-3)
             assert converged
             assert value <= value_ref + 1e-9
@@ -181,16 +181,16 @@ def test_simplex_qp_on_one_ring_sized_problems_matches_projected_gradient(rng):
 
 def test_simplex_qp_rejects_infeasible_floor_and_indefinite_H():
     with pytest.raises(ValueError, match="infeasible"):
-        _core.simplex_qp(np.eye(3), np.zeros(3), 0.5)
+        _core._testing.simplex_qp(np.eye(3), np.zeros(3), 0.5)
     with pytest.raises(ValueError, match="positive definite"):
-        _core.simplex_qp(-np.eye(3), np.zeros(3), 0.0)
+        _core._testing.simplex_qp(-np.eye(3), np.zeros(3), 0.0)
 
 
 def test_graph_weights_are_fast_on_the_block():
     """The seed's general QP took 55 s for the 2.5k-vertex block; this must be orders of magnitude faster."""
     V, F = block()
     start = time.perf_counter()
-    W = _core.primal_weights(V, F, "graph")
+    W = _core._testing.primal_weights(V, F, "graph")
     elapsed = time.perf_counter() - start
     assert elapsed < 1.0, f"graph weights took {elapsed:.2f} s for {len(V)} vertices"
     Wd = dense(W)
@@ -202,26 +202,26 @@ def test_graph_weights_without_edge_term_put_flat_vertices_on_their_neighbours()
     """Eq. 4.3 minimises |δ|: an interior vertex of a flat grid gets δ = 0 (no tangential drift)."""
     v, f = open_surface()
     v[:, 2] = 0
-    L, delta = _core.laplacian_system(v, f, "graph", lam=0.0)
-    interior = ~_core.boundary_vertices(f, len(v))
+    L, delta = _core._testing.laplacian_system(v, f, "graph", lam=0.0)
+    interior = ~_core._testing.boundary_vertices(f, len(v))
     assert np.abs(delta[interior]).max() < 1e-8
 
 
 def test_boundary_vertices_use_eq_4_3_whatever_the_method():
     v, f = open_surface()
-    boundary = _core.boundary_vertices(f, len(v))
+    boundary = _core._testing.boundary_vertices(f, len(v))
     assert boundary.sum() == 32
-    reference = dense(_core.primal_weights(v, f, "graph", lam=0.0))
+    reference = dense(_core._testing.primal_weights(v, f, "graph", lam=0.0))
     for method in ("uniform", "cotangent", "graph"):
-        W = dense(_core.primal_weights(v, f, method))
+        W = dense(_core._testing.primal_weights(v, f, method))
         np.testing.assert_allclose(W[boundary], reference[boundary], atol=1e-12)
     # ...while interior rows differ between schemes.
-    assert np.abs(dense(_core.primal_weights(v, f, "uniform"))[~boundary] - reference[~boundary]).max() > 1e-3
+    assert np.abs(dense(_core._testing.primal_weights(v, f, "uniform"))[~boundary] - reference[~boundary]).max() > 1e-3
 
 
 def test_cotangent_weights_of_a_symmetric_vertex_are_equal_and_need_triangles_in_r3():
     v, f = icosphere(0)
-    W = dense(_core.primal_weights(v, f, "cotangent"))
+    W = dense(_core._testing.primal_weights(v, f, "cotangent"))
     np.testing.assert_allclose(W[W != 0], 0.2, atol=1e-12)
     p, s, _ = moving_sphere()
     with pytest.raises(ValueError, match="cotangent weights exist only for triangle meshes in R\\^3"):
@@ -232,7 +232,7 @@ def test_cotangent_weights_of_a_symmetric_vertex_are_equal_and_need_triangles_in
 
 def test_ghost_dual_vertex_of_a_triangle_is_two_thirds_edge_minus_one_third_opposite():
     S = np.array([[0, 1, 2]], np.int32)
-    (D, neighbours, ghosts) = _core.dual_operator(S, 3)
+    (D, neighbours, ghosts) = _core._testing.dual_operator(S, 3)
     D = dense(D)
     assert D.shape == (4, 3) and ghosts.shape == (3, 2)
     np.testing.assert_allclose(D[0], [1 / 3] * 3)
@@ -248,7 +248,7 @@ def test_ghost_dual_vertex_of_a_triangle_is_two_thirds_edge_minus_one_third_oppo
 
 def test_ghost_dual_vertex_of_a_tet_reflects_the_opposite_vertex_through_the_facet_centroid():
     S = np.array([[0, 1, 2, 3]], np.int32)
-    D, neighbours, ghosts = _core.dual_operator(S, 4)
+    D, neighbours, ghosts = _core._testing.dual_operator(S, 4)
     D = dense(D)
     P = np.random.default_rng(1).normal(size=(4, 4))
     for row, (s, i) in enumerate(ghosts, start=1):
@@ -260,10 +260,10 @@ def test_ghost_dual_vertex_of_a_tet_reflects_the_opposite_vertex_through_the_fac
 
 def test_dual_laplacian_coordinates_are_normal_to_the_neighbour_hyperplane():
     p, s, _ = moving_sphere()
-    L, delta = _core.laplacian_system(p, s, "dual")
-    D, neighbours, _ = _core.dual_operator(s, len(p))
+    L, delta = _core._testing.laplacian_system(p, s, "dual")
+    D, neighbours, _ = _core._testing.dual_operator(s, len(p))
     C = dense(D) @ p
-    normals = _core.simplex_normals(C, neighbours)
+    normals = _core._testing.simplex_normals(C, neighbours)
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     tangential = delta - (delta * normals).sum(1, keepdims=True) * normals
     assert np.abs(tangential).max() < 1e-12 * bbox_diagonal(p) + 1e-14
@@ -450,11 +450,11 @@ def test_one_off_deformation_picks_steps_from_the_rotation():
 def test_affine_power_splits_a_transform_into_equal_steps():
     R = am.rotation_matrix([1, 2, 3], 2.0)
     T = am.handle_transform(rotation=R, translation=[1, 2, 3], scale=1.5, center=[0.5, 0, 0], dimension=3)
-    third = _core.affine_power(T, 1 / 3)
+    third = _core._testing.affine_power(T, 1 / 3)
     np.testing.assert_allclose(third @ third @ third, T, atol=1e-12)
-    np.testing.assert_allclose(_core.affine_power(T, 0.0), np.eye(4), atol=1e-12)
+    np.testing.assert_allclose(_core._testing.affine_power(T, 0.0), np.eye(4), atol=1e-12)
     with pytest.raises(ValueError, match="reflects"):
-        _core.affine_power(np.diag([-1.0, 1, 1, 1]), 0.5)
+        _core._testing.affine_power(np.diag([-1.0, 1, 1, 1]), 0.5)
 
 
 # --- boundaries of animation manifolds ------------------------------------------------
@@ -482,9 +482,9 @@ def test_dual_on_a_static_open_manifold_needs_constraints_in_two_keyframes(maker
     with pytest.raises(ValueError, match=r"at least 1 more independent constraint\(s\).*ghost vertices at the boundary"):
         am.Deformer(p, s, anchors, handles, "dual", boundary="error")
     grown = am.Deformer(p, s, anchors, handles, "dual", boundary="grow")
-    assert grown.info["grown"] > 0 and len(grown.anchors) > len(anchors)
+    assert grown.info.grown > 0 and len(grown.anchors) > len(anchors)
     ghosts = am.Deformer(p, s, anchors, handles, "dual", boundary="ghost_anchors")
-    assert ghosts.info["ghost_anchor_rows"] == ghosts.info["ghosts"] > 0
+    assert ghosts.info.ghost_anchor_rows == ghosts.info.ghosts > 0
     for d in (grown, ghosts):
         np.testing.assert_allclose(d.deform(np.eye(p.shape[1] + 1)), p, atol=1e-9)
         out = d.deform(T)
@@ -496,7 +496,7 @@ def test_dual_on_a_static_open_manifold_needs_constraints_in_two_keyframes(maker
     two = np.concatenate([anchors, k + anchors])
     for rule in ("error", "grow", "ghost_anchors"):
         d = am.Deformer(p, s, two, handles, "dual", boundary=rule)
-        assert d.info["grown"] == 0
+        assert d.info.grown == 0
         assert np.isfinite(d.deform(T)).all()
 
 
@@ -597,12 +597,12 @@ def test_animation_manifold_deform_returns_a_new_manifold_with_earlier_frames_un
 def test_zero_detail_vertices_get_uniform_weights_and_no_detail():
     """The hook for §4.5.1 regularisation: vertices added by refinement."""
     v, f = closed_surface()
-    L, delta = _core.laplacian_system(v, f, "graph", zero_detail_vertices=[7])
+    L, delta = _core._testing.laplacian_system(v, f, "graph", zero_detail_vertices=[7])
     L = dense(L)
     neighbours = np.flatnonzero(L[7] < 0)
     np.testing.assert_allclose(L[7, neighbours], -1 / len(neighbours))
     np.testing.assert_array_equal(delta[7], 0)
-    Ld, delta_d = _core.laplacian_system(v, f, "dual", zero_detail_vertices=[7])
+    Ld, delta_d = _core._testing.laplacian_system(v, f, "dual", zero_detail_vertices=[7])
     incident = np.flatnonzero((f == 7).any(1))
     np.testing.assert_array_equal(delta_d[incident], 0)
     assert np.abs(delta_d).sum() > 0

@@ -502,7 +502,7 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
     frames = np.stack([shell[0], shell[0] * 1.1])
     m = am.stitch(frames, shell[1], [0.0, 1.0])
     complex_ = _core.Complex(m.points, m.simplices, {}, {})
-    report = _core.check_morph_frames(complex_, 0.0, 1.0, v, f, v, f).to_dict()
+    report = _core._testing.check_morph_frames(complex_, 0.0, 1.0, v, f, v, f).to_dict()
     assert report["frames_checked"] >= 24 and not report["frames_capped"]
     assert [n for _, n in report["bubble_frames"]] == [1] * report["frames_checked"]
     for t, _ in report["bubble_frames"]:
@@ -511,7 +511,7 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
     outer, inner = enclosed_volume(v, f), enclosed_volume(0.5 * v, f)
     assert report["largest_bubble_fraction"] == pytest.approx(inner / outer)
     # with the cavity in an input, the frames hold no more than the inputs: nothing to report
-    assert _core.check_morph_frames(complex_, 0.0, 1.0, *shell, v, f)["bubble_frames"] == []
+    assert _core._testing.check_morph_frames(complex_, 0.0, 1.0, *shell, v, f)["bubble_frames"] == []
 
 
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):

@@ -39,11 +39,11 @@ def test_the_conforming_fill_of_the_model_is_delaunay(shared_data, model):
     """The model with its external skeleton points, as the morph conforms it (without its perturbation)."""
     v, f = load(shared_data, model)
     size = np.linalg.norm(np.ptp(v, axis=0))
-    k = _core.external_skeleton_points(v, f, 1e-3 * size)
-    r = _core.conforming_delaunay_3d(np.vstack([v, k]), f)
+    k = _core._testing.external_skeleton_points(v, f, 1e-3 * size)
+    r = _core._testing.conforming_delaunay_3d(np.vstack([v, k]), f)
     assert r["is_delaunay"] and r["non_delaunay_faces"] == 0, r["non_delaunay_faces"]
     constraints, points = r["constraints"], r["points"]
-    assert len(_core.missing_facets(_core.delaunay_exact(points)[0], constraints)) == 0
+    assert len(_core._testing.missing_facets(_core._testing.delaunay_exact(points)[0], constraints)) == 0
     # the points added (TetGen's and the mending's) lie on the model, which the refined faces tile
     added = points[len(v) + len(k):]
     assert len(added) >= r["mended_points"] > 0

@@ -57,7 +57,7 @@ def cube_tets() -> tuple[np.ndarray, np.ndarray]:
             tet.append(v)
         S.append(tet)
     S = np.array(S, dtype=np.int32)
-    flip = _core.signed_volumes(V, S) < 0
+    flip = _core._testing.signed_volumes(V, S) < 0
     S[flip] = S[flip][:, [0, 2, 1, 3]]
     return V, S
 
@@ -100,7 +100,7 @@ SHAPES = {
 def facet_table(S: np.ndarray):
     """(facets (#S*k, k-1), owner simplex, boundary mask) with the §2.4 facet rule."""
     k = S.shape[1]
-    F = _core.facets(S)
+    F = _core._testing.facets(S)
     _, inverse, counts = np.unique(np.sort(F, axis=1), axis=0, return_inverse=True, return_counts=True)
     return F, np.arange(len(F)) // k, counts[inverse.reshape(-1)] == 1
 
@@ -123,7 +123,7 @@ def assert_valid_refinement(V, S, r: am.Refinement, splits, epsilon: float) -> N
     assert report["boundary_facets"] >= _core.check_manifold(S)["boundary_facets"]
 
     # Total measure unchanged.
-    assert _core.simplex_volumes(P, T).sum() == pytest.approx(_core.simplex_volumes(V, S).sum(), rel=1e-10)
+    assert _core._testing.simplex_volumes(P, T).sum() == pytest.approx(_core._testing.simplex_volumes(V, S).sum(), rel=1e-10)
 
     # Orientation: every child agrees with its parent within their common plane;
     # full-dimensional complexes have only positive simplices.
@@ -133,7 +133,7 @@ def assert_valid_refinement(V, S, r: am.Refinement, splits, epsilon: float) -> N
     Ep = V[S[parent, 1:]] - V[S[parent, :1]]
     assert np.linalg.det(Ec @ Ep.transpose(0, 2, 1)).min() > 0
     if k == V.shape[1] + 1:
-        assert _core.signed_volumes(P, T).min() > 0
+        assert _core._testing.signed_volumes(P, T).min() > 0
 
     # Each child lies inside its parent (the parent map is right).
     for s in range(len(T)):
@@ -144,8 +144,8 @@ def assert_valid_refinement(V, S, r: am.Refinement, splits, epsilon: float) -> N
     # an old boundary facet of its parent, and the total boundary measure is equal.
     F0, owner0, boundary0 = facet_table(S)
     F1, owner1, boundary1 = facet_table(T)
-    assert _core.simplex_volumes(P, F1[boundary1]).sum() == pytest.approx(
-        _core.simplex_volumes(V, F0[boundary0]).sum(), rel=1e-10, abs=1e-12
+    assert _core._testing.simplex_volumes(P, F1[boundary1]).sum() == pytest.approx(
+        _core._testing.simplex_volumes(V, F0[boundary0]).sum(), rel=1e-10, abs=1e-12
     )
     for row in np.flatnonzero(boundary1):
         p = parent[owner1[row]]
@@ -255,7 +255,7 @@ def test_random_batch_with_zero_epsilon_inserts_every_point_exactly():
     for t, (ids, w) in enumerate(splits):
         assert np.linalg.norm(r.points[r.new_vertex_of_split[t]] - w @ V[ids]) < 1e-12
     assert _core.check_manifold(r.simplices)["is_oriented_manifold"]
-    assert _core.simplex_volumes(r.points, r.simplices).sum() == pytest.approx(1.0, rel=1e-12)
+    assert _core._testing.simplex_volumes(r.points, r.simplices).sum() == pytest.approx(1.0, rel=1e-12)
 
 
 # ---------------------------------------------------------------------------
@@ -307,8 +307,8 @@ def test_degeneracy_order_gives_the_same_vertices_and_no_worse_slivers(count):
     assert distance.min(axis=1).max() < 1e-2 and distance.min(axis=0).max() < 1e-2
     # The orders did differ.
     assert not np.array_equal(given_.new_vertex_of_split, greedy.new_vertex_of_split)
-    worst_given = _core.edge_length_degeneracy(given_.points, given_.simplices).max()
-    worst_greedy = _core.edge_length_degeneracy(greedy.points, greedy.simplices).max()
+    worst_given = _core._testing.edge_length_degeneracy(given_.points, given_.simplices).max()
+    worst_greedy = _core._testing.edge_length_degeneracy(greedy.points, greedy.simplices).max()
     assert worst_greedy <= worst_given
     if count == 40:
         assert worst_greedy < worst_given - 0.02  # the figure's "fewer degenerate triangles"
@@ -318,7 +318,7 @@ def test_edge_length_degeneracy_is_the_normalised_variance():
     V, F = heightfield(4)
     lengths = np.linalg.norm(V[F[:, [1, 2, 0]]] - V[F], axis=2)
     expected = lengths.var(axis=1) / lengths.mean(axis=1) ** 2
-    assert _core.edge_length_degeneracy(V, F) == pytest.approx(expected, rel=1e-9, abs=1e-15)
+    assert _core._testing.edge_length_degeneracy(V, F) == pytest.approx(expected, rel=1e-9, abs=1e-15)
 
 
 # ---------------------------------------------------------------------------
@@ -348,7 +348,7 @@ def test_animation_manifold_refine_keeps_attributes_and_slices():
     # The manifold is the same point set, so every frame has the same area.
     for t in (0.0, 0.37, 1.5, 2.0):
         a, b = m.slice(t), refined.slice(t)
-        area = [_core.simplex_volumes(s.vertices, s.faces).sum() for s in (a, b)]
+        area = [_core._testing.simplex_volumes(s.vertices, s.faces).sum() for s in (a, b)]
         assert area[1] == pytest.approx(area[0], rel=1e-9), t
 
 

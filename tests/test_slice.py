@@ -106,7 +106,7 @@ def test_index_and_brute_force_give_the_same_slice(animation):
     slicer = _core.Slicer(m.core_complex)
     for t in [0.0, 0.4, 1.1, 2.5, -1.0, 3.0]:
         a = slicer.slice(3, t, True)
-        b = _core.slice(m.core_complex, 3, t)
+        b = _core._testing.slice(m.core_complex, 3, t)
         assert canonical_faces(a.vertex_edges[a.faces][:, :, 0] * 100000 + a.vertex_edges[a.faces][:, :, 1]) == \
             canonical_faces(b.vertex_edges[b.faces][:, :, 0] * 100000 + b.vertex_edges[b.faces][:, :, 1])
 

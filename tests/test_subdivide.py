@@ -94,20 +94,20 @@ def test_linear_refinement_keeps_every_child_with_its_parents_orientation(levels
     # tetrahedra in R^3 and triangles in R^2.
     points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1.2]], float)
     tets = np.array([[0, 1, 2, 3], [1, 4, 2, 3]], np.int32)
-    assert np.all(_core.signed_volumes(points, tets) > 0)
+    assert np.all(_core._testing.signed_volumes(points, tets) > 0)
     r = _core.subdivide_manifold(_core.Complex(points, tets), levels, "linear")
-    vol = _core.signed_volumes(r["manifold"].points, r["manifold"].simplices)
+    vol = _core._testing.signed_volumes(r.manifold.points, r.manifold.simplices)
     assert len(vol) == 2 * 8**levels
     assert vol.min() > 0
-    assert vol.sum() == pytest.approx(_core.signed_volumes(points, tets).sum(), rel=1e-12)
+    assert vol.sum() == pytest.approx(_core._testing.signed_volumes(points, tets).sum(), rel=1e-12)
     flipped = tets[:, [1, 0, 2, 3]]
     r = _core.subdivide_manifold(_core.Complex(points, flipped), levels, "linear")
-    assert _core.signed_volumes(r["manifold"].points, r["manifold"].simplices).max() < 0
+    assert _core._testing.signed_volumes(r.manifold.points, r.manifold.simplices).max() < 0
 
     p2 = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
     tris = np.array([[0, 1, 2], [1, 3, 2]], np.int32)
     r = _core.subdivide_manifold(_core.Complex(p2, tris), levels, "linear")
-    area = _core.signed_volumes(r["manifold"].points, r["manifold"].simplices)
+    area = _core._testing.signed_volumes(r.manifold.points, r.manifold.simplices)
     assert len(area) == 2 * 4**levels and area.min() > 0 and area.sum() == pytest.approx(1.0)
 
 

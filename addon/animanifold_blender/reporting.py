@@ -22,7 +22,7 @@ from typing import Callable
 from ._lib import am
 
 
-class ReportedError(Exception):
+class ReportedError(am.Error):
     """A failure whose message is the report to the user."""
 
 

@@ -4,7 +4,7 @@
 
 namespace animanifold::bindings {
 
-void bind_complex(py::module_& m) {
+void bind_complex(py::module_& m, py::module_& testing) {
   py::class_<Complex, std::shared_ptr<Complex>>(m, "Complex",
                                                  "Points (#V by D) and oriented simplices (#S by k+1) "
                                                  "with per-vertex float and per-simplex integer attributes.")
@@ -18,35 +18,35 @@ void bind_complex(py::module_& m) {
              return c;
            }),
            py::arg("points"), py::arg("simplices"), py::arg("vertex_attributes") = VertexAttributes{},
-           py::arg("simplex_attributes") = SimplexAttributes{})
+           py::arg("simplex_attributes") = SimplexAttributes{},
+           "A complex from points (#V by D), simplices (#S by k+1) and attribute tables; raises InputError "
+           "naming the simplex or vertex when they do not fit.")
       // Read-only views into the complex's own memory (no copies).
       .def_property_readonly("points", [](const Complex& c) -> const PointMatrix& { return c.V; },
-                             py::return_value_policy::reference_internal)
+                             py::return_value_policy::reference_internal, "#V by D, read-only view.")
       .def_property_readonly("simplices", [](const Complex& c) -> const SimplexMatrix& { return c.S; },
-                             py::return_value_policy::reference_internal)
+                             py::return_value_policy::reference_internal, "#S by k+1, read-only view.")
       .def_property_readonly("vertex_attributes", [](py::object self) {
         const Complex& c = self.cast<const Complex&>();
         py::dict out;
         for (const auto& [name, table] : c.vertex_attributes)
           out[py::str(name)] = py::cast(table, py::return_value_policy::reference_internal, self);
         return out;
-      })
+      }, "Per-vertex float tables by name (#V rows), read-only views.")
       .def_property_readonly("simplex_attributes", [](py::object self) {
         const Complex& c = self.cast<const Complex&>();
         py::dict out;
         for (const auto& [name, table] : c.simplex_attributes)
           out[py::str(name)] = py::cast(table, py::return_value_policy::reference_internal, self);
         return out;
-      })
-      .def("validate", &Complex::validate);
+      }, "Per-simplex integer tables by name (#S rows), read-only views.")
+      .def("validate", &Complex::validate,
+           "Raises InputError naming the first simplex, vertex or attribute that does not fit the complex.");
 
-  m.def("facets", [](SimplicesRef S) { return facets(S); }, py::arg("simplices"),
+  testing.def("facets", [](SimplicesRef S) { return facets(S); }, py::arg("simplices"),
         "All facets (#S*k by k-1), facet i of simplex s at row s*k+i, oriented by the rule of §2.4.");
-  m.def("boundary_facets", [](SimplicesRef S) { return boundary_facets(S); }, py::arg("simplices"));
-  m.def("facet_adjacency", [](SimplicesRef S) {
-        auto a = facet_adjacency(S);
-        return py::make_tuple(a.neighbour, a.opposite);
-      }, py::arg("simplices"), "(neighbour, opposite): simplex across each facet and its facet index, -1 on the boundary.");
+  m.def("boundary_facets", [](SimplicesRef S) { return boundary_facets(S); }, py::arg("simplices"),
+        "Facets (#B by k) that belong to one simplex only, oriented outward.");
   m.def("check_manifold", [](SimplicesRef S) {
         const auto r = check_manifold(S);
         py::dict out;
@@ -57,20 +57,21 @@ void bind_complex(py::module_& m) {
         out["degenerate_simplices"] = r.degenerate_simplices;
         out["is_oriented_manifold"] = r.is_oriented_manifold();
         return out;
-      }, py::arg("simplices"));
-  m.def("signed_volumes", [](PointsRef V, SimplicesRef S) { return signed_volumes(V, S); }, py::arg("points"),
-        py::arg("simplices"));
-  m.def("simplex_volumes", [](PointsRef V, SimplicesRef S) { return simplex_volumes(V, S); }, py::arg("points"),
-        py::arg("simplices"));
-  m.def("wedge", [](PointsRef vectors) { return wedge(vectors); }, py::arg("vectors"));
-  m.def("simplex_normals", [](PointsRef V, SimplicesRef S) { return simplex_normals(V, S); }, py::arg("points"),
-        py::arg("simplices"));
+      }, py::arg("simplices"),
+      "Facet counts of simplices (#S by k+1) as a dict: interior_facets, boundary_facets, nonmanifold_facets, "
+      "misoriented_facets, degenerate_simplices, is_oriented_manifold.");
+  testing.def("signed_volumes", [](PointsRef V, SimplicesRef S) { return signed_volumes(V, S); },
+              py::arg("points"), py::arg("simplices"),
+              "Signed volume of each n-simplex in R^n (#S vector); negative when inverted.");
+  testing.def("simplex_volumes", [](PointsRef V, SimplicesRef S) { return simplex_volumes(V, S); },
+              py::arg("points"), py::arg("simplices"), "Unsigned k-volume of each simplex in any R^D (#S vector).");
+  testing.def("simplex_normals", [](PointsRef V, SimplicesRef S) { return simplex_normals(V, S); },
+              py::arg("points"), py::arg("simplices"),
+              "Unit normal of each n-simplex in R^(n+1) (#S by n+1), oriented by the simplex.");
   m.def("vertex_normals", [](PointsRef V, SimplicesRef S) { return vertex_normals(V, S); }, py::arg("points"),
-        py::arg("simplices"));
+        py::arg("simplices"), "Volume-weighted unit normals (#V by n+1) of a manifold of n-simplices in R^(n+1).");
   m.def("frame_vertex_normals", [](PointsRef V, SimplicesRef F) { return frame_vertex_normals(V, F); },
         py::arg("vertices"), py::arg("faces"), "Area-weighted unit vertex normals of a frame (triangles in R^3, segments in R^2).");
-  m.def("drop_component", [](PointsRef N, int axis) { return drop_component(N, axis); }, py::arg("normals"),
-        py::arg("axis"));
 }
 
 }  // namespace animanifold::bindings

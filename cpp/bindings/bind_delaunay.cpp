@@ -20,7 +20,7 @@ py::dict to_dict(const ConformingDelaunay& c) {
 
 }  // namespace
 
-void bind_delaunay(py::module_& m) {
+void bind_delaunay(py::module_& m, py::module_& testing) {
   // (simplices, flat_count, flat_simplices) of a triangulation, computed without the GIL.
   auto triangulation = [](DelaunayTriangulation (*triangulate)(const PointMatrix&)) {
     return [triangulate](PointsRef points) {
@@ -32,11 +32,13 @@ void bind_delaunay(py::module_& m) {
       return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
     };
   };
-  m.def("delaunay", triangulation([](const PointMatrix& p) { return delaunay(p); }), py::arg("points"),
-        "(simplices, flat_count, flat_simplices): Delaunay triangulation in any dimension (Qhull).");
-  m.def("delaunay_exact", triangulation(&delaunay_exact), py::arg("points"),
-        "(simplices, flat_count, flat_simplices): Delaunay triangulation in R^3 or R^4 (CGAL).");
-  m.def("conforming_delaunay_3d",
+  testing.def("delaunay", triangulation([](const PointMatrix& p) { return delaunay(p); }), py::arg("points"),
+        "(simplices, flat_count, flat_simplices): Delaunay triangulation of points (#P by d) in any dimension "
+        "(Qhull); raises InputError for too few or non-finite points, MeshingError when Qhull fails.");
+  testing.def("delaunay_exact", triangulation(&delaunay_exact), py::arg("points"),
+        "(simplices, flat_count, flat_simplices): Delaunay triangulation of points (#P by 3 or 4) (CGAL); "
+        "raises InputError for bad points, MeshingError when CGAL fails.");
+  testing.def("conforming_delaunay_3d",
         [](PointsRef points, SimplicesRef faces) {
           ConformingDelaunay c;
           {
@@ -45,8 +47,9 @@ void bind_delaunay(py::module_& m) {
           }
           return to_dict(c);
         },
-        py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD).");
-  m.def("conforming_delaunay_2d",
+        py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles "
+        "(#F by 3), as a dict of its arrays; raises InputError for bad indices, MeshingError when TetGen fails.");
+  testing.def("conforming_delaunay_2d",
         [](PointsRef points, SimplicesRef edges) {
           ConformingDelaunay c;
           {
@@ -55,8 +58,9 @@ void bind_delaunay(py::module_& m) {
           }
           return to_dict(c);
         },
-        py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL).");
-  m.def("missing_facets", [](SimplicesRef simplices, SimplicesRef faces) { return missing_facets(simplices, faces); },
+        py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL) of points (#P by 2) and constraint segments (#E by 2), as a "
+        "dict of its arrays; raises InputError for bad indices, MeshingError when CGAL fails.");
+  testing.def("missing_facets", [](SimplicesRef simplices, SimplicesRef faces) { return missing_facets(simplices, faces); },
         py::arg("simplices"), py::arg("faces"), "Rows of faces that are not faces of any simplex (Theorem 5.2.1).");
 }
 

@@ -4,7 +4,6 @@
 namespace animanifold::bindings {
 
 void bind_hole_space(py::module_& m) {
-  py::register_exception<BooleanError>(m, "BooleanError", PyExc_RuntimeError);
   m.def(
       "hole_space",
       [](PointsRef V, SimplicesRef F) {
@@ -17,7 +16,7 @@ void bind_hole_space(py::module_& m) {
       },
       py::arg("vertices"), py::arg("faces"),
       "(vertices, faces) of CH(C) \\ C for a closed outward mesh (triangles in R^3) or counter-clockwise "
-      "polygons (edges in R^2); empty arrays when C is convex.");
+      "polygons (edges in R^2); empty arrays when C is convex. Raises BooleanError naming what CGAL refused.");
   m.def(
       "intersect_solids",
       [](PointsRef VA, SimplicesRef FA, PointsRef VB, SimplicesRef FB) {
@@ -29,7 +28,7 @@ void bind_hole_space(py::module_& m) {
         return py::make_tuple(std::move(s.vertices), std::move(s.faces));
       },
       py::arg("vertices_a"), py::arg("faces_a"), py::arg("vertices_b"), py::arg("faces_b"),
-      "(vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons).");
+      "(vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons); raises BooleanError.");
   m.def(
       "subtract_solid",
       [](PointsRef V, SimplicesRef F, PointsRef VH, SimplicesRef FH) {
@@ -42,7 +41,7 @@ void bind_hole_space(py::module_& m) {
       },
       py::arg("vertices"), py::arg("faces"), py::arg("hole_vertices"), py::arg("hole_faces"),
       "(vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame "
-      "(the arrays are then a copy of the frame's).");
+      "(the arrays are then a copy of the frame's). Raises BooleanError.");
   m.def(
       "points_inside_solid",
       [](PointsRef V, SimplicesRef F, PointsRef P) {

@@ -42,32 +42,18 @@ LaplacianOptions laplacian_options(const std::string& method, double lambda, dou
   return o;
 }
 
-py::dict status_dict(const RestoreStatus& s) {
-  py::dict out;
-  out["iterations"] = s.iterations;
-  out["motion"] = s.motion;
-  out["converged"] = s.converged;
-  return out;
-}
-
 }  // namespace
 
-void bind_laplacian(py::module_& m) {
+void bind_laplacian(py::module_& m, py::module_& testing) {
   const GraphWeightOptions defaults;
-  m.def("simplex_qp",
+  testing.def("simplex_qp",
         [](const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double lower, int max_iterations) {
           const auto r = solve_simplex_qp(H, g, lower, max_iterations);
           return py::make_tuple(r.weights, r.objective, r.iterations, r.converged);
         },
         py::arg("H"), py::arg("g"), py::arg("lower"), py::arg("max_iterations") = 0,
         "min ½wᵀHw + gᵀw s.t. Σw = 1, w >= lower → (weights, objective, iterations, converged).");
-  m.def("graph_laplacian_weights",
-        [](PointsRef edges, double lambda, double xi, double ridge) {
-          return graph_laplacian_weights(edges, graph_options(lambda, xi, ridge));
-        },
-        py::arg("edges"), py::arg("lam") = defaults.lambda, py::arg("xi") = defaults.xi,
-        py::arg("ridge") = defaults.ridge, "Eq. 4.2 weights of one vertex from its one-ring edges v_j − v_i (k by D).");
-  m.def("primal_weights",
+  testing.def("primal_weights",
         [](PointsRef V, SimplicesRef S, const std::string& method, double lambda, double xi, double ridge) {
           SparseRowMatrix W;
           {
@@ -78,8 +64,8 @@ void bind_laplacian(py::module_& m) {
         },
         py::arg("points"), py::arg("simplices"), py::arg("method"), py::arg("lam") = defaults.lambda,
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
-        "Primal weights W (#V by #V) as CSR (indptr, indices, data, shape).");
-  m.def("boundary_vertices",
+        "Primal weights W (#V by #V) as CSR (indptr, indices, data, shape); raises ValueError for an unknown method.");
+  testing.def("boundary_vertices",
         [](SimplicesRef S, Index vertex_count) {
           const auto flags = boundary_vertices(S, vertex_count);
           py::array_t<bool> out(static_cast<py::ssize_t>(flags.size()));
@@ -87,15 +73,16 @@ void bind_laplacian(py::module_& m) {
           for (size_t i = 0; i < flags.size(); ++i) o(static_cast<py::ssize_t>(i)) = flags[i] != 0;
           return out;
         },
-        py::arg("simplices"), py::arg("vertex_count"));
-  m.def("dual_operator",
+        py::arg("simplices"), py::arg("vertex_count"),
+        "Whether each of the vertex_count vertices lies on a boundary facet of the simplices (#V bool vector).");
+  testing.def("dual_operator",
         [](SimplicesRef S, Index vertex_count) {
           const DualOperator d = dual_operator(S, vertex_count);
           return py::make_tuple(csr(d.D), d.neighbours, d.ghost_facets);
         },
         py::arg("simplices"), py::arg("vertex_count"),
         "(D as CSR, neighbours (#S by n+1), ghost_facets (#G by 2)).");
-  m.def("laplacian_system",
+  testing.def("laplacian_system",
         [](PointsRef V, SimplicesRef S, const std::string& method, double lambda, double xi, double ridge,
            const std::vector<Index>& zero_detail) {
           DifferentialSystem s;
@@ -109,8 +96,21 @@ void bind_laplacian(py::module_& m) {
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
         py::arg("zero_detail_vertices") = std::vector<Index>{}, "(L as CSR, delta): L V = Δ for the input.");
 
-  m.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
+  testing.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
         "T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).");
+  py::class_<RestoreStatus>(m, "RestoreStatus", "How Deformer.restore() ended.")
+      .def_readonly("iterations", &RestoreStatus::iterations, "Iterations run.")
+      .def_readonly("motion", &RestoreStatus::motion,
+                    "Last largest vertex displacement over the input's bounding-box diagonal.")
+      .def_readonly("converged", &RestoreStatus::converged, "Whether motion fell below the tolerance in time.");
+  py::class_<DeformerInfo>(m, "DeformerInfo", "Sizes and conditioning of a Deformer's least-squares system.")
+      .def_readonly("rows", &DeformerInfo::rows, "Rows of the least-squares system.")
+      .def_readonly("unknowns", &DeformerInfo::unknowns, "Free vertices (hard constraints) or all vertices (soft).")
+      .def_readonly("ghosts", &DeformerInfo::ghosts, "Ghost dual vertices (dual scheme).")
+      .def_readonly("ghost_anchor_rows", &DeformerInfo::ghost_anchor_rows, "Rows added by the ghost-anchors rule.")
+      .def_readonly("grown", &DeformerInfo::grown, "Constraints added by the grow rule.")
+      .def_readonly("rcond", &DeformerInfo::rcond, "CHOLMOD's reciprocal condition estimate of the factor.")
+      .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
                        const std::string& method, const std::string& boundary, double lambda, double xi, double ridge,
@@ -127,19 +127,23 @@ void bind_laplacian(py::module_& m) {
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
            py::arg("method") = "dual", py::arg("boundary") = "grow", py::arg("lam") = defaults.lambda,
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
-           py::arg("zero_detail_vertices") = std::vector<Index>{})
+           py::arg("zero_detail_vertices") = std::vector<Index>{},
+           "Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles "
+           "fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.")
       .def("deform",
            [](Deformer& d, const Eigen::MatrixXd& T, int steps) {
              py::gil_scoped_release release;
              return d.deform(T, steps);
            },
-           py::arg("transform"), py::arg("steps") = 1)
+           py::arg("transform"), py::arg("steps") = 1,
+           "Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions.")
       .def("deform_to",
            [](Deformer& d, const PointMatrix& P, int steps) {
              py::gil_scoped_release release;
              return d.deform_to(P, steps);
            },
-           py::arg("positions"), py::arg("steps") = 1)
+           py::arg("positions"), py::arg("steps") = 1,
+           "Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions.")
       .def("restore",
            [](Deformer& d, int max_iterations, double tolerance) {
              RestoreStatus s;
@@ -147,26 +151,19 @@ void bind_laplacian(py::module_& m) {
                py::gil_scoped_release release;
                s = d.restore(max_iterations, tolerance);
              }
-             return status_dict(s);
+             return s;
            },
-           py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6)
-      .def_property_readonly("points", [](const Deformer& d) { return d.points(); })
-      .def_property_readonly("anchors", [](const Deformer& d) { return d.anchors(); })
-      .def_property_readonly("handles", [](const Deformer& d) { return d.handles(); })
-      .def_property_readonly("laplacian", [](const Deformer& d) { return csr(d.system().L); })
-      .def_property_readonly("delta", [](const Deformer& d) { return d.system().delta; })
-      .def_property_readonly("info", [](const Deformer& d) {
-        const DeformerInfo& i = d.info();
-        py::dict out;
-        out["rows"] = i.rows;
-        out["unknowns"] = i.unknowns;
-        out["ghosts"] = i.ghosts;
-        out["ghost_anchor_rows"] = i.ghost_anchor_rows;
-        out["grown"] = i.grown;
-        out["rcond"] = i.rcond;
-        out["factor_nonzeros"] = i.factor_nonzeros;
-        return out;
-      });
+           py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6,
+           "Iterates the rotation-restoring solve; returns a RestoreStatus.")
+      .def_property_readonly("points", [](const Deformer& d) { return d.points(); }, "Current points (#V by D).")
+      .def_property_readonly("anchors", [](const Deformer& d) { return d.anchors(); }, "Fixed vertex indices.")
+      .def_property_readonly("handles", [](const Deformer& d) { return d.handles(); }, "Moved vertex indices.")
+      .def_property_readonly("laplacian", [](const Deformer& d) { return csr(d.system().L); },
+                             "L as CSR (indptr, indices, data, shape).")
+      .def_property_readonly("delta", [](const Deformer& d) { return d.system().delta; },
+                             "The differential coordinates Δ = L V of the rest shape.")
+      .def_property_readonly("info", [](const Deformer& d) { return d.info(); },
+                             "The solve's sizes and conditioning (a DeformerInfo).");
 }
 
 }  // namespace animanifold::bindings

@@ -55,7 +55,7 @@ void bind_options_and_report(py::module_& m) {
   bind_named_enum(m, "FillTriangulation", "fill triangulation", kFillTriangulationNames, "The seed methods' Delaunay fill.");
   bind_named_enum(m, "Perturbation", "perturbation", kPerturbationNames, "How the seed methods put the inputs in general position.");
   py::class_<MorphOptions>(m, "MorphOptions", "The morph's options (cpp/include/animanifold/morph.hpp documents each).")
-      .def(py::init<>())
+      .def(py::init<>(), "The default options.")
       .def_readwrite("t0", &MorphOptions::t0)
       .def_readwrite("t1", &MorphOptions::t1)
       .def_readwrite("method", &MorphOptions::method)
@@ -73,12 +73,12 @@ void bind_options_and_report(py::module_& m) {
         const py::dict entries = report_dict(r);
         if (!entries.contains(key)) throw py::key_error(key);
         return entries[py::str(key)];  // a new reference, before `entries` goes
-      });
+      }, py::arg("key"), "One entry of the report by name; raises KeyError for an unknown name.");
 }
 
 }  // namespace
 
-void bind_morph(py::module_& m) {
+void bind_morph(py::module_& m, py::module_& testing) {
   bind_options_and_report(m);
   m.def(
       "morph",
@@ -107,8 +107,8 @@ void bind_morph(py::module_& m) {
       "Morph between two closed shapes: (manifold Complex, MorphReport). `options` (a MorphOptions; fields may "
       "also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between "
       "stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the "
-      "other, cancels (raises Cancelled).");
-  m.def(
+      "other, cancels (raises Cancelled). Raises InputError naming a bad input, MeshingError when a mesher fails.");
+  testing.def(
       "check_morph_frames",
       [](const Complex& manifold, double t0, double t1, PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT,
          double budget_seconds) {
@@ -126,8 +126,7 @@ void bind_morph(py::module_& m) {
       "crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.");
   m.def("check_morph_input", &check_morph_input, py::arg("vertices"), py::arg("faces"), py::arg("name"),
         py::call_guard<py::gil_scoped_release>(),
-        "Raises ValueError naming the shape (`name`) and the face or vertex when morph() would refuse it.");
-  py::register_exception<Cancelled>(m, "Cancelled");
+        "Raises InputError (a ValueError) naming the shape (`name`) and the face or vertex when morph() would refuse it.");
   m.def(
       "self_intersections",
       [](PointsRef V, SimplicesRef F, std::size_t max_pairs, double tolerance) {
@@ -165,7 +164,7 @@ void bind_morph(py::module_& m) {
       py::arg("points"), py::arg("vertices"), py::arg("faces"),
       "(distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): "
       "its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.");
-  m.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
+  testing.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
         py::call_guard<py::gil_scoped_release>(),
         "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");
 }

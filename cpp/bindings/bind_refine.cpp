@@ -3,10 +3,31 @@
 
 namespace animanifold::bindings {
 
-void bind_refine(py::module_& m) {
+void bind_refine(py::module_& m, py::module_& testing) {
   py::enum_<RefineOrder>(m, "RefineOrder", "Order in which split tuples are applied (§6.3).")
       .value("given", RefineOrder::Given)
       .value("degeneracy", RefineOrder::Degeneracy);
+
+  // Properties return copies: callers own (and may write to) what refine() gives them.
+  py::class_<Refinement>(m, "Refinement", "A refined complex and the maps of animanifold/refine.hpp.")
+      .def_property_readonly("points", [](const Refinement& r) { return r.complex.V; }, "#V' by D, input vertices first.")
+      .def_property_readonly("simplices", [](const Refinement& r) { return r.complex.S; }, "#S' by k+1.")
+      .def_property_readonly("vertex_attributes", [](const Refinement& r) { return r.complex.vertex_attributes; },
+                             "Per-vertex tables (#V' rows), interpolated at new vertices.")
+      .def_property_readonly("simplex_attributes", [](const Refinement& r) { return r.complex.simplex_attributes; },
+                             "Per-simplex tables (#S' rows), inherited from the parent simplex.")
+      .def_property_readonly("new_vertex_of_split", [](const Refinement& r) { return r.new_vertex_of_split; },
+                             "Vertex made by each split tuple (T), -1 when it snapped or was skipped.")
+      .def_property_readonly("snapped_vertex_of_split", [](const Refinement& r) { return r.snapped_vertex_of_split; },
+                             "Existing vertex each split tuple snapped to (T), -1 otherwise.")
+      .def_property_readonly("split_of_vertex", [](const Refinement& r) { return r.split_of_vertex; },
+                             "Split tuple that made each vertex (#V'), -1 for input vertices.")
+      .def_property_readonly("parent_simplex", [](const Refinement& r) { return r.parent_simplex; },
+                             "Input simplex each output simplex lies in (#S').")
+      .def_property_readonly("applied_simplex", [](const Refinement& r) { return r.applied_simplex; },
+                             "The simplex each applied split was made in (vertex ids, -1 padded).")
+      .def_property_readonly("applied_barycentric", [](const Refinement& r) { return r.applied_barycentric; },
+                             "Barycentric coordinates of each applied split in its simplex.");
 
   m.def("refine",
         [](PointsRef V, SimplicesRef S, VertexAttributes vertex_attributes, SimplexAttributes simplex_attributes,
@@ -19,25 +40,15 @@ void bind_refine(py::module_& m) {
             py::gil_scoped_release release;
             r = refine(input, ids, coords, RefineOptions{epsilon, order});
           }
-          py::dict out;
-          out["points"] = py::cast(std::move(r.complex.V));
-          out["simplices"] = py::cast(std::move(r.complex.S));
-          out["vertex_attributes"] = py::cast(std::move(r.complex.vertex_attributes));
-          out["simplex_attributes"] = py::cast(std::move(r.complex.simplex_attributes));
-          out["new_vertex_of_split"] = py::cast(std::move(r.new_vertex_of_split));
-          out["snapped_vertex_of_split"] = py::cast(std::move(r.snapped_vertex_of_split));
-          out["split_of_vertex"] = py::cast(std::move(r.split_of_vertex));
-          out["parent_simplex"] = py::cast(std::move(r.parent_simplex));
-          out["applied_simplex"] = py::cast(std::move(r.applied_simplex));
-          out["applied_barycentric"] = py::cast(std::move(r.applied_barycentric));
-          return out;
+          return r;
         },
         py::arg("points"), py::arg("simplices"), py::arg("vertex_attributes"), py::arg("simplex_attributes"),
         py::arg("split_vertices"), py::arg("split_barycentric"), py::arg("epsilon") = 1e-3,
         py::arg("order") = RefineOrder::Degeneracy,
         "Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) "
-        "are the split tuples; returns a dict of the refined arrays and the maps of animanifold/refine.hpp.");
-  m.def("edge_length_degeneracy", [](PointsRef V, SimplicesRef S) { return edge_length_degeneracy(V, S); },
+        "are the split tuples; returns a Refinement. "
+        "Raises InputError naming a bad split tuple.");
+  testing.def("edge_length_degeneracy", [](PointsRef V, SimplicesRef S) { return edge_length_degeneracy(V, S); },
         py::arg("points"), py::arg("simplices"),
         "Variance of each simplex's edge lengths over their squared mean (§6.3). #S vector.");
 }

@@ -61,7 +61,9 @@ void bind_skeleton(py::module_& m) {
         py::arg("vertices"), py::arg("faces"), py::arg("internal") = true, py::arg("external") = true,
         py::arg("max_iterations") = 4, py::arg("wrap") = "box", py::arg("wrap_density") = 4,
         py::arg("wrap_margin") = 1.0, py::arg("dihedral_limit") = M_PI / 4, py::arg("attach") = false, py::arg("neighbourhood") = 2,
-        py::arg("in_plane_angle") = 0.3);
+        py::arg("in_plane_angle") = 0.3,
+        "Internal and/or external Voronoi skeleton of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
+        "made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.");
 
   m.def("make_voronoi_separable",
         [](PointsRef V, SimplicesRef F, int max_iterations, int neighbourhood, double in_plane_angle) {
@@ -82,7 +84,9 @@ void bind_skeleton(py::module_& m) {
           return d;
         },
         py::arg("vertices"), py::arg("faces"), py::arg("max_iterations") = 4, py::arg("neighbourhood") = 2,
-        py::arg("in_plane_angle") = 0.3);
+        py::arg("in_plane_angle") = 0.3,
+        "Splits encroached faces until the mesh is Voronoi-separable (§7.2): dict of vertices, faces, separable, "
+        "iterations, splits, remaining.");
 
   m.def("encroachments",
         [](PointsRef V, SimplicesRef F, int neighbourhood, double in_plane_angle) {
@@ -116,7 +120,8 @@ void bind_skeleton(py::module_& m) {
           }
           return dihedral_dict(r);
         },
-        py::arg("vertices"), py::arg("faces"), py::arg("limit") = M_PI / 4);
+        py::arg("vertices"), py::arg("faces"), py::arg("limit") = M_PI / 4,
+        "Dihedral angles of the mesh's edges against `limit` (radians): dict of limit, sharpest, passes, sharp, angles.");
 
   m.def("wrap",
         [](PointsRef V, SimplicesRef F, const std::string& shape, int density, double margin) {
@@ -130,7 +135,9 @@ void bind_skeleton(py::module_& m) {
           return py::make_tuple(r.vertices, r.faces, r.input_vertices, r.input_faces);
         },
         py::arg("vertices"), py::arg("faces"), py::arg("shape") = "box", py::arg("density") = 4,
-        py::arg("margin") = 1.0);
+        py::arg("margin") = 1.0,
+        "(vertices, faces, input_vertices, input_faces): the mesh inside a wrapping shape ('box' or 'sphere') for "
+        "the external skeleton; raises InputError for an unknown shape.");
 
   m.def("faces_intersecting_mesh",
         [](PointsRef QV, SimplicesRef QF, PointsRef V, SimplicesRef F) {
@@ -147,9 +154,6 @@ void bind_skeleton(py::module_& m) {
         },
         py::arg("faces_vertices"), py::arg("faces"), py::arg("vertices"), py::arg("mesh_faces"),
         "Per face (triangles in R^3, segments in R^2): does it intersect the mesh? CGAL exact predicates.");
-
-  m.def("check_closed_oriented", [](PointsRef V, SimplicesRef F) { check_closed_oriented(V, F); },
-        py::arg("vertices"), py::arg("faces"));
 }
 
 }  // namespace animanifold::bindings

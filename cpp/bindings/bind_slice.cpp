@@ -3,7 +3,7 @@
 
 namespace animanifold::bindings {
 
-void bind_slice(py::module_& m) {
+void bind_slice(py::module_& m, py::module_& testing) {
   py::class_<Slice, std::shared_ptr<Slice>>(m, "Slice", "One iso-slice (frame) of a manifold.")
       .def_readonly("vertices", &Slice::vertices)
       .def_readonly("faces", &Slice::faces)
@@ -29,13 +29,16 @@ void bind_slice(py::module_& m) {
       .def_readonly("parameter_rate", &IntervalFrame::parameter_rate, "(P,): d edge_parameter / d value.");
 
   py::class_<Slicer>(m, "Slicer", "A manifold with its cached interval indices (one per slicing axis).")
-      .def(py::init<std::shared_ptr<const Complex>>(), py::arg("manifold"), py::keep_alive<1, 2>())
+      .def(py::init<std::shared_ptr<const Complex>>(), py::arg("manifold"), py::keep_alive<1, 2>(),
+           "Slices `manifold` (a Complex), building each axis's interval index on first use.")
       .def("slice",
            [](Slicer& s, int axis, double value, bool use_index) {
              py::gil_scoped_release release;
              return std::make_shared<Slice>(s.slice(axis, value, use_index));
            },
-           py::arg("axis"), py::arg("value"), py::arg("use_index") = true)
+           py::arg("axis"), py::arg("value"), py::arg("use_index") = true,
+           "The Slice of the manifold at coordinate `value` along `axis` (3 is time); `use_index` False tests "
+           "every simplex instead. Raises InputError for an axis out of range.")
       .def("interval_frame",
            [](Slicer& s, int axis, double value) {
              py::gil_scoped_release release;
@@ -52,9 +55,10 @@ void bind_slice(py::module_& m) {
            py::arg("axis"), py::arg("value"),
            "The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has "
            "the same faces), or None where the faces change (a vertex coordinate, outside the manifold).")
-      .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"));
+      .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"),
+           "Bytes held by the interval index of `axis` (built if needed).");
 
-  m.def("slice",
+  testing.def("slice",
         [](const Complex& c, int axis, double value) {
           py::gil_scoped_release release;
           return std::make_shared<Slice>(slice(c, axis, value));

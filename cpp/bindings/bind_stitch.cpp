@@ -14,7 +14,8 @@ void bind_stitch(py::module_& m) {
         },
         py::arg("frames"), py::arg("faces"), py::arg("times"), py::arg("vertex_attributes") = VertexAttributes{},
         py::arg("face_attributes") = SimplexAttributes{}, py::arg("vertex_order") = IndexVector{},
-        "Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex).");
+        "Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises "
+        "InputError naming the keyframe, vertex or face that is wrong.");
 }
 
 }  // namespace animanifold::bindings

@@ -17,9 +17,27 @@ py::dict to_dict(FrameSubdivision&& r) {
   return out;
 }
 
+// subdivide_manifold()'s result with the manifold shared, so that Python
+// wraps it without copying it.
+struct SubdividedManifold {
+  std::shared_ptr<Complex> manifold;
+  SimplexMatrix vertex_parents;
+  IndexVector simplex_parent;
+  Eigen::VectorXd keyframe_times;
+};
+
 }  // namespace
 
 void bind_subdivide(py::module_& m) {
+  // Array properties return copies: callers own what they are given.
+  py::class_<SubdividedManifold>(m, "SubdividedManifold", "A subdivided manifold and its maps to the input.")
+      .def_readonly("manifold", &SubdividedManifold::manifold, "The subdivided Complex.")
+      .def_property_readonly("vertex_parents", [](const SubdividedManifold& s) { return s.vertex_parents; },
+                             "#V' by 2: the input vertices each new vertex lies between (equal for kept ones).")
+      .def_property_readonly("simplex_parent", [](const SubdividedManifold& s) { return s.simplex_parent; },
+                             "#S': the input simplex each output simplex lies in.")
+      .def_property_readonly("keyframe_times", [](const SubdividedManifold& s) { return s.keyframe_times; },
+                             "Times kept exact by the subdivision.");
   m.def("subdivide_manifold",
         [](const Complex& c, int levels, const std::string& scheme, bool keep_keyframe_times,
            std::vector<double> keyframe_times) {
@@ -33,17 +51,14 @@ void bind_subdivide(py::module_& m) {
             py::gil_scoped_release release;
             result = subdivide_manifold(c, options);
           }
-          py::dict out;
-          out["manifold"] = std::make_shared<Complex>(std::move(result.manifold));
-          out["vertex_parents"] = std::move(result.vertex_parents);
-          out["simplex_parent"] = std::move(result.simplex_parent);
-          out["keyframe_times"] = std::move(result.keyframe_times);
-          return out;
+          return SubdividedManifold{std::make_shared<Complex>(std::move(result.manifold)),
+                                    std::move(result.vertex_parents), std::move(result.simplex_parent),
+                                    std::move(result.keyframe_times)};
         },
         py::arg("manifold"), py::arg("levels") = 1, py::arg("scheme") = "schaefer",
         py::arg("keep_keyframe_times") = false, py::arg("keyframe_times") = std::vector<double>{},
-        "Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: dict with 'manifold' (Complex), "
-        "'vertex_parents' (#V' by 2), 'simplex_parent' (#S'), 'keyframe_times'.");
+        "Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises "
+        "InputError for an unknown scheme or bad levels.");
 
   m.def("subdivide_frame",
         [](PointsRef V, SimplicesRef F, int levels, const std::string& scheme, double crease_angle,
@@ -65,7 +80,8 @@ void bind_subdivide(py::module_& m) {
         py::arg("vertices"), py::arg("faces"), py::arg("levels") = 1, py::arg("scheme") = "loop",
         py::arg("crease_angle") = 30.0, py::arg("crease_edges") = py::none(), py::arg("limit") = true,
         py::arg("vertex_attributes") = VertexAttributes{}, py::arg("face_attributes") = SimplexAttributes{},
-        "OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays.");
+        "OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays (vertices, faces, "
+        "normals, vertex_attributes, face_attributes, face_parent, crease_count); raises InputError for a bad mesh or scheme.");
 
   m.def("subdivide_polyline",
         [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,

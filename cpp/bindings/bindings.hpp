@@ -28,16 +28,19 @@ inline void raise_pending_python_signals() {
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
-void bind_complex(py::module_& m);
+void bind_errors(py::module_& m);
+void bind_errors_testing(py::module_& testing);
+// `testing` is _core._testing: entry points only the tests and benchmarks use.
+void bind_complex(py::module_& m, py::module_& testing);
 void bind_stitch(py::module_& m);
-void bind_slice(py::module_& m);
+void bind_slice(py::module_& m, py::module_& testing);
 void bind_io(py::module_& m);
-void bind_delaunay(py::module_& m);
-void bind_morph(py::module_& m);
-void bind_refine(py::module_& m);
+void bind_delaunay(py::module_& m, py::module_& testing);
+void bind_morph(py::module_& m, py::module_& testing);
+void bind_refine(py::module_& m, py::module_& testing);
 void bind_subdivide(py::module_& m);
 void bind_skeleton(py::module_& m);
-void bind_laplacian(py::module_& m);
+void bind_laplacian(py::module_& m, py::module_& testing);
 void bind_hole_space(py::module_& m);
 
 }  // namespace animanifold::bindings

@@ -1,30 +1,23 @@
 #include "bindings.hpp"
 
-#include "animanifold/errors.hpp"
-
 namespace animanifold::bindings {
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "animanifold's native core: animation manifolds as simplicial complexes";
-  // std::invalid_argument (InputError) already becomes ValueError; file
-  // problems become OSError, as Python users expect of files.
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const IOError& e) {
-      PyErr_SetString(PyExc_OSError, e.what());
-    }
-  });
-  bind_complex(m);
+  // Test-only entry points, kept out of the package's API.
+  py::module_ testing = m.def_submodule("_testing", "Entry points used only by the tests and benchmarks.");
+  bind_errors(m);
+  bind_errors_testing(testing);
+  bind_complex(m, testing);
   bind_stitch(m);
-  bind_slice(m);
+  bind_slice(m, testing);
   bind_io(m);
-  bind_delaunay(m);
-  bind_morph(m);
-  bind_refine(m);
+  bind_delaunay(m, testing);
+  bind_morph(m, testing);
+  bind_refine(m, testing);
   bind_subdivide(m);
   bind_skeleton(m);
-  bind_laplacian(m);
+  bind_laplacian(m, testing);
   bind_hole_space(m);
 }
 

@@ -45,8 +45,13 @@ ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const Simpl
       fail<InputError>("point ", v, " coincides with point ", handles[v]->info());
     handles[v]->info() = v;
   }
-  for (Index e = 0; e < edges.rows(); ++e) cdt.insert_constraint(handles[edges(e, 0)], handles[edges(e, 1)]);
-  CGAL::make_conforming_Delaunay_2(cdt);
+  translating_library_failures("CGAL", "conforming " + std::to_string(edges.rows()) + " constraint segments on " +
+                                          std::to_string(n) + " points",
+                               [&] {
+                                 for (Index e = 0; e < edges.rows(); ++e)
+                                   cdt.insert_constraint(handles[edges(e, 0)], handles[edges(e, 1)]);
+                                 CGAL::make_conforming_Delaunay_2(cdt);
+                               });
 
   // Number the Steiner points after the input points.
   std::set<Cdt::Vertex_handle> inputs(handles.begin(), handles.end());
@@ -70,7 +75,7 @@ ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const Simpl
     const Cdt::Vertex_handle target = handles[edges(e, 1)];
     const Eigen::Vector2d end(points(edges(e, 1), 0), points(edges(e, 1), 1));
     for (Index guard = 0; current != target; ++guard) {
-      if (guard > next) fail<std::runtime_error>("could not follow constraint segment ", e, " after refinement");
+      if (guard > next) fail<MeshingError>("could not follow constraint segment ", e, " after refinement");
       const Eigen::Vector2d here(current->point().x(), current->point().y());
       Cdt::Vertex_handle best;
       double best_alignment = -2;
@@ -83,7 +88,7 @@ ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const Simpl
         const double alignment = (there - here).normalized().dot((end - here).normalized());
         if (alignment > best_alignment) best_alignment = alignment, best = other;
       } while (++edge != done);
-      if (best_alignment < 1 - 1e-9) fail<std::runtime_error>("constraint segment ", e, " was lost in refinement");
+      if (best_alignment < 1 - 1e-9) fail<MeshingError>("constraint segment ", e, " was lost in refinement");
       corners.push_back(current->info());
       corners.push_back(best->info());
       parents.push_back(e);

@@ -91,7 +91,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
         try {
           tetrahedralize(switches, &in, &out);
         } catch (int code) {
-          fail<std::runtime_error>("error ", code,
+          fail<MeshingError>("error ", code,
                                    code == 3 ? ": the constraints intersect each other" : code == 1 ? ": out of memory" : "");
         }
         std::vector<char> packed;
@@ -110,12 +110,12 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
         return packed;
       }, timeout_seconds, while_meshing);
     } catch (const IsolatedFailure& e) {
-      fail<std::runtime_error>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
+      fail<MeshingError>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
     }
   }();
   size_t at = 0;
   auto take = [&bytes, &at](void* data, size_t size) {
-    if (at + size > bytes.size()) fail<std::runtime_error>("TetGen's result came back truncated");
+    if (at + size > bytes.size()) fail<MeshingError>("TetGen's result came back truncated");
     std::copy(bytes.data() + at, bytes.data() + at + size, static_cast<char*>(data));
     at += size;
   };
@@ -132,7 +132,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // TetGen keeps input points first, in order; check rather than assume.
   for (Index v = 0; v < n; ++v)
     if ((result.points.row(v) - points.row(v)).squaredNorm() != 0)
-      fail<std::runtime_error>("TetGen moved input point ", v, " (duplicate points in the input?)");
+      fail<MeshingError>("TetGen moved input point ", v, " (duplicate points in the input?)");
   std::vector<int> rows;
   for (int f = 0; f < marker_count; ++f)
     if (markers[f] > 0) rows.push_back(f);

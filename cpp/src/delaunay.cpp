@@ -90,7 +90,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle) {
   qh_freeqhull(qh, !qh_ALL);
   int still_allocated = 0, total_allocated = 0;
   qh_memfreeshort(qh, &still_allocated, &total_allocated);
-  if (exit_code != 0) throw std::runtime_error("Qhull could not triangulate the points: " + errors.text());
+  if (exit_code != 0) fail<MeshingError>("Qhull failed while triangulating ", n, " points in R^", d, ": ", errors.text());
 
   DelaunayTriangulation out;
   const Index count = static_cast<Index>(corners.size() / (d + 1));

@@ -397,7 +397,7 @@ void stack_planes(SeedMorph& m) {
 // and t1 stay exactly flat (Qhull's own joggle would tilt them, and the part
 // of the fill in each plane would then no longer be one triangulation).
 // A mesher that returns a constrained, not conforming, fill may conform on
-// points perturbed further. Throws std::runtime_error listing every
+// points perturbed further. Throws MeshingError listing every
 // attempt's failure when none conforms.
 void conform_and_fill(SeedMorph& m) {
   using Clock = std::chrono::steady_clock;
@@ -421,7 +421,7 @@ void conform_and_fill(SeedMorph& m) {
       std::string error = e.what();
       if (error.find(meshing) == std::string::npos) error = std::string("the ") + meshing + ": " + error;
       mesher_errors.emplace_back(scale, std::move(error));
-      if (scale == kPerturbations.back()) fail<std::runtime_error>(failed_perturbations(mesher_errors));
+      if (scale == kPerturbations.back()) fail<MeshingError>(failed_perturbations(mesher_errors));
       continue;
     }
     mesher_errors.clear();
@@ -653,7 +653,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   report.stage_seconds.back().second -= m.conform_seconds;
   if (!m.convex_fill) report.stage_seconds.insert(report.stage_seconds.end() - 1, {"conforming", m.conform_seconds});
   if (report.missing_source_faces || report.missing_target_faces || report.flat_fill_simplices)
-    fail<std::runtime_error>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
+    fail<MeshingError>("the fill does not conform to the inputs (Theorem 5.2.1): ", report.missing_source_faces,
                              " source and ", report.missing_target_faces, " target faces are missing and ",
                              report.flat_fill_simplices, " simplices are flat");
 

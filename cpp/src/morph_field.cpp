@@ -355,7 +355,7 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
   report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
   if (report.missing_source_faces || report.missing_target_faces)
-    fail<std::runtime_error>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
+    fail<MeshingError>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
                              report.missing_source_faces, " source and ", report.missing_target_faces,
                              " target faces are missing");
 

@@ -5,7 +5,7 @@
 // Inputs: closed, outward-oriented triangle meshes S and T in R^3 (checked
 // by morph()), the morph's options and its stage clock. Output: the
 // manifold (tets in R^4) and the report's field entries. Throws
-// std::runtime_error naming the input when the mesher or the fill fails.
+// MeshingError naming the input when the mesher or the fill fails.
 //
 // The triangulation, layer by layer in time:
 //  - At each end, a conforming Delaunay tetrahedralization of the input and

@@ -63,7 +63,7 @@ struct EndMesh {
 
 // The conforming Delaunay tetrahedralization of one input with its free
 // points and the box corners (TetGen -D, in a child process). Throws
-// std::runtime_error naming the input (`name`) when it fails.
+// MeshingError naming the input (`name`) when it fails.
 EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& free, const PointMatrix& corners,
                     const char* name, const std::function<void()>& while_meshing);
 

@@ -151,10 +151,10 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
   } catch (const Cancelled&) {
     throw;
   } catch (const std::exception& e) {
-    fail<std::runtime_error>("the ", name, " cannot be meshed: ", e.what());
+    fail<MeshingError>("the ", name, " cannot be meshed: ", e.what());
   }
   if (!c.is_delaunay)
-    fail<std::runtime_error>("the ", name, "'s conforming tetrahedralization leaves ", c.non_delaunay_faces,
+    fail<MeshingError>("the ", name, "'s conforming tetrahedralization leaves ", c.non_delaunay_faces,
                              " of its faces non-Delaunay (TetGen could not conform)");
   EndMesh end;
   end.on_surface.assign(c.points.rows(), false);

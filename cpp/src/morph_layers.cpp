@@ -441,7 +441,7 @@ PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const Pla
   at_mid.positions = &positions;
   const IndexVector split_mid = split_faces(P, upper_part, mid_faces, at_mid);
   for (Index f = 0; f < split_mid.size(); ++f)
-    if (split_mid(f) != mid_copy[points + f]) fail<std::runtime_error>("the layer's splits lost their order");
+    if (split_mid(f) != mid_copy[points + f]) fail<MeshingError>("the layer's splits lost their order");
 
   // The lower part: prisms over the split cells between the end copies and the mid copies.
   rows.clear();

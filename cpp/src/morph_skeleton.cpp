@@ -277,7 +277,7 @@ ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_e
   ConformingInput result;
   result.fill = conform(points, F, while_meshing);
   if (!result.fill.is_delaunay)
-    fail<std::runtime_error>("the mesher returned a constrained, not conforming, Delaunay fill of the ", name, ": ",
+    fail<MeshingError>("the mesher returned a constrained, not conforming, Delaunay fill of the ", name, ": ",
                              result.fill.non_delaunay_faces, " of its ", result.fill.constraints.rows(),
                              " refined faces are not Delaunay faces",
                              d == 3 ? " after " + std::to_string(result.fill.mending_rounds) + " rounds of mending" : "");

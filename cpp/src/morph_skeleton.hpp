@@ -87,7 +87,7 @@ struct ConformingInput {
 // Conforming Delaunay of the closed outward shape (V, F) with the points K
 // (#K by d, outside the shape) inserted. V is the shape perturbed into
 // general position, V_exact the shape itself (see morph.cpp). Throws
-// std::runtime_error naming the shape (`name`: "source", "target") and how
+// MeshingError naming the shape (`name`: "source", "target") and how
 // many faces failed when the mesher's result does not conform.
 // `while_meshing`: see conforming_delaunay_3d (3D only: CGAL's 2D mesher runs
 // in this process and is quick).

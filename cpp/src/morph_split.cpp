@@ -121,7 +121,7 @@ IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std:
         holds = std::find(row.data(), row.data() + D + 1, face[i]) != row.data() + D + 1;
       if (holds) star.push_back(s);
     }
-    if (star.empty()) fail<std::runtime_error>("face ", f, " to split is not a face of the fill");
+    if (star.empty()) fail<MeshingError>("face ", f, " to split is not a face of the fill");
     // Replacing a corner of a positive simplex by a point of a face that
     // holds the corner keeps it positive: the volume scales by the point's
     // barycentric weight at that corner — for a point exactly on the face.

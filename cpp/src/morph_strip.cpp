@@ -67,7 +67,7 @@ std::vector<bool> outside_cells(const PointMatrix& P, const SimplexMatrix& cells
   for (Index f = 0; f < constraint.rows(); ++f) {
     const auto it = cells_of_facet.find(make_key(constraint.row(f).data(), n));
     if (it == cells_of_facet.end())
-      fail<std::runtime_error>("constraint face ", f, " is not a face of the fill (Theorem 5.2.1 does not hold)");
+      fail<MeshingError>("constraint face ", f, " is not a face of the fill (Theorem 5.2.1 does not hold)");
     for (const Index c : it->second) {
       if (c < 0 || outside[c]) continue;
       Index apex = -1;

@@ -52,7 +52,7 @@ class QhullRun {
     std::fflush(errors_);
     std::string text = error_text_ ? std::string(error_text_, error_size_) : std::string();
     if (text.size() > 600) text.resize(600);
-    throw std::runtime_error(std::string("Qhull failed to compute the ") + what + " (exit code " +
+    throw MeshingError(std::string("Qhull failed to compute the ") + what + " (exit code " +
                              std::to_string(exitcode_) + "): " + text);
   }
 
@@ -90,7 +90,7 @@ Delaunay qhull_delaunay(const PointMatrix& P) {
       simplices.push_back(static_cast<Index>(qh_pointid(qh, vertex->point)));
       ++count;
     }
-    if (count != d + 1) throw std::runtime_error("Qhull returned a non-simplicial Delaunay facet despite 'Qt'");
+    if (count != d + 1) throw MeshingError("Qhull returned a non-simplicial Delaunay facet despite 'Qt'");
     auto [it, inserted] = center_id.emplace(facet->center, static_cast<Index>(centers.size() / d));
     if (inserted)
       for (int c = 0; c < d; ++c) centers.push_back(facet->center[c]);
@@ -106,7 +106,7 @@ Delaunay qhull_delaunay(const PointMatrix& P) {
   for (Index t = 0; t < T; ++t)
     for (int c = 0; c <= d; ++c)
       if (out.simplices(t, c) < 0 || out.simplices(t, c) >= P.rows())
-        throw std::runtime_error("Qhull returned a Delaunay simplex with an unknown point");
+        throw MeshingError("Qhull returned a Delaunay simplex with an unknown point");
   return out;
 }
 
@@ -127,7 +127,7 @@ Hull qhull_convex_hull(const PointMatrix& P) {
       if (count < d) facets.push_back(static_cast<Index>(qh_pointid(qh, vertex->point)));
       ++count;
     }
-    if (count != d) throw std::runtime_error("Qhull returned a non-simplicial hull facet despite 'Qt'");
+    if (count != d) throw MeshingError("Qhull returned a non-simplicial hull facet despite 'Qt'");
   }
   Hull hull;
   hull.normals.resize(static_cast<Index>(offsets.size()), d);

@@ -49,11 +49,11 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   A.packed = 1;
   d.n = lower.rows();
   d.factor = cholmod_analyze(&A, &d.common);
-  if (!d.factor) fail<std::runtime_error>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
+  if (!d.factor) fail<MeshingError>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
   cholmod_factorize(&A, d.factor, &d.common);
   if (d.common.status == CHOLMOD_NOT_POSDEF || d.factor->minor < d.factor->n) return false;
   if (d.common.status < CHOLMOD_OK)
-    fail<std::runtime_error>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
+    fail<MeshingError>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
   return true;
 }
 
@@ -68,7 +68,7 @@ std::int64_t SparseCholesky::factor_nonzeros() const {
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   const Impl& d = *impl_;
-  if (!d.factor) fail<std::runtime_error>("SparseCholesky: solve before factor");
+  if (!d.factor) fail<MeshingError>("SparseCholesky: solve before factor");
   if (B.rows() != d.n) fail<InputError>("SparseCholesky: right-hand side has ", B.rows(), " rows for ", d.n);
   cholmod_dense b;
   std::memset(&b, 0, sizeof b);
@@ -80,7 +80,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
   cholmod_dense* x = cholmod_solve(CHOLMOD_A, d.factor, &b, &d.common);
-  if (!x) fail<std::runtime_error>("CHOLMOD solve failed (status ", d.common.status, ")");
+  if (!x) fail<MeshingError>("CHOLMOD solve failed (status ", d.common.status, ")");
   Eigen::MatrixXd X = Eigen::Map<const Eigen::MatrixXd>(static_cast<double*>(x->x), B.rows(), B.cols());
   cholmod_free_dense(&x, &d.common);
   return X;

@@ -8,7 +8,7 @@
 // vertices, 2..K of them) and replaces every simplex containing the face by
 // one child per face vertex, that vertex replaced by q in place: children
 // keep their parent's orientation and the complex stays conforming after
-// every split (§6.1). Throws std::runtime_error when no simplex contains the
+// every split (§6.1). Throws MeshingError when no simplex contains the
 // face.
 #pragma once
 
@@ -49,7 +49,7 @@ class StellarComplex {
 
   void split(const Index* face, int count, Index q) {
     const std::vector<Index> parents = around(face, count);
-    if (parents.empty()) fail<std::runtime_error>("a face to split lies in no simplex of the complex");
+    if (parents.empty()) fail<MeshingError>("a face to split lies in no simplex of the complex");
     if (star_.size() <= static_cast<size_t>(q)) star_.resize(static_cast<size_t>(q) + 1);
     for (const Index s : parents) {
       alive_[s] = false;

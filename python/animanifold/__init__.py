@@ -21,6 +21,7 @@ topology. ::
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
+from ._core import Error
 from .cache import CacheError, load, save
 from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
@@ -46,6 +47,7 @@ __all__ = [
     "AnimationManifold",
     "BooleanError",
     "CacheError",
+    "Error",
     "SeparabilityWarning",
     "DeformOptions",
     "Deformer",

@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._core import Error
 from .manifold import AnimationManifold
 
 MAGIC = b"AMFCACHE"
@@ -46,7 +47,7 @@ _CHECKSUM = struct.Struct("<I")
 _MAX_HEADER = 16 * 1024 * 1024
 
 
-class CacheError(ValueError):
+class CacheError(Error, ValueError):
     """A cache file is missing, damaged, truncated or from a newer version."""
 
 

@@ -27,6 +27,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from ._core import Error
 from . import cli_skeleton
 from .cache import load, save
 from .demo import run_demo as build_demo
@@ -42,7 +43,7 @@ MESH_FORMATS = ("obj", "ply", "off", "stl")  # what the core's CGAL IO writes, b
 FRAME_FORMATS = ("obj", "ply", "off")
 
 
-class UserError(Exception):
+class UserError(Error):
     """A problem with the user's input that the command line detects itself."""
 
 

@@ -324,7 +324,7 @@ class Deformer:
         if self.method != "dual":
             raise ValueError(f"restore applies to method='dual' only, this Deformer uses {self.method!r}")
         s = self._core.restore(int(max_iterations), float(tolerance))
-        self.status = RestoreStatus(int(s["iterations"]), float(s["motion"]), bool(s["converged"]))
+        self.status = RestoreStatus(int(s.iterations), float(s.motion), bool(s.converged))
         return self._core.points
 
     # -- state --------------------------------------------------------------
@@ -344,7 +344,7 @@ class Deformer:
         return self._core.handles
 
     @property
-    def info(self) -> dict:
+    def info(self) -> "_core.DeformerInfo":
         """System size, ghosts, grown constraints, CHOLMOD's rcond and factor size."""
         return self._core.info
 

@@ -133,16 +133,16 @@ def refine_complex(
         return {name: table[:, 0] if name in squeezed else table for name, table in tables.items()}
 
     return Refinement(
-        points=out["points"],
-        simplices=out["simplices"],
-        new_vertex_of_split=out["new_vertex_of_split"],
-        snapped_vertex_of_split=out["snapped_vertex_of_split"],
-        split_of_vertex=out["split_of_vertex"],
-        parent_simplex=out["parent_simplex"],
-        applied_simplex=out["applied_simplex"],
-        applied_barycentric=out["applied_barycentric"],
-        vertex_attributes=restore(out["vertex_attributes"], squeeze_vertex),
-        simplex_attributes=restore(out["simplex_attributes"], squeeze_simplex),
+        points=out.points,
+        simplices=out.simplices,
+        new_vertex_of_split=out.new_vertex_of_split,
+        snapped_vertex_of_split=out.snapped_vertex_of_split,
+        split_of_vertex=out.split_of_vertex,
+        parent_simplex=out.parent_simplex,
+        applied_simplex=out.applied_simplex,
+        applied_barycentric=out.applied_barycentric,
+        vertex_attributes=restore(out.vertex_attributes, squeeze_vertex),
+        simplex_attributes=restore(out.simplex_attributes, squeeze_simplex),
     )
 
 

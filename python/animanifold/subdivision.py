@@ -50,11 +50,11 @@ def subdivide(
     times = [float(t) for t in keyframe_times]
     result = _core.subdivide_manifold(manifold.core_complex, int(levels), scheme, bool(keep_keyframe_times), times)
     metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
-    metadata["keyframe_times"] = np.asarray(result["keyframe_times"]).tolist()
+    metadata["keyframe_times"] = np.asarray(result.keyframe_times).tolist()
     history = list(manifold.metadata.get("subdivisions", []))
     history.append({"levels": int(levels), "scheme": scheme, "keep_keyframe_times": bool(keep_keyframe_times)})
     metadata["subdivisions"] = history
-    out = AnimationManifold(result["manifold"], metadata)
+    out = AnimationManifold(result.manifold, metadata)
     if return_parents:
-        return out, result["vertex_parents"], result["simplex_parent"]
+        return out, result.vertex_parents, result.simplex_parent
     return out

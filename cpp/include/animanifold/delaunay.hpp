@@ -51,7 +51,7 @@ struct DelaunayTriangulation {
 // with no flat simplices; orientation is decided on the joggled points.
 // Without it, degenerate input gives merged facets that 'Qt' triangulates,
 // possibly into flat simplices (counted, left out). Throws InputError for too
-// few or non-finite points, and std::runtime_error with Qhull's message when
+// few or non-finite points, and MeshingError with Qhull's message when
 // Qhull fails.
 DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 
@@ -120,7 +120,7 @@ struct ConformingDelaunay {
 // Constraint triangles `faces` (#F by 3) over `points` (#P by 3); points that
 // belong to no face (skeleton vertices, say) are inserted too. `simplices`
 // are CGAL's exact Delaunay triangulation of the result's points. Throws
-// InputError for bad indices or coinciding points and std::runtime_error
+// InputError for bad indices or coinciding points and MeshingError
 // naming TetGen's failure. TetGen runs in a child process (isolated.hpp);
 // `while_meshing` is called about every 0.1 s meanwhile, and what it throws
 // stops TetGen and leaves this call (a cancel, an interrupt).

@@ -1,8 +1,17 @@
-// The exception hierarchy of the core. Every message names what was wrong and
-// where (which keyframe, vertex, face or simplex); the binding maps
-// InputError to Python's ValueError and the rest to RuntimeError.
+// The exception hierarchy of the core: every exception a core call throws on
+// purpose is one of the types below. Every message names what was wrong and
+// where (which keyframe, vertex, face or simplex).
+//
+// Python (cpp/bindings/module.cpp) sees each as a subclass of
+// animanifold.Error and of the builtin it has always mapped to:
+//   InputError   -> _core.InputError(Error, ValueError)
+//   IOError      -> _core.FileError(Error, OSError)
+//   BooleanError -> _core.BooleanError(Error, RuntimeError)
+//   MeshingError -> _core.MeshingError(Error, RuntimeError)
+//   Cancelled    -> _core.Cancelled(Error)
 #pragma once
 
+#include <new>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -20,12 +29,56 @@ struct IOError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// CGAL refused an operand of a Boolean operation, or the result would not be
+// a manifold (hole_space.hpp).
+struct BooleanError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A library we call to mesh, triangulate or factor (TetGen, Qhull, CGAL,
+// CHOLMOD) failed, or its result breaks what we rely on (a fill that does not
+// conform to its constraints). The message says what we were doing and on
+// which input, with the library's own text at the end.
+struct MeshingError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The caller's progress or interrupt callback asked a long call to stop.
+struct Cancelled : std::runtime_error {
+  Cancelled() : std::runtime_error("cancelled") {}
+};
+
 // Builds a message from streamable parts: fail<InputError>("keyframe ", i, " ...").
 template <class Error, class... Parts>
 [[noreturn]] void fail(Parts&&... parts) {
   std::ostringstream message;
   (message << ... << std::forward<Parts>(parts));
   throw Error(message.str());
+}
+
+// Runs `work` (a call into `library`) and turns what the library throws into
+// a MeshingError: "<library> failed while <doing>: <its text>", so that
+// callers see one type in our words with the library's reason kept. Our own
+// errors and running out of memory pass through unchanged.
+template <class Work>
+auto translating_library_failures(const char* library, const std::string& doing, Work&& work) -> decltype(work()) {
+  try {
+    return work();
+  } catch (const InputError&) {
+    throw;
+  } catch (const IOError&) {
+    throw;
+  } catch (const BooleanError&) {
+    throw;
+  } catch (const MeshingError&) {
+    throw;
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail<MeshingError>(library, " failed while ", doing, ": ", e.what());
+  }
 }
 
 }  // namespace animanifold

@@ -37,17 +37,13 @@
 // the problem.
 #pragma once
 
+#include "animanifold/errors.hpp"
 #include "animanifold/types.hpp"
 
 #include <stdexcept>
 #include <string>
 
 namespace animanifold {
-
-// CGAL refused an operand, or the result would not be a manifold.
-struct BooleanError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // The boundary of a solid in R^3 (triangles) or R^2 (oriented edges).
 struct Solid {

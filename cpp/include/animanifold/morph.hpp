@@ -27,6 +27,7 @@
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/errors.hpp"
 
 #include <array>
 #include <functional>
@@ -249,10 +250,6 @@ struct Morph {
   MorphReport report;
 };
 
-struct Cancelled : std::runtime_error {
-  Cancelled() : std::runtime_error("cancelled") {}
-};
-
 // Inputs:
 //   V, F  the input: #V by d points, #F by d faces
 //   name  "source" or "target", for the message
@@ -277,7 +274,7 @@ void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::
 //
 // Throws InputError naming the shape and face when an input is not a closed,
 // consistently oriented manifold (open inputs are refused), and
-// std::runtime_error when a mesher fails.
+// MeshingError when a mesher fails.
 Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces, const PointMatrix& target_points,
             const SimplexMatrix& target_faces, const MorphOptions& options = {});
 
