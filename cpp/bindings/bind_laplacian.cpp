@@ -44,7 +44,8 @@ LaplacianOptions laplacian_options(const std::string& method, double lambda, dou
 
 }  // namespace
 
-void bind_laplacian(py::module_& m, py::module_& testing) {
+// The Laplacian's building blocks, for the tests.
+static void bind_laplacian_parts(py::module_& testing) {
   const GraphWeightOptions defaults;
   testing.def("simplex_qp",
         [](const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double lower, int max_iterations) {
@@ -98,6 +99,11 @@ void bind_laplacian(py::module_& m, py::module_& testing) {
 
   testing.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
         "T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).");
+}
+
+// The Deformer and its results.
+static void bind_deformer(py::module_& m) {
+  const GraphWeightOptions defaults;
   py::class_<RestoreStatus>(m, "RestoreStatus", "How Deformer.restore() ended.")
       .def_readonly("iterations", &RestoreStatus::iterations, "Iterations run.")
       .def_readonly("motion", &RestoreStatus::motion,
@@ -164,6 +170,11 @@ void bind_laplacian(py::module_& m, py::module_& testing) {
                              "The differential coordinates Δ = L V of the rest shape.")
       .def_property_readonly("info", [](const Deformer& d) { return d.info(); },
                              "The solve's sizes and conditioning (a DeformerInfo).");
+}
+
+void bind_laplacian(py::module_& m, py::module_& testing) {
+  bind_laplacian_parts(testing);
+  bind_deformer(m);
 }
 
 }  // namespace animanifold::bindings

@@ -17,7 +17,8 @@ py::dict dihedral_dict(const DihedralReport& r) {
 
 }  // namespace
 
-void bind_skeleton(py::module_& m) {
+// The skeleton itself.
+static void bind_voronoi_skeleton(py::module_& m) {
   py::class_<VoronoiSkeleton, std::shared_ptr<VoronoiSkeleton>>(m, "VoronoiSkeleton",
                                                                  "Internal/external Voronoi skeleton (chapter 7).")
       .def_readonly("vertices", &VoronoiSkeleton::vertices)
@@ -65,6 +66,10 @@ void bind_skeleton(py::module_& m) {
         "Internal and/or external Voronoi skeleton of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
         "made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.");
 
+}
+
+// Making an input separable, and the checks and repairs around it.
+static void bind_separability(py::module_& m) {
   m.def("make_voronoi_separable",
         [](PointsRef V, SimplicesRef F, int max_iterations, int neighbourhood, double in_plane_angle) {
           const PointMatrix v = V;
@@ -154,6 +159,11 @@ void bind_skeleton(py::module_& m) {
         },
         py::arg("faces_vertices"), py::arg("faces"), py::arg("vertices"), py::arg("mesh_faces"),
         "Per face (triangles in R^3, segments in R^2): does it intersect the mesh? CGAL exact predicates.");
+}
+
+void bind_skeleton(py::module_& m) {
+  bind_voronoi_skeleton(m);
+  bind_separability(m);
 }
 
 }  // namespace animanifold::bindings

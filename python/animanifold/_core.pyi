@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'Error', 'FileError', 'FillTriangulation', 'InputError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'Error', 'FileError', 'FillTriangulation', 'InputError', 'IntervalFrame', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -93,6 +93,43 @@ class Slice:
     @property
     def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         ...
+class IntervalFrame:
+    """
+    A frame with how it moves inside its topology interval (lo, hi): at v in it, the slice has the same faces and vertex p is at slice.vertices[p] + (v - value) * rate[p] (vertex attributes and edge_parameter likewise, with attribute_rates and parameter_rate).
+    """
+    @property
+    def attribute_rates(self) -> dict[str, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        Name -> (P, c): d attribute / d value.
+        """
+    @property
+    def axis(self) -> int:
+        ...
+    @property
+    def interval(self) -> tuple[float, float]:
+        """
+        The open topology interval (lo, hi) around `value`.
+        """
+    @property
+    def parameter_rate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        (P,): d edge_parameter / d value.
+        """
+    @property
+    def rate(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        (P, D-1): d vertices / d value.
+        """
+    @property
+    def slice(self) -> Slice:
+        """
+        The Slice at `value`.
+        """
+    @property
+    def value(self) -> float:
+        """
+        The value the slice was cut at.
+        """
 class Slicer:
     """
     A manifold with its cached interval indices (one per slicing axis).
@@ -105,9 +142,17 @@ class Slicer:
         """
         Bytes held by the interval index of `axis` (built if needed).
         """
+    def interval_frame(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> IntervalFrame:
+        """
+        The frame at `value` with its topology interval and rates; ValueError where it has none (a vertex coordinate, outside the manifold).
+        """
     def slice(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex, use_index: bool = True) -> Slice:
         """
         The Slice of the manifold at coordinate `value` along `axis` (3 is time); `use_index` False tests every simplex instead. Raises InputError for an axis out of range.
+        """
+    def topology_interval(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float] | None:
+        """
+        The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has the same faces), or None where the faces change (a vertex coordinate, outside the manifold).
         """
 class MorphMethod:
     """

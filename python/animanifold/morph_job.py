@@ -16,7 +16,7 @@ import threading
 import time
 
 from . import _core
-from .morph import morph
+from .morph_pipeline import morph
 
 
 class MorphJob:
