@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
+from ._lib import am
 from .reporting import ReportedError
 
 # Peak memory of one subdivision, per output tet (measured ~45 bytes: points, tets,
