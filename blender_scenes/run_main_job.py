@@ -77,7 +77,7 @@ def morph_demo(bake_kwargs) -> dict:
     _activate(source, target)
     _run(bpy.ops.animanifold.morph_selected, method=ops_morph.BEST_METHOD.upper())
     morph = bpy.context.active_object
-    manifold = animanifold_blender.live.manifold_for(morph)
+    manifold = animanifold_blender.object_manifold.manifold_for(morph)
     validity = manifold.validity
     report = {"seconds": round(time.perf_counter() - t, 3), "object": morph.name, "method": ops_morph.BEST_METHOD,
               "cache": morph.animanifold.cache_path, "tets": int(len(manifold.simplices)),
@@ -163,7 +163,7 @@ def main() -> int:
         t = time.perf_counter()
         _run(bpy.ops.animanifold.convert_action, sampling=args.sampling, step=args.step)
         man = bpy.data.objects[f"{DEMO_NAME}_manifold"]
-        manifold = animanifold_blender.live.manifold_for(man)
+        manifold = animanifold_blender.object_manifold.manifold_for(man)
         report["convert"] = {"seconds": round(time.perf_counter() - t, 3), "cache": man.animanifold.cache_path,
                              "tets": int(len(manifold.simplices)),
                              "keyframe_times": manifold.metadata["keyframe_times"]}

@@ -123,3 +123,21 @@ def test_zip_installs_as_a_blender_42_extension(tmp_path):
     proc = subprocess.run([sys.executable, "-c", EXTENSION_PROBE, str(zip_path), str(SCENES)], capture_output=True,
                           text=True, env=env, timeout=240, cwd="/")
     assert proc.returncode == 0 and "EXTENSION OK" in proc.stdout, proc.stdout[-3000:] + proc.stderr[-3000:]
+
+
+@pytest.mark.slow
+def test_the_readme_main_job_runs_end_to_end(tmp_path):
+    """The README's first command runs blender_scenes/run_main_job.py: convert, morph, bake, save and
+    render, through the add-on's own modules. Run here as a child process (its own bpy session) at a
+    small size, so a module the job reaches into cannot move without this test failing."""
+    import json
+
+    done = subprocess.run([sys.executable, str(SCENES / "run_main_job.py"), "--out", str(tmp_path), "--frames", "1,48",
+                           "--samples", "1", "--resolution", "64x48", "--segments", "16"],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    report = json.loads((tmp_path / "main_job.json").read_text())
+    assert report["convert"]["tets"] > 0 and report["bake"]["frames"] == [1, 48]
+    morph = report["morph"]
+    assert morph["ends_reproduced"] and morph["oriented_manifold"] and morph["inverted_simplices"] == 0
+    assert (tmp_path / "contact_sheet.png").stat().st_size > 0 and (tmp_path / "animanifold_demo.blend").is_file()
