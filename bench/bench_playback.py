@@ -116,10 +116,11 @@ def main() -> int:
         man = bpy.data.objects[src.name + "_manifold"]
         src.hide_set(False)
         only_visible(man, [src, man])
-        from animanifold_blender import live, live_cuts
+        from animanifold_blender import live_cuts, mesh_writer, object_manifold, playback
+        from animanifold_blender.live_registry import registry
 
-        writes = count_calls(live, "write_mesh")
-        copies = count_calls(live, "write_frame")
+        writes = count_calls(mesh_writer, "write_mesh")
+        copies = count_calls(mesh_writer, "write_frame")
         computed = {"n": 0}
         interval_frame = live_cuts.interval_frame
 
@@ -128,7 +129,7 @@ def main() -> int:
             return interval_frame(cut, value)
 
         live_cuts.interval_frame = counted_frame
-        keyframes = set(live.manifold_for(man).metadata["keyframe_times"])
+        keyframes = set(object_manifold.manifold_for(man).metadata["keyframe_times"])
         # Frames that write a cut: the keyframes and the first frame of each interval.
         writing = {f for f in frames if f in keyframes or (f - 1) in keyframes}
         live_loops = playback_fps(scene, frames, 1, evaluated_faces(man))  # cold: slices, edges, frames
@@ -151,25 +152,25 @@ def main() -> int:
         assert warm_counts["frames_computed"] == 0, "warm loops computed frames"
 
         # The previous path: the modifier moves the mesh on every frame but the cut's own.
-        frame = live._frame
-        live._frame = lambda manifold, key, cut, value: interval_frame(cut, value) if value == cut.value else None
+        frame = playback._frame
+        playback._frame = lambda manifold, key, cut, value: interval_frame(cut, value) if value == cut.value else None
         try:
-            live.forget_shown()
+            registry.forget_shown()
             fps_modifier = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
         finally:
-            live._frame = frame
-            live.forget_shown()
+            playback._frame = frame
+            registry.forget_shown()
             scene.frame_set(frames[0])
 
         fps_handler = None
         if not args.no_handler_path:  # the path before the modifier: the handler writes every frame
-            can_drive = live.can_drive
-            live.can_drive = lambda *a, **k: False
+            can_drive = playback.can_drive
+            playback.can_drive = lambda *a, **k: False
             try:
                 fps_handler = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
             finally:
-                live.can_drive = can_drive
-                live.forget_shown()
+                playback.can_drive = can_drive
+                registry.forget_shown()
                 scene.frame_set(frames[0])
 
         t = time.perf_counter()
@@ -177,7 +178,7 @@ def main() -> int:
         bake_s = time.perf_counter() - t
         fps_baked = warm(playback_fps(scene, frames, args.loops, evaluated_faces(man)))
 
-        manifold = live.manifold_for(man)
+        manifold = object_manifold.manifold_for(man)
         t = time.perf_counter()
         for f in frames:
             manifold.slice(f + 0.5)
