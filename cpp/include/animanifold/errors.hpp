@@ -2,7 +2,7 @@
 // purpose is one of the types below. Every message names what was wrong and
 // where (which keyframe, vertex, face or simplex).
 //
-// Python (cpp/bindings/module.cpp) sees each as a subclass of
+// Python (cpp/bindings/bind_errors.cpp) sees each as a subclass of
 // animanifold.Error and of the builtin it has always mapped to:
 //   InputError   -> _core.InputError(Error, ValueError)
 //   IOError      -> _core.FileError(Error, OSError)
