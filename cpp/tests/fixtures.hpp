@@ -1,7 +1,11 @@
-// Small shapes shared by the C++ tests.
+// Small shapes and helpers shared by the C++ tests (cpp/tests and cpp/tests/internal).
 #pragma once
 
 #include "animanifold/stitch.hpp"
+
+#include <Eigen/Geometry>
+#include <array>
+#include <random>
 
 namespace animanifold::fixtures {
 
@@ -25,6 +29,31 @@ inline StitchInput octahedron_keyframes(const Eigen::Vector3d& times, const Eige
   for (int i = 0; i < 3; ++i)
     in.frames.middleRows(6 * i, 6) = (scale(i) * base).rowwise() + offset.row(i);
   return in;
+}
+
+// The octahedron through keyframes at 0, 0.4 and 1.5: growing by half, then
+// back to its size moved by (1, 1, 0).
+inline StitchInput octahedron_animation() {
+  Eigen::Matrix3d offset;
+  offset << 0, 0, 0, 0, 0, 0, 1, 1, 0;
+  return octahedron_keyframes({0.0, 0.4, 1.5}, {1.0, 1.5, 1.0}, offset);
+}
+
+// Random points in R^4 on two planes t = 0 and t = 1, like a morph's fill.
+inline PointMatrix two_planes(int per_plane, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  PointMatrix P(2 * per_plane, 4);
+  for (int r = 0; r < 2 * per_plane; ++r) P.row(r) << g(rng), g(rng), g(rng), r < per_plane ? 0.0 : 1.0;
+  return P;
+}
+
+// Point i of a #P by 3 matrix as a vector.
+inline Eigen::Vector3d at(const PointMatrix& P, Index i) { return P.row(i).transpose(); }
+
+// The normal of triangle t of P, as long as twice its area (not normalised).
+inline Eigen::Vector3d normal(const PointMatrix& P, const std::array<Index, 3>& t) {
+  return (at(P, t[1]) - at(P, t[0])).cross(at(P, t[2]) - at(P, t[0]));
 }
 
 }  // namespace animanifold::fixtures

@@ -1,7 +1,6 @@
-// Mending a constrained-only TetGen result (conforming_mend.hpp), and the
-// conforming Delaunay tetrahedralization it serves, on small known cases.
+// Mending a constrained-only TetGen result (conforming_mend.hpp) on small
+// known cases.
 #include "animanifold/conforming_mend.hpp"
-#include "animanifold/delaunay.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,14 +8,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fixtures.hpp"
+
 namespace animanifold {
 namespace {
 
-Eigen::Vector3d at(const PointMatrix& P, Index i) { return P.row(i).transpose(); }
-
-Eigen::Vector3d normal(const PointMatrix& P, const std::array<Index, 3>& t) {
-  return (at(P, t[1]) - at(P, t[0])).cross(at(P, t[2]) - at(P, t[0]));
-}
+using fixtures::at;
+using fixtures::normal;
 
 // An equilateral input triangle (side 4, in z = 0) with its edges split in
 // fifths, fanned from its centre (point 15). A circumcentre inside an unsplit
@@ -101,38 +99,6 @@ TEST(ConformingMend, AnEncroachedEdgeIsSplitInBothTrianglesBesideIt) {
   }
   EXPECT_EQ(pieces[0], 2);
   EXPECT_EQ(pieces[1], 2);
-}
-
-// A flat tetrahedron: its big face (z = 0) has the apex just below its
-// centre and a free point (a skeleton point, say) just above, both inside
-// its circumsphere. No sphere through that face is empty, and TetGen's -D
-// leaves it so (no Steiner point at all): the mending must mend it.
-TEST(ConformingDelaunay3d, MendsTheFaceTetgenLeavesNonDelaunay) {
-  PointMatrix P(5, 3);
-  P << 0, 0, 0, 2, 0, 0, 1, 1.7, 0, 1, 0.6, -0.3, 1.02, 0.58, 0.3;
-  SimplexMatrix F(4, 3);
-  F << 0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3;
-  const ConformingDelaunay c = conforming_delaunay_3d(P, F);
-  ASSERT_TRUE(c.is_delaunay);
-  EXPECT_EQ(c.non_delaunay_faces, 0);
-  EXPECT_GE(c.mending_rounds, 1);
-  EXPECT_GT(c.mended_points, 0);
-  EXPECT_EQ(c.points.topRows(5), P);
-  EXPECT_EQ(missing_facets(c.simplices, c.constraints).size(), 0);
-  EXPECT_EQ(missing_facets(delaunay_exact(c.points).simplices, c.constraints).size(), 0);
-  // The refined faces tile the input: on their parents, oriented like them, the same area.
-  double area_in = 0, area_out = 0;
-  for (Index f = 0; f < F.rows(); ++f) area_in += 0.5 * normal(P, {F(f, 0), F(f, 1), F(f, 2)}).norm();
-  for (Index r = 0; r < c.constraints.rows(); ++r) {
-    const std::array<Index, 3> t{c.constraints(r, 0), c.constraints(r, 1), c.constraints(r, 2)};
-    const Index parent = c.constraint_parent(r);
-    const std::array<Index, 3> p{F(parent, 0), F(parent, 1), F(parent, 2)};
-    const Eigen::Vector3d n = normal(P, p).normalized();
-    EXPECT_GT(normal(c.points, t).dot(n), 0);
-    for (const Index v : t) EXPECT_NEAR((at(c.points, v) - at(P, p[0])).dot(n), 0.0, 1e-12);
-    area_out += 0.5 * normal(c.points, t).norm();
-  }
-  EXPECT_NEAR(area_out, area_in, 1e-12 * area_in);
 }
 
 }  // namespace

@@ -1,30 +1,27 @@
-// The pieces of the skeleton morph (morph_skeleton.hpp), the exact Delaunay
-// fill and the self-intersection test, on small known configurations.
+// The pieces of the skeleton morph (morph_skeleton.hpp) on small known
+// configurations: splitting faces of a fill, perturbing along hull faces,
+// points on and depth in a hull, nudged Steiner points, the prisms of a fill
+// over cells both planes share, and cap points over flat sides of a hull.
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
-#include "morph_skeleton.hpp"
 #include "animanifold/perturbation.hpp"
-#include "animanifold/self_intersection.hpp"
-#include "fixtures.hpp"
+#include "morph_skeleton.hpp"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <random>
 #include <set>
+
+#include "../fixtures.hpp"
 
 namespace animanifold {
 namespace {
 
-// Random points in R^4 on two planes t = 0 and t = 1, like a morph's fill.
-PointMatrix two_planes(int per_plane, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g;
-  PointMatrix P(2 * per_plane, 4);
-  for (int r = 0; r < 2 * per_plane; ++r) P.row(r) << g(rng), g(rng), g(rng), r < per_plane ? 0.0 : 1.0;
-  return P;
-}
+using fixtures::two_planes;
 
 double total_volume(const PointMatrix& P, const SimplexMatrix& A) { return signed_volumes(P, A).sum(); }
 
@@ -129,59 +126,6 @@ TEST(MorphSkeleton, DepthInHullIsTheDistanceToTheNearestFacet) {
   EXPECT_LT(depth(2), 0.0);
 }
 
-TEST(SelfIntersection, FindsCrossingFacesAndNotNeighbours) {
-  PointMatrix V, two(12, 3);
-  SimplexMatrix F, both(16, 3);
-  fixtures::octahedron(V, F);
-  EXPECT_TRUE(self_intersections(V, F).empty());
-  two << V, V.rowwise() + Eigen::RowVector3d(0.5, 0.2, 0.1);
-  both << F, F.array() + 6;
-  const auto pairs = self_intersections(two, both, 0);
-  ASSERT_FALSE(pairs.empty());
-  for (const auto& [a, b] : pairs) EXPECT_TRUE(a < 8 && b >= 8);  // one face of each copy
-  // 2D: a pentagram's edges cross; a pentagon's do not.
-  PointMatrix star(5, 2), gon(5, 2);
-  SimplexMatrix loop(5, 2);
-  for (int i = 0; i < 5; ++i) {
-    const double a = 2 * M_PI * i / 5, b = 2 * M_PI * ((2 * i) % 5) / 5;
-    gon.row(i) << std::cos(a), std::sin(a);
-    star.row(i) << std::cos(b), std::sin(b);
-    loop.row(i) << i, (i + 1) % 5;
-  }
-  EXPECT_TRUE(self_intersections(gon, loop).empty());
-  EXPECT_FALSE(self_intersections(star, loop).empty());
-}
-
-TEST(SelfIntersection, ATolerancePassesRoundingButNotCrossings) {
-  // Two triangles of a closed shape's worth (only the pair matters): one pierces the other by
-  // `depth` along z.
-  auto pierced = [](double depth) {
-    PointMatrix V(6, 3);
-    V << 0, 0, 0, 2, 0, 0, 0, 2, 0,  // in z = 0
-        0.5, 0.5, -depth, 0.6, 0.5, 1, 0.5, 0.6, 1;  // one corner below it
-    SimplexMatrix F(2, 3);
-    F << 0, 1, 2, 3, 4, 5;
-    return std::make_pair(V, F);
-  };
-  const auto [shallow, shallow_faces] = pierced(1e-13);
-  EXPECT_EQ(self_intersections(shallow, shallow_faces, 0).size(), 1u);        // the exact test finds it
-  EXPECT_TRUE(self_intersections(shallow, shallow_faces, 0, 1e-9).empty());  // rounding: left out
-  const auto [deep, deep_faces] = pierced(0.1);
-  EXPECT_EQ(self_intersections(deep, deep_faces, 0, 1e-9).size(), 1u);
-  // Two triangles in one plane overlapping over a wide region: a fold, whatever the tolerance.
-  PointMatrix V(6, 3);
-  V << 0, 0, 0, 2, 0, 0, 0, 2, 0, 0.5, 0.5, 0, 2.5, 0.5, 0, 0.5, 2.5, 0;
-  SimplexMatrix F(2, 3);
-  F << 0, 1, 2, 3, 4, 5;
-  EXPECT_EQ(self_intersections(V, F, 0, 1e-9).size(), 1u);
-  // ... and barely overlapping (a sliver 1e-13 wide): rounding.
-  V.row(3) << 1 - 1e-13, 1 - 1e-13, 0;
-  V.row(4) << 3, 0, 0;
-  V.row(5) << 0, 3, 0;
-  EXPECT_EQ(self_intersections(V, F, 0).size(), 1u);
-  EXPECT_TRUE(self_intersections(V, F, 0, 1e-9).empty());
-}
-
 TEST(MorphSkeleton, SplitsAtGivenPointsSkipUnsafeOnesAndTellTheirParents) {
   PointMatrix P = two_planes(20, 3);
   SimplexMatrix A = delaunay_exact(P).simplices;
@@ -216,15 +160,6 @@ TEST(MorphSkeleton, SplitsAtGivenPointsSkipUnsafeOnesAndTellTheirParents) {
   EXPECT_EQ(none(0), -1);
   EXPECT_EQ(P.rows(), points);
   EXPECT_TRUE(A == kept);
-}
-
-TEST(DelaunayExact, TwoPlanesGiveNoFlatCellAndKeepEachPlanesTriangulation) {
-  const PointMatrix P = two_planes(50, 3);
-  const DelaunayTriangulation fill = delaunay_exact(P);
-  EXPECT_EQ(fill.flat_simplices, 0);
-  EXPECT_GT(signed_volumes(P, fill.simplices).minCoeff(), 0.0);
-  const DelaunayTriangulation bottom = delaunay_exact(P.topLeftCorner(50, 3));
-  EXPECT_EQ(missing_facets(fill.simplices, bottom.simplices).size(), 0);
 }
 
 TEST(MorphSkeleton, NudgedSteinerPointsKeepEveryRefinedFace) {
@@ -265,5 +200,162 @@ TEST(MorphSkeleton, NudgedSteinerPointsKeepEveryRefinedFace) {
   EXPECT_GT(moved, 0);
   EXPECT_GT(unnudged, 0) << "no tie was at stake";
 }
+
+// A prism over a triangulated cube: the same points in two planes t = 0, 1
+// (a fill where the inputs coincide) and one point more at t = 1 only.
+TEST(SharedPrisms, PrismsOverSharedCellsAreFoundAndThoseOutsideBothMarked) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const int n = 40;
+  PointMatrix P(2 * n + 1, 4);
+  for (int r = 0; r < n; ++r) {
+    P.row(r) << u(rng), u(rng), u(rng), 0.0;
+    P.row(n + r) = P.row(r);
+    P(n + r, 3) = 1.0;
+  }
+  P.row(2 * n) << 3.0, 3.0, 3.0, 1.0;  // only in the target's plane: the prisms near it are not shared
+  const DelaunayTriangulation fill = delaunay_exact(P);
+  std::vector<bool> in_source(P.rows(), false), in_target(P.rows(), false);
+  for (int r = 0; r < n; ++r) in_source[r] = true;
+  for (int r = n; r <= 2 * n; ++r) in_target[r] = true;
+  // Every plane cell "outside" but those touching point 0 (a stand-in for a classification).
+  auto plane = [&](const std::vector<bool>& in) {
+    PlaneCells cells;
+    std::vector<Index> rows;
+    std::set<std::array<Index, 4>> seen;
+    for (Index s = 0; s < fill.simplices.rows(); ++s) {
+      std::array<Index, 4> k{};
+      int count = 0;
+      for (int c = 0; c < 5; ++c)
+        if (in[fill.simplices(s, c)] && count < 4) k[count++] = fill.simplices(s, c);
+      int total = 0;
+      for (int c = 0; c < 5; ++c) total += in[fill.simplices(s, c)];
+      if (total != 4) continue;
+      std::sort(k.begin(), k.end());
+      if (seen.insert(k).second) rows.insert(rows.end(), k.begin(), k.end());
+    }
+    cells.cells = Eigen::Map<SimplexMatrix>(rows.data(), static_cast<Index>(rows.size() / 4), 4);
+    for (Index c = 0; c < cells.cells.rows(); ++c) {
+      bool touches = false;
+      for (int i = 0; i < 4; ++i) touches = touches || cells.cells(c, i) == 0 || cells.cells(c, i) == n;
+      cells.outside.push_back(!touches);
+      cells.flat.push_back(false);
+    }
+    return cells;
+  };
+  const std::vector<Prism> prism = shared_prisms(P, fill.simplices, in_source, in_target, plane(in_source), plane(in_target));
+  Index inside = 0, outside = 0, other = 0;
+  for (Index s = 0; s < fill.simplices.rows(); ++s) {
+    // Which places (xyz) the simplex spans, and whether it touches the target-only point.
+    std::set<Index> places;
+    bool lone = false, corner0 = false;
+    for (int c = 0; c < 5; ++c) {
+      const Index v = fill.simplices(s, c);
+      lone = lone || v == 2 * n;
+      places.insert(v < n ? v : v - n);
+      corner0 = corner0 || v == 0 || v == n;
+    }
+    if (lone || places.size() != 4) {
+      EXPECT_EQ(prism[s], Prism::NotShared) << s;
+      ++other;
+    } else if (prism[s] == Prism::SharedOutside) {
+      EXPECT_FALSE(corner0) << s;
+      ++outside;
+    } else {
+      EXPECT_EQ(prism[s], Prism::SharedInside) << s;
+      ++inside;
+    }
+  }
+  EXPECT_GT(inside, 0);
+  EXPECT_GT(outside, 0);
+  EXPECT_GT(other, 0);
+  // The degenerate prisms are triangulated with their own corners only: in the shared part
+  // every simplex spans exactly the four columns of one cell.
+  EXPECT_GT(signed_volumes(P, fill.simplices).minCoeff(), 0.0);
+}
+
+// A torus around z (radii 1 and 0.3, 24 x 12 quads split in two, outward):
+// its hull's flat discs at z = ±0.3 lie over the hole.
+void torus(PointMatrix& V, SimplexMatrix& F) {
+  const int major = 24, minor = 12;
+  V.resize(major * minor, 3);
+  F.resize(2 * major * minor, 3);
+  for (int i = 0; i < major; ++i)
+    for (int j = 0; j < minor; ++j) {
+      const double u = 2 * M_PI * i / major, w = 2 * M_PI * j / minor;
+      V.row(i * minor + j) << (1 + 0.3 * std::cos(w)) * std::cos(u), (1 + 0.3 * std::cos(w)) * std::sin(u), 0.3 * std::sin(w);
+    }
+  int f = 0;
+  for (int i = 0; i < major; ++i)
+    for (int j = 0; j < minor; ++j) {
+      const Index a = i * minor + j, b = ((i + 1) % major) * minor + j, c = ((i + 1) % major) * minor + (j + 1) % minor,
+                  d = i * minor + (j + 1) % minor;
+      F.row(f++) << a, b, c;
+      F.row(f++) << a, c, d;
+    }
+}
+
+TEST(HullCaps, OnePointOverEachDiscOfATorusBelowTheHullsOtherPlanes) {
+  PointMatrix V;
+  SimplexMatrix F;
+  torus(V, F);
+  const PointMatrix caps = hull_cap_points(V, F);
+  ASSERT_EQ(caps.rows(), 2);
+  const Index top = caps(0, 2) > 0 ? 0 : 1;
+  for (const Index r : {top, 1 - top}) {
+    EXPECT_NEAR(caps(r, 0), 0.0, 1e-6);  // over the disc's centre
+    EXPECT_NEAR(caps(r, 1), 0.0, 1e-6);
+    EXPECT_GT(std::abs(caps(r, 2)) - 0.3, 1e-2 * 2.6);  // outside the hull, not in a sliver with the disc
+  }
+  EXPECT_GT(caps(top, 2), 0.3);
+  EXPECT_LT(caps(1 - top, 2), -0.3);
+  // Below the plane of every face of the torus on its hull: the points see
+  // only their discs, so their hull faces end at the discs' rims.
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)).transpose(), b = V.row(F(f, 1)).transpose(), c = V.row(F(f, 2)).transpose();
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    double highest = -1;
+    for (Index v = 0; v < V.rows(); ++v) highest = std::max(highest, n.dot(Eigen::Vector3d(V.row(v).transpose()) - a));
+    if (highest > 1e-12) continue;  // not a face on the hull
+    for (Index r = 0; r < 2; ++r) EXPECT_LT(n.dot(Eigen::Vector3d(caps.row(r).transpose()) - a), 0.0) << "face " << f;
+  }
+}
+
+TEST(HullCaps, NoneForConvexShapesOrFlatSidesOfTheShapeItself) {
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  EXPECT_EQ(hull_cap_points(V, F).rows(), 0);
+  // A cube's squares are flat sides of its hull made of its own faces.
+  PointMatrix C(8, 3);
+  for (int i = 0; i < 8; ++i) C.row(i) << (i & 1 ? 1 : -1), (i & 2 ? 1 : -1), (i & 4 ? 1 : -1);
+  SimplexMatrix Q(12, 3);
+  Q << 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5;
+  EXPECT_EQ(hull_cap_points(C, Q).rows(), 0);
+}
+
+TEST(HullCaps, TheSamePointsWhateverTheOrderOfThePoints) {
+  // CGAL's hull triangulates a flat disc one way or another (by the order
+  // of its points; under bpy, from one call to the next): the sums over its
+  // triangles round differently, and a cap point one unit in the last place
+  // off is perturbed quite otherwise (the same morph came out different).
+  // The points are put on a grid, so none of that shows.
+  PointMatrix V;
+  SimplexMatrix F;
+  torus(V, F);
+  const PointMatrix first = hull_cap_points(V, F);
+  const Index n = V.rows();
+  PointMatrix reversed = V.colwise().reverse();
+  SimplexMatrix renumbered = F;
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) renumbered(f, c) = n - 1 - F(f, c);
+  const PointMatrix again = hull_cap_points(reversed, renumbered);
+  ASSERT_EQ(first.rows(), 2);
+  ASSERT_EQ(again.rows(), 2);
+  const Index top = first(0, 2) > 0 ? 0 : 1, top_again = again(0, 2) > 0 ? 0 : 1;
+  EXPECT_TRUE((first.row(top).array() == again.row(top_again).array()).all());
+  EXPECT_TRUE((first.row(1 - top).array() == again.row(1 - top_again).array()).all());
+}
+
 }  // namespace
 }  // namespace animanifold
