@@ -28,6 +28,7 @@ def test_skeleton_items_are_the_skeleton_enums(addon):
 
 def test_deform_settings_offer_the_enum_members(addon):
     from animanifold_blender._lib import am
-    rna = bpy.types.AnimanifoldDeformSettings.bl_rna
+    from animanifold_blender.properties import AnimanifoldDeformSettings
+    rna = AnimanifoldDeformSettings.bl_rna
     assert tuple(rna.properties["method"].enum_items.keys()) == tuple(am._core.LaplacianMethod.__members__)
     assert tuple(rna.properties["boundary"].enum_items.keys()) == tuple(am._core.BoundaryRule.__members__)
