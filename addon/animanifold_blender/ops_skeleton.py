@@ -16,20 +16,21 @@ from bpy.props import EnumProperty, IntProperty
 from bpy.types import Operator
 
 from ._lib import am
+from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
 from .reporting import reporting
 
-SIDE_ITEMS = (
-    ("INTERNAL", "Internal", "The medial skeleton inside the shape"),
-    ("EXTERNAL", "External", "The skeleton of the concavities and holes, inside the convex hull"),
-    ("BOTH", "Both", "Internal and external (a face attribute 'side' tells them apart: 0 internal, 1 external)"),
-)
-WRAP_ITEMS = (
-    ("BOX", "Box", "Bound every Voronoi cell with points on a box around the mesh"),
-    ("SPHERE", "Sphere", "Bound every Voronoi cell with points on a sphere around the mesh"),
-    ("NONE", "None", "No wrap (cells of hull vertices stay unbounded)"),
-)
+SIDE_ITEMS = enum_items(am._core.SkeletonSide, {
+    "internal": ("Internal", "The medial skeleton inside the shape"),
+    "external": ("External", "The skeleton of the concavities and holes, inside the convex hull"),
+    "both": ("Both", "Internal and external (a face attribute 'side' tells them apart: 0 internal, 1 external)"),
+}, upper=True)
+WRAP_ITEMS = enum_items(am._core.WrapShape, {
+    "box": ("Box", "Bound every Voronoi cell with points on a box around the mesh"),
+    "sphere": ("Sphere", "Bound every Voronoi cell with points on a sphere around the mesh"),
+    "none": ("None", "No wrap (cells of hull vertices stay unbounded)"),
+}, upper=True)
 
 
 class ANIMANIFOLD_OT_skeleton(Operator):
@@ -67,7 +68,7 @@ class ANIMANIFOLD_OT_skeleton(Operator):
                     warnings.simplefilter("always", am.SeparabilityWarning)
                     sk = am.voronoi_skeleton(vertices, faces, side=self.side.lower(),
                                              max_iterations=self.max_iterations,
-                                             wrap=None if self.wrap == "NONE" else self.wrap.lower())
+                                             wrap=self.wrap.lower())
                 wm.progress_update(2)
             finally:
                 wm.progress_end()

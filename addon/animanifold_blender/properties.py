@@ -19,6 +19,8 @@ from bpy.props import (
 from bpy.types import PropertyGroup
 
 from . import interactive_deform, live
+from ._lib import am
+from .enum_items import enum_items
 from .object_manifold import prune_subdivided
 
 # Blender 4.5+ warns on '//' paths in add-on path properties unless they say they take them.
@@ -139,17 +141,17 @@ class AnimanifoldSceneSettings(PropertyGroup):
                                    description="Folder for Alembic and OBJ/PLY files ('//' is beside the .blend)")
 
 
-METHOD_ITEMS = (
-    ("dual", "Dual", "Dual Laplacian (Au et al. 2006), restores features: best"),
-    ("graph", "Graph", "Graph-Laplacian weights from the per-vertex QP of eq. 4.2"),
-    ("uniform", "Uniform", "Equal weights (Taubin)"),
-    ("cotangent", "Cotangent", "Cotangent weights (plain triangle meshes only)"),
-)
-BOUNDARY_ITEMS = (
-    ("grow", "Grow", "Grow anchors/handles ring by ring when the dual method's ghosts leave too few constraints"),
-    ("ghost_anchors", "Ghost Anchors", "Keep every boundary ghost in place (boundaries stay put)"),
-    ("error", "Error", "Refuse, saying how many more constraints are needed"),
-)
+METHOD_ITEMS = enum_items(am._core.LaplacianMethod, {
+    "dual": ("Dual", "Dual Laplacian (Au et al. 2006), restores features: best"),
+    "graph": ("Graph", "Graph-Laplacian weights from the per-vertex QP of eq. 4.2"),
+    "uniform": ("Uniform", "Equal weights (Taubin)"),
+    "cotangent": ("Cotangent", "Cotangent weights (plain triangle meshes only)"),
+})
+BOUNDARY_ITEMS = enum_items(am._core.BoundaryRule, {
+    "grow": ("Grow", "Grow anchors/handles ring by ring when the dual method's ghosts leave too few constraints"),
+    "ghost_anchors": ("Ghost Anchors", "Keep every boundary ghost in place (boundaries stay put)"),
+    "error": ("Error", "Refuse, saying how many more constraints are needed"),
+})
 ENDPOINT_ITEMS = (
     ("BOTH", "Both", "A slice vertex constrains both ends of the manifold edge it lies on"),
     ("NEARER", "Nearer", "A slice vertex constrains the end of its manifold edge nearer in time"),
@@ -173,8 +175,8 @@ class AnimanifoldDeformSettings(PropertyGroup):
                                  description="Vertex group of the vertices the Empty moves (empty: none)")
     empty: PointerProperty(name="Empty", type=bpy.types.Object, poll=_is_empty,
                            description="The Empty whose motion moves the handles")
-    method: EnumProperty(name="Method", items=METHOD_ITEMS, default="dual")
-    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default="grow")
+    method: EnumProperty(name="Method", items=METHOD_ITEMS, default=METHOD_ITEMS[0][0])
+    boundary: EnumProperty(name="Boundary", items=BOUNDARY_ITEMS, default=BOUNDARY_ITEMS[0][0])
     restore: BoolProperty(name="Restore", default=True, description="Dual method: restore features after the solve")
     regularise: BoolProperty(name="Regularise", default=False,
                              description="Manifold objects: split edges the deformation stretched (§4.5.1)")

@@ -1,6 +1,7 @@
 #include "animanifold/laplacian.hpp"
 #include "animanifold/simplex_qp.hpp"
 #include "bindings.hpp"
+#include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
@@ -33,10 +34,10 @@ GraphWeightOptions graph_options(double lambda, double xi, double ridge) {
   return o;
 }
 
-LaplacianOptions laplacian_options(const std::string& method, double lambda, double xi, double ridge,
+LaplacianOptions laplacian_options(LaplacianMethod method, double lambda, double xi, double ridge,
                                    const std::vector<Index>& zero_detail) {
   LaplacianOptions o;
-  o.method = parse_laplacian_method(method);
+  o.method = method;
   o.graph = graph_options(lambda, xi, ridge);
   o.zero_detail_vertices = zero_detail;
   return o;
@@ -55,11 +56,11 @@ static void bind_laplacian_parts(py::module_& testing) {
         py::arg("H"), py::arg("g"), py::arg("lower"), py::arg("max_iterations") = 0,
         "min ½wᵀHw + gᵀw s.t. Σw = 1, w >= lower → (weights, objective, iterations, converged).");
   testing.def("primal_weights",
-        [](PointsRef V, SimplicesRef S, const std::string& method, double lambda, double xi, double ridge) {
+        [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge) {
           SparseRowMatrix W;
           {
             py::gil_scoped_release release;
-            W = primal_weights(V, S, parse_laplacian_method(method), graph_options(lambda, xi, ridge));
+            W = primal_weights(V, S, method, graph_options(lambda, xi, ridge));
           }
           return csr(W);
         },
@@ -84,7 +85,7 @@ static void bind_laplacian_parts(py::module_& testing) {
         py::arg("simplices"), py::arg("vertex_count"),
         "(D as CSR, neighbours (#S by n+1), ghost_facets (#G by 2)).");
   testing.def("laplacian_system",
-        [](PointsRef V, SimplicesRef S, const std::string& method, double lambda, double xi, double ridge,
+        [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge,
            const std::vector<Index>& zero_detail) {
           DifferentialSystem s;
           {
@@ -93,7 +94,7 @@ static void bind_laplacian_parts(py::module_& testing) {
           }
           return py::make_tuple(csr(s.L), s.delta);
         },
-        py::arg("points"), py::arg("simplices"), py::arg("method") = "dual", py::arg("lam") = defaults.lambda,
+        py::arg("points"), py::arg("simplices"), py::arg("method") = LaplacianMethod::Dual, py::arg("lam") = defaults.lambda,
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
         py::arg("zero_detail_vertices") = std::vector<Index>{}, "(L as CSR, delta): L V = Δ for the input.");
 
@@ -119,11 +120,11 @@ static void bind_deformer(py::module_& m) {
       .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
-                       const std::string& method, const std::string& boundary, double lambda, double xi, double ridge,
+                       LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,
                        double constraint_weight, const std::vector<Index>& zero_detail) {
              DeformerOptions o;
              o.laplacian = laplacian_options(method, lambda, xi, ridge, zero_detail);
-             o.boundary = parse_boundary_rule(boundary);
+             o.boundary = boundary;
              o.constraint_weight = constraint_weight;
              const PointMatrix points = V;
              const SimplexMatrix simplices = S;
@@ -131,7 +132,7 @@ static void bind_deformer(py::module_& m) {
              return std::make_unique<Deformer>(points, simplices, anchors, handles, o);
            }),
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
-           py::arg("method") = "dual", py::arg("boundary") = "grow", py::arg("lam") = defaults.lambda,
+           py::arg("method") = LaplacianMethod::Dual, py::arg("boundary") = BoundaryRule::Grow, py::arg("lam") = defaults.lambda,
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
            py::arg("zero_detail_vertices") = std::vector<Index>{},
            "Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles "
@@ -173,6 +174,11 @@ static void bind_deformer(py::module_& m) {
 }
 
 void bind_laplacian(py::module_& m, py::module_& testing) {
+  // Before the functions whose defaults are their values.
+  bind_named_enum(m, "LaplacianMethod", "Laplacian method", kLaplacianMethodNames,
+                  "Laplacian weights: dual (Au et al. 2006), graph (QP of eq. 4.2), uniform, cotangent.");
+  bind_named_enum(m, "BoundaryRule", "boundary rule", kBoundaryRuleNames,
+                  "What the dual method does when its ghost vertices leave too few constraints (§4.4.2).");
   bind_laplacian_parts(testing);
   bind_deformer(m);
 }

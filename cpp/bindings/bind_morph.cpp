@@ -3,29 +3,11 @@
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/surface_distance.hpp"
 #include "bindings.hpp"
+#include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
 namespace {
-
-// A py::enum_ whose values are named by `names` (morph.hpp's tables), and
-// that a str of one of those names converts to ("field" for
-// MorphMethod.field), so options can be given as the API documents them.
-template <class Enum, std::size_t N>
-void bind_named_enum(py::module_& m, const char* type, const char* what,
-                     const std::array<std::pair<Enum, const char*>, N>& names, const char* doc) {
-  py::enum_<Enum> e(m, type, doc);
-  for (const auto& [value, name] : names) e.value(name, value);
-  e.def(py::init([names, what](const std::string& wanted) {
-    std::string known;
-    for (const auto& [value, name] : names) {
-      if (wanted == name) return value;
-      known += (known.empty() ? "" : ", ") + std::string(name);
-    }
-    throw py::value_error("unknown " + std::string(what) + " '" + wanted + "': use one of " + known);
-  }));
-  py::implicitly_convertible<std::string, Enum>();
-}
 
 // progress and interrupted as the core calls them, from Python callables.
 void set_callbacks(MorphOptions& options, py::object progress, py::object interrupted) {

@@ -1,12 +1,11 @@
 #include "animanifold/refine.hpp"
 #include "bindings.hpp"
+#include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
 void bind_refine(py::module_& m, py::module_& testing) {
-  py::enum_<RefineOrder>(m, "RefineOrder", "Order in which split tuples are applied (§6.3).")
-      .value("given", RefineOrder::Given)
-      .value("degeneracy", RefineOrder::Degeneracy);
+  bind_named_enum(m, "RefineOrder", "refine order", kRefineOrderNames, "Order in which split tuples are applied (§6.3).");
 
   // Properties return copies: callers own (and may write to) what refine() gives them.
   py::class_<Refinement>(m, "Refinement", "A refined complex and the maps of animanifold/refine.hpp.")

@@ -1,5 +1,6 @@
 #include "animanifold/skeleton.hpp"
 #include "bindings.hpp"
+#include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
@@ -42,13 +43,13 @@ static void bind_voronoi_skeleton(py::module_& m) {
       .def_readonly("seconds_extraction", &VoronoiSkeleton::seconds_extraction);
 
   m.def("voronoi_skeleton",
-        [](PointsRef V, SimplicesRef F, bool internal, bool external, int max_iterations, const std::string& wrap,
-           int wrap_density, double wrap_margin, double dihedral_limit, bool attach, int neighbourhood, double in_plane_angle) {
+        [](PointsRef V, SimplicesRef F, SkeletonSide side, int max_iterations, WrapShape wrap, int wrap_density,
+           double wrap_margin, double dihedral_limit, bool attach, int neighbourhood, double in_plane_angle) {
           SkeletonOptions o;
-          o.internal = internal;
-          o.external = external;
+          o.internal = side != SkeletonSide::External;
+          o.external = side != SkeletonSide::Internal;
           o.max_iterations = max_iterations;
-          o.wrap = parse_wrap_shape(wrap);
+          o.wrap = wrap;
           o.wrap_density = wrap_density;
           o.wrap_margin = wrap_margin;
           o.dihedral_limit = dihedral_limit;
@@ -59,11 +60,11 @@ static void bind_voronoi_skeleton(py::module_& m) {
           py::gil_scoped_release release;
           return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o));
         },
-        py::arg("vertices"), py::arg("faces"), py::arg("internal") = true, py::arg("external") = true,
-        py::arg("max_iterations") = 4, py::arg("wrap") = "box", py::arg("wrap_density") = 4,
+        py::arg("vertices"), py::arg("faces"), py::arg("side") = SkeletonSide::Both,
+        py::arg("max_iterations") = 4, py::arg("wrap") = WrapShape::Box, py::arg("wrap_density") = 4,
         py::arg("wrap_margin") = 1.0, py::arg("dihedral_limit") = M_PI / 4, py::arg("attach") = false, py::arg("neighbourhood") = 2,
         py::arg("in_plane_angle") = 0.3,
-        "Internal and/or external Voronoi skeleton of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
+        "The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
         "made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.");
 
 }
@@ -129,19 +130,19 @@ static void bind_separability(py::module_& m) {
         "Dihedral angles of the mesh's edges against `limit` (radians): dict of limit, sharpest, passes, sharp, angles.");
 
   m.def("wrap",
-        [](PointsRef V, SimplicesRef F, const std::string& shape, int density, double margin) {
+        [](PointsRef V, SimplicesRef F, WrapShape shape, int density, double margin) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
           WrapResult r;
           {
             py::gil_scoped_release release;
-            r = wrap(v, f, parse_wrap_shape(shape), density, margin);
+            r = wrap(v, f, shape, density, margin);
           }
           return py::make_tuple(r.vertices, r.faces, r.input_vertices, r.input_faces);
         },
-        py::arg("vertices"), py::arg("faces"), py::arg("shape") = "box", py::arg("density") = 4,
+        py::arg("vertices"), py::arg("faces"), py::arg("shape") = WrapShape::Box, py::arg("density") = 4,
         py::arg("margin") = 1.0,
-        "(vertices, faces, input_vertices, input_faces): the mesh inside a wrapping shape ('box' or 'sphere') for "
+        "(vertices, faces, input_vertices, input_faces): the mesh inside a WrapShape for "
         "the external skeleton; raises InputError for an unknown shape.");
 
   m.def("faces_intersecting_mesh",
@@ -162,6 +163,11 @@ static void bind_separability(py::module_& m) {
 }
 
 void bind_skeleton(py::module_& m) {
+  // Before the functions whose defaults are their values.
+  bind_named_enum(m, "SkeletonSide", "skeleton side", kSkeletonSideNames,
+                  "Which Voronoi skeleton: internal (medial), external (concavities and holes) or both.");
+  bind_named_enum(m, "WrapShape", "wrap shape", kWrapShapeNames,
+                  "The shape around a mesh that bounds every Voronoi cell of the external skeleton (§7.6.4).");
   bind_voronoi_skeleton(m);
   bind_separability(m);
 }

@@ -1,5 +1,6 @@
 #include "animanifold/subdivide.hpp"
 #include "bindings.hpp"
+#include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
@@ -29,6 +30,8 @@ struct SubdividedManifold {
 }  // namespace
 
 void bind_subdivide(py::module_& m) {
+  bind_named_enum(m, "ManifoldScheme", "manifold subdivision scheme", kManifoldSchemeNames,
+                  "Tetrahedral subdivision: schaefer (split and average: smooth) or linear (split only).");
   // Array properties return copies: callers own what they are given.
   py::class_<SubdividedManifold>(m, "SubdividedManifold", "A subdivided manifold and its maps to the input.")
       .def_readonly("manifold", &SubdividedManifold::manifold, "The subdivided Complex.")
@@ -39,11 +42,11 @@ void bind_subdivide(py::module_& m) {
       .def_property_readonly("keyframe_times", [](const SubdividedManifold& s) { return s.keyframe_times; },
                              "Times kept exact by the subdivision.");
   m.def("subdivide_manifold",
-        [](const Complex& c, int levels, const std::string& scheme, bool keep_keyframe_times,
+        [](const Complex& c, int levels, ManifoldScheme scheme, bool keep_keyframe_times,
            std::vector<double> keyframe_times) {
           ManifoldSubdivisionOptions options;
           options.levels = levels;
-          options.scheme = parse_manifold_scheme(scheme);
+          options.scheme = scheme;
           options.keep_keyframe_times = keep_keyframe_times;
           options.keyframe_times = std::move(keyframe_times);
           ManifoldSubdivision result;
@@ -55,7 +58,7 @@ void bind_subdivide(py::module_& m) {
                                     std::move(result.vertex_parents), std::move(result.simplex_parent),
                                     std::move(result.keyframe_times)};
         },
-        py::arg("manifold"), py::arg("levels") = 1, py::arg("scheme") = "schaefer",
+        py::arg("manifold"), py::arg("levels") = 1, py::arg("scheme") = ManifoldScheme::Schaefer,
         py::arg("keep_keyframe_times") = false, py::arg("keyframe_times") = std::vector<double>{},
         "Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises "
         "InputError for an unknown scheme or bad levels.");

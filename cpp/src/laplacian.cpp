@@ -21,38 +21,16 @@ namespace animanifold {
 // Names
 
 LaplacianMethod parse_laplacian_method(const std::string& name) {
-  if (name == "uniform") return LaplacianMethod::Uniform;
-  if (name == "cotangent") return LaplacianMethod::Cotangent;
-  if (name == "graph") return LaplacianMethod::Graph;
-  if (name == "dual") return LaplacianMethod::Dual;
-  fail<InputError>("unknown Laplacian method '", name, "': use 'dual', 'graph', 'uniform' or 'cotangent'");
+  return parse_name(name, kLaplacianMethodNames, "Laplacian method");
 }
 
 BoundaryRule parse_boundary_rule(const std::string& name) {
-  if (name == "ghost_anchors") return BoundaryRule::GhostAnchors;
-  if (name == "grow") return BoundaryRule::Grow;
-  if (name == "error") return BoundaryRule::Error;
-  fail<InputError>("unknown boundary rule '", name, "': use 'grow', 'ghost_anchors' or 'error'");
+  return parse_name(name, kBoundaryRuleNames, "boundary rule");
 }
 
-std::string to_string(LaplacianMethod method) {
-  switch (method) {
-    case LaplacianMethod::Uniform: return "uniform";
-    case LaplacianMethod::Cotangent: return "cotangent";
-    case LaplacianMethod::Graph: return "graph";
-    case LaplacianMethod::Dual: return "dual";
-  }
-  return "?";
-}
+std::string to_string(LaplacianMethod method) { return name_of(method, kLaplacianMethodNames); }
 
-std::string to_string(BoundaryRule rule) {
-  switch (rule) {
-    case BoundaryRule::GhostAnchors: return "ghost_anchors";
-    case BoundaryRule::Grow: return "grow";
-    case BoundaryRule::Error: return "error";
-  }
-  return "?";
-}
+std::string to_string(BoundaryRule rule) { return name_of(rule, kBoundaryRuleNames); }
 
 // ---------------------------------------------------------------------------
 // Combinatorics

@@ -12,10 +12,8 @@ namespace animanifold {
 using namespace skeleton_detail;
 
 WrapShape parse_wrap_shape(const std::string& name) {
-  if (name == "box") return WrapShape::Box;
-  if (name == "sphere") return WrapShape::Sphere;
-  if (name == "none" || name.empty()) return WrapShape::None;
-  fail<InputError>("unknown wrap shape '", name, "' (expected 'box', 'sphere' or 'none')");
+  if (name.empty()) return WrapShape::None;
+  return parse_name(name, kWrapShapeNames, "wrap shape");
 }
 
 namespace {

@@ -16,9 +16,7 @@
 namespace animanifold {
 
 ManifoldScheme parse_manifold_scheme(const std::string& name) {
-  if (name == "schaefer") return ManifoldScheme::Schaefer;
-  if (name == "linear") return ManifoldScheme::Linear;
-  fail<InputError>("unknown manifold subdivision scheme '", name, "': use 'schaefer' or 'linear'");
+  return parse_name(name, kManifoldSchemeNames, "manifold subdivision scheme");
 }
 
 namespace {

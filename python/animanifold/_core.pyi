@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'Error', 'FileError', 'FillTriangulation', 'InputError', 'IntervalFrame', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'Error', 'FileError', 'FillTriangulation', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldScheme', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -186,8 +186,10 @@ class MorphMethod:
     def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @typing.overload
-    def __init__(self, arg0: str) -> None:
-        ...
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
     def __int__(self) -> int:
         ...
     @typing.overload
@@ -237,8 +239,10 @@ class FillTriangulation:
     def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @typing.overload
-    def __init__(self, arg0: str) -> None:
-        ...
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
     def __int__(self) -> int:
         ...
     @typing.overload
@@ -288,8 +292,10 @@ class Perturbation:
     def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
     @typing.overload
-    def __init__(self, arg0: str) -> None:
-        ...
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
     def __int__(self) -> int:
         ...
     @typing.overload
@@ -396,8 +402,14 @@ class RefineOrder:
         ...
     def __index__(self) -> int:
         ...
+    @typing.overload
     def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
         ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
     def __int__(self) -> int:
         ...
     @typing.overload
@@ -472,6 +484,59 @@ class Refinement:
         """
         Per-vertex tables (#V' rows), interpolated at new vertices.
         """
+class ManifoldScheme:
+    """
+    Tetrahedral subdivision: schaefer (split and average: smooth) or linear (split only).
+    
+    Members:
+    
+      schaefer
+    
+      linear
+    """
+    __members__: typing.ClassVar[dict[str, ManifoldScheme]]
+    linear: typing.ClassVar[ManifoldScheme]
+    schaefer: typing.ClassVar[ManifoldScheme]
+    @typing.overload
+    def __eq__(self, other: ManifoldScheme) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: ManifoldScheme) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
 class SubdividedManifold:
     """
     A subdivided manifold and its maps to the input.
@@ -496,6 +561,118 @@ class SubdividedManifold:
         """
         #V' by 2: the input vertices each new vertex lies between (equal for kept ones).
         """
+class SkeletonSide:
+    """
+    Which Voronoi skeleton: internal (medial), external (concavities and holes) or both.
+    
+    Members:
+    
+      internal
+    
+      external
+    
+      both
+    """
+    __members__: typing.ClassVar[dict[str, SkeletonSide]]
+    both: typing.ClassVar[SkeletonSide]
+    external: typing.ClassVar[SkeletonSide]
+    internal: typing.ClassVar[SkeletonSide]
+    @typing.overload
+    def __eq__(self, other: SkeletonSide) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: SkeletonSide) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class WrapShape:
+    """
+    The shape around a mesh that bounds every Voronoi cell of the external skeleton (§7.6.4).
+    
+    Members:
+    
+      box
+    
+      sphere
+    
+      none
+    """
+    __members__: typing.ClassVar[dict[str, WrapShape]]
+    box: typing.ClassVar[WrapShape]
+    none: typing.ClassVar[WrapShape]
+    sphere: typing.ClassVar[WrapShape]
+    @typing.overload
+    def __eq__(self, other: WrapShape) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: WrapShape) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
 class VoronoiSkeleton:
     """
     Internal/external Voronoi skeleton (chapter 7).
@@ -556,6 +733,121 @@ class VoronoiSkeleton:
         ...
     @property
     def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        ...
+class LaplacianMethod:
+    """
+    Laplacian weights: dual (Au et al. 2006), graph (QP of eq. 4.2), uniform, cotangent.
+    
+    Members:
+    
+      dual
+    
+      graph
+    
+      uniform
+    
+      cotangent
+    """
+    __members__: typing.ClassVar[dict[str, LaplacianMethod]]
+    cotangent: typing.ClassVar[LaplacianMethod]
+    dual: typing.ClassVar[LaplacianMethod]
+    graph: typing.ClassVar[LaplacianMethod]
+    uniform: typing.ClassVar[LaplacianMethod]
+    @typing.overload
+    def __eq__(self, other: LaplacianMethod) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: LaplacianMethod) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
+class BoundaryRule:
+    """
+    What the dual method does when its ghost vertices leave too few constraints (§4.4.2).
+    
+    Members:
+    
+      grow
+    
+      ghost_anchors
+    
+      error
+    """
+    __members__: typing.ClassVar[dict[str, BoundaryRule]]
+    error: typing.ClassVar[BoundaryRule]
+    ghost_anchors: typing.ClassVar[BoundaryRule]
+    grow: typing.ClassVar[BoundaryRule]
+    @typing.overload
+    def __eq__(self, other: BoundaryRule) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: BoundaryRule) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
         ...
 class RestoreStatus:
     """
@@ -619,7 +911,7 @@ class Deformer:
     """
     Laplacian editing with a kept CHOLMOD factorisation.
     """
-    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: str = 'dual', boundary: str = 'grow', lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
+    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
         """
         Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.
         """
@@ -749,7 +1041,7 @@ def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float6
     """
     OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays (vertices, faces, normals, vertex_attributes, face_attributes, face_parent, crease_count); raises InputError for a bad mesh or scheme.
     """
-def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: str = 'schaefer', keep_keyframe_times: bool = False, keyframe_times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = []) -> SubdividedManifold:
+def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: ManifoldScheme = ..., keep_keyframe_times: bool = False, keyframe_times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = []) -> SubdividedManifold:
     """
     Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels.
     """
@@ -765,13 +1057,13 @@ def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64],
     """
     Volume-weighted unit normals (#V by n+1) of a manifold of n-simplices in R^(n+1).
     """
-def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], internal: bool = True, external: bool = True, max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: str = 'box', wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> VoronoiSkeleton:
+def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], side: SkeletonSide = ..., max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: WrapShape = ..., wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> VoronoiSkeleton:
     """
-    Internal and/or external Voronoi skeleton of a closed triangle mesh (vertices #V by 3, faces #F by 3), made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.
+    The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.
     """
-def wrap(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], shape: str = 'box', density: typing.SupportsInt | typing.SupportsIndex = 4, margin: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, int]:
+def wrap(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], shape: WrapShape = ..., density: typing.SupportsInt | typing.SupportsIndex = 4, margin: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, int]:
     """
-    (vertices, faces, input_vertices, input_faces): the mesh inside a wrapping shape ('box' or 'sphere') for the external skeleton; raises InputError for an unknown shape.
+    (vertices, faces, input_vertices, input_faces): the mesh inside a WrapShape for the external skeleton; raises InputError for an unknown shape.
     """
 def write_mesh(path: str, vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> None:
     """

@@ -14,7 +14,7 @@ import sys
 import numpy as np
 
 from .meshio import read_mesh, write_mesh
-from .skeleton import voronoi_skeleton
+from .skeleton import SIDES, WRAP_SHAPES, voronoi_skeleton
 
 PROG = "animanifold"
 
@@ -28,12 +28,12 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
                     "intersect it, internal and/or external (clipped to the convex hull).")
     p.add_argument("input", help="closed triangle mesh (.obj, .off, .ply, .stl)")
     p.add_argument("-o", "--output", required=True, help="skeleton triangles (format from the extension)")
-    p.add_argument("--side", choices=("internal", "external", "both"), default="both",
+    p.add_argument("--side", choices=SIDES, default="both",
                    help="which skeleton to write (default: both)")
     p.add_argument("--max-iterations", type=int, default=4, metavar="N",
                    help="cap on the splitting rounds that make the mesh separable (default: 4)")
-    p.add_argument("--wrap", choices=("box", "sphere", "none"), default="box",
-                   help="sites around the mesh so every cell is bounded (default: box)")
+    p.add_argument("--wrap", choices=WRAP_SHAPES, default=WRAP_SHAPES[0],
+                   help=f"sites around the mesh so every cell is bounded (default: {WRAP_SHAPES[0]})")
     p.add_argument("--wrap-density", type=int, default=4, metavar="N", help="wrap subdivisions (default: 4)")
     p.add_argument("--dihedral-limit", type=float, default=45.0, metavar="DEGREES",
                    help="warn about surface angles sharper than this (default: 45)")
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
         vertices, faces = read_mesh(args.input)
         sk = voronoi_skeleton(
             vertices, faces, side=args.side, max_iterations=args.max_iterations,
-            wrap=None if args.wrap == "none" else args.wrap, wrap_density=args.wrap_density,
+            wrap=args.wrap, wrap_density=args.wrap_density,
             dihedral_limit=math.radians(args.dihedral_limit), attach=args.attach,
             neighbourhood=1 if args.literal_rule else 2, in_plane_angle=0.0 if args.literal_rule else 0.3,
             warn=False)

@@ -38,9 +38,10 @@ from typing import Sequence
 import numpy as np
 
 from . import _core
+from .choices import checked, names
 
-METHODS = ("dual", "graph", "uniform", "cotangent")
-BOUNDARY_RULES = ("grow", "ghost_anchors", "error")
+METHODS = names(_core.LaplacianMethod)
+BOUNDARY_RULES = names(_core.BoundaryRule)
 
 
 @dataclass(frozen=True)
@@ -181,10 +182,9 @@ class LaplacianOptions:
     constraint_weight: float = 0.0
 
     def __post_init__(self):
-        if self.method not in METHODS:
-            raise ValueError(f"unknown method {self.method!r}: use one of {', '.join(METHODS)}")
-        if self.boundary not in BOUNDARY_RULES:
-            raise ValueError(f"unknown boundary rule {self.boundary!r}: use one of {', '.join(BOUNDARY_RULES)}")
+        # Frozen: the checked names replace an enum member given for either.
+        object.__setattr__(self, "method", checked(self.method, _core.LaplacianMethod, "method"))
+        object.__setattr__(self, "boundary", checked(self.boundary, _core.BoundaryRule, "boundary rule"))
         if not isinstance(self.restore, (bool, np.bool_)):
             raise ValueError(f"restore must be True or False, got {self.restore!r}")
         if not _is_count(self.restore_iterations):
@@ -239,10 +239,8 @@ class Deformer:
             )
         if simplices.size and not np.issubdtype(simplices.dtype, np.integer):
             raise ValueError(f"simplices must be integer vertex indices, got {simplices.dtype}")
-        if method not in METHODS:
-            raise ValueError(f"unknown method {method!r}: use one of {', '.join(METHODS)}")
-        if boundary not in BOUNDARY_RULES:
-            raise ValueError(f"unknown boundary rule {boundary!r}: use one of {', '.join(BOUNDARY_RULES)}")
+        method = checked(method, _core.LaplacianMethod, "method")
+        boundary = checked(boundary, _core.BoundaryRule, "boundary rule")
         n = len(points)
         anchors = _vertex_list(anchors, "anchors", n)
         handles = _vertex_list(handles, "handles", n)

@@ -27,9 +27,10 @@ from typing import Mapping
 import numpy as np
 
 from . import _core
+from .choices import checked, names
 from .manifold import AnimationManifold
 
-ORDERS = {"given": _core.RefineOrder.given, "degeneracy": _core.RefineOrder.degeneracy}
+ORDERS = names(_core.RefineOrder)
 
 
 @dataclass(frozen=True)
@@ -111,8 +112,7 @@ def refine_complex(
 
     Raises ValueError naming the split (and vertex) at fault.
     """
-    if order not in ORDERS:
-        raise ValueError(f"unknown order {order!r}: use 'degeneracy' or 'given'")
+    order = checked(order, _core.RefineOrder, "order")
     points = np.ascontiguousarray(points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] < 1:
         raise ValueError(f"points must be (N, D), got shape {points.shape}")
@@ -127,7 +127,7 @@ def refine_complex(
 
     squeeze_vertex, va = _tables(vertex_attributes, np.float64, "vertex attribute")
     squeeze_simplex, sa = _tables(simplex_attributes, np.int32, "simplex attribute")
-    out = _core.refine(points, simplices, va, sa, ids, coords, float(epsilon), ORDERS[order])
+    out = _core.refine(points, simplices, va, sa, ids, coords, float(epsilon), order)
 
     def restore(tables: Mapping[str, np.ndarray], squeezed: set[str]) -> dict[str, np.ndarray]:
         return {name: table[:, 0] if name in squeezed else table for name, table in tables.items()}

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _core
+from .choices import checked, names
 
 __all__ = [
     "SeparabilityWarning",
@@ -40,7 +41,8 @@ __all__ = [
 
 INTERNAL = "internal"
 EXTERNAL = "external"
-_SIDES = {"internal": (True, False), "external": (False, True), "both": (True, True)}
+SIDES = names(_core.SkeletonSide)
+WRAP_SHAPES = names(_core.WrapShape)
 
 
 class SeparabilityWarning(RuntimeWarning):
@@ -137,16 +139,14 @@ def voronoi_skeleton(
     mesh separable, the skeleton is still returned with ``separable=False``
     and a :class:`SeparabilityWarning` is issued (``warn=False`` silences it).
     """
-    if side not in _SIDES:
-        raise ValueError(f"side must be 'internal', 'external' or 'both', got {side!r}")
+    side = checked(side, _core.SkeletonSide, "skeleton side")
+    wrap = "none" if wrap is None else checked(wrap, _core.WrapShape, "wrap shape")
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 0:
         raise ValueError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
-    internal, external = _SIDES[side]
     v = _points(vertices)
     f = _simplices(faces)
     raw = _core.voronoi_skeleton(
-        v, f, internal=internal, external=external, max_iterations=int(max_iterations),
-        wrap="none" if wrap is None else str(wrap), wrap_density=int(wrap_density),
+        v, f, side=side, max_iterations=int(max_iterations), wrap=wrap, wrap_density=int(wrap_density),
         wrap_margin=float(wrap_margin), dihedral_limit=float(dihedral_limit), attach=bool(attach),
         neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle))
     sides = np.where(np.asarray(raw.side) == 0, INTERNAL, EXTERNAL)
@@ -209,7 +209,8 @@ def wrap(vertices, faces, shape: str = "box", density: int = 4, margin: float = 
     """(vertices, faces, input_vertices, input_faces): the input followed by an
     inward-oriented box or sphere (rectangle or circle in R^2) ``margin``
     bounding-box diagonals away from it (§7.6.4)."""
-    return _core.wrap(_points(vertices), _simplices(faces), str(shape), int(density), float(margin))
+    shape = checked(shape, _core.WrapShape, "wrap shape")
+    return _core.wrap(_points(vertices), _simplices(faces), shape, int(density), float(margin))
 
 
 def faces_intersecting_mesh(face_vertices, face_simplices, vertices, faces) -> np.ndarray:

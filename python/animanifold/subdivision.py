@@ -15,9 +15,10 @@ from typing import Sequence
 import numpy as np
 
 from . import _core
+from .choices import checked, names
 from .manifold import AnimationManifold
 
-MANIFOLD_SCHEMES = ("schaefer", "linear")
+MANIFOLD_SCHEMES = names(_core.ManifoldScheme)
 
 
 def subdivide(
@@ -41,8 +42,7 @@ def subdivide(
     (a, b) for the midpoint of edge (a, b), (-1, -1) for an octahedron
     centre — and simplex_parent (S',) the input simplex of each output one.
     """
-    if scheme not in MANIFOLD_SCHEMES:
-        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(MANIFOLD_SCHEMES)}")
+    scheme = checked(scheme, _core.ManifoldScheme, "scheme")
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
         raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
     if keyframe_times is None:

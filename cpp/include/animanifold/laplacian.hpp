@@ -20,6 +20,7 @@
 // every handle move, then optionally restores features (dual scheme).
 #pragma once
 
+#include "animanifold/enum_names.hpp"
 #include "animanifold/types.hpp"
 
 #include <Eigen/SparseCore>
@@ -42,8 +43,15 @@ enum class BoundaryRule {
   Error,         // refuse, saying how many more constraints are needed
 };
 
-// "uniform", "cotangent", "graph", "dual" / "ghost_anchors", "grow", "error";
-// InputError listing the valid names otherwise.
+// The names users choose from, the default first (enum_names.hpp).
+inline constexpr NameTable<LaplacianMethod, 4> kLaplacianMethodNames{{{LaplacianMethod::Dual, "dual"},
+                                                                      {LaplacianMethod::Graph, "graph"},
+                                                                      {LaplacianMethod::Uniform, "uniform"},
+                                                                      {LaplacianMethod::Cotangent, "cotangent"}}};
+inline constexpr NameTable<BoundaryRule, 3> kBoundaryRuleNames{
+    {{BoundaryRule::Grow, "grow"}, {BoundaryRule::GhostAnchors, "ghost_anchors"}, {BoundaryRule::Error, "error"}}};
+
+// A name of the tables above; InputError naming it and the choices otherwise.
 LaplacianMethod parse_laplacian_method(const std::string& name);
 BoundaryRule parse_boundary_rule(const std::string& name);
 std::string to_string(LaplacianMethod method);

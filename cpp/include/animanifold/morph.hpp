@@ -27,6 +27,7 @@
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/enum_names.hpp"
 #include "animanifold/errors.hpp"
 
 #include <array>
@@ -48,20 +49,12 @@ enum class Perturbation { HullFaces, Position };
 
 // Each value with the name the Python API, the CLI and the add-on use for it
 // (the binding exposes these, so no other list of them exists).
-inline constexpr std::array<std::pair<MorphMethod, const char*>, 3> kMorphMethodNames{
+inline constexpr NameTable<MorphMethod, 3> kMorphMethodNames{
     {{MorphMethod::Skeleton, "skeleton"}, {MorphMethod::Strip, "strip"}, {MorphMethod::Field, "field"}}};
-inline constexpr std::array<std::pair<FillTriangulation, const char*>, 2> kFillTriangulationNames{
+inline constexpr NameTable<FillTriangulation, 2> kFillTriangulationNames{
     {{FillTriangulation::Cgal, "cgal"}, {FillTriangulation::Qhull, "qhull"}}};
-inline constexpr std::array<std::pair<Perturbation, const char*>, 2> kPerturbationNames{
+inline constexpr NameTable<Perturbation, 2> kPerturbationNames{
     {{Perturbation::HullFaces, "hull_faces"}, {Perturbation::Position, "position"}}};
-
-// The name of `value` in its table above.
-template <class Enum, std::size_t N>
-constexpr const char* name_of(Enum value, const std::array<std::pair<Enum, const char*>, N>& names) {
-  for (const auto& [v, name] : names)
-    if (v == value) return name;
-  return "?";
-}
 
 struct MorphOptions {
   // The times of the source and the target. The morph is solved over a span

@@ -41,6 +41,7 @@
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/enum_names.hpp"
 
 namespace animanifold {
 
@@ -51,6 +52,10 @@ enum class RefineOrder {
   Given,       // input order, re-homed tuples keeping their place
   Degeneracy,  // least degenerate split first (priority queue)
 };
+
+// The names users choose from (enum_names.hpp).
+inline constexpr NameTable<RefineOrder, 2> kRefineOrderNames{
+    {{RefineOrder::Given, "given"}, {RefineOrder::Degeneracy, "degeneracy"}}};
 
 struct RefineOptions {
   // Barycentric sliver tolerance, in [0, 0.5): a coordinate below it is

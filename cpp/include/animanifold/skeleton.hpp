@@ -15,6 +15,7 @@
 // predicates), classified internal/external and clipped to the convex hull.
 #pragma once
 
+#include "animanifold/enum_names.hpp"
 #include "animanifold/types.hpp"
 
 #include <cmath>
@@ -27,7 +28,11 @@ namespace animanifold {
 
 enum class WrapShape { None, Box, Sphere };
 
-// Parses "box", "sphere" or "none"; throws InputError otherwise.
+// The names users choose from, the default first (enum_names.hpp).
+inline constexpr NameTable<WrapShape, 3> kWrapShapeNames{
+    {{WrapShape::Box, "box"}, {WrapShape::Sphere, "sphere"}, {WrapShape::None, "none"}}};
+
+// A name of kWrapShapeNames, or "" for None; throws InputError otherwise.
 WrapShape parse_wrap_shape(const std::string& name);
 
 struct WrapResult {
@@ -149,6 +154,13 @@ SeparabilityResult make_voronoi_separable(const PointMatrix& V, const SimplexMat
                                           const EncroachmentRule& rule = {});
 
 // ------------------------------------------------- skeleton (§7.3, §7.4, §8.6.2)
+
+// Which skeletons users ask for: the medial one inside the shape, the one of
+// its concavities and holes (inside the convex hull), or both.
+enum class SkeletonSide { Internal, External, Both };
+
+inline constexpr NameTable<SkeletonSide, 3> kSkeletonSideNames{
+    {{SkeletonSide::Internal, "internal"}, {SkeletonSide::External, "external"}, {SkeletonSide::Both, "both"}}};
 
 struct SkeletonOptions {
   bool internal = true;

@@ -42,6 +42,7 @@
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/enum_names.hpp"
 #include "animanifold/slice.hpp"
 
 #include <string>
@@ -53,6 +54,10 @@ enum class ManifoldScheme {
   Schaefer,  // split + averaging (smooth)
   Linear,    // split only: the same refinement without moving any point
 };
+
+// The names users choose from, the default first (enum_names.hpp).
+inline constexpr NameTable<ManifoldScheme, 2> kManifoldSchemeNames{
+    {{ManifoldScheme::Schaefer, "schaefer"}, {ManifoldScheme::Linear, "linear"}}};
 
 struct ManifoldSubdivisionOptions {
   int levels = 1;
