@@ -31,6 +31,10 @@ bl_info = {
 
 import bpy  # noqa: E402
 
+from . import module_alias  # noqa: E402
+
+module_alias.install(__name__)  # `import animanifold_blender` also when Blender named us bl_ext.<repo>.…
+
 from . import handlers, operators, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
 
 # Parent panels before their sub-panels.

@@ -177,10 +177,11 @@ class NodeGroupBake:
         self.group = None
         self.new_cache_files = []
 
-    def apply(self, frames: list[int], progress=None):
+    def apply(self, frames: list[int], progress=None, collection=None):
+        """`collection`: frame objects made elsewhere (a farm's chunks), one per frame in order."""
         obj = self.obj
         base = f"{obj.name}_bake"
-        self.collection = build_frames(obj, frames, base + ".new", progress)
+        self.collection = collection or build_frames(obj, frames, base + ".new", progress)
         self.group = build_node_group(base + ".new", self.collection, frames[0], len(frames))
         for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
             mod = obj.modifiers.get(name)
@@ -303,17 +304,59 @@ def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list)
 
 # -- file sequences -----------------------------------------------------------------
 
-def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=None) -> list[str]:
-    """One file per frame (the slice as the object shows it, smoothing included; object
-    space) with animanifold's mesh writer."""
+SEQUENCE_EXTENSIONS = {"OBJ": ".obj", "PLY": ".ply"}
+
+
+def frame_file_name(obj, frame: int, fmt: str) -> str:
+    return f"{bpy.path.clean_name(obj.name)}_{frame:06d}{SEQUENCE_EXTENSIONS[fmt]}"
+
+
+def material_table(obj) -> tuple[list[str], list[tuple[float, float, float]]]:
+    """The object's material slots as (names, diffuse colours); empty slots get a placeholder name."""
+    mats = list(obj.data.materials) if obj.type == "MESH" else []
+    names = [m.name if m is not None else f"material_{i}" for i, m in enumerate(mats)]
+    colours = [tuple(m.diffuse_color[:3]) if m is not None else (0.8, 0.8, 0.8) for m in mats]
+    return names, colours
+
+
+def mtl_file_name(obj, suffix: str = "") -> str:
+    return f"{bpy.path.clean_name(obj.name)}{suffix}.mtl"
+
+
+def frame_file_bytes(obj, manifold, frame: int, fmt: str, mtl_name: str | None) -> bytes:
+    """A frame's OBJ/PLY text: the slice as the object shows it (smoothing included; object
+    space) with its UV map, normals (custom normals when smooth-shaded, else flat) and materials."""
+    s = frame_slice(obj, manifold, float(frame), "t")
+    names, _ = material_table(obj)
+    args = (np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.faces), s.vertex_attributes.get("uv"),
+            am.display.frame_normals(s, obj.animanifold.smooth_levels > 0), s.face_attributes.get("material_index"),
+            names)
+    if fmt == "OBJ":
+        return am.mesh_export.obj_bytes(*args, mtl_name=mtl_name)
+    return am.mesh_export.ply_bytes(*args)
+
+
+def _write_file(path: str, data: bytes) -> None:
+    with open(path, "wb") as f:
+        f.write(data)
+
+
+def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=None, write=_write_file,
+                    mtl_suffix: str = "") -> list[str]:
+    """One file per frame (frame_file_bytes) and, for OBJ with materials, one .mtl
+    (<object><mtl_suffix>.mtl). `write(path, bytes)` writes each file (atomically on a farm)."""
     manifold = shown_manifold(obj)
     os.makedirs(directory, exist_ok=True)
-    ext = {"OBJ": ".obj", "PLY": ".ply"}[fmt]
+    names, colours = material_table(obj)
+    mtl_name = mtl_file_name(obj, mtl_suffix) if fmt == "OBJ" and names else None
     written = []
+    if mtl_name:
+        path = os.path.join(directory, mtl_name)
+        write(path, am.mesh_export.mtl_bytes(names, colours))
+        written.append(path)
     for i, frame in enumerate(frames):
-        s = frame_slice(obj, manifold, float(frame), "t")
-        path = os.path.join(directory, f"{bpy.path.clean_name(obj.name)}_{frame:06d}{ext}")
-        am.write_mesh(path, np.ascontiguousarray(s.vertices), np.ascontiguousarray(s.faces))
+        path = os.path.join(directory, frame_file_name(obj, frame, fmt))
+        write(path, frame_file_bytes(obj, manifold, frame, fmt, mtl_name))
         written.append(path)
         if progress is not None:
             progress(i + 1)

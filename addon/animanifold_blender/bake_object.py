@@ -63,7 +63,8 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
                 notes.append("shown by a Mesh Sequence Cache modifier")
         progress(len(frames) + 1)
         if export != "NONE":
-            files = bake.export_sequence(obj, frames, folder, export, lambda i: progress(len(frames) + 1 + i))
+            files = bake.export_sequence(obj, frames, folder, export, lambda i: progress(len(frames) + 1 + i),
+                                             mtl_suffix=chunk)
             notes.append(f"{len(files)} {export} files in {folder}")
     except BaseException:
         transaction.rollback()

@@ -38,6 +38,7 @@ from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
 from .subdivision import subdivide
 from .welding import weld
+from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
 from .morph_job import MorphJob
 
