@@ -119,7 +119,8 @@ def test_obj_and_ply_sequences_and_farm_chunks(converted):
     assert bpy.ops.animanifold.bake(alembic=False, export="OBJ", use_scene_range=False, frame_start=10,
                                     frame_end=14, directory=str(tmp / "objs")) == {"FINISHED"}
     files = sorted(p.name for p in (tmp / "objs").iterdir())
-    assert files == [f"Blob_manifold_{f:06d}.obj" for f in range(10, 15)]
+    assert files == sorted([f"Blob_manifold_{f:06d}.obj" for f in range(10, 15)] + ["Blob_manifold_000010-000014.mtl"])
+    assert "mtllib Blob_manifold_000010-000014.mtl" in (tmp / "objs" / "Blob_manifold_000012.obj").read_text()
     for f in (10, 12, 14):
         v, faces = am.read_mesh(tmp / "objs" / f"Blob_manifold_{f:06d}.obj")
         np.testing.assert_allclose(canonical(v[faces], 5), canonical(expected_corners(cache, f), 5), atol=1e-5)
@@ -206,14 +207,15 @@ def test_farm_chunks_in_separate_processes(converted):
 
     man, cache, tmp = converted
     bpy.ops.wm.save_mainfile()
-    procs = [subprocess.run([sys.executable, str(SCENES / "farm_bake_chunk.py"), str(tmp / "bake.blend"),
-                             "--start", str(a), "--end", str(b), "--export", "OBJ", "--directory", "//farm/"],
+    procs = [subprocess.run([sys.executable, str(SCENES / "farm_bake_chunk.py"), str(tmp / "bake.blend"), "bake-chunk",
+                             "--start", str(a), "--end", str(b), "--outputs", "obj", "--directory", "//farm/"],
                             capture_output=True, text=True, timeout=240, cwd="/")
              for a, b in ((1, 24), (25, 48))]
     for p in procs:
         assert p.returncode == 0, p.stdout[-2000:] + p.stderr[-2000:]
-    files = sorted((tmp / "farm").iterdir())
-    assert [f.name for f in files] == [f"Blob_manifold_{f:06d}.obj" for f in range(1, 49)]
+    files = sorted(f.name for f in (tmp / "farm").iterdir() if f.suffix == ".obj")
+    assert files == [f"Blob_manifold_{f:06d}.obj" for f in range(1, 49)]
+    assert (tmp / "farm" / "Blob_manifold_000025-000048.done.json").is_file()
     for f in (1, 24, 25, 37):
         v, faces = am.read_mesh(tmp / "farm" / f"Blob_manifold_{f:06d}.obj")
         np.testing.assert_allclose(canonical(v[faces], 5), canonical(expected_corners(cache, f), 5), atol=1e-5)
