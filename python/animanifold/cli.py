@@ -1,7 +1,8 @@
-"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo|morph|skeleton``.
+"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo|morph|skeleton|farm``.
 
 stitch, slice, frames, info and demo read and write animation manifolds; morph makes one
-between two closed meshes; skeleton (cli_skeleton.py) writes a mesh's Voronoi skeleton.
+between two closed meshes; skeleton (cli_skeleton.py) writes a mesh's Voronoi skeleton; farm
+(cli_farm.py) runs the render-farm steps that need no Blender.
 
 Each sub-command is a small function from parsed arguments to an exit code.
 Anything the user can get wrong — a missing or unreadable file, a damaged
@@ -28,7 +29,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ._core import Error
-from . import cli_skeleton
+from . import cli_farm, cli_skeleton
 from .cache import load, save
 from .demo import run_demo as build_demo
 from .holes import BooleanError
@@ -384,6 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     sub = cli_skeleton.add_parser(commands)
     sub.set_defaults(run=cli_skeleton.run)
+    cli_farm.add_parser(commands)
     return parser
 
 
