@@ -97,7 +97,7 @@ def test_morph_bundle_summary_agrees_with_every_report(pairs, tmp_path):
         assert all(f.read_text().count("\nvn ") > 0 for f in frames)
     assert table["open"]["status"] == "failed"
     failure = json.loads((out / "open" / "report.json").read_text())["error"]
-    assert "open.off" in failure or "closed" in failure or "boundary" in failure, failure
+    assert failure.startswith("open.off -> cube.off: ") and "open" in failure[20:], failure
     assert f"**open**: {failure}" in (out / "summary.md").read_text()
     assert not list(out.rglob(".*.tmp*")), "temporary files left behind"
 

@@ -23,7 +23,6 @@ import json
 import math
 import os
 import re
-import sys
 import time
 from pathlib import Path
 
@@ -31,6 +30,7 @@ import numpy as np
 
 from ._core import Error
 from .cache import load, save
+from .contact_sheet import render_contact_sheet
 from .meshio import read_mesh
 from .mesh_export import obj_bytes, ply_bytes
 from .morph_pipeline import METHODS, morph
@@ -131,8 +131,6 @@ def _morph_pair(pair: dict, folder: Path, fmt: str) -> dict:
         files.append(name)
     seconds["frames"] = time.perf_counter() - start
     start = time.perf_counter()
-    from .contact_sheet import render_contact_sheet
-
     sheet = folder / "contact_sheet.png"
     tmp = sheet.with_name(f".{sheet.name}.{os.getpid()}.tmp.png")
     render_contact_sheet(slices[:: max(1, len(slices) // 8)][:8], tmp, manifold.bounding_box)
@@ -167,7 +165,9 @@ def run_morph(args: argparse.Namespace) -> int:
     try:
         report = _morph_pair(pair, folder, args.format)
     except (Error, ValueError, OSError) as error:  # the pair's result: shown in the summary
-        report = {"status": "failed", "error": " ".join(str(error).split()) or type(error).__name__, "files": []}
+        reason = " ".join(str(error).split()) or type(error).__name__
+        inputs = f"{os.path.basename(pair['source'])} -> {os.path.basename(pair['target'])}"
+        report = {"status": "failed", "error": f"{inputs}: {reason}", "files": []}
     report = dict(report, pair=pair, total_seconds=time.perf_counter() - start)
     _write_atomic(folder / REPORT, (json.dumps(report, indent=1, sort_keys=True) + "\n").encode())
     print(f"farm morph: {pair['name']}: {report['status']}" + (f" ({report['error']})" if "error" in report else ""))
@@ -281,8 +281,3 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     f.set_defaults(run=run_frames)
     return p
 
-
-def main(argv: list[str] | None = None) -> int:
-    from .cli import main as cli_main
-
-    return cli_main(["farm", *(sys.argv[1:] if argv is None else argv)])
