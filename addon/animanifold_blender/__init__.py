@@ -12,6 +12,9 @@ Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
   failures into reports;
 * what they run: convert, bake_object and bake, morph_object, deform_apply with
   deform_constraints, deform_handle and interactive_deform;
+* render farms: farm (a chunk's bake and the assembly, called from Blender's command
+  line), farm_files (atomic writes, chunk manifests), module_alias (`animanifold_blender`
+  importable when Blender loads the add-on as an extension under bl_ext.*);
 * live playback: live (a scene's frame), playback (the strategies), object_manifold
   (the manifold an object shows), live_registry (all state kept between frames),
   subdivision_cache, live_cuts, live_nodes (the geometry-nodes modifier);
