@@ -90,8 +90,13 @@ def _folder(directory: str) -> str:
     return folder
 
 
+def range_suffix(first: int, last: int) -> str:
+    return f"_{first:06d}-{last:06d}"
+
+
 def chunk_tag(obj, first: int, last: int) -> str:
-    return f"{bpy.path.clean_name(obj.name)}_{first:06d}-{last:06d}"
+    """The stem of a chunk's own files: <object>_<first>-<last>."""
+    return bpy.path.clean_name(obj.name) + range_suffix(first, last)
 
 
 def _frames_of(obj, start: int, end: int) -> list[int]:
@@ -109,7 +114,7 @@ def _chunk_files(obj, frames: list[int], outputs: list[str]) -> list[str]:
         if fmt.lower() in outputs:
             names += [bake.frame_file_name(obj, f, fmt) for f in frames]
     if "obj" in outputs:
-        names.append(bake.mtl_file_name(obj, tag[len(bpy.path.clean_name(obj.name)):]))
+        names.append(bake.mtl_file_name(obj, range_suffix(frames[0], frames[-1])))
     return names + [tag + ".done.json"]
 
 
@@ -125,7 +130,7 @@ def _bake_object_chunk(obj, frames: list[int], folder: str, outputs: list[str]) 
     for fmt in ("OBJ", "PLY"):
         if fmt.lower() in outputs:
             files += bake.export_sequence(obj, frames, folder, fmt, write=farm_files.write_bytes,
-                                          mtl_suffix=tag[len(bpy.path.clean_name(obj.name)):])
+                                          mtl_suffix=range_suffix(first, last))
     if "blend" in outputs or "abc" in outputs:
         transaction = bake.NodeGroupBake(obj)
         try:

@@ -26,21 +26,26 @@ _written = {"files": 0}
 
 def temporary_path(path: str) -> str:
     folder, name = os.path.split(path)
-    stem, ext = os.path.splitext(name)
+    ext = os.path.splitext(name)[1]
     return os.path.join(folder, f".{name}.{os.getpid()}.tmp{ext}")
 
 
 def write_bytes(path: str, data: bytes) -> None:
     """Writes `data` to `path` atomically (see the module)."""
     tmp = temporary_path(path)
-    with open(tmp, "wb") as f:
-        limit = os.environ.get(KILL_AFTER_FILES)
-        if limit is not None and _written["files"] >= int(limit):
-            f.write(data[: len(data) // 2])
-            f.flush()
-            os._exit(KILLED_EXIT_CODE)
-        f.write(data)
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "wb") as f:
+            limit = os.environ.get(KILL_AFTER_FILES)
+            if limit is not None and _written["files"] >= int(limit):
+                f.write(data[: len(data) // 2])
+                f.flush()
+                os._exit(KILLED_EXIT_CODE)
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:  # a full disk, an interrupt: no temporary left (a kill leaves one: remove_stale)
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
     _written["files"] += 1
 
 

@@ -224,6 +224,12 @@ def test_killed_chunk_leaves_no_half_written_file_and_rerun_is_identical(scene, 
     assert again.returncode == 0 and "complete already" in again.stdout
     assert {n: (tmp_path / n).stat().st_mtime_ns for n in os.listdir(tmp_path)} == stamps
 
+    damaged = tmp_path / "Blob_manifold_000020.ply"  # changed behind the manifest's back: not complete
+    damaged.write_bytes(damaged.read_bytes()[:100])
+    repaired = run_chunk(blend, tmp_path, 17, 32, "blend,obj,ply")
+    assert repaired.returncode == 0 and "complete already" not in repaired.stdout
+    assert damaged.read_bytes() == (baked / damaged.name).read_bytes()
+
 
 def test_two_chunk_tasks_at_once_write_the_bytes_of_one_process(scene, tmp_path):
     blend = scene[0]
