@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import animanifold as am
-from animanifold import cli, cli_farm, mesh_export
+from animanifold import cli, mesh_export, morph_batch
 from helpers import shapes
 from helpers.shared_files import shared_mesh
 
@@ -143,7 +143,7 @@ def test_a_pair_with_a_complete_report_is_skipped(pairs, tmp_path, capsys):
 def test_pair_lists_in_csv_and_their_errors(tmp_path, capsys):
     csv_path = tmp_path / "pairs.csv"
     csv_path.write_text("source,target,frames,method\na.off,b.off,5,strip\n/abs/c.off,d.off,,\n")
-    got = cli_farm.read_pairs(csv_path)
+    got = morph_batch.read_pairs(csv_path)
     assert got[0] == {"name": "001_a_to_b", "source": str(tmp_path / "a.off"), "target": str(tmp_path / "b.off"),
                       "frames": 5, "method": "strip"}
     assert got[1]["source"] == "/abs/c.off" and got[1]["frames"] == 8
@@ -154,8 +154,8 @@ def test_pair_lists_in_csv_and_their_errors(tmp_path, capsys):
                           ([{"source": "a", "target": "b", "frames": "x"}], "frames must be a whole number"),
                           ([], "holds no pairs")):
         bad.write_text(json.dumps(rows))
-        with pytest.raises(cli_farm.PairListError, match=message):
-            cli_farm.read_pairs(bad)
+        with pytest.raises(morph_batch.PairListError, match=message):
+            morph_batch.read_pairs(bad)
     assert cli.main(["farm", "morph", str(csv_path), "--index", "3", "-o", str(tmp_path)]) == 2
     assert "--index 3 is outside the list's pairs 1..2" in capsys.readouterr().err
 
