@@ -320,3 +320,15 @@ def test_blender_binary_with_the_legacy_addon_runs_the_farm_command_line(tmp_pat
         np.testing.assert_allclose(got[0], want[0], atol=1e-6, err_msg=f"frame {f}")
         np.testing.assert_allclose(got[1], want[1], atol=1e-6, err_msg=f"frame {f} UVs")
         assert got[2] == want[2], f"frame {f}: materials differ"
+
+
+def test_chunk_tasks_name_what_is_wrong(scene, tmp_path):
+    blend = scene[0]
+    proc = run_chunk(blend, tmp_path, 1, 4, "blend,gif")
+    assert proc.returncode == 1 and "unknown farm outputs ['gif']: choose from blend, abc, obj, ply" in proc.stderr
+    proc = subprocess.run([sys.executable, STAND_IN, "-b", str(blend), "--python-exit-code", "1", "--python-expr",
+                           FARM_EXPR, "--", "bake-chunk", "--start", "1", "--end", "4", "--object", "Nope",
+                           "--directory", str(tmp_path)], capture_output=True, text=True, timeout=240, env=farm_env())
+    assert proc.returncode == 1
+    assert f"no manifold object 'Nope' in {blend} (manifold objects: ['Blob_manifold'])" in proc.stderr
+    assert os.listdir(tmp_path) == []
