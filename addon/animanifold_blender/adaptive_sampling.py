@@ -24,6 +24,8 @@ deviation reached and where.
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -165,8 +167,16 @@ class _Refinement:
         times = np.array(sorted(self.samples))
         self.keys = sampling.keyframes_from(self.obj, [self.samples[t] for t in times], times, check_motion=False)
         self.manifold = sampling.stitch_keyframes(self.keys)
-        for i in np.flatnonzero(self.dirty):
-            self.deviation[i] = frame_deviation(self.manifold, self.candidates[i], self.surfaces[i], self.matrix0)
+        dirty = np.flatnonzero(self.dirty)
+
+        def measure(i):
+            return frame_deviation(self.manifold, self.candidates[i], self.surfaces[i], self.matrix0)
+
+        if len(dirty):
+            self.deviation[dirty[0]] = measure(dirty[0])  # the first slice makes the manifold's slicer
+            # Slicing and distances run in the core without the GIL: one thread per core.
+            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+                self.deviation[dirty[1:]] = list(pool.map(measure, dirty[1:]))
         self.dirty[:] = False
         if self.progress is not None:
             within = int(np.count_nonzero(self.deviation <= self.tolerance))

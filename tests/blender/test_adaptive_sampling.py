@@ -99,6 +99,20 @@ def test_the_independent_measure_is_a_distance():
     np.testing.assert_allclose(point_triangle_distances(points, tri), expected, atol=1e-12)
 
 
+def test_candidates_and_the_worst_frame_of_each_interval():
+    from animanifold_blender.adaptive_sampling import candidate_frames, worst_per_interval
+
+    frames = candidate_frames(1, 4, np.array([0.0, 2.25, 9.0]))
+    np.testing.assert_array_equal(frames, [1, 1.5, 2, 2.25, 2.5, 3, 3.5, 4])
+    samples = np.array([1.0, 2.25, 4.0])
+    deviation = np.array([0, 0.3, 0.5, 0, 0.05, 0.9, 0.2, 0])
+    # (1, 2.25): 2 is worst; (2.25, 4): 3; a sample frame or one within 0.1 is never picked
+    np.testing.assert_array_equal(frames[worst_per_interval(frames, deviation, samples, 0.1)], [3.0, 2.0])
+    assert len(worst_per_interval(frames, deviation, samples, 1.0)) == 0
+    deviation[3] = 5.0  # at a sample: already exact, never added again
+    np.testing.assert_array_equal(frames[worst_per_interval(frames, deviation, samples, 0.1)], [3.0, 2.0])
+
+
 # -- scenes ----------------------------------------------------------------------
 
 def eased_cube(scene, end=24):

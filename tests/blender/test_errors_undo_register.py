@@ -183,9 +183,13 @@ def test_panel_draws_for_plain_live_and_baked_objects(demo, addon):
         return log
 
     assert ("operator", "animanifold.convert_action") in draw()
+    assert ("prop", "tolerance") in draw()  # the default sampling's setting
     assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
     log = draw()
     assert ("prop", "axis") in log and ("operator", "animanifold.bake") in log
+    settings = bpy.context.active_object.animanifold
+    percent = 100 * settings.max_deviation / settings.source_size
+    assert 0 < percent <= 0.2 and ("label", f"Deviation: {percent:.3g} % (frame {settings.deviation_frame:g})") in log
     bpy.context.active_object.animanifold.axis = "x"
     assert ("prop", "sweep_value") in draw()
     assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
