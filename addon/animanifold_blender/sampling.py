@@ -69,7 +69,7 @@ class MeshSample:
     loop_uv: np.ndarray | None  # (L, 2) float32 or None
     uv_name: str | None
     matrix_world: np.ndarray  # (4, 4)
-    # triangulation (first sample only: n-gon triangulation depends on the shape)
+    # triangulation (the first sample, or every one asked for: n-gon triangulation depends on the shape)
     tri_vertices: np.ndarray | None = None  # (T, 3) int32
     tri_loops: np.ndarray | None = None  # (T, 3) int32
     material_index: np.ndarray | None = None  # (T,) int32
