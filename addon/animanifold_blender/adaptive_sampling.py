@@ -73,10 +73,13 @@ class Fidelity:
         """The report's warning when the tolerance was not reached, else None."""
         if self.reached:
             return None
+        why = (f"the cap of {self.sample_cap} samples was reached (raise the cap or the tolerance)"
+               if self.samples >= self.sample_cap else
+               "it is a sample, so its faces differ: the source's polygons are triangulated there unlike at the "
+               "first frame, whose triangulation every sample shares")
         return (f"'{name}': frame {self.frame:g} is {self.percent(self.deviation):.3g} % of the object's size "
                 f"({self.deviation:.4g}) from the source, above the tolerance of "
-                f"{self.percent(self.tolerance):.3g} % ({self.tolerance:.4g}): the cap of {self.sample_cap} "
-                "samples was reached (raise the cap or the tolerance)")
+                f"{self.percent(self.tolerance):.3g} % ({self.tolerance:.4g}): {why}")
 
 
 def candidate_frames(start: float, end: float, keys: np.ndarray) -> np.ndarray:
