@@ -43,8 +43,9 @@ def _args():
     parser.add_argument("--frames", default=",".join(map(str, CONTACT_FRAMES)), help="frames of the contact sheet")
     parser.add_argument("--resolution", default="320x240", help="per frame of the contact sheet")
     parser.add_argument("--samples", type=int, default=8)
-    parser.add_argument("--sampling", choices=("KEYFRAMES", "EVERY_N"), default="EVERY_N",
-                        help="Convert's sampling: the action's keyframes, or every --step frames (smoother in-betweens)")
+    parser.add_argument("--sampling", choices=("ADAPTIVE", "KEYFRAMES", "EVERY_N"), default="EVERY_N",
+                        help="Convert's sampling: within the default tolerance of the source, the action's keyframes, "
+                             "or every --step frames (smoother in-betweens)")
     parser.add_argument("--step", type=int, default=3)
     parser.add_argument("--segments", type=int, default=48, help="density of the demo sphere")
     parser.add_argument("--no-morph", dest="morph", action="store_false", help="leave out the sphere → torus morph")

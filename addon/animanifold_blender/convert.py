@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import live_nodes, sampling
+from . import adaptive_sampling, live_nodes, sampling
 from ._lib import am
 from .cache_paths import convert_cache_path
 from .live import scene_frame
@@ -31,40 +31,50 @@ class Converted:
     start: int
     end: int
     stored: str  # the cache path stored on the object
-    note: str | None  # a warning for the report (a cache in a temporary folder)
+    notes: list  # warnings for the report (a cache in a temporary folder, a tolerance not reached, ...)
+    fidelity: object = None  # adaptive_sampling.Fidelity: the largest deviation reached (mode ADAPTIVE)
 
 
-def convert_object(context, obj, start: int, end: int, mode: str, step: int, directory: str) -> Converted:
-    """Samples `obj` over frames start..end (`mode` KEYFRAMES or EVERY_N with `step`), saves
-    the manifold to a cache (in `directory`, else beside the .blend) and makes the object."""
+def convert_object(context, obj, start: int, end: int, mode: str, step: int, directory: str,
+                   tolerance: float = adaptive_sampling.TOLERANCE_PERCENT,
+                   max_samples: int = adaptive_sampling.MAX_SAMPLES) -> Converted:
+    """Samples `obj` over frames start..end (`mode` ADAPTIVE: keyframes plus samples until
+    every frame and half frame is within `tolerance` % of the object's size, at most
+    `max_samples`; KEYFRAMES; or EVERY_N with `step`), saves the manifold to a cache (in
+    `directory`, else beside the .blend) and makes the object."""
     if obj.type != "MESH":
         raise OperatorError(f"'{obj.name}' is a {obj.type.lower()}, not a mesh: only mesh objects can be converted")
     if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
         raise OperatorError(f"'{obj.name}' is already a manifold object")
     if end <= start:
         raise OperatorError(f"the frame range {start}–{end} is empty: the end frame must be after the start")
-    frames = sampling.sample_frames(obj, start, end, mode, step)
+    frames, notes = sampling.sample_frames(obj, start, end, mode, step)
 
     name = unique_object_name(f"{obj.name}_manifold")  # its cache file is named after it
     stored, absolute, note = convert_cache_path(directory, name)
+    notes = ([note] if note else []) + notes
 
-    progress = Progress(context, len(frames) + 2)
+    fidelity = None
+    if mode == "ADAPTIVE":
+        candidates = len(adaptive_sampling.candidate_frames(start, end, frames))
+        progress = Progress(context, 2 * candidates + 2)
+    else:
+        progress = Progress(context, len(frames) + 2)
     try:
-        keys = sampling.sample_object(context, obj, frames, progress)
-        manifold = _stitch(keys)
-        manifold.metadata.update({
-            "source_object": obj.name,
-            "frame_range": [float(start), float(end)],
-            "sampling": mode if mode == "KEYFRAMES" else f"EVERY_{step}",
-            "uv_map": keys.uv_name,
-            "object_motion_baked": bool(keys.moves),
-            "blender": bpy.app.version_string,
-        })
-        progress(len(frames) + 1)
+        if mode == "ADAPTIVE":
+            keys, manifold, fidelity = adaptive_sampling.sample_adaptively(
+                context, obj, start, end, frames, tolerance, max_samples, progress)
+            if not fidelity.reached:
+                notes.append(fidelity.warning(obj.name))
+        else:
+            keys = sampling.sample_object(context, obj, frames, progress)
+            manifold = sampling.stitch_keyframes(keys)
+        manifold.metadata.update(_metadata(obj, start, end, mode, step, keys, fidelity))
+        progress(progress.total - 1)
         existed = os.path.exists(absolute)
         am.save(manifold, absolute)
         try:
-            new = _create_object(context, obj, name, stored, absolute, manifold, keys, start, end)
+            new = _create_object(context, obj, name, stored, absolute, manifold, keys, start, end, fidelity)
         except BaseException:
             if not existed:
                 try:
@@ -73,25 +83,28 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
                     pass
             registry.forget(absolute)
             raise
-        progress(len(frames) + 2)
+        progress(progress.total)
     finally:
         progress.end()
-    return Converted(new, manifold, len(frames), start, end, stored, note)
+    return Converted(new, manifold, len(keys.times), start, end, stored, notes, fidelity)
 
 
-def _stitch(keys):
-    vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
-    if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
-        vertex_attributes["normal"] = keys.normals
-    if keys.uv is not None:
-        vertex_attributes["uv"] = keys.uv
-    return am.stitch(
-        keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
-        face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
-    )
+def _metadata(obj, start, end, mode, step, keys, fidelity) -> dict:
+    data = {
+        "source_object": obj.name,
+        "frame_range": [float(start), float(end)],
+        "sampling": f"EVERY_{step}" if mode == "EVERY_N" else mode,
+        "uv_map": keys.uv_name,
+        "object_motion_baked": bool(keys.moves),
+        "blender": bpy.app.version_string,
+    }
+    if fidelity is not None:
+        data.update({"tolerance": fidelity.tolerance, "max_deviation": fidelity.deviation,
+                     "max_deviation_frame": fidelity.frame, "source_size": fidelity.size})
+    return data
 
 
-def _create_object(context, obj, name, stored, absolute, manifold, keys, start, end):
+def _create_object(context, obj, name, stored, absolute, manifold, keys, start, end, fidelity):
     mesh = new = None
     try:
         mesh = bpy.data.meshes.new(name)
@@ -112,6 +125,10 @@ def _create_object(context, obj, name, stored, absolute, manifold, keys, start, 
         settings.time_scale = 2.0 * size / max(float(end - start), 1.0)
         settings.sweep_value = float((lo[0] + hi[0]) / 2)
         settings.cache_path = stored
+        if fidelity is not None:
+            settings.max_deviation = fidelity.deviation
+            settings.deviation_frame = fidelity.frame
+            settings.source_size = fidelity.size
         settings.is_manifold = True
         registry.remember(absolute, manifold)
         update_object(new, scene_frame(context.scene))

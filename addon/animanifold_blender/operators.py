@@ -7,11 +7,12 @@ turns the failure into the operator's error report.
 
 from __future__ import annotations
 
-from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy.types import Operator
 
 from . import bake
 from .bake_object import bake_object
+from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
 from .convert import convert_object
 from .object_manifold import manifold_for
 from .operator_defaults import option
@@ -26,8 +27,11 @@ class ANIMANIFOLD_OT_convert_action(Operator):
     bl_label = "Convert to Manifold"
     bl_options = {"REGISTER", "UNDO"}
 
-    sampling: EnumProperty(name="Sampling", items=SAMPLING_ITEMS, default="KEYFRAMES")
+    sampling: EnumProperty(name="Sampling", items=SAMPLING_ITEMS, default="ADAPTIVE")
     step: IntProperty(name="N", default=5, min=1)
+    tolerance: FloatProperty(name="Tolerance", default=TOLERANCE_PERCENT, min=1e-6, max=100.0, subtype="PERCENTAGE",
+                             precision=3)
+    max_samples: IntProperty(name="Sample Cap", default=MAX_SAMPLES, min=2)
     use_scene_range: BoolProperty(name="Scene Range", default=True)
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=250)
@@ -52,11 +56,15 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             else:
                 start, end = option(self, settings, "frame_start"), option(self, settings, "frame_end")
             done = convert_object(context, context.active_object, start, end, option(self, settings, "sampling"),
-                                  option(self, settings, "step"), option(self, settings, "cache_directory"))
-            if done.note:
-                self.report({"WARNING"}, done.note)
+                                  option(self, settings, "step"), option(self, settings, "cache_directory"),
+                                  option(self, settings, "tolerance"), option(self, settings, "max_samples"))
+            for note in done.notes:
+                self.report({"WARNING"}, note)
+            fit = done.fidelity
+            within = "" if fit is None else (f", largest deviation {fit.percent(fit.deviation):.3g} % of its size "
+                                             f"at frame {fit.frame:g}")
             self.report({"INFO"}, f"'{done.obj.name}': {len(done.manifold.simplices)} tets from {done.samples} "
-                                  f"samples (frames {done.start}–{done.end}), cache {done.stored}")
+                                  f"samples (frames {done.start}–{done.end}){within}, cache {done.stored}")
             return {"FINISHED"}
         return {"CANCELLED"}
 

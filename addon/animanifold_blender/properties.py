@@ -20,6 +20,7 @@ from bpy.types import PropertyGroup
 
 from . import interactive_deform, live
 from ._lib import am
+from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
 from .enum_items import enum_items
 from .object_manifold import prune_subdivided
 
@@ -34,6 +35,8 @@ AXIS_ITEMS = (
 )
 
 SAMPLING_ITEMS = (
+    ("ADAPTIVE", "Within Tolerance",
+     "Keyframes, plus samples added until every frame and half frame is within the tolerance of the source"),
     ("KEYFRAMES", "Keyframes", "Sample at the keyframes of every action driving the object (shape keys, object, armature)"),
     ("EVERY_N", "Every N Frames", "Sample every N frames (procedural animation, smoother in-betweens)"),
 )
@@ -113,11 +116,24 @@ class AnimanifoldObjectSettings(PropertyGroup):
     frame_start: FloatProperty(name="Start", options={"HIDDEN"})
     frame_end: FloatProperty(name="End", options={"HIDDEN"})
     bake_collection: PointerProperty(name="Bake Collection", type=bpy.types.Collection)
+    # Measured by Convert's Within Tolerance sampling (-1: not measured).
+    max_deviation: FloatProperty(name="Deviation", default=-1.0, options={"HIDDEN"}, subtype="DISTANCE",
+                                 description="Largest distance of a frame from the source's evaluated mesh")
+    deviation_frame: FloatProperty(name="Deviation Frame", default=0.0, options={"HIDDEN"})
+    source_size: FloatProperty(name="Source Size", default=0.0, options={"HIDDEN"}, subtype="DISTANCE",
+                               description="Bounding-box diagonal of the source the deviation is measured against")
 
 
 class AnimanifoldSceneSettings(PropertyGroup):
-    sampling: EnumProperty(name="Sampling", items=SAMPLING_ITEMS, default="KEYFRAMES")
+    sampling: EnumProperty(name="Sampling", items=SAMPLING_ITEMS, default="ADAPTIVE")
     step: IntProperty(name="N", default=5, min=1, description="Sample every N frames")
+    tolerance: FloatProperty(
+        name="Tolerance", default=TOLERANCE_PERCENT, min=1e-6, max=100.0, subtype="PERCENTAGE", precision=3,
+        description="Within Tolerance: the largest distance of a frame from the source's evaluated mesh, in % of "
+                    "the object's bounding-box diagonal")
+    max_samples: IntProperty(name="Sample Cap", default=MAX_SAMPLES, min=2,
+                             description="Within Tolerance: at most this many samples (the report warns when the "
+                                         "tolerance is not reached within them)")
     use_scene_range: BoolProperty(name="Scene Range", default=True, description="Use the scene's frame range")
     frame_start: IntProperty(name="Start", default=1)
     frame_end: IntProperty(name="End", default=250)

@@ -12,9 +12,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-import bpy
 import numpy as np
 
+from . import animation_sources
+from ._lib import am
 from .reporting import ReportedError
 
 
@@ -24,85 +25,37 @@ class SamplingError(ReportedError):
 
 # -- which frames --------------------------------------------------------------
 
-def _fcurves(anim_data) -> list:
-    """F-curves of the action assigned to `anim_data` (legacy or slotted actions)."""
-    if anim_data is None or anim_data.action is None:
-        return []
-    action = anim_data.action
-    layers = getattr(action, "layers", None)
-    if layers is not None and len(layers) > 0:  # Blender 4.4+: layered (slotted) actions
-        slot = getattr(anim_data, "action_slot", None)
-        curves = []
-        for layer in layers:
-            for strip in layer.strips:
-                if slot is not None:
-                    bag = strip.channelbag(slot)
-                    if bag is not None:
-                        curves.extend(bag.fcurves)
-                else:
-                    for bag in strip.channelbags:
-                        curves.extend(bag.fcurves)
-        return curves
-    return list(getattr(action, "fcurves", []))
-
-
-def driving_animation(obj) -> list[tuple[str, object]]:
-    """(label, AnimData) of every action that can move `obj`'s evaluated mesh:
-    the object's own action (transforms, modifier settings), its mesh's and shape
-    keys' actions, and the actions of objects its modifiers (armature, lattice,
-    hook, ...) or an armature parent read."""
-    sources = [(f"object '{obj.name}'", obj.animation_data)]
-    mesh = obj.data
-    sources.append((f"mesh '{mesh.name}'", mesh.animation_data))
-    if mesh.shape_keys is not None:
-        sources.append((f"shape keys of '{mesh.name}'", mesh.shape_keys.animation_data))
-    others = []
-    for mod in obj.modifiers:
-        other = getattr(mod, "object", None)
-        if isinstance(other, bpy.types.Object) and other != obj:
-            others.append(other)
-    if obj.parent is not None and obj.parent_type == "ARMATURE":
-        others.append(obj.parent)
-    for other in others:
-        sources.append((f"object '{other.name}'", other.animation_data))
-        if other.data is not None and hasattr(other.data, "animation_data"):
-            sources.append((f"data of '{other.name}'", other.data.animation_data))
-    return [(label, ad) for label, ad in sources if ad is not None and ad.action is not None]
-
-
-def keyframe_frames(obj) -> np.ndarray:
-    """Sorted unique frames of every keyframe of every action driving `obj`."""
-    frames = [np.empty(0)]
-    for _, anim_data in driving_animation(obj):
-        for fc in _fcurves(anim_data):
-            n = len(fc.keyframe_points)
-            if n:
-                co = np.empty(2 * n, dtype=np.float32)
-                fc.keyframe_points.foreach_get("co", co)
-                frames.append(co[0::2].astype(np.float64))
-    return np.unique(np.concatenate(frames))
-
-
-def sample_frames(obj, frame_start: float, frame_end: float, mode: str = "KEYFRAMES", step: int = 1) -> np.ndarray:
-    """The sample frames in [frame_start, frame_end]: keyframes (mode 'KEYFRAMES')
-    or every `step` frames ('EVERY_N'); the first and last frame always."""
+def sample_frames(obj, frame_start: float, frame_end: float, mode: str = "KEYFRAMES",
+                  step: int = 1) -> tuple[np.ndarray, list[str]]:
+    """The sample frames in [frame_start, frame_end], the first and last frame always, and
+    notes for the report. 'KEYFRAMES': the keyframes of every action and driver source
+    driving `obj` (every frame where a driver's times are unknown, with a note saying
+    which); 'ADAPTIVE': the same keyframes without the fallback, where error-driven
+    sampling starts (it finds a driver's frames by measuring); 'EVERY_N': every `step`
+    frames."""
     if not frame_end > frame_start:
         raise SamplingError(f"the frame range {frame_start:g}–{frame_end:g} is empty: the end must be after the start")
+    notes: list[str] = []
     if mode == "EVERY_N":
         if step < 1:
             raise SamplingError(f"'every N frames' needs N ≥ 1, got {step}")
         inner = np.arange(frame_start, frame_end, step, dtype=np.float64)
-    elif mode == "KEYFRAMES":
-        if not driving_animation(obj):
+    elif mode in ("KEYFRAMES", "ADAPTIVE"):
+        drivers = animation_sources.driver_frames(obj)
+        if mode == "KEYFRAMES" and not animation_sources.driving_animation(obj) and not drivers.driven:
             raise SamplingError(
-                f"'{obj.name}' has no animation: no object, shape-key or armature action drives it "
-                "(for procedural animation use 'every N frames' sampling)"
+                f"'{obj.name}' has no animation: no object, shape-key or armature action and no driver drives it "
+                "(for procedural animation use 'within tolerance' or 'every N frames' sampling)"
             )
-        keys = keyframe_frames(obj)
+        keys = np.union1d(animation_sources.keyframe_frames(obj), drivers.frames)
+        if mode == "KEYFRAMES" and drivers.unknown:
+            keys = np.union1d(keys, np.arange(math.ceil(frame_start), frame_end, dtype=np.float64))
+            notes.append(f"'{obj.name}' sampled at every frame: {drivers.unknown[0]}"
+                         + (f" (and {len(drivers.unknown) - 1} more drivers)" if len(drivers.unknown) > 1 else ""))
         inner = keys[(keys > frame_start) & (keys < frame_end)]
     else:
         raise SamplingError(f"unknown sampling mode {mode!r}")
-    return np.unique(np.concatenate([[float(frame_start)], inner, [float(frame_end)]]))
+    return np.unique(np.concatenate([[float(frame_start)], inner, [float(frame_end)]])), notes
 
 
 # -- the evaluated mesh ----------------------------------------------------------
@@ -116,7 +69,7 @@ class MeshSample:
     loop_uv: np.ndarray | None  # (L, 2) float32 or None
     uv_name: str | None
     matrix_world: np.ndarray  # (4, 4)
-    # triangulation (first sample only: n-gon triangulation depends on the shape)
+    # triangulation (the first sample, or every one asked for: n-gon triangulation depends on the shape)
     tri_vertices: np.ndarray | None = None  # (T, 3) int32
     tri_loops: np.ndarray | None = None  # (T, 3) int32
     material_index: np.ndarray | None = None  # (T,) int32
@@ -206,15 +159,17 @@ def weld_corners(tri_vertices: np.ndarray, corner_uvs: list) -> tuple[np.ndarray
     return faces, tri_vertices.reshape(-1)[first_corner].astype(np.int32), first_corner
 
 
-def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
-    """Evaluates `obj` at each frame and returns corresponding keyframes.
+def evaluate(context, obj, frames, progress=None, triangulate_all: bool = False, keep=None) -> list:
+    """Evaluates `obj` at each frame: what `keep` (default: the MeshSample itself) makes of
+    each sample. The first sample is always triangulated, the others with `triangulate_all`.
 
-    Restores the scene's current frame. Raises SamplingError when the mesh's
-    connectivity changes between samples (naming the frame) or nothing moves.
+    Restores the scene's current frame. Raises SamplingError when the mesh's connectivity
+    changes between samples (naming the frame).
     """
     scene = context.scene
     frame0, subframe0 = scene.frame_current, scene.frame_subframe
-    samples: list[MeshSample] = []
+    kept: list = []
+    first = None
     try:
         for i, frame in enumerate(frames):
             whole = math.floor(frame)
@@ -223,28 +178,47 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
             ob_eval = obj.evaluated_get(depsgraph)
             mesh = ob_eval.to_mesh()
             try:
-                sample = read_mesh(mesh, ob_eval.matrix_world, triangulate=(i == 0))
+                sample = read_mesh(mesh, ob_eval.matrix_world, triangulate=(i == 0 or triangulate_all))
             finally:
                 ob_eval.to_mesh_clear()
             if i == 0:
                 if len(sample.tri_vertices) == 0:
                     raise SamplingError(f"'{obj.name}' has no faces at frame {frame:g}")
+                first = sample
             else:
-                ref = samples[0]
-                if (len(sample.positions) != len(ref.positions) or not np.array_equal(sample.poly_start, ref.poly_start)
-                        or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
-                    raise SamplingError(
-                        f"the topology of '{obj.name}' changes at frame {frame:g} "
-                        f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
-                        f"{frames[0]:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
-                        "a keyframed action must keep the mesh's connectivity"
-                    )
-            samples.append(sample)
+                _check_topology(obj, sample, first, frame, frames[0])
+            kept.append(sample if keep is None else keep(sample))
             if progress is not None:
                 progress(i + 1)
     finally:
         scene.frame_set(frame0, subframe=subframe0)
+    return kept
 
+
+def _check_topology(obj, sample: MeshSample, ref: MeshSample, frame: float, frame0: float) -> None:
+    if (len(sample.positions) != len(ref.positions) or not np.array_equal(sample.poly_start, ref.poly_start)
+            or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
+        raise SamplingError(
+            f"the topology of '{obj.name}' changes at frame {frame:g} "
+            f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
+            f"{frame0:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
+            "a keyframed action must keep the mesh's connectivity"
+        )
+
+
+def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
+    """Evaluates `obj` at each frame and returns corresponding keyframes.
+
+    Restores the scene's current frame. Raises SamplingError when the mesh's
+    connectivity changes between samples (naming the frame) or nothing moves.
+    """
+    return keyframes_from(obj, evaluate(context, obj, frames, progress), frames)
+
+
+def keyframes_from(obj, samples: list[MeshSample], frames, check_motion: bool = True) -> Keyframes:
+    """Keyframes from the samples `evaluate` made at `frames` (the first one triangulated):
+    split at UV seams, object motion baked into the first sample's local space. With
+    `check_motion`, raises SamplingError when nothing moves."""
     ref = samples[0]
     corners = ref.tri_loops.reshape(-1)
     uvs = []
@@ -264,7 +238,7 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
         positions = np.stack([s.positions[source_vertex] for s in samples])
         normals = np.stack([s.normals[source_vertex] for s in samples]).astype(np.float64)
 
-    if np.all(positions == positions[0]):
+    if check_motion and np.all(positions == positions[0]):
         raise SamplingError(
             f"'{obj.name}' does not move in frames {frames[0]:g}–{frames[-1]:g}: no animation in the range"
         )
@@ -289,4 +263,18 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
         source_vertex=source_vertex,
         matrix_world=m0,
         moves=moves,
+    )
+
+
+def stitch_keyframes(keys: Keyframes):
+    """The animation manifold of `keys` (animanifold.stitch), carrying the source vertex,
+    the smooth normals of a smooth-shaded source, UVs, materials and shading."""
+    vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
+    if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
+        vertex_attributes["normal"] = keys.normals
+    if keys.uv is not None:
+        vertex_attributes["uv"] = keys.uv
+    return am.stitch(
+        keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
+        face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
     )

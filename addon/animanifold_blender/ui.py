@@ -26,6 +26,8 @@ class VIEW3D_PT_animanifold(Panel):
         box.prop(scene_settings, "sampling")
         if scene_settings.sampling == "EVERY_N":
             box.prop(scene_settings, "step")
+        elif scene_settings.sampling == "ADAPTIVE":
+            box.prop(scene_settings, "tolerance")
         box.prop(scene_settings, "use_scene_range")
         if not scene_settings.use_scene_range:
             row = box.row(align=True)
@@ -43,6 +45,9 @@ class VIEW3D_PT_animanifold(Panel):
         box.prop(settings, "cache_path")
         if settings.source is not None:
             box.label(text=f"Source: {settings.source.name}")
+        if settings.max_deviation >= 0 and settings.source_size > 0:
+            box.label(text=f"Deviation: {100 * settings.max_deviation / settings.source_size:.3g} % "
+                           f"(frame {settings.deviation_frame:g})")
         error = live.last_error(obj)
         if error:
             box.label(text=error, icon="ERROR")

@@ -56,7 +56,7 @@ def probe(blend, name, frames):
 @pytest.fixture()
 def converted(demo, tmp_path):
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "bake.blend"))
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
     man = bpy.data.objects["Blob_manifold"]
     return man, am.load(bpy.path.abspath(man.animanifold.cache_path)), tmp_path
 

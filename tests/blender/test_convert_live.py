@@ -18,6 +18,9 @@ pytestmark = pytest.mark.blender
 
 
 def convert(obj, **kwargs):
+    """Converts `obj`, by default at its keyframes only (these tests are about keyframes;
+    error-driven sampling, the operator's default, is tested in test_adaptive_sampling)."""
+    kwargs.setdefault("sampling", "KEYFRAMES")
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.animanifold.convert_action(**kwargs) == {"FINISHED"}
     return bpy.data.objects[obj.name + "_manifold"]

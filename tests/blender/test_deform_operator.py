@@ -177,7 +177,7 @@ def test_poll(empty_scene):
 @pytest.fixture()
 def manifold_object(demo, tmp_path):
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "deform.blend"))
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
     man = bpy.data.objects["Blob_manifold"]
     activate(man)
     return man

@@ -28,7 +28,10 @@ def test_not_a_mesh(empty_scene):
 
 def test_no_animation(empty_scene):
     bpy.ops.mesh.primitive_cube_add()
-    fails(r"'Cube' has no animation")
+    fails(r"'Cube' has no animation: no object, shape-key or armature action and no driver", sampling="KEYFRAMES")
+    empty_scene.frame_end = 20  # the default samples by measuring every frame: it finds nothing moving
+    fails(r"'Cube' does not move in frames 1–20: no animation in the range")
+    empty_scene.frame_end = 250
     fails(r"'Cube' does not move in frames 1–250: no animation in the range", sampling="EVERY_N", step=50)
 
 
@@ -58,6 +61,10 @@ def test_topology_change_names_the_frame(demo):
     bpy.context.scene.frame_set(1)
     before = scene_state()
     with pytest.raises(RuntimeError, match=r"topology of 'Blob' changes at frame 12 "):
+        bpy.ops.animanifold.convert_action(sampling="KEYFRAMES")  # the first sample after frame 10
+    assert scene_state() == before
+    # The default measures every frame and half frame: it names the first that changes.
+    with pytest.raises(RuntimeError, match=r"topology of 'Blob' changes at frame 10\.5 "):
         bpy.ops.animanifold.convert_action()
     assert scene_state() == before
 
@@ -176,9 +183,13 @@ def test_panel_draws_for_plain_live_and_baked_objects(demo, addon):
         return log
 
     assert ("operator", "animanifold.convert_action") in draw()
+    assert ("prop", "tolerance") in draw()  # the default sampling's setting
     assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
     log = draw()
     assert ("prop", "axis") in log and ("operator", "animanifold.bake") in log
+    settings = bpy.context.active_object.animanifold
+    percent = 100 * settings.max_deviation / settings.source_size
+    assert 0 < percent <= 0.2 and ("label", f"Deviation: {percent:.3g} % (frame {settings.deviation_frame:g})") in log
     bpy.context.active_object.animanifold.axis = "x"
     assert ("prop", "sweep_value") in draw()
     assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}

@@ -26,7 +26,7 @@ MODIFIER = "Animanifold Live"
 
 def convert(obj):
     bpy.context.view_layer.objects.active = obj
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
     man = bpy.data.objects[obj.name + "_manifold"]
     return man, am.load(bpy.path.abspath(man.animanifold.cache_path))
 

@@ -29,7 +29,7 @@ INNER_TOLERANCE = 0.3
 
 def convert(obj):
     bpy.context.view_layer.objects.active = obj
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
     return bpy.data.objects[obj.name + "_manifold"]
 
 
