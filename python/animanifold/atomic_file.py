@@ -14,7 +14,7 @@ What sits at the output path is respected:
   (the temporary file's own 0o600 would otherwise stick).
 
 Stale temporaries. A writer killed mid-save leaves its temporary behind. Temporaries are
-named ``.<target name>.<host>.<pid>.<random>.tmp``; before each save, the ones beside the
+named ``.<target name>.<host>.<pid>.<random>.tmp`` (``.tmp<extension>`` for mesh files); before each save, the ones beside the
 target are removed when their writer is gone — same host and no process with that pid — or,
 whatever their name, when untouched for :data:`STALE_SECONDS` (a live writer touches its file
 as it writes; another host's writer cannot be asked). A pid reused by an unrelated process
@@ -42,8 +42,10 @@ class OutputPathError(Error, OSError):
 
 
 @contextlib.contextmanager
-def replacing(path: str | os.PathLike) -> Iterator[Path]:
+def replacing(path: str | os.PathLike, keep_extension: bool = False) -> Iterator[Path]:
     """Yields a temporary path to write the new contents to; replaces `path` with it on success.
+    With `keep_extension` the temporary ends in the target's extension too (``.tmp.obj``), for
+    writers that pick the format from it.
 
     Throws: OutputPathError for a target that is not a regular file; OSError from the file
     system (a full disk at flush time included), with the temporary removed.
@@ -52,7 +54,8 @@ def replacing(path: str | os.PathLike) -> Iterator[Path]:
     target.parent.mkdir(parents=True, exist_ok=True)
     remove_stale_temporaries(target)
     mode = _mode_for(target)
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.{_host()}.{os.getpid()}.", suffix=".tmp", dir=target.parent)
+    suffix = ".tmp" + (target.suffix if keep_extension else "")
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.{_host()}.{os.getpid()}.", suffix=suffix, dir=target.parent)
     os.close(fd)
     temporary = Path(name)
     try:
@@ -91,13 +94,15 @@ def remove_stale_temporaries(target: Path) -> list[Path]:
     doc); returns what it removed."""
     removed = []
     prefix = f".{target.name}."
+    suffixes = {".tmp", ".tmp" + target.suffix}
     with contextlib.suppress(OSError), os.scandir(target.parent) as entries:
         for entry in entries:
-            if not (entry.name.startswith(prefix) and entry.name.endswith(".tmp")):
+            suffix = next((s for s in suffixes if entry.name.endswith(s)), None)
+            if not entry.name.startswith(prefix) or suffix is None:
                 continue
             with contextlib.suppress(OSError):
                 info = entry.stat(follow_symlinks=False)
-                if stat.S_ISREG(info.st_mode) and _is_stale(entry.name[len(prefix):-len(".tmp")], info.st_mtime):
+                if stat.S_ISREG(info.st_mode) and _is_stale(entry.name[len(prefix):-len(suffix)], info.st_mtime):
                     os.unlink(entry.path)
                     removed.append(Path(entry.path))
     return removed
