@@ -319,7 +319,7 @@ def build_parser() -> argparse.ArgumentParser:
         "stitch",
         run_stitch,
         "keyframe meshes -> animation manifold (.amf)",
-        "Reads keyframe meshes (OBJ/PLY/OFF/STL) with the same vertices and faces in the same order, "
+        "Reads keyframe meshes (OBJ/PLY/OFF; not STL, which keeps no vertex order) with the same vertices and faces in the same order, "
         "stitches them into an animation manifold of 3·faces·(keyframes-1) tets and saves it.",
     )
     p.add_argument("keyframes", nargs="+", metavar="KEYFRAME", help="keyframe mesh files, in time order")
