@@ -150,15 +150,17 @@ def current_umask() -> int:
 
 
 def _flush_file(path: Path, mode: int) -> None:
-    fd = os.open(path, os.O_RDONLY | os.O_CLOEXEC)
+    os.chmod(path, mode)
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
     try:
-        os.fchmod(fd, mode)
         os.fsync(fd)
     finally:
         os.close(fd)
 
 
 def _flush_directory(folder: Path) -> None:
+    if not hasattr(os, "O_DIRECTORY"):  # Windows: directories cannot be opened, and NTFS journals renames
+        return
     fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_CLOEXEC)
     try:
         os.fsync(fd)

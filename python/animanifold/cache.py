@@ -37,6 +37,7 @@ files, or int32 tables of odd length in a 3D cache).
 
 from __future__ import annotations
 
+import io
 import os
 import stat
 import zlib
@@ -103,35 +104,41 @@ def _chunks(manifold: AnimationManifold) -> tuple[int, list]:
 def load(path: str | os.PathLike) -> AnimationManifold:
     """Reads a cache written by :func:`save`; raises CacheError when it is missing, damaged or hostile."""
     path = Path(path)
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)  # O_NONBLOCK: a FIFO must not block
-    except FileNotFoundError:
-        raise CacheError(f"cache file {path} does not exist") from None
-    except OSError as e:
-        raise CacheError(f"cache file {path} cannot be read: {e.strerror}") from None
-    try:
-        layout, data, offset = _read(path, fd)
-    finally:
-        os.close(fd)
+    with _open_regular_file(path) as f:
+        layout, data, offset = _read(path, f)
     tables = [_table(data, dtype, rows, cols, start) for start, (_, dtype, rows, cols) in zip(offset, layout.tables())]
     return _manifold(path, layout, tables)
 
 
-def _read(path: Path, fd: int) -> tuple[Layout, np.ndarray, list[int]]:
+def _open_regular_file(path: Path) -> io.RawIOBase:
+    """The file opened unbuffered; CacheError, before any read, when it is missing or not a
+    regular file (a FIFO would block, /dev/zero never end, a directory not read)."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_BINARY", 0)
+    try:
+        fd = os.open(path, flags)  # O_NONBLOCK: opening a FIFO must not wait for a writer
+    except FileNotFoundError:
+        raise CacheError(f"cache file {path} does not exist") from None
+    except OSError as e:
+        raise CacheError(f"cache file {path} cannot be read: {e.strerror}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        raise CacheError(f"cache file {path} is {describe_mode(mode)}, not a regular file")
+    return os.fdopen(fd, "rb", buffering=0)
+
+
+def _read(path: Path, f: io.RawIOBase) -> tuple[Layout, np.ndarray, list[int]]:
     """(the header's layout, the whole file in a fresh buffer, each table's offset), all checked."""
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode):
-        raise CacheError(f"cache file {path} is {describe_mode(info.st_mode)}, not a regular file")
-    size = info.st_size
-    version, header_len = check_prefix(path, _read_at(path, fd, 0, PREFIX.size), size)
-    layout = parse_header(path, _read_at(path, fd, PREFIX.size, header_len), version)
+    size = os.fstat(f.fileno()).st_size
+    version, header_len = check_prefix(path, _read_at(path, f, 0, PREFIX.size), size)
+    layout = parse_header(path, _read_at(path, f, PREFIX.size, header_len), version)
     start = PREFIX.size + header_len
     expected = start + layout.payload_bytes() + CHECKSUM.size
     if expected != size:
         raise CacheError(f"cache file {path} is truncated or damaged ({size - CHECKSUM.size} bytes of data, header "
                          f"says {expected - CHECKSUM.size})")
     data = np.empty(size, dtype=np.uint8)  # numpy's allocation is aligned for float64
-    _read_into(path, fd, data)
+    _read_into(path, f, data)
     (stored,) = CHECKSUM.unpack_from(data, size - CHECKSUM.size)
     actual = zlib.crc32(memoryview(data)[: size - CHECKSUM.size]) & 0xFFFFFFFF
     if stored != actual:
@@ -143,26 +150,24 @@ def _read(path: Path, fd: int) -> tuple[Layout, np.ndarray, list[int]]:
     return layout, data, offsets
 
 
-def _read_at(path: Path, fd: int, offset: int, count: int) -> bytes:
+def _read_at(path: Path, f: io.RawIOBase, offset: int, count: int) -> bytes:
+    raw = bytearray(count)
+    _read_into(path, f, raw, offset)
+    return bytes(raw)
+
+
+def _read_into(path: Path, f: io.RawIOBase, buffer, offset: int = 0) -> None:
+    """Fills `buffer` from the file's byte `offset` on; CacheError when the file ends first."""
+    view, done = memoryview(buffer).cast("B"), 0
     try:
-        raw = os.pread(fd, count, offset)
+        f.seek(offset)
+        while done < len(view):  # one read returns at most ~2 GiB
+            got = f.readinto(view[done:])
+            if not got:
+                raise CacheError(f"cache file {path} is truncated ({offset + done} bytes)")
+            done += got
     except OSError as e:
         raise CacheError(f"cache file {path} cannot be read: {e.strerror}") from None
-    if len(raw) != count:
-        raise CacheError(f"cache file {path} is truncated ({offset + len(raw)} bytes)")
-    return raw
-
-
-def _read_into(path: Path, fd: int, data: np.ndarray) -> None:
-    view, done = memoryview(data), 0
-    while done < len(view):  # one read returns at most ~2 GiB
-        try:
-            got = os.preadv(fd, [view[done:]], done)
-        except OSError as e:
-            raise CacheError(f"cache file {path} cannot be read: {e.strerror}") from None
-        if got == 0:
-            raise CacheError(f"cache file {path} is truncated (it shrank while being read)")
-        done += got
 
 
 def _table(data: np.ndarray, dtype: str, rows: int, cols: int, offset: int) -> np.ndarray:
