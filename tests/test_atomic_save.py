@@ -94,6 +94,21 @@ def test_stale_temporaries_are_removed_and_live_ones_kept(manifold, tmp_path):
     assert left == {"a.amf", names["live writer"], names["fresh unnamed"], names["other file's"]}
 
 
+def test_a_writer_of_many_meshes_searches_their_folder_once(tmp_path, monkeypatch):
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    stale = tmp_path / f".frame_0007.obj.{socket.gethostname()}.{int(dead.stdout)}.abcd1234.tmp.obj"
+    stale.write_text("v 0 0 0\n")
+    scans = []
+    real_scandir = os.scandir
+    monkeypatch.setattr(atomic_file.os, "scandir", lambda folder: scans.append(folder) or real_scandir(folder))
+    monkeypatch.setattr(atomic_file, "_CLEANED_FOLDERS", set())
+    v, f = icosphere(0)
+    for i in range(5):
+        am.write_mesh(tmp_path / f"frame_{i:04d}.obj", v, f)
+    assert len(scans) == 1 and not stale.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == [f"frame_{i:04d}.obj" for i in range(5)]
+
+
 CHILD = textwrap.dedent("""
     import sys, os, zlib, types
     import animanifold as am

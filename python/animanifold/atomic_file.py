@@ -18,13 +18,16 @@ named ``.<target name>.<host>.<pid>.<random>.tmp`` (``.tmp<extension>`` for mesh
 target are removed when their writer is gone — same host and no process with that pid — or,
 whatever their name, when untouched for :data:`STALE_SECONDS` (a live writer touches its file
 as it writes; another host's writer cannot be asked). A pid reused by an unrelated process
-only delays the removal until that age.
+only delays the removal until that age. Writers of many files into one folder (mesh frames)
+search it once per process instead, removing this host's temporaries of any target there
+whose writer is gone.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
 import socket
 import stat
 import tempfile
@@ -35,6 +38,7 @@ from typing import Iterator
 from ._core import Error
 
 STALE_SECONDS = 3600.0
+_CLEANED_FOLDERS: set[Path] = set()  # folders a many-file writer has cleaned in this process
 
 
 class OutputPathError(Error, OSError):
@@ -42,17 +46,23 @@ class OutputPathError(Error, OSError):
 
 
 @contextlib.contextmanager
-def replacing(path: str | os.PathLike, keep_extension: bool = False) -> Iterator[Path]:
+def replacing(path: str | os.PathLike, keep_extension: bool = False, many_per_folder: bool = False) -> Iterator[Path]:
     """Yields a temporary path to write the new contents to; replaces `path` with it on success.
     With `keep_extension` the temporary ends in the target's extension too (``.tmp.obj``), for
-    writers that pick the format from it.
+    writers that pick the format from it. With `many_per_folder` (a writer of many files, such
+    as a folder of frames) the folder is searched for stale temporaries once per process, for
+    every target, instead of once per file for this one (which would cost n² for n files).
 
     Throws: OutputPathError for a target that is not a regular file; OSError from the file
     system (a full disk at flush time included), with the temporary removed.
     """
     target = output_target(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(target)
+    if not many_per_folder:
+        remove_stale_temporaries(target)
+    elif target.parent not in _CLEANED_FOLDERS:
+        remove_stale_temporaries(target, every_target=True)
+        _CLEANED_FOLDERS.add(target.parent)
     mode = _mode_for(target)
     suffix = ".tmp" + (target.suffix if keep_extension else "")
     fd, name = tempfile.mkstemp(prefix=f".{target.name}.{_host()}.{os.getpid()}.", suffix=suffix, dir=target.parent)
@@ -89,23 +99,33 @@ def describe_mode(mode: int) -> str:
     return next((text for test, text in kinds if test(mode)), "a special file")
 
 
-def remove_stale_temporaries(target: Path) -> list[Path]:
+def remove_stale_temporaries(target: Path, every_target: bool = False) -> list[Path]:
     """Removes temporaries of earlier saves of `target` whose writer is gone (rule in the module
-    doc); returns what it removed."""
+    doc); with `every_target`, also this host's temporaries of any other file in its folder whose
+    writer is gone. Returns what it removed."""
     removed = []
     prefix = f".{target.name}."
-    suffixes = {".tmp", ".tmp" + target.suffix}
+    suffixes = (".tmp", ".tmp" + target.suffix)
     with contextlib.suppress(OSError), os.scandir(target.parent) as entries:
         for entry in entries:
             suffix = next((s for s in suffixes if entry.name.endswith(s)), None)
-            if not entry.name.startswith(prefix) or suffix is None:
+            if entry.name.startswith(prefix) and suffix is not None:
+                stale = lambda mtime: _is_stale(entry.name[len(prefix):-len(suffix)], mtime)
+            elif every_target and (match := _this_hosts_temporary().match(entry.name)):
+                stale = lambda mtime: not _process_exists(int(match["pid"]))
+            else:
                 continue
             with contextlib.suppress(OSError):
                 info = entry.stat(follow_symlinks=False)
-                if stat.S_ISREG(info.st_mode) and _is_stale(entry.name[len(prefix):-len(suffix)], info.st_mtime):
+                if stat.S_ISREG(info.st_mode) and stale(info.st_mtime):
                     os.unlink(entry.path)
                     removed.append(Path(entry.path))
     return removed
+
+
+def _this_hosts_temporary() -> re.Pattern:
+    """A temporary this module names on this host, whatever its target: .<name>.<host>.<pid>.<random>.tmp[.ext]."""
+    return re.compile(rf"^\..+\.{re.escape(_host())}\.(?P<pid>\d+)\.\w+\.tmp(\.\w+)?$")
 
 
 def _is_stale(middle: str, mtime: float) -> bool:

@@ -38,7 +38,7 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
     faces = np.ascontiguousarray(faces, dtype=np.int32)
     if os.path.splitext(os.fspath(path))[1].lower() not in EXTENSIONS:
         raise ValueError(f"cannot write mesh file {os.fspath(path)}: the extension must be one of {', '.join(EXTENSIONS)}")
-    with replacing(path, keep_extension=True) as temporary:
+    with replacing(path, keep_extension=True, many_per_folder=True) as temporary:
         try:
             _core.write_mesh(os.fspath(temporary), vertices, faces)
         except _core.FileError as e:
