@@ -90,6 +90,15 @@ def test_a_huge_declared_count_is_refused_before_the_payload_is_read(saved, tmp_
     assert allocations == []
 
 
+def test_a_file_larger_than_the_memory_left_gives_a_cache_error(saved, tmp_path, monkeypatch):
+    def no_memory(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr(cache.np, "empty", no_memory)
+    with pytest.raises(am.CacheError, match="does not fit in the memory"):
+        load_bytes(tmp_path, saved)
+
+
 def test_new_files_put_the_payload_on_an_8_byte_boundary(saved):
     header_len = int.from_bytes(saved[12:16], "little")
     assert (16 + header_len) % cache_format.PAYLOAD_ALIGNMENT == 0

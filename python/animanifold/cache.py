@@ -137,7 +137,10 @@ def _read(path: Path, f: io.RawIOBase) -> tuple[Layout, np.ndarray, list[int]]:
     if expected != size:
         raise CacheError(f"cache file {path} is truncated or damaged ({size - CHECKSUM.size} bytes of data, header "
                          f"says {expected - CHECKSUM.size})")
-    data = np.empty(size, dtype=np.uint8)  # numpy's allocation is aligned for float64
+    try:
+        data = np.empty(size, dtype=np.uint8)  # numpy's allocation is aligned for float64
+    except MemoryError:
+        raise CacheError(f"cache file {path} ({size:,} bytes) does not fit in the memory left") from None
     _read_into(path, f, data)
     (stored,) = CHECKSUM.unpack_from(data, size - CHECKSUM.size)
     actual = zlib.crc32(memoryview(data)[: size - CHECKSUM.size]) & 0xFFFFFFFF
