@@ -149,3 +149,19 @@ def test_skeleton_of_the_shared_torus_ends_cleanly(capsys, tmp_path, shared_data
     out, err = capsys.readouterr()
     assert "Traceback" not in err and "skeleton:" in out
     assert len(am.read_mesh(tmp_path / "s.obj")[1]) > 0
+
+
+def test_an_empty_skeleton_is_called_convex_only_when_the_shape_is(capsys, tmp_path):
+    """A primitive torus (regular sampling: many sites on one sphere) gets an empty skeleton from
+    the core; the message must blame the sampling, not call a torus convex."""
+    from helpers.shapes import torus
+
+    am.write_mesh(tmp_path / "torus.obj", *torus())
+    am.write_mesh(tmp_path / "ball.obj", *icosphere(2))
+    capsys.readouterr()
+    assert main(["skeleton", str(tmp_path / "torus.obj"), "-o", str(tmp_path / "s.obj")]) == 2
+    torus_error = capsys.readouterr().err
+    assert main(["skeleton", str(tmp_path / "ball.obj"), "-o", str(tmp_path / "s.obj"), "--side", "external"]) == 2
+    ball_error = capsys.readouterr().err
+    assert "not convex" in torus_error and "noise" in torus_error and "the skeleton of" in torus_error
+    assert "the external skeleton of" in ball_error and "the shape is convex" in ball_error
