@@ -106,12 +106,13 @@ def remove_stale_temporaries(target: Path, every_target: bool = False) -> list[P
     removed = []
     prefix = f".{target.name}."
     suffixes = (".tmp", ".tmp" + target.suffix)
+    others = _this_hosts_temporary() if every_target else None
     with contextlib.suppress(OSError), os.scandir(target.parent) as entries:
         for entry in entries:
             suffix = next((s for s in suffixes if entry.name.endswith(s)), None)
             if entry.name.startswith(prefix) and suffix is not None:
                 stale = lambda mtime: _is_stale(entry.name[len(prefix):-len(suffix)], mtime)
-            elif every_target and (match := _this_hosts_temporary().match(entry.name)):
+            elif others is not None and (match := others.match(entry.name)):
                 stale = lambda mtime: not _process_exists(int(match["pid"]))
             else:
                 continue
