@@ -17,6 +17,7 @@ PIP_PACKAGES=(
   "pybind11-stubgen==3.0.0"  # pinned: its output is compared with the committed _core.pyi
   "bpy>=4.5,<4.6"
   openjd-cli  # Open Job Description: validates and runs the farm/openjd job bundles locally (tests)
+  atheris  # the fuzz targets in tests/fuzz (scripts/fuzz.sh)
 )
 
 SUDO=""
@@ -42,7 +43,7 @@ import importlib.metadata as md, sys
 need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "hypothesis": None,
         "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None, "lizard": None,
         "pybind11-stubgen": lambda v: v == "3.0.0",
-        "bpy": lambda v: v.startswith("4.5"), "openjd-cli": None}
+        "bpy": lambda v: v.startswith("4.5"), "openjd-cli": None, "atheris": None}
 for name, ok in need.items():
     v = md.version(name)
     if ok and not ok(v):

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import struct
-import time
 import warnings
 import zlib
 
@@ -149,17 +148,15 @@ def test_2d_c_shape_and_ring():
 
 
 @pytest.mark.data
-def test_torus_800_timing_and_volume(shared_data):
+def test_torus_800_volume(shared_data):
+    """Its speed is bench/bench_hole_space.py's figure."""
     v, f = am.read_mesh(shared_mesh(shared_data, "torus-800.off"))
-    start = time.perf_counter()
     H = am.hole_space(v, f)
-    seconds = time.perf_counter() - start
     assert_closed_solid(H)
     assert euler(H[1]) == 2
     assert am.solid_measure(*H) == pytest.approx(hull_volume(v) - am.solid_measure(v, f), rel=1e-9)
     # the tunnel (the torus' axis is y) holds the centre
     assert winding_numbers(v.mean(0, keepdims=True), H)[0] == pytest.approx(1, abs=1e-9)
-    assert seconds < 5, f"hole_space of torus-800 took {seconds:.2f} s"
 
 
 @pytest.mark.parametrize("name", ["screwdriver.off", "decimated-max.obj"])

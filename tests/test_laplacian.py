@@ -4,7 +4,6 @@ Laplacian with ghost vertices, boundary rules, the Deformer and restore."""
 from __future__ import annotations
 
 import itertools
-import time
 
 import numpy as np
 import pytest
@@ -186,13 +185,11 @@ def test_simplex_qp_rejects_infeasible_floor_and_indefinite_H():
         _core._testing.simplex_qp(-np.eye(3), np.zeros(3), 0.0)
 
 
-def test_graph_weights_are_fast_on_the_block():
-    """The seed's general QP took 55 s for the 2.5k-vertex block; this must be orders of magnitude faster."""
+def test_graph_weights_on_the_block_are_affine_and_above_the_floor():
+    """Graph weights of the 2.5k-vertex block (their speed against the seed's 55 s is
+    bench/bench_laplacian.py's figure): each row sums to 1 and no weight is under the floor."""
     V, F = block()
-    start = time.perf_counter()
     W = _core._testing.primal_weights(V, F, "graph")
-    elapsed = time.perf_counter() - start
-    assert elapsed < 1.0, f"graph weights took {elapsed:.2f} s for {len(V)} vertices"
     Wd = dense(W)
     np.testing.assert_allclose(Wd.sum(1), 1, atol=1e-12)
     assert (Wd[Wd != 0] >= 1e-3 - 1e-12).all()

@@ -7,12 +7,13 @@ between two closed meshes; skeleton (cli_skeleton.py) writes a mesh's Voronoi sk
 Each sub-command is a small function from parsed arguments to an exit code.
 Anything the user can get wrong — a missing or unreadable file, a damaged
 cache, keyframes that do not correspond, times that do not increase, a value
-outside the manifold — ends as one line ``animanifold: error: ...`` on stderr
-and exit code 2 (argparse's own convention for usage errors), never a
-traceback. An input the geometry cannot handle (CGAL refuses a shape's hole
-space: animanifold.BooleanError, which names the input) ends the same way with
-exit code 3. Programming errors still raise, so bugs are not disguised as
-user mistakes.
+outside the manifold, a count beyond MAX_FRAMES, an output that cannot be written
+completely (a full disk; every file is written through atomic_file.py and checked)
+— ends as one line ``animanifold: error: ...`` on stderr and exit code 2
+(argparse's own convention for usage errors), never a traceback. An input the
+geometry cannot handle (any other animanifold.Error: CGAL refuses a shape's
+hole space, a mesher fails) ends the same way with exit code 3. Programming
+errors still raise, so bugs are not disguised as user mistakes.
 """
 
 from __future__ import annotations
@@ -32,7 +33,6 @@ from ._core import Error
 from . import cli_farm, cli_skeleton
 from .cache import load, save
 from .demo import run_demo as build_demo
-from .holes import BooleanError
 from .manifold import AXES, AnimationManifold, axis_index, stitch
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import METHODS, cut_frame_warnings, morph
@@ -42,10 +42,27 @@ EXIT_USER_ERROR = 2
 EXIT_GEOMETRY_ERROR = 3
 MESH_FORMATS = ("obj", "ply", "off", "stl")  # what the core's CGAL IO writes, by extension
 FRAME_FORMATS = ("obj", "ply", "off")
+MAX_FRAMES = 100_000  # frames -n, morph --frames, demo --frames: one file each
 
 
 class UserError(Error):
     """A problem with the user's input that the command line detects itself."""
+
+
+def check_count(option: str, value: int, low: int, high: int = MAX_FRAMES) -> None:
+    if not low <= value <= high:
+        raise UserError(f"{option} must be from {low} to {high:,}, got {value:,}")
+
+
+def refuse_stl(path: str) -> None:
+    """Keyframes must keep their vertex order; STL stores triangles only, and the reader numbers
+    the merged corners by position, so two keyframes of one mesh need not match vertex for vertex."""
+    with open(path, "rb") as f:
+        start = f.read(84)
+    text_stl = start.lstrip().lower().startswith(b"solid")
+    if path.lower().endswith(".stl") or text_stl:
+        raise UserError(f"keyframe {path} is an STL file: STL keeps no vertex order, so keyframes cannot be matched "
+                        "vertex for vertex; export them as OBJ, PLY or OFF")
 
 
 # -- stitch --------------------------------------------------------------------
@@ -92,6 +109,8 @@ def read_keyframes(files: Sequence[str]) -> tuple[list[np.ndarray], np.ndarray]:
 
     Returns (vertices of each keyframe, the shared faces).
     """
+    for path in files:
+        refuse_stl(path)
     meshes = [read_mesh(path) for path in files]
     ref_vertices, ref_faces = meshes[0]
     for i, (path, (vertices, faces)) in enumerate(zip(files[1:], meshes[1:]), start=1):
@@ -177,8 +196,7 @@ def frame_path(folder: Path, number: int, count: int, extension: str) -> Path:
 
 
 def run_frames(args: argparse.Namespace) -> int:
-    if args.count < 1:
-        raise UserError(f"-n must be at least 1, got {args.count}")
+    check_count("-n", args.count, 1)
     manifold = load_manifold(args.manifold)
     folder = Path(args.output)
     if folder.exists() and not folder.is_dir():
@@ -261,8 +279,7 @@ def run_info(args: argparse.Namespace) -> int:
 
 
 def run_demo(args: argparse.Namespace) -> int:
-    if args.frames < 1:
-        raise UserError(f"--frames must be at least 1, got {args.frames}")
+    check_count("--frames", args.frames, 1)
     if not args.no_picture:
         try:
             import matplotlib  # noqa: F401
@@ -303,7 +320,7 @@ def build_parser() -> argparse.ArgumentParser:
         "stitch",
         run_stitch,
         "keyframe meshes -> animation manifold (.amf)",
-        "Reads keyframe meshes (OBJ/PLY/OFF/STL) with the same vertices and faces in the same order, "
+        "Reads keyframe meshes (OBJ/PLY/OFF; not STL, which keeps no vertex order) with the same vertices and faces in the same order, "
         "stitches them into an animation manifold of 3·faces·(keyframes-1) tets and saves it.",
     )
     p.add_argument("keyframes", nargs="+", metavar="KEYFRAME", help="keyframe mesh files, in time order")
@@ -390,8 +407,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def run_morph(args: argparse.Namespace) -> int:
-    if args.frames < 0:
-        raise UserError(f"--frames must be >= 0, got {args.frames}")
+    check_count("--frames", args.frames, 0)
     source, target = read_mesh(args.source), read_mesh(args.target)
     if not 0 < args.max_push < 0.5:
         raise UserError(f"--max-push must lie between 0 and 0.5, got {args.max_push}")
@@ -464,15 +480,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exit_:  # argparse has printed usage or help already
         return exit_.code if isinstance(exit_.code, int) else EXIT_USER_ERROR
     try:
-        return args.run(args)
+        code = args.run(args)
+        sys.stdout.flush()  # a report that cannot be written (stdout on a full disk) is a failure too
+        return code
     # ValueError covers the core's input errors and CacheError; OSError covers
     # missing, unreadable or malformed files (the core's IO errors) and unwritable outputs.
     except (UserError, ValueError, OSError) as error:
-        print(f"{PROG}: error: {one_line(error)}", file=sys.stderr)
-        return EXIT_USER_ERROR
-    except BooleanError as error:
-        print(f"{PROG}: error: {one_line(error)}", file=sys.stderr)
-        return EXIT_GEOMETRY_ERROR
+        return report(error, EXIT_USER_ERROR)
+    except MemoryError:
+        return report("not enough memory for this input", EXIT_USER_ERROR)
+    except Error as error:  # the core's other refusals: BooleanError, MeshingError, Cancelled
+        return report(error, EXIT_GEOMETRY_ERROR)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+
+
+def report(error: BaseException | str, code: int) -> int:
+    print(f"{PROG}: error: {error if isinstance(error, str) else one_line(error)}", file=sys.stderr)
+    return code

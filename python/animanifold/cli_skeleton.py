@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 
+from .holes import solid_measure
 from .meshio import read_mesh, write_mesh
 from .skeleton import SIDES, WRAP_SHAPES, voronoi_skeleton
 
@@ -53,6 +54,26 @@ def _error(message: str) -> int:
     return 2
 
 
+def empty_skeleton_message(path: str, side: str, vertices: np.ndarray, faces: np.ndarray) -> str:
+    """Why a skeleton came out empty: a convex shape has no external skeleton; any other shape
+    does, so the sampling is to blame (sites on common spheres, as a regularly sampled torus has,
+    give Voronoi cells the extraction cannot separate)."""
+    which = "skeleton" if side == "both" else f"{side} skeleton"
+    if side != "internal" and is_convex(vertices, faces):
+        return f"the {which} of '{path}' is empty: the shape is convex, so it has no external skeleton"
+    return (f"the {which} of '{path}' came out empty although the shape is not convex: its vertices are probably "
+            "sampled too regularly (many on one sphere, as on a primitive torus); move them by a little noise "
+            "(1e-6 of the size) and try again")
+
+
+def is_convex(vertices: np.ndarray, faces: np.ndarray) -> bool:
+    """The closed mesh encloses its convex hull's volume (to rounding)."""
+    from scipy.spatial import ConvexHull  # only here: the package itself does not need scipy
+
+    hull = ConvexHull(vertices).volume
+    return abs(solid_measure(vertices, faces) - hull) <= 1e-9 * max(hull, 1e-300)
+
+
 def run(args: argparse.Namespace) -> int:
     if args.max_iterations < 0:
         return _error(f"--max-iterations must be >= 0, got {args.max_iterations}")
@@ -67,8 +88,7 @@ def run(args: argparse.Namespace) -> int:
             neighbourhood=1 if args.literal_rule else 2, in_plane_angle=0.0 if args.literal_rule else 0.3,
             warn=False)
         if len(sk.faces) == 0:
-            return _error(f"the {args.side} skeleton of '{args.input}' is empty (a convex shape has no "
-                          "external skeleton)")
+            return _error(empty_skeleton_message(args.input, args.side, vertices, faces))
         if args.attach:
             n = len(sk.refined_vertices)
             out_v = np.vstack([sk.refined_vertices, sk.vertices])

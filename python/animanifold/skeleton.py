@@ -111,6 +111,9 @@ def _simplices(faces, name: str = "faces") -> np.ndarray:
     return np.ascontiguousarray(f, dtype=np.int32)
 
 
+MAX_WRAP_DENSITY = 32  # 6,146 wrap sites; the wrap grows with the square of the density
+
+
 def voronoi_skeleton(
     vertices,
     faces,
@@ -143,6 +146,10 @@ def voronoi_skeleton(
     wrap = "none" if wrap is None else checked(wrap, _core.WrapShape, "wrap shape")
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 0:
         raise ValueError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
+    if isinstance(wrap_density, bool) or not isinstance(wrap_density, (int, np.integer)) or not (
+            1 <= wrap_density <= MAX_WRAP_DENSITY):
+        raise ValueError(f"wrap_density must be an integer from 1 to {MAX_WRAP_DENSITY}, got {wrap_density!r} "
+                         "(a box wrap has 6·density² + 2 sites)")
     v = _points(vertices)
     f = _simplices(faces)
     raw = _core.voronoi_skeleton(
