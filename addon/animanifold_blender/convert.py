@@ -51,7 +51,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
     progress = Progress(context, len(frames) + 2)
     try:
         keys = sampling.sample_object(context, obj, frames, progress)
-        manifold = _stitch(keys)
+        manifold = _stitch(keys, progress.core_steps(len(frames)))
         manifold.metadata.update({
             "source_object": obj.name,
             "frame_range": [float(start), float(end)],
@@ -79,7 +79,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
     return Converted(new, manifold, len(frames), start, end, stored, note)
 
 
-def _stitch(keys):
+def _stitch(keys, progress):
     vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
     if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
         vertex_attributes["normal"] = keys.normals
@@ -87,7 +87,7 @@ def _stitch(keys):
         vertex_attributes["uv"] = keys.uv
     return am.stitch(
         keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
-        face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
+        face_attributes={"material_index": keys.material_index, "smooth": keys.smooth}, progress=progress,
     )
 
 

@@ -208,8 +208,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if made.note:
             self.report({"WARNING"}, made.note)
         new, validity = made.obj, manifold.validity
-        report_validity(self.report, new, manifold, method, source, target, source_input.mesh[1],
-                        target_input.mesh[1])
+        report_validity(self.report, new, manifold, method, source, target, source_input.mesh, target_input.mesh)
         stages = ", ".join(f"{stage} {seconds:.2f}" for stage, seconds in validity.get("stage_seconds", []))
         self.report({"INFO"}, f"'{new.name}': {method} morph, {len(manifold.simplices)} tets, frames {start}–{end}, "
                               f"{time.perf_counter() - began:.2f} s ({stages}), cache {made.stored}")

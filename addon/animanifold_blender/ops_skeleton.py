@@ -19,6 +19,7 @@ from ._lib import am
 from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
+from .progress import CoreProgress
 from .reporting import reporting
 
 SIDE_ITEMS = enum_items(am._core.SkeletonSide, {
@@ -58,20 +59,19 @@ class ANIMANIFOLD_OT_skeleton(Operator):
 
     def execute(self, context):
         obj = context.active_object
+        progress = CoreProgress(context.window_manager, 10.0, 90.0, where="reading the mesh")
         with reporting(self, f"No skeleton for '{obj.name}'"):
-            wm = context.window_manager
-            wm.progress_begin(0, 3)
             try:
                 vertices, faces = closed_triangle_mesh(context, obj)
-                wm.progress_update(1)
+                progress.at("before the core's first step", 10.0)
                 with warnings.catch_warnings(record=True) as caught:
                     warnings.simplefilter("always", am.SeparabilityWarning)
                     sk = am.voronoi_skeleton(vertices, faces, side=self.side.lower(),
                                              max_iterations=self.max_iterations,
-                                             wrap=self.wrap.lower())
-                wm.progress_update(2)
+                                             wrap=self.wrap.lower(), progress=progress)
+                progress.at("making the skeleton object", 90.0)
             finally:
-                wm.progress_end()
+                progress.end()
             if len(sk.faces) == 0:
                 self.report({"WARNING"}, f"'{obj.name}' has no {self.side.lower()} skeleton (a convex shape has no "
                                          "external one); nothing added")

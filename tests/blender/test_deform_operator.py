@@ -229,7 +229,7 @@ def test_manifold_deform_keeps_frames_bounded_by_anchors_and_moves_the_handles(m
     assert os.path.isfile(bpy.path.abspath(new_path)) and os.path.isfile(bpy.path.abspath(old_path))
     new = am.load(bpy.path.abspath(new_path))
     np.testing.assert_array_equal(new.simplices, old.simplices)
-    assert new.check()["is_oriented_manifold"]
+    assert new.check().is_oriented_manifold
     # Frames up to the anchored keyframe are untouched: the manifold vertices there
     # (a stitched manifold's tets up to frame 24 use only those) and the slices.
     early = old.points[:, 3] <= 24.0 + 1e-9
@@ -301,7 +301,7 @@ def test_manifold_regularise_adds_vertices_and_stays_a_manifold(manifold_object)
     new = am.load(bpy.path.abspath(man.animanifold.cache_path))
     summary = new.metadata["regularisation"]
     assert summary["added_vertices"] > 0 and len(new.points) == len(old.points) + summary["added_vertices"]
-    assert new.check()["is_oriented_manifold"]
+    assert new.check().is_oriented_manifold
     # Converged: no edge is both longer than ε and stretched, so none is longer than ε or
     # than the longest edge of the input (edges long already are left alone).
     from animanifold.regularisation import edges_of, manhattan_lengths

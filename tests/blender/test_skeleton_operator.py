@@ -63,3 +63,37 @@ def test_convex_shape_has_no_external_skeleton(empty_scene):
 def test_poll_needs_a_mesh(empty_scene):
     bpy.ops.object.empty_add()
     assert not bpy.ops.animanifold.skeleton.poll()
+
+
+def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
+    from animanifold_blender import ops_skeleton
+
+    calls = []
+
+    class WM:
+        def progress_begin(self, lo, hi):
+            calls.append(("begin", lo, hi))
+
+        def progress_update(self, value):
+            calls.append(("update", value))
+
+        def progress_end(self):
+            calls.append(("end",))
+
+    steps = []
+
+    class Recording(ops_skeleton.CoreProgress):
+        def __init__(self, wm, *args, **kwargs):
+            super().__init__(WM(), *args, **kwargs)
+
+        def __call__(self, step, fraction):
+            steps.append(step)
+            return super().__call__(step, fraction)
+
+    monkeypatch.setattr(ops_skeleton, "CoreProgress", Recording)
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
+    assert bpy.ops.animanifold.skeleton(side="INTERNAL") == {"FINISHED"}
+    assert calls[0] == ("begin", 0, 100) and calls[-1] == ("end",)
+    values = [c[1] for c in calls if c[0] == "update"]
+    assert values == sorted(values) and 0 <= values[0] and values[-1] <= 100
+    assert steps[:3] == ["checks", "separability", "voronoi"] and "bisectors" in steps
