@@ -41,6 +41,7 @@ from .subdivision import subdivide, subdivided_simplex_count
 from .welding import weld
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
 from . import frame_quality  # noqa: E402,F401  (frames' topology and pieces: the add-on's morph report)
+from .core_job import CoreJob
 from .morph_job import MorphJob
 
 __version__ = "0.1.0"
@@ -55,6 +56,7 @@ __all__ = [
     "Deformer",
     "HoleSpaceWarning",
     "IntervalFrame",
+    "CoreJob",
     "MorphJob",
     "RestoreStatus",
     "Slice",
