@@ -2,12 +2,18 @@
 the one mapping of the core's interrupter (``progress(step, fraction)``, see
 cpp/include/animanifold/progress.hpp) onto it.
 
-A blocking operator gets no events while the core runs, so Esc cannot reach it: there the
-core stops only on Ctrl-C in the terminal (its bindings check for it at every step). Morph
-Selected, run from the interface, runs in a worker thread (am.MorphJob) and Esc cancels it.
+A blocking operator (execute: scripts, `blender -b`) gets no events while the core runs, so
+there the core stops only on Ctrl-C in the terminal (its bindings check for it at every step).
+Run from the interface, Morph Selected and Add Voronoi Skeleton compute in a worker thread
+(am.MorphJob, am.CoreJob), the bar follows the job's fraction and Esc cancels it.
 """
 
 from __future__ import annotations
+
+# Events that only move the view, passed on while a modal operator waits on a core job
+# (am.CoreJob): everything else waits, so the operator's inputs are still there at the end.
+VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
+               "INBETWEEN_MOUSEMOVE", "MOUSEROTATE", "NDOF_MOTION"}
 
 
 class Progress:

@@ -180,11 +180,16 @@ def voronoi_skeleton(
         },
     )
     if warn and not sk.separable:
-        warnings.warn(
-            f"the mesh is not Voronoi separable after {sk.iterations} splitting rounds (max_iterations="
-            f"{max_iterations}); the skeleton may miss faces where the shape is thin or sharp",
-            SeparabilityWarning, stacklevel=2)
+        warnings.warn(separability_warning(sk, max_iterations), SeparabilityWarning, stacklevel=2)
     return sk
+
+
+def separability_warning(sk: VoronoiSkeleton, max_iterations: int) -> str | None:
+    """What :func:`voronoi_skeleton` warns of when `sk` is not separable (None when it is)."""
+    if sk.separable:
+        return None
+    return (f"the mesh is not Voronoi separable after {sk.iterations} splitting rounds (max_iterations="
+            f"{max_iterations}); the skeleton may miss faces where the shape is thin or sharp")
 
 
 def make_voronoi_separable(vertices, faces, max_iterations: int = 4, *, neighbourhood: int = 2,
