@@ -375,6 +375,30 @@ def test_interactive_deform_resolves_on_empty_moves_and_applies(sphere):
     assert not interactive_deform.any_running()
 
 
+def test_starting_interactive_deform_shows_the_factorisations_steps_on_the_progress_bar(sphere, monkeypatch):
+    from animanifold_blender import interactive_deform
+
+    steps, ended = [], []
+
+    class Recording(interactive_deform.CoreProgress):
+        def __call__(self, step, fraction):
+            steps.append((step, fraction))
+            return super().__call__(step, fraction)
+
+        def end(self):
+            ended.append(True)
+            super().end()
+
+    monkeypatch.setattr(interactive_deform, "CoreProgress", Recording)
+    obj, _ = sphere
+    obj.animanifold_deform.method = "graph"
+    obj.animanifold_deform.interactive = True
+    assert interactive_deform.session(obj) is not None
+    assert [s for s, _ in steps] == ["checks", "laplacian", "factorising"] and ended == [True]
+    assert [f for _, f in steps] == sorted(f for _, f in steps)
+    obj.animanifold_deform.interactive = False
+
+
 def test_interactive_cannot_start_without_handles_and_says_why(sphere):
     from animanifold_blender import interactive_deform, live
 
