@@ -16,6 +16,16 @@ struct SubdividedManifold {
   Eigen::VectorXd keyframe_times;
 };
 
+// The options the frame bindings share, from their keyword arguments.
+FrameSubdivisionOptions frame_options(int levels, double crease_angle, bool limit, FrameScheme scheme) {
+  FrameSubdivisionOptions options;
+  options.levels = levels;
+  options.scheme = scheme;
+  options.crease_angle_degrees = crease_angle;
+  options.limit = limit;
+  return options;
+}
+
 void bind_frame_subdivision(py::module_& m) {
   py::class_<FrameSubdivision>(m, "FrameSubdivision", "A frame (or polyline) refined by subdivide_frame/_polyline.")
       .def_property_readonly("vertices", copy_of(&FrameSubdivision::vertices), "#V' by 3 refined points.")
@@ -80,12 +90,8 @@ void bind_subdivide(py::module_& m) {
         [](PointsRef V, SimplicesRef F, int levels, FrameScheme scheme, double crease_angle,
            std::optional<SimplexMatrix> crease_edges, bool limit, VertexAttributes vertex_attributes,
            SimplexAttributes face_attributes) {
-          FrameSubdivisionOptions options;
-          options.levels = levels;
-          options.scheme = scheme;
-          options.crease_angle_degrees = crease_angle;
+          FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, scheme);
           if (crease_edges) options.crease_edges = std::move(*crease_edges);
-          options.limit = limit;
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
@@ -102,10 +108,7 @@ void bind_subdivide(py::module_& m) {
   m.def("subdivide_polyline",
         [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,
            SimplexAttributes segment_attributes) {
-          FrameSubdivisionOptions options;
-          options.levels = levels;
-          options.crease_angle_degrees = crease_angle;
-          options.limit = limit;
+          const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::BSpline);
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
@@ -121,10 +124,7 @@ void bind_subdivide(py::module_& m) {
 
   m.def("smooth_slice",
         [](const Slice& s, int levels, double crease_angle, bool limit) {
-          FrameSubdivisionOptions options;
-          options.levels = levels;
-          options.crease_angle_degrees = crease_angle;
-          options.limit = limit;
+          const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::Loop);
           py::gil_scoped_release release;
           return std::make_shared<Slice>(smooth_slice(s, options));
         },
