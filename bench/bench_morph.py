@@ -258,7 +258,7 @@ def run_ours(sphere, target, method: str, diagonal: float) -> dict:
         ends[label] = np.array(hausdorff(v, f, vi, fi)) / diagonal if len(f) else np.array([np.inf, np.inf])
     return {"wall": wall, "report": report, "stages": [(str(n), float(s)) for n, s in report["stage_seconds"]],
             "fill_vertices": len(m.points), "manifold_simplices": len(m.simplices), "ends": ends,
-            "check": m.check(),
+            "check": m.check().to_dict(),
             "inner_vertices": int(np.count_nonzero((m.points[:, -1] > t0) & (m.points[:, -1] < t1))),
             "topology": {k: topology(*vf) for k, vf in frames.items()}}
 

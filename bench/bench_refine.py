@@ -81,7 +81,7 @@ def main() -> None:
     if args.check:
         report = _core.check_manifold(r.simplices)
         volume = (_core._testing.simplex_volumes(r.points, r.simplices).sum(), _core._testing.simplex_volumes(points, simplices).sum())
-        print(f"check: oriented manifold {report['is_oriented_manifold']}, volume {volume[0]:.9g} vs {volume[1]:.9g}")
+        print(f"check: oriented manifold {report.is_oriented_manifold}, volume {volume[0]:.9g} vs {volume[1]:.9g}")
 
 
 if __name__ == "__main__":

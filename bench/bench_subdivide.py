@@ -63,7 +63,7 @@ def main() -> None:
         )
     t0 = time.perf_counter()
     report = m1.check()
-    print(f"check_manifold of the result: {time.perf_counter() - t0:.2f} s, oriented={report['is_oriented_manifold']}")
+    print(f"check_manifold of the result: {time.perf_counter() - t0:.2f} s, oriented={report.is_oriented_manifold}")
 
     # --- 2. OpenSubdiv on a ~50k-face frame
     tv, tf = torus(160, 160)
@@ -81,7 +81,7 @@ def main() -> None:
     runs = []
     for _ in range(5):
         t0 = time.perf_counter()
-        r = am.subdivide_frame(tv, quads, levels=2, scheme="catmull-clark", crease_angle=30.0)
+        r = am.subdivide_frame(tv, quads, levels=2, scheme="catmull_clark", crease_angle=30.0)
         runs.append(time.perf_counter() - t0)
     print(
         f"Catmull-Clark level 2 + limit on {len(quads):,} quads: {1000 * np.median(runs):.0f} ms per frame -> "

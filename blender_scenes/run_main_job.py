@@ -87,7 +87,7 @@ def morph_demo(bake_kwargs) -> dict:
               "ends_reproduced": bool(validity["ends_reproduced"]),
               "end_distances": [validity["source_distance"], validity["target_distance"]],
               "inverted_simplices": int(validity["inverted_simplices"]),
-              "oriented_manifold": bool(manifold.check()["is_oriented_manifold"])}
+              "oriented_manifold": bool(manifold.check().is_oriented_manifold)}
     t = time.perf_counter()
     _activate(morph)
     _run(bpy.ops.animanifold.bake, **bake_kwargs)

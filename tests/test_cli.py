@@ -254,7 +254,7 @@ def test_small_demo_writes_frames_cache_and_picture(capsys, tmp_path):
     manifold = am.load(tmp_path / "demo.amf")
     times = manifold.metadata["keyframe_times"]
     assert len(manifold.simplices) == 3 * 320 * (len(times) - 1)
-    assert manifold.check()["is_oriented_manifold"]
+    assert manifold.check().is_oriented_manifold
     assert (tmp_path / "contact_sheet.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     for path in frames:
         vertices, triangles = am.read_mesh(path)
@@ -307,7 +307,7 @@ def test_morph_writes_a_manifold_that_starts_and_ends_as_the_inputs(capsys, tmp_
     assert code == 0, err
     assert "ends reproduced: True" in out
     m = am.load(tmp_path / "m" / "morph.amf")
-    assert m.validity["ends_reproduced"] and m.check()["is_oriented_manifold"]
+    assert m.validity["ends_reproduced"] and m.check().is_oriented_manifold
     assert sorted(p.name for p in (tmp_path / "m" / "frames").iterdir()) == [f"frame_000{i}.obj" for i in range(4)]
     first, _ = am.read_mesh(tmp_path / "m" / "frames" / "frame_0000.obj")
     assert np.abs(np.linalg.norm(first, axis=1) - 1).max() < 1e-9  # the source sphere's vertices

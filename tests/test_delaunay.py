@@ -31,7 +31,7 @@ def test_qhull_delaunay_is_delaunay_and_fills_the_hull(rng, dimension):
         assert (np.linalg.norm(points[others] - centre, axis=1) >= radius * (1 - 1e-9)).all()
     # a conforming complex of the convex hull: no boundary facet is shared, all facets manifold
     report = _core.check_manifold(simplices)
-    assert report["is_oriented_manifold"]
+    assert report.is_oriented_manifold
 
 
 def perturbed_sphere(rng, subdivisions, scale=(1, 1, 1)):
@@ -42,31 +42,31 @@ def perturbed_sphere(rng, subdivisions, scale=(1, 1, 1)):
 def test_tetgen_conforming_delaunay_keeps_the_surface_and_is_delaunay(rng):
     v, f = perturbed_sphere(rng, 2)
     r = _core._testing.conforming_delaunay_3d(v, f)
-    assert r["is_delaunay"] and r["non_delaunay_faces"] == 0
-    np.testing.assert_array_equal(r["points"][: len(v)], v)
+    assert r.is_delaunay and r.non_delaunay_faces == 0
+    np.testing.assert_array_equal(r.points[: len(v)], v)
     # every refined constraint is a face of the tetrahedralization and lies in its parent triangle
-    assert len(_core._testing.missing_facets(r["simplices"], r["constraints"])) == 0
+    assert len(_core._testing.missing_facets(r.simplices, r.constraints)) == 0
     parent_normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-    tri = r["points"][r["constraints"]]
+    tri = r.points[r.constraints]
     normals = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    assert (np.einsum("ij,ij->i", normals, parent_normals[r["constraint_parent"]]) > 0).all()
+    assert (np.einsum("ij,ij->i", normals, parent_normals[r.constraint_parent]) > 0).all()
     # the refined surface covers the input exactly (same total area, closed and oriented)
     area = lambda n: 0.5 * np.linalg.norm(n, axis=1).sum()
     assert area(normals) == pytest.approx(area(parent_normals), rel=1e-12)
-    assert _core.check_manifold(r["constraints"])["is_oriented_manifold"]
-    assert _core.check_manifold(r["constraints"])["boundary_facets"] == 0
+    assert _core.check_manifold(r.constraints).is_oriented_manifold
+    assert _core.check_manifold(r.constraints).boundary_facets == 0
 
 
 def test_theorem_5_2_1_fill_between_two_conforming_sections_contains_both(rng):
     v, f = perturbed_sphere(rng, 2)
     w, g = perturbed_sphere(rng, 2, scale=(1.5, 1, 0.7))
     s, t = _core._testing.conforming_delaunay_3d(v, f), _core._testing.conforming_delaunay_3d(w, g)
-    ps, pt = s["points"], t["points"]
+    ps, pt = s.points, t.points
     fill_points = np.concatenate([np.c_[ps, np.zeros(len(ps))], np.c_[pt, np.ones(len(pt))]])
     fill, flat, _ = _core._testing.delaunay(fill_points)
     assert flat == 0
-    assert len(_core._testing.missing_facets(fill, s["constraints"])) == 0
-    assert len(_core._testing.missing_facets(fill, t["constraints"] + len(ps))) == 0
+    assert len(_core._testing.missing_facets(fill, s.constraints)) == 0
+    assert len(_core._testing.missing_facets(fill, t.constraints + len(ps))) == 0
 
 
 def test_theorem_fails_visibly_without_conforming(rng):
@@ -84,16 +84,16 @@ def test_cgal_conforming_delaunay_2d_splits_a_non_delaunay_edge():
     p = np.array([[0.0, 0], [10, 0], [5, 0.5], [5, -0.5], [0, 3], [10, -3]])
     e = np.array([[0, 1], [4, 0], [1, 5]], np.int32)
     r = _core._testing.conforming_delaunay_2d(p, e)
-    assert r["is_delaunay"]
-    assert len(r["points"]) > len(p), "the long edge needs Steiner points"
-    np.testing.assert_array_equal(r["points"][: len(p)], p)
+    assert r.is_delaunay
+    assert len(r.points) > len(p), "the long edge needs Steiner points"
+    np.testing.assert_array_equal(r.points[: len(p)], p)
     # the refined segments chain each input edge from its start to its end, in order
     for edge_id, (a, b) in enumerate(e):
-        chain = r["constraints"][r["constraint_parent"] == edge_id]
+        chain = r.constraints[r.constraint_parent == edge_id]
         assert chain[0, 0] == a and chain[-1, 1] == b
         np.testing.assert_array_equal(chain[1:, 0], chain[:-1, 1])
-    assert len(_core._testing.missing_facets(r["simplices"], r["constraints"])) == 0
-    assert (_core._testing.signed_volumes(r["points"], r["simplices"]) > 0).all()
+    assert len(_core._testing.missing_facets(r.simplices, r.constraints)) == 0
+    assert (_core._testing.signed_volumes(r.points, r.simplices) > 0).all()
 
 
 def test_bad_input_is_refused(rng):

@@ -12,6 +12,7 @@ import animanifold as am
 from animanifold import _core
 from animanifold.choices import checked, names
 from animanifold.cli import build_parser
+from animanifold.frame_smoothing import FRAME_SCHEMES
 from animanifold.laplacian import BOUNDARY_RULES, METHODS
 from animanifold.refinement import ORDERS
 from animanifold.skeleton import SIDES, WRAP_SHAPES
@@ -33,6 +34,7 @@ def test_the_bound_enums_are_named_as_users_type_them():
     assert names(_core.LaplacianMethod) == ("dual", "graph", "uniform", "cotangent")
     assert names(_core.BoundaryRule) == ("grow", "ghost_anchors", "error")
     assert names(_core.ManifoldScheme) == ("schaefer", "linear")
+    assert names(_core.FrameScheme) == ("loop", "catmull_clark", "bspline")
     assert names(_core.RefineOrder) == ("given", "degeneracy")
     assert names(_core.SkeletonSide) == ("internal", "external", "both")
     assert names(_core.WrapShape) == ("box", "sphere", "none")
@@ -42,6 +44,7 @@ def test_module_choices_are_the_enum_members():
     assert METHODS == tuple(_core.LaplacianMethod.__members__)
     assert BOUNDARY_RULES == tuple(_core.BoundaryRule.__members__)
     assert MANIFOLD_SCHEMES == tuple(_core.ManifoldScheme.__members__)
+    assert FRAME_SCHEMES == tuple(_core.FrameScheme.__members__)
     assert ORDERS == tuple(_core.RefineOrder.__members__)
     assert SIDES == tuple(_core.SkeletonSide.__members__)
     assert WRAP_SHAPES == tuple(_core.WrapShape.__members__)
@@ -54,7 +57,7 @@ def test_cli_choices_are_the_enum_members():
 
 
 @pytest.mark.parametrize("enum", [_core.LaplacianMethod, _core.BoundaryRule, _core.ManifoldScheme,
-                                  _core.RefineOrder, _core.SkeletonSide, _core.WrapShape])
+                                  _core.FrameScheme, _core.RefineOrder, _core.SkeletonSide, _core.WrapShape])
 def test_checked_accepts_names_and_members_and_nothing_else(enum):
     for name, member in enum.__members__.items():
         assert checked(name, enum, "choice") == name

@@ -26,7 +26,7 @@ def assert_closed_solid(solid) -> None:
     vertices, faces = solid
     assert len(faces), "the solid is empty"
     report = _core.check_manifold(faces)
-    assert report["boundary_facets"] == 0 and report["is_oriented_manifold"], report
+    assert report.boundary_facets == 0 and report.is_oriented_manifold, report
     assert am.solid_measure(vertices, faces) > 0, "the solid is inside out"
 
 

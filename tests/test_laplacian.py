@@ -584,7 +584,7 @@ def test_animation_manifold_deform_returns_a_new_manifold_with_earlier_frames_un
     np.testing.assert_array_equal(moved.simplices, m.simplices)
     np.testing.assert_allclose(moved.points[: 2 * k], m.points[: 2 * k], atol=1e-12)
     np.testing.assert_allclose(moved.points[3 * k:, 1], m.points[3 * k:, 1] + 1.0, atol=1e-12)
-    assert moved.check()["is_oriented_manifold"]
+    assert moved.check().is_oriented_manifold
     np.testing.assert_array_equal(moved.vertex_attributes["u"], m.vertex_attributes["u"])
     frame = moved.slice(3.0)
     assert np.abs(frame.vertices[:, 1].mean() - 1.0) < 0.05  # the last keyframe moved up

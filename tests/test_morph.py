@@ -34,7 +34,7 @@ def test_convex_shapes_morph_into_a_closed_manifold_whose_frames_are_closed_and_
     assert report["missing_source_faces"] == 0 and report["missing_target_faces"] == 0
     assert report["inverted_simplices"] == 0
     assert report["ends_reproduced"], report
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     assert m.time_range == (0.0, 2.0)
     for t in [0.0, 0.3, 1.0, 1.7, 2.0]:
         s = m.slice(t)
@@ -50,7 +50,7 @@ def test_cubes_with_planar_quads_morph_robustly():
     v, f = cube()
     m, report = morph((v, f), (v * 1.3 + [0.2, 0.1, 0], f))
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     for t in np.linspace(0, 1, 6):
         s = m.slice(t)
         assert_closed_oriented_surface(s.faces)
@@ -78,7 +78,7 @@ def test_ring_to_disc():
     ring = polygons(blob(24, 1.0, (0, 0)), blob(12, 0.4, (0, 0))[::-1])
     disc = polygons(blob(20, 0.8, (0.1, 0)))
     m, report = morph(ring, disc)
-    assert report["ends_reproduced"] and m.check()["is_oriented_manifold"]
+    assert report["ends_reproduced"] and m.check().is_oriented_manifold
     assert m.slice(0.0).faces.shape[0] == 36 and m.slice(1.0).faces.shape[0] == 20
 
 

@@ -74,7 +74,7 @@ def assert_the_bar(source, target, pop_ratio=POP_RATIO):
         assert int((shell_volumes(v, f) < 0).sum()) <= allowed_cavities, f"the frame at {t:.3f} holds a bubble"
     # every simplex positive (none flat at the exact coordinates), and a clean oriented manifold
     assert report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0, report
-    assert manifold.check()["is_oriented_manifold"]
+    assert manifold.check().is_oriented_manifold
     # the core's own checks saw nothing either on its 24 spread frames, which it always checks (how many
     # frames it adds bisecting towards topology changes depends on its time budget, so on the machine)
     spread = {round(i / 25, 9) for i in range(1, 25)}

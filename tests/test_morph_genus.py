@@ -53,7 +53,7 @@ def check_topology_changing_morph(source, target, source_euler, target_euler, fr
     assert report["min_relative_volume"] > -1e-6, report["min_relative_volume"]
     assert report["degenerate_simplices"] < 0.06 * report["simplices"], report["degenerate_simplices"]
     assert report["stripped_simplices"] == 0  # the skeleton method strips nothing
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     assert report["frames_cross_themselves"] == frames_cross, report["crossing_frames"]
     eulers = []
     for t in TIMES:
@@ -209,7 +209,7 @@ def test_2d_lizard_to_blobs_passes_through_one_shape():
     blobs = polygons(blob(16, 0.35, (-1.1, 0)), blob(16, 0.35, (1.1, 0.1)), blob(16, 0.35, (0.1, 1.1)))
     m = am.morph(lizard, blobs)
     assert m.validity["ends_reproduced"] and m.validity["inverted_simplices"] == 0
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     counts = []
     for t in TIMES:
         frame = m.slice(t, honour_holes=False)
@@ -317,7 +317,7 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0
     assert report["min_relative_volume"] > 0
     assert not report["frames_cross_themselves"], report["crossing_frames"]
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     for s in (0.02, 0.5, 0.98):
         frame = m.slice(s, honour_holes=False)
         V, F = frame.vertices, frame.faces
@@ -344,7 +344,7 @@ def test_convex_inputs_rotated_in_float32_take_the_hull_too():
         assert report["exact_convex_fill"] and report["perturbation"] == 0.0
         assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0
         assert not report["frames_cross_themselves"] and report["bubble_frames"] == []
-        assert m.check()["is_oriented_manifold"]
+        assert m.check().is_oriented_manifold
         for s in (0.02, 0.5, 0.98):
             frame = m.slice(s, honour_holes=False)
             assert_closed_oriented_surface(frame.faces)
@@ -381,7 +381,7 @@ def test_flat_cells_of_a_cylinders_cocircular_caps_are_not_outside_it(fan_flat_p
     # the cylinder has nothing outside it: no free vertex, no layer
     assert report["target_free_vertices"] == 0 and report["target_push"] == [0.0, 0.0, 0.0]
     assert report["bubble_frames"] == [] and not report["frames_cross_themselves"]
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     for t in (0.25, 0.5, 0.75):
         frame = m.slice(t, honour_holes=False)
         assert_closed_oriented_surface(frame.faces)
@@ -404,7 +404,7 @@ def test_a_fill_that_loses_faces_to_the_nudge_is_built_on_the_meshers_points():
     assert report["perturbation"] == 1e-7 and report["unnudged_steiner_points"] > 0
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
     assert not report["frames_cross_themselves"], report["crossing_frames"]
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     assert report["bubble_frames"] == [] and report["largest_bubble_fraction"] == 0.0
 
 
@@ -419,7 +419,7 @@ def test_the_torus_hole_opens_through_one_shell_without_bubble_or_island(perturb
     m = am.morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation=perturbation)
     report = m.validity
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     genus_one = 0
     for t in np.linspace(0.005, 0.995, 100):
         frame = m.slice(float(t), honour_holes=False)
@@ -462,7 +462,7 @@ def test_float32_inputs_come_back_exactly_at_the_ends():
     m = am.morph(source, torus())
     report = m.validity
     assert report["ends_reproduced"] and report["source_distance"] < 1e-12, report["source_distance"]
-    assert report["inverted_simplices"] == 0 and m.check()["is_oriented_manifold"]
+    assert report["inverted_simplices"] == 0 and m.check().is_oriented_manifold
     start = m.slice(0.0)  # the input refined (the mesher's Steiner points), the bends kept
     assert enclosed_volume(start.vertices, start.faces) == pytest.approx(enclosed_volume(*source), rel=1e-12)
 
@@ -596,7 +596,7 @@ def test_a_cube_into_the_voxel_plate_facing_it_does_not_run_through_itself():
     assert report["target_cap_points"] == 6
     assert report["bubble_frames"] == [] and report["largest_bubble_fraction"] == 0.0
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     for t in (0.1, 0.3, 0.5, 0.7, 0.9):
         frame = m.slice(t, honour_holes=False)
         assert_closed_oriented_surface(frame.faces)

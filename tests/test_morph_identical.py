@@ -49,7 +49,7 @@ def check_identical_morph(shape):
     assert not report["frames_cross_themselves"], report["crossing_frames"]
     # The shared hole space is the whole concavity, and no frame enters it: none is kept to cut with.
     assert report["shared_hole_volume"] > 0 and m.hole_space is None and report["holes_preserved"]
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     for t in TIMES:
         frame = m.slice(t)
         assert surface_distance(frame.vertices, frame.faces, vertices, faces) <= 1e-9 * diagonal, t

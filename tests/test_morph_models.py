@@ -41,17 +41,17 @@ def test_the_conforming_fill_of_the_model_is_delaunay(shared_data, model):
     size = np.linalg.norm(np.ptp(v, axis=0))
     k = _core._testing.external_skeleton_points(v, f, 1e-3 * size)
     r = _core._testing.conforming_delaunay_3d(np.vstack([v, k]), f)
-    assert r["is_delaunay"] and r["non_delaunay_faces"] == 0, r["non_delaunay_faces"]
-    constraints, points = r["constraints"], r["points"]
+    assert r.is_delaunay and r.non_delaunay_faces == 0, r.non_delaunay_faces
+    constraints, points = r.constraints, r.points
     assert len(_core._testing.missing_facets(_core._testing.delaunay_exact(points)[0], constraints)) == 0
     # the points added (TetGen's and the mending's) lie on the model, which the refined faces tile
     added = points[len(v) + len(k):]
-    assert len(added) >= r["mended_points"] > 0
+    assert len(added) >= r.mended_points > 0
     assert _core.distances_to_surface(added, v, f).max() < 1e-12 * size
     area = lambda p, t: 0.5 * np.linalg.norm(np.cross(p[t[:, 1]] - p[t[:, 0]], p[t[:, 2]] - p[t[:, 0]]), axis=1).sum()
     assert area(points, constraints) == pytest.approx(area(v, f), rel=1e-12)
     report = _core.check_manifold(constraints)
-    assert report["is_oriented_manifold"] and report["boundary_facets"] == 0
+    assert report.is_oriented_manifold and report.boundary_facets == 0
 
 
 @pytest.mark.parametrize("model", MODELS)
@@ -64,7 +64,7 @@ def test_sphere_to_model(shared_data, model):
     assert report["missing_source_faces"] == 0 and report["missing_target_faces"] == 0
     assert report["ends_reproduced"], (report["source_distance"], report["target_distance"])
     assert report["inverted_simplices"] == 0
-    assert m.check()["is_oriented_manifold"]
+    assert m.check().is_oriented_manifold
     assert not report["frames_cross_themselves"], report["crossing_frames"]
     for t in TIMES:
         for frame in (m.slice(t, honour_holes=False), m.slice(t)):

@@ -119,8 +119,8 @@ def assert_valid_refinement(V, S, r: am.Refinement, splits, epsilon: float) -> N
     scale = np.ptp(V, axis=0).max()
 
     report = _core.check_manifold(T)
-    assert report["is_oriented_manifold"], report
-    assert report["boundary_facets"] >= _core.check_manifold(S)["boundary_facets"]
+    assert report.is_oriented_manifold, report
+    assert report.boundary_facets >= _core.check_manifold(S).boundary_facets
 
     # Total measure unchanged.
     assert _core._testing.simplex_volumes(P, T).sum() == pytest.approx(_core._testing.simplex_volumes(V, S).sum(), rel=1e-10)
@@ -254,7 +254,7 @@ def test_random_batch_with_zero_epsilon_inserts_every_point_exactly():
     assert np.all(r.new_vertex_of_split >= 0)
     for t, (ids, w) in enumerate(splits):
         assert np.linalg.norm(r.points[r.new_vertex_of_split[t]] - w @ V[ids]) < 1e-12
-    assert _core.check_manifold(r.simplices)["is_oriented_manifold"]
+    assert _core.check_manifold(r.simplices).is_oriented_manifold
     assert _core._testing.simplex_volumes(r.points, r.simplices).sum() == pytest.approx(1.0, rel=1e-12)
 
 
@@ -341,7 +341,7 @@ def test_animation_manifold_refine_keeps_attributes_and_slices():
     refined, r = am.refine(m, splits, epsilon=1e-3, order="degeneracy")
     assert isinstance(refined, am.AnimationManifold)
     assert refined.metadata == m.metadata
-    assert refined.check()["is_oriented_manifold"]
+    assert refined.check().is_oriented_manifold
     assert np.abs(refined.vertex_attributes["xyzt"] - refined.points).max() < 1e-12
     assert np.array_equal(refined.simplex_attributes["material"], m.simplex_attributes["material"][r.parent_simplex])
     assert_valid_refinement(np.array(m.points), np.array(m.simplices), r, splits, 1e-3)

@@ -53,7 +53,7 @@ def test_large_extrusion_is_regularised_into_a_valid_manifold(method):
     assert ratio <= 2.0 + 1e-9, f"max/mean edge length {ratio:.3f} after regularisation"
     assert maps.max_edge_length == pytest.approx(max_length(points, simplices))
     check = _core.check_manifold(simplices)
-    assert check["is_oriented_manifold"] and check["boundary_facets"] == 0
+    assert check.is_oriented_manifold and check.boundary_facets == 0
     # The input vertices come first and keep their rest positions; anchors stay, handles follow T.
     np.testing.assert_array_equal(maps.rest_points[: len(v)], v)
     np.testing.assert_allclose(points[anchors], v[anchors], atol=1e-9)
@@ -134,7 +134,7 @@ def test_animation_manifold_deform_regularises_and_keeps_anchored_frames():
     out = am.deform(m, anchors, handles, T, options=REGULARISED)
     summary = out.metadata["regularisation"]
     assert summary["converged"] and summary["added_vertices"] == len(out.points) - len(m.points) > 0
-    assert out.check()["is_oriented_manifold"]
+    assert out.check().is_oriented_manifold
     mean0 = mean_length(m.points, m.simplices)
     assert max_length(plain.points, plain.simplices) / mean0 > 2.5
     assert max_length(out.points, out.simplices) / mean0 <= 2.0 + 1e-9

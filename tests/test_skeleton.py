@@ -125,8 +125,8 @@ def test_lemma_7_5_1_no_vertex_encroaches_after_separation():
     v, e = star()
     assert encroaching_pairs_2d(v, e) > 0, "the test polygon must start out encroached"
     sep = skel.make_voronoi_separable(v, e, max_iterations=10)
-    assert sep["separable"] and sep["splits"] > 0
-    rv, re = sep["vertices"], sep["faces"]
+    assert sep.separable and sep.splits > 0
+    rv, re = sep.vertices, sep.faces
     assert encroaching_pairs_2d(rv, re) == 0
     # The refined polygon is still one closed counter-clockwise chain through the input vertices.
     np.testing.assert_array_equal(rv[: len(v)], v)
@@ -156,13 +156,13 @@ def test_closest_point_split_never_reencroaches():
     np.testing.assert_array_equal(rows, [[3, 0, 1, -1, 2]])
     assert distance[0] == pytest.approx(0.8)
     sep = skel.make_voronoi_separable(v, e, max_iterations=4)
-    assert sep["separable"] and sep["iterations"] == 1 and sep["splits"] == 1
-    np.testing.assert_allclose(sep["vertices"][-1], [2, 0])
+    assert sep.separable and sep.iterations == 1 and sep.splits == 1
+    np.testing.assert_allclose(sep.vertices[-1], [2, 0])
     # Two encroachers at the same distance: the closest (then lowest) first, the other next round.
     v2, e2 = closed_polygon(np.array([[0, 0], [4, 0], [4, 3], [2.5, 0.8], [1.5, 0.8], [0, 3]], float))
     sep2 = skel.make_voronoi_separable(v2, e2, max_iterations=4)
-    assert sep2["separable"] and sep2["iterations"] == 2
-    np.testing.assert_allclose(sep2["vertices"][len(v2):], [[2.5, 0], [1.5, 0]])
+    assert sep2.separable and sep2.iterations == 2
+    np.testing.assert_allclose(sep2.vertices[len(v2):], [[2.5, 0], [1.5, 0]])
 
 
 def test_voronoi_vertex_on_the_mesh_is_flagged_figure_7_10():
@@ -391,7 +391,7 @@ def test_wrap_bounds_every_cell_and_completes_the_external_skeleton():
     assert np.any((x[:, 0] > 1.5) & (np.abs(x[:, 1] - 1.5) < 1e-9))
     wv3, wf3, nv3, nf3 = skel.wrap(*cube(), "sphere", density=2)
     report = am._core.check_manifold(wf3[nf3:])
-    assert report["is_oriented_manifold"] and report["boundary_facets"] == 0
+    assert report.is_oriented_manifold and report.boundary_facets == 0
     centre_dir = -(wv3[wf3[nf3:]].mean(1))
     normals = np.cross(wv3[wf3[nf3:, 1]] - wv3[wf3[nf3:, 0]], wv3[wf3[nf3:, 2]] - wv3[wf3[nf3:, 0]])
     assert np.all((normals * centre_dir).sum(1) > 0)
@@ -400,25 +400,25 @@ def test_wrap_bounds_every_cell_and_completes_the_external_skeleton():
 def test_dihedral_test_reports_sharp_edges():
     v, f = cube()
     ok = skel.dihedral_test(v, f)
-    assert ok["passes"] and ok["sharpest"] == pytest.approx(np.pi / 2)
+    assert ok.passes and ok.sharpest == pytest.approx(np.pi / 2)
     sharp = skel.dihedral_test(v, f, limit=np.radians(100))
-    assert not sharp["passes"] and len(sharp["sharp"]) == 12
-    assert np.allclose(sharp["angles"], np.pi / 2)
-    lengths = np.linalg.norm(v[sharp["sharp"][:, 0]] - v[sharp["sharp"][:, 1]], axis=1)
+    assert not sharp.passes and len(sharp.sharp) == 12
+    assert np.allclose(sharp.angles, np.pi / 2)
+    lengths = np.linalg.norm(v[sharp.sharp[:, 0]] - v[sharp.sharp[:, 1]], axis=1)
     np.testing.assert_allclose(lengths, 2.0)  # the cube's edges, not its face diagonals
     # A thin wedge is sharper than 45°.
     w = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 1], [1, 0, 1], [0, 0.2, 0.5], [1, 0.2, 0.5]], float)
     wf = np.array([[0, 2, 4], [1, 5, 3], [0, 1, 3], [0, 3, 2], [0, 4, 5], [0, 5, 1], [2, 3, 5], [2, 5, 4]], np.int32)
     report = skel.dihedral_test(w, wf)
-    assert not report["passes"] and report["sharpest"] < np.radians(45)
+    assert not report.passes and report.sharpest < np.radians(45)
     # 2D: corners.
     sv, se = star()
     r2 = skel.dihedral_test(sv, se, limit=np.radians(60))
-    assert r2["sharp"].shape[1] == 1 and not r2["passes"]
+    assert r2.sharp.shape[1] == 1 and not r2.passes
     prev, nxt = np.roll(sv, 1, axis=0) - sv, np.roll(sv, -1, axis=0) - sv
     corner = np.arccos(np.einsum("ij,ij->i", prev, nxt) / np.linalg.norm(prev, axis=1) / np.linalg.norm(nxt, axis=1))
-    assert set(r2["sharp"][:, 0]) == set(np.nonzero(corner < np.radians(60))[0])
-    assert set(range(0, len(sv), 2)) <= set(r2["sharp"][:, 0]), "every tip of the star is sharp"
+    assert set(r2.sharp[:, 0]) == set(np.nonzero(corner < np.radians(60))[0])
+    assert set(range(0, len(sv), 2)) <= set(r2.sharp[:, 0]), "every tip of the star is sharp"
 
 
 def test_attaching_the_skeleton_connects_vertices_on_cell_boundaries():
@@ -521,7 +521,7 @@ def test_iteration_cap_is_reported_not_silently_hit():
     full = am.voronoi_skeleton(v, e, max_iterations=10)
     assert full.separable and 1 < full.iterations <= 10
     zero = skel.make_voronoi_separable(v, e, max_iterations=0)
-    assert not zero["separable"] and zero["iterations"] == 0 and zero["remaining"] > 0
+    assert not zero.separable and zero.iterations == 0 and zero.remaining > 0
 
 
 @pytest.mark.data
@@ -531,14 +531,14 @@ def test_bunny_separates_in_three_rounds_with_the_default_rule(shared_data):
     obtuse triangles instead (Figure 7.11) and is capped."""
     v, f = load(shared_data, "bunny.off")
     sep = skel.make_voronoi_separable(v, f, max_iterations=4)
-    assert sep["separable"] and sep["iterations"] == 3
+    assert sep.separable and sep.iterations == 3
     literal = skel.make_voronoi_separable(v, f, max_iterations=2, neighbourhood=1, in_plane_angle=0.0)
-    assert not literal["separable"] and literal["remaining"] > 0
-    rows, _ = skel.encroachments(sep["vertices"], sep["faces"])
+    assert not literal.separable and literal.remaining > 0
+    rows, _ = skel.encroachments(sep.vertices, sep.faces)
     assert len(rows) == 0
     # The refined mesh is still a closed oriented manifold.
-    report = am._core.check_manifold(sep["faces"])
-    assert report["is_oriented_manifold"] and report["boundary_facets"] == 0
+    report = am._core.check_manifold(sep.faces)
+    assert report.is_oriented_manifold and report.boundary_facets == 0
 
 
 # ------------------------------------------------------------------- CLI

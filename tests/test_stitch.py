@@ -27,10 +27,10 @@ def test_tet_count_is_exactly_three_per_face_per_segment(sphere_manifold):
 def test_manifold_is_conforming_and_consistently_oriented(sphere_manifold):
     *_, m = sphere_manifold
     report = m.check()
-    assert report["nonmanifold_facets"] == 0
-    assert report["misoriented_facets"] == 0
-    assert report["degenerate_simplices"] == 0
-    assert report["is_oriented_manifold"]
+    assert report.nonmanifold_facets == 0
+    assert report.misoriented_facets == 0
+    assert report.degenerate_simplices == 0
+    assert report.is_oriented_manifold
     # no duplicate tets
     assert len(np.unique(np.sort(m.simplices, axis=1), axis=0)) == len(m.simplices)
 
@@ -82,7 +82,19 @@ def test_contours_stitch_into_triangles_in_r3():
     assert m.simplices.shape == (2 * 7 * 2, 3)
     assert m.points.shape == (21, 3)
     report = m.check()
-    assert report["is_oriented_manifold"] and report["boundary_facets"] == 14
+    assert report.is_oriented_manifold and report.boundary_facets == 14
+
+
+def test_the_manifold_check_is_a_bound_report_with_a_plain_dict_for_json(sphere_manifold):
+    v, f, _, m = sphere_manifold
+    report = m.check()
+    assert isinstance(report, _core.ManifoldReport)
+    plain = report.to_dict()
+    assert plain == {"interior_facets": report.interior_facets, "boundary_facets": report.boundary_facets,
+                     "nonmanifold_facets": 0, "misoriented_facets": 0, "degenerate_simplices": 0,
+                     "is_oriented_manifold": True}
+    assert report.boundary_facets == 2 * len(f)  # the first and last keyframe
+    assert repr(report) == f"ManifoldReport({plain})"
 
 
 def test_attributes_are_carried(sphere_manifold):

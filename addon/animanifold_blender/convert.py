@@ -68,7 +68,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
                 notes.append(fidelity.warning(obj.name))
         else:
             keys = sampling.sample_object(context, obj, frames, progress)
-            manifold = sampling.stitch_keyframes(keys)
+            manifold = sampling.stitch_keyframes(keys, progress.core_steps(len(frames)))
         manifold.metadata.update(_metadata(obj, start, end, mode, step, keys, fidelity))
         progress(progress.total - 1)
         existed = os.path.exists(absolute)

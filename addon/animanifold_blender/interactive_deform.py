@@ -25,6 +25,7 @@ from .live_registry import registry
 from .mesh_input import mesh_arrays
 from .mesh_writer import write_mesh, write_points
 from .playback import update_object
+from .progress import CoreProgress
 from .reporting import OperatorError, ReportedError
 
 
@@ -77,7 +78,11 @@ def start(context, obj) -> None:
         anchors, handles = mesh_constraints(obj, opt, notes)
         manifold = None
         points, simplices = mesh_arrays(obj.data)
-    deformer = am.Deformer(points, simplices, anchors, handles, opt["method"], opt["boundary"])
+    progress = CoreProgress(context.window_manager, where="factorising")  # the factorisation is what takes time
+    try:
+        deformer = am.Deformer(points, simplices, anchors, handles, opt["method"], opt["boundary"], progress=progress)
+    finally:
+        progress.end()
     _SESSIONS[obj.name_full] = InteractiveState(obj, deformer, empty.name, rest, points, manifold, points.shape[1],
                                                 opt["restore"] and opt["method"] == "dual")
 

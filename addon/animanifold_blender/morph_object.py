@@ -41,12 +41,6 @@ METHOD_ITEMS = tuple((m.upper(), *_METHOD_TEXT.get(m, (m.title(), f"The core's '
 SINGLE_PRECISION = 1e-7
 
 
-def euler_characteristic(faces: np.ndarray) -> int:
-    """V - E + F of a closed triangle mesh (2 - 2·genus per component)."""
-    edges = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
-    return int(len(np.unique(faces)) - len(np.unique(edges, axis=0)) + len(faces))
-
-
 
 
 @dataclass
@@ -117,10 +111,10 @@ def _create_object(context, source, target, name, stored, absolute, manifold, st
     return new
 
 
-def report_validity(report, new, manifold, method: str, source, target, fs, ft) -> None:
+def report_validity(report, new, manifold, method: str, source, target, source_mesh, target_mesh) -> None:
     """Reports (on `report`, Operator.report) what the morph's validity checks (§8.3) found."""
     validity = manifold.validity
-    chi_s, chi_t = euler_characteristic(fs), euler_characteristic(ft)
+    chi_s, chi_t = (am.frame_quality.euler_characteristic(*mesh) for mesh in (source_mesh, target_mesh))
     topology = "" if chi_s == chi_t else (f"'{source.name}' (Euler characteristic {chi_s}) and '{target.name}' "
                                           f"({chi_t}) differ in topology")
     skeleton_hint = ("the skeleton method of §8.6 handles that: choose Method: Skeleton" if "skeleton" in METHODS
@@ -149,7 +143,7 @@ def report_validity(report, new, manifold, method: str, source, target, fs, ft) 
                                  f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
     for line in am.morph_pipeline.cut_frame_warnings(validity):
         report({"WARNING"}, f"'{new.name}': {line}")
-    if not manifold.check()["is_oriented_manifold"]:
+    if not manifold.check().is_oriented_manifold:
         hint = (f": {topology}: {skeleton_hint}" if topology and method == "strip"
                 else f" (the {method} method did not give a clean manifold for these shapes)")
         report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface){hint}")

@@ -28,14 +28,10 @@ from bpy.types import Operator
 from ._lib import am
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
-from .progress import MorphStages
+from .progress import VIEW_EVENTS, MorphStages
 from .reporting import OperatorError, reporting
 
 MorphJob = am.MorphJob  # the morph in a worker thread that invoke() starts
-
-# Events that only move the view, passed on while a morph runs (am.MorphJob): everything else waits.
-_VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
-                "INBETWEEN_MOUSEMOVE", "MOUSEROTATE", "NDOF_MOTION"}
 
 
 class ANIMANIFOLD_OT_morph_selected(Operator):
@@ -181,7 +177,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
             if event.type == "TIMER":
                 self._status(context)
             # only the view may change meanwhile: the inputs must still be there at the end
-            return {"PASS_THROUGH"} if event.type in _VIEW_EVENTS else {"RUNNING_MODAL"}
+            return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
         self._stop_waiting(context)
         source, target, start, end, source_input, target_input = self._running
         if job.cancelled:
@@ -208,8 +204,7 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         if made.note:
             self.report({"WARNING"}, made.note)
         new, validity = made.obj, manifold.validity
-        report_validity(self.report, new, manifold, method, source, target, source_input.mesh[1],
-                        target_input.mesh[1])
+        report_validity(self.report, new, manifold, method, source, target, source_input.mesh, target_input.mesh)
         stages = ", ".join(f"{stage} {seconds:.2f}" for stage, seconds in validity.get("stage_seconds", []))
         self.report({"INFO"}, f"'{new.name}': {method} morph, {len(manifold.simplices)} tets, frames {start}–{end}, "
                               f"{time.perf_counter() - began:.2f} s ({stages}), cache {made.stored}")

@@ -3,12 +3,11 @@
 The internal skeleton approximates the medial axis (for inspection); the
 external one fills concavities and holes within the convex hull (the guide
 the morph pushes into time). The source object is never changed; on any
-failure nothing is added and the reason is reported.
+failure nothing is added and the reason is reported. From the interface the
+skeleton is computed in a worker thread (am.CoreJob) and Esc cancels it.
 """
 
 from __future__ import annotations
-
-import warnings
 
 import bpy
 import numpy as np
@@ -19,6 +18,7 @@ from ._lib import am
 from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
+from .progress import VIEW_EVENTS, CoreProgress
 from .reporting import reporting
 
 SIDE_ITEMS = enum_items(am._core.SkeletonSide, {
@@ -56,34 +56,87 @@ class ANIMANIFOLD_OT_skeleton(Operator):
             return False
         return True
 
+    def _options(self) -> dict:
+        return dict(side=self.side.lower(), max_iterations=self.max_iterations, wrap=self.wrap.lower(), warn=False)
+
     def execute(self, context):
+        """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
         obj = context.active_object
+        progress = CoreProgress(context.window_manager, 10.0, 90.0, where="reading the mesh")
         with reporting(self, f"No skeleton for '{obj.name}'"):
-            wm = context.window_manager
-            wm.progress_begin(0, 3)
             try:
                 vertices, faces = closed_triangle_mesh(context, obj)
-                wm.progress_update(1)
-                with warnings.catch_warnings(record=True) as caught:
-                    warnings.simplefilter("always", am.SeparabilityWarning)
-                    sk = am.voronoi_skeleton(vertices, faces, side=self.side.lower(),
-                                             max_iterations=self.max_iterations,
-                                             wrap=self.wrap.lower())
-                wm.progress_update(2)
+                progress.at("before the core's first step", 10.0)
+                sk = am.voronoi_skeleton(vertices, faces, progress=progress, **self._options())
+                progress.at("making the skeleton object", 90.0)
             finally:
-                wm.progress_end()
-            if len(sk.faces) == 0:
-                self.report({"WARNING"}, f"'{obj.name}' has no {self.side.lower()} skeleton (a convex shape has no "
-                                         "external one); nothing added")
-                return {"CANCELLED"}
-            add_skeleton_object(context, obj, sk)
-            for w in caught:
-                self.report({"WARNING"}, str(w.message))
-            self.report({"INFO"}, f"'{obj.name}_skeleton': {len(sk.faces)} faces from {len(sk.refined_vertices)} mesh "
-                                  f"vertices ({'separable' if sk.separable else 'not separable'} after "
-                                  f"{sk.iterations} rounds)")
-            return {"FINISHED"}
+                progress.end()
+            return self._finish(context, obj, sk)
         return {"CANCELLED"}
+
+    def invoke(self, context, event):
+        """From the interface: the skeleton is computed in a worker thread (am.CoreJob), the
+        progress bar follows its steps, Esc cancels; the view can be turned meanwhile."""
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        obj = context.active_object
+        with reporting(self, f"No skeleton for '{obj.name}'"):
+            vertices, faces = closed_triangle_mesh(context, obj)
+            self._job = am.CoreJob(am.voronoi_skeleton, vertices, faces, name="animanifold skeleton",
+                                   **self._options())
+            self._source = obj
+            wm = context.window_manager
+            self._timer = wm.event_timer_add(0.1, window=context.window)
+            wm.progress_begin(0, 100)
+            wm.modal_handler_add(self)
+            return {"RUNNING_MODAL"}
+        return {"CANCELLED"}
+
+    def modal(self, context, event):
+        job = self._job
+        if event.type == "ESC" and event.value == "PRESS":
+            job.cancel()
+        if not job.done:
+            if event.type == "TIMER":
+                context.window_manager.progress_update(100.0 * min(max(job.fraction, 0.0), 1.0))
+            # only the view may change meanwhile: the source must still be there at the end
+            return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
+        self._stop_waiting(context)
+        obj = self._source
+        if job.cancelled:
+            self.report({"WARNING"}, f"Skeleton of '{obj.name}' cancelled: nothing was added")
+            return {"CANCELLED"}
+        with reporting(self, f"No skeleton for '{obj.name}'"):
+            if job.error is not None:
+                raise job.error
+            return self._finish(context, obj, job.result)
+        return {"CANCELLED"}
+
+    def _stop_waiting(self, context) -> None:
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+
+    def cancel(self, context):
+        """Blender ends the modal operator itself (a file is opened, the window closes): the job
+        is told to stop and left to end on its own (its thread touches no Blender data)."""
+        self._job.cancel()
+        self._stop_waiting(context)
+
+    def _finish(self, context, obj, sk):
+        """Adds the skeleton's object and reports what was made."""
+        if len(sk.faces) == 0:
+            self.report({"WARNING"}, f"'{obj.name}' has no {self.side.lower()} skeleton (a convex shape has no "
+                                     "external one); nothing added")
+            return {"CANCELLED"}
+        add_skeleton_object(context, obj, sk)
+        warning = am.skeleton.separability_warning(sk, self.max_iterations)
+        if warning:
+            self.report({"WARNING"}, warning)
+        self.report({"INFO"}, f"'{obj.name}_skeleton': {len(sk.faces)} faces from {len(sk.refined_vertices)} mesh "
+                              f"vertices ({'separable' if sk.separable else 'not separable'} after "
+                              f"{sk.iterations} rounds)")
+        return {"FINISHED"}
 
 
 def add_skeleton_object(context, obj, sk):

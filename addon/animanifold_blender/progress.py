@@ -1,6 +1,19 @@
-"""Blender's progress bar (the window manager's progress cursor) for blocking operators."""
+"""Blender's progress bar (the window manager's progress cursor) for blocking operators, and
+the one mapping of the core's interrupter (``progress(step, fraction)``, see
+cpp/include/animanifold/progress.hpp) onto it.
+
+A blocking operator (execute: scripts, `blender -b`) gets no events while the core runs, so
+there the core stops only on Ctrl-C in the terminal (its bindings check for it at every step).
+Run from the interface, Morph Selected and Add Voronoi Skeleton compute in a worker thread
+(am.MorphJob, am.CoreJob), the bar follows the job's fraction and Esc cancels it.
+"""
 
 from __future__ import annotations
+
+# Events that only move the view, passed on while a modal operator waits on a core job
+# (am.CoreJob): everything else waits, so the operator's inputs are still there at the end.
+VIEW_EVENTS = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "TRACKPADPAN", "TRACKPADZOOM", "MOUSEMOVE",
+               "INBETWEEN_MOUSEMOVE", "MOUSEROTATE", "NDOF_MOTION"}
 
 
 class Progress:
@@ -14,24 +27,35 @@ class Progress:
     def __call__(self, done):
         self.wm.progress_update(min(int(done), self.total))
 
+    def core_steps(self, done: int):
+        """A core call's `progress` that fills step `done` to `done + 1` of the bar."""
+
+        def progress(step: str, fraction: float) -> bool:
+            self.wm.progress_update(min(done + min(max(float(fraction), 0.0), 1.0), self.total))
+            return True  # never cancels
+
+        return progress
+
     def end(self):
         self.wm.progress_end()
 
 
-class MorphStages:
-    """The progress bar (0–100) of a blocking morph through reading the inputs (0–5), the
-    core's stages (5–85: it reports each one as it finishes, with the fraction of the
-    whole done), saving the cache and making the object; `where` names the stage
-    running, for the failure report."""
+class CoreProgress:
+    """The bar (0–100) of a blocking operator whose work is mostly one core call: the call's
+    steps fill `low`–`high` of it as the core reports them; `at()` sets it for the operator's
+    own steps. `where` names the step running, for the failure report."""
 
-    def __init__(self, wm):
-        self.wm = wm
-        self.where = "reading the inputs"
+    def __init__(self, wm, low: float = 0.0, high: float = 100.0, where: str = "reading the inputs"):
+        self.wm, self.low, self.high = wm, float(low), float(high)
+        self.where = where
         wm.progress_begin(0, 100)
 
-    def __call__(self, finished: str, fraction: float) -> bool:
-        self.where = f"after the core's {finished} stage"
-        self.wm.progress_update(5.0 + 80.0 * min(max(float(fraction), 0.0), 1.0))
+    def describe(self, step: str) -> str:
+        return f"in the core's {step} step"
+
+    def __call__(self, step: str, fraction: float) -> bool:
+        self.where = self.describe(step)
+        self.wm.progress_update(self.low + (self.high - self.low) * min(max(float(fraction), 0.0), 1.0))
         return True  # never cancels
 
     def at(self, where: str, value: float) -> None:
@@ -40,3 +64,15 @@ class MorphStages:
 
     def end(self) -> None:
         self.wm.progress_end()
+
+
+class MorphStages(CoreProgress):
+    """A blocking morph's bar: reading the inputs (0–5), the core's stages (5–85: it reports
+    each one as it finishes, with the fraction of the whole done), saving the cache and making
+    the object."""
+
+    def __init__(self, wm):
+        super().__init__(wm, 5.0, 85.0)
+
+    def describe(self, step: str) -> str:
+        return f"after the core's {step} stage"

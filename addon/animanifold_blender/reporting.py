@@ -7,6 +7,8 @@ back by the code that changed it (each keeps its own `except BaseException: undo
 so the manager only words the report:
 
 * ReportedError (the add-on's own failures): its message is the report;
+* am.Cancelled (the user stopped the core: Esc, or Ctrl-C in the terminal): "<failure>: cancelled",
+  as a warning;
 * what the core or the file system raise (ValueError, RuntimeError, OSError: their
   messages name the input and the problem): "<failure>: <message>";
 * anything else is a bug: still reported, never a traceback through Blender's UI, and
@@ -44,6 +46,9 @@ def reporting(operator, failure: str | Callable[[], str], name_type: bool = Fals
         yield
     except _ALREADY_WORDED as e:
         operator.report({"ERROR"}, str(e))
+    except am.Cancelled:
+        what = failure() if callable(failure) else failure
+        operator.report({"WARNING"}, f"{what}: cancelled")
     except (ValueError, RuntimeError, OSError) as e:
         what = failure() if callable(failure) else failure
         operator.report({"ERROR"}, f"{what}: {type(e).__name__}: {e}" if name_type else f"{what}: {e}")

@@ -266,9 +266,10 @@ def keyframes_from(obj, samples: list[MeshSample], frames, check_motion: bool = 
     )
 
 
-def stitch_keyframes(keys: Keyframes):
+def stitch_keyframes(keys: Keyframes, progress=None):
     """The animation manifold of `keys` (animanifold.stitch), carrying the source vertex,
-    the smooth normals of a smooth-shaded source, UVs, materials and shading."""
+    the smooth normals of a smooth-shaded source, UVs, materials and shading; `progress`
+    (step, fraction) hears the stitch's steps."""
     vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
     if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
         vertex_attributes["normal"] = keys.normals
@@ -277,4 +278,5 @@ def stitch_keyframes(keys: Keyframes):
     return am.stitch(
         keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
         face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
+        progress=progress,
     )

@@ -39,12 +39,6 @@ class _Subdivided:
     failed: dict
 
 
-def subdivided_tets(manifold, levels: int) -> int:
-    """Simplices after `levels` of subdivision: each level splits a tet into 8
-    (a triangle of a 2D animation into 4)."""
-    return len(manifold.simplices) * (2 ** (manifold.dimension - 1)) ** int(levels)
-
-
 def available_memory() -> int | None:
     try:
         return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
@@ -105,7 +99,7 @@ class SubdivisionCache:
 
 
 def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str):
-    tets = subdivided_tets(base, levels)
+    tets = am.subdivided_simplex_count(base, levels)
     available = available_memory()
     if available is not None and tets * BYTES_PER_TET > available // 2:
         raise SmoothingError(

@@ -5,8 +5,8 @@ from __future__ import annotations
 from bpy.types import Panel
 
 from . import bake, live, subdivision_cache
+from ._lib import am
 from .object_manifold import loaded_manifold
-from .subdivision_cache import subdivided_tets
 
 
 class VIEW3D_PT_animanifold(Panel):
@@ -110,7 +110,7 @@ class VIEW3D_PT_animanifold_smooth(Panel):
         row.prop(settings, "keep_keyframe_times")
         manifold = loaded_manifold(obj)  # never loads or subdivides while drawing
         if manifold is not None:
-            tets = subdivided_tets(manifold, settings.subdivision_levels)
+            tets = am.subdivided_simplex_count(manifold, settings.subdivision_levels)
             kind = "tets" if manifold.dimension == 4 else "triangles"
             if tets >= subdivision_cache.LARGE_TETS:
                 col.label(text=f"{tets:,} {kind}: slow slicing, much memory", icon="ERROR")

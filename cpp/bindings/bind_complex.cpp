@@ -4,6 +4,8 @@
 
 namespace animanifold::bindings {
 
+using namespace pybind11::literals;
+
 void bind_complex(py::module_& m, py::module_& testing) {
   py::class_<Complex, std::shared_ptr<Complex>>(m, "Complex",
                                                  "Points (#V by D) and oriented simplices (#S by k+1) "
@@ -47,19 +49,26 @@ void bind_complex(py::module_& m, py::module_& testing) {
         "All facets (#S*k by k-1), facet i of simplex s at row s*k+i, oriented by the rule of §2.4.");
   m.def("boundary_facets", [](SimplicesRef S) { return boundary_facets(S); }, py::arg("simplices"),
         "Facets (#B by k) that belong to one simplex only, oriented outward.");
-  m.def("check_manifold", [](SimplicesRef S) {
-        const auto r = check_manifold(S);
-        py::dict out;
-        out["interior_facets"] = r.interior_facets;
-        out["boundary_facets"] = r.boundary_facets;
-        out["nonmanifold_facets"] = r.nonmanifold_facets;
-        out["misoriented_facets"] = r.misoriented_facets;
-        out["degenerate_simplices"] = r.degenerate_simplices;
-        out["is_oriented_manifold"] = r.is_oriented_manifold();
-        return out;
-      }, py::arg("simplices"),
-      "Facet counts of simplices (#S by k+1) as a dict: interior_facets, boundary_facets, nonmanifold_facets, "
-      "misoriented_facets, degenerate_simplices, is_oriented_manifold.");
+  py::class_<ManifoldReport>(m, "ManifoldReport", "What check_manifold found: facet counts by kind (complex.hpp).")
+      .def_readonly("interior_facets", &ManifoldReport::interior_facets, "Facets shared by exactly two simplices.")
+      .def_readonly("boundary_facets", &ManifoldReport::boundary_facets, "Facets of exactly one simplex.")
+      .def_readonly("nonmanifold_facets", &ManifoldReport::nonmanifold_facets, "Facets of three or more simplices.")
+      .def_readonly("misoriented_facets", &ManifoldReport::misoriented_facets,
+                    "Facets shared by two simplices with the same orientation.")
+      .def_readonly("degenerate_simplices", &ManifoldReport::degenerate_simplices, "Simplices repeating a vertex.")
+      .def_property_readonly("is_oriented_manifold", &ManifoldReport::is_oriented_manifold,
+                             "No non-manifold or misoriented facet and no degenerate simplex.")
+      .def("to_dict", [](const ManifoldReport& r) {
+        return py::dict("interior_facets"_a = r.interior_facets, "boundary_facets"_a = r.boundary_facets,
+                        "nonmanifold_facets"_a = r.nonmanifold_facets, "misoriented_facets"_a = r.misoriented_facets,
+                        "degenerate_simplices"_a = r.degenerate_simplices,
+                        "is_oriented_manifold"_a = r.is_oriented_manifold());
+      }, "The counts and is_oriented_manifold as a dict of plain values (for JSON reports).")
+      .def("__repr__", [](py::object self) {
+        return "ManifoldReport(" + py::str(self.attr("to_dict")()).cast<std::string>() + ")";
+      });
+  m.def("check_manifold", [](SimplicesRef S) { return check_manifold(S); }, py::arg("simplices"),
+        "Facet counts of simplices (#S by k+1): a ManifoldReport.");
   testing.def("signed_volumes", [](PointsRef V, SimplicesRef S) { return signed_volumes(V, S); },
               py::arg("points"), py::arg("simplices"),
               "Signed volume of each n-simplex in R^n (#S vector); negative when inverted.");

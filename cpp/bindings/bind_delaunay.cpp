@@ -5,22 +5,30 @@ namespace animanifold::bindings {
 
 namespace {
 
-py::dict to_dict(const ConformingDelaunay& c) {
-  py::dict out;
-  out["points"] = c.points;
-  out["simplices"] = c.simplices;
-  out["constraints"] = c.constraints;
-  out["constraint_parent"] = c.constraint_parent;
-  out["is_delaunay"] = c.is_delaunay;
-  out["non_delaunay_faces"] = c.non_delaunay_faces;
-  out["mending_rounds"] = c.mending_rounds;
-  out["mended_points"] = c.mended_points;
-  return out;
+void bind_conforming_result(py::module_& testing) {
+  py::class_<ConformingDelaunay>(testing, "ConformingDelaunay",
+                                 "A conforming Delaunay triangulation and its refined constraints (delaunay.hpp).")
+      .def_property_readonly("points", copy_of(&ConformingDelaunay::points),
+                             "Input points first (same indices), then the Steiner points the mesher added.")
+      .def_property_readonly("simplices", copy_of(&ConformingDelaunay::simplices),
+                             "The Delaunay triangulation of `points`, positively oriented.")
+      .def_property_readonly("constraints", copy_of(&ConformingDelaunay::constraints),
+                             "The refined constraints, each oriented like the input constraint it lies in.")
+      .def_property_readonly("constraint_parent", copy_of(&ConformingDelaunay::constraint_parent),
+                             "The input constraint each refined one lies in.")
+      .def_readonly("is_delaunay", &ConformingDelaunay::is_delaunay,
+                    "Every refined constraint is a face of the Delaunay triangulation.")
+      .def_readonly("non_delaunay_faces", &ConformingDelaunay::non_delaunay_faces,
+                    "Refined constraints that are not faces of the triangulation.")
+      .def_readonly("mending_rounds", &ConformingDelaunay::mending_rounds,
+                    "3D: how many times TetGen ran again after mending.")
+      .def_readonly("mended_points", &ConformingDelaunay::mended_points, "3D: points the mending added.");
 }
 
 }  // namespace
 
 void bind_delaunay(py::module_& m, py::module_& testing) {
+  bind_conforming_result(testing);
   // (simplices, flat_count, flat_simplices) of a triangulation, computed without the GIL.
   auto triangulation = [](DelaunayTriangulation (*triangulate)(const PointMatrix&)) {
     return [triangulate](PointsRef points) {
@@ -45,10 +53,10 @@ void bind_delaunay(py::module_& m, py::module_& testing) {
             py::gil_scoped_release release;
             c = conforming_delaunay_3d(points, faces, raise_pending_python_signals);
           }
-          return to_dict(c);
+          return c;
         },
         py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles "
-        "(#F by 3), as a dict of its arrays; raises InputError for bad indices, MeshingError when TetGen fails.");
+        "(#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails.");
   testing.def("conforming_delaunay_2d",
         [](PointsRef points, SimplicesRef edges) {
           ConformingDelaunay c;
@@ -56,10 +64,10 @@ void bind_delaunay(py::module_& m, py::module_& testing) {
             py::gil_scoped_release release;
             c = conforming_delaunay_2d(points, edges);
           }
-          return to_dict(c);
+          return c;
         },
-        py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL) of points (#P by 2) and constraint segments (#E by 2), as a "
-        "dict of its arrays; raises InputError for bad indices, MeshingError when CGAL fails.");
+        py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL) of points (#P by 2) and constraint segments (#E by 2): a "
+        "ConformingDelaunay; raises InputError for bad indices, MeshingError when CGAL fails.");
   testing.def("missing_facets", [](SimplicesRef simplices, SimplicesRef faces) { return missing_facets(simplices, faces); },
         py::arg("simplices"), py::arg("faces"), "Rows of faces that are not faces of any simplex (Theorem 5.2.1).");
 }

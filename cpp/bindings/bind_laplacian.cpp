@@ -1,6 +1,7 @@
 #include "animanifold/laplacian.hpp"
 #include "animanifold/simplex_qp.hpp"
 #include "bindings.hpp"
+#include "interrupter.hpp"
 #include "named_enum.hpp"
 
 namespace animanifold::bindings {
@@ -121,22 +122,28 @@ static void bind_deformer(py::module_& m) {
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
                        LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,
-                       double constraint_weight, const std::vector<Index>& zero_detail) {
+                       double constraint_weight, const std::vector<Index>& zero_detail, const py::object& progress,
+                       const py::object& interrupted) {
              DeformerOptions o;
              o.laplacian = laplacian_options(method, lambda, xi, ridge, zero_detail);
              o.boundary = boundary;
              o.constraint_weight = constraint_weight;
              const PointMatrix points = V;
              const SimplexMatrix simplices = S;
+             const Interrupter interrupter = interrupter_from(progress, interrupted);
              py::gil_scoped_release release;
-             return std::make_unique<Deformer>(points, simplices, anchors, handles, o);
+             return std::make_unique<Deformer>(points, simplices, anchors, handles, o, interrupter);
            }),
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
            py::arg("method") = LaplacianMethod::Dual, py::arg("boundary") = BoundaryRule::Grow, py::arg("lam") = defaults.lambda,
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
-           py::arg("zero_detail_vertices") = std::vector<Index>{},
-           "Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles "
-           "fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.")
+           py::arg("zero_detail_vertices") = std::vector<Index>{}, py::kw_only(), py::arg("progress") = py::none(),
+           py::arg("interrupted") = py::none(),
+           (std::string("Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and "
+                        "handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when "
+                        "CHOLMOD fails.") +
+            kInterrupterDoc)
+               .c_str())
       .def("deform",
            [](Deformer& d, const Eigen::MatrixXd& T, int steps) {
              py::gil_scoped_release release;

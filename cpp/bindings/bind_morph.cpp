@@ -3,28 +3,12 @@
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/surface_distance.hpp"
 #include "bindings.hpp"
+#include "interrupter.hpp"
 #include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
 namespace {
-
-// progress and interrupted as the core calls them, from Python callables.
-void set_callbacks(MorphOptions& options, py::object progress, py::object interrupted) {
-  if (!progress.is_none())
-    options.progress = [progress](const std::string& stage, double fraction) {
-      py::gil_scoped_acquire acquire;
-      return progress(stage, fraction).cast<bool>();
-    };
-  // Ctrl-C, and the caller's own check (a cancel button: the morph may
-  // run in a worker thread, where Python's signal handlers never run).
-  options.interrupted = [interrupted] {
-    raise_pending_python_signals();
-    if (interrupted.is_none()) return false;
-    py::gil_scoped_acquire acquire;
-    return interrupted().cast<bool>();
-  };
-}
 
 py::dict report_dict(const MorphReport& report) {
   py::dict out;
@@ -76,7 +60,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
           chosen.attr(name) = named_enum ? current.get_type()(value) : py::reinterpret_borrow<py::object>(value);
         }
         MorphOptions o = chosen.cast<MorphOptions>();
-        set_callbacks(o, progress, interrupted);
+        o.interrupter = interrupter_from(progress, interrupted);
         Morph result;
         {
           py::gil_scoped_release release;

@@ -15,17 +15,17 @@ void bind_refine(py::module_& m, py::module_& testing) {
                              "Per-vertex tables (#V' rows), interpolated at new vertices.")
       .def_property_readonly("simplex_attributes", [](const Refinement& r) { return r.complex.simplex_attributes; },
                              "Per-simplex tables (#S' rows), inherited from the parent simplex.")
-      .def_property_readonly("new_vertex_of_split", [](const Refinement& r) { return r.new_vertex_of_split; },
+      .def_property_readonly("new_vertex_of_split", copy_of(&Refinement::new_vertex_of_split),
                              "Vertex made by each split tuple (T), -1 when it snapped or was skipped.")
-      .def_property_readonly("snapped_vertex_of_split", [](const Refinement& r) { return r.snapped_vertex_of_split; },
+      .def_property_readonly("snapped_vertex_of_split", copy_of(&Refinement::snapped_vertex_of_split),
                              "Existing vertex each split tuple snapped to (T), -1 otherwise.")
-      .def_property_readonly("split_of_vertex", [](const Refinement& r) { return r.split_of_vertex; },
+      .def_property_readonly("split_of_vertex", copy_of(&Refinement::split_of_vertex),
                              "Split tuple that made each vertex (#V'), -1 for input vertices.")
-      .def_property_readonly("parent_simplex", [](const Refinement& r) { return r.parent_simplex; },
+      .def_property_readonly("parent_simplex", copy_of(&Refinement::parent_simplex),
                              "Input simplex each output simplex lies in (#S').")
-      .def_property_readonly("applied_simplex", [](const Refinement& r) { return r.applied_simplex; },
+      .def_property_readonly("applied_simplex", copy_of(&Refinement::applied_simplex),
                              "The simplex each applied split was made in (vertex ids, -1 padded).")
-      .def_property_readonly("applied_barycentric", [](const Refinement& r) { return r.applied_barycentric; },
+      .def_property_readonly("applied_barycentric", copy_of(&Refinement::applied_barycentric),
                              "Barycentric coordinates of each applied split in its simplex.");
 
   m.def("refine",

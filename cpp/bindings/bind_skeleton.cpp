@@ -1,19 +1,29 @@
 #include "animanifold/skeleton.hpp"
 #include "bindings.hpp"
+#include "interrupter.hpp"
 #include "named_enum.hpp"
 
 namespace animanifold::bindings {
 
 namespace {
 
-py::dict dihedral_dict(const DihedralReport& r) {
-  py::dict d;
-  d["limit"] = r.limit;
-  d["sharpest"] = r.sharpest;
-  d["passes"] = r.passes;
-  d["sharp"] = r.sharp;
-  d["angles"] = r.angles;
-  return d;
+// The results of the separability checks and repairs (skeleton.hpp).
+void bind_separability_results(py::module_& m) {
+  py::class_<DihedralReport>(m, "DihedralReport", "The mesh's surface angles against a limit (dihedral_test).")
+      .def_readonly("limit", &DihedralReport::limit, "The limit tested against (radians).")
+      .def_readonly("sharpest", &DihedralReport::sharpest, "The smallest surface angle found (radians).")
+      .def_readonly("passes", &DihedralReport::passes, "No surface angle is sharper than the limit.")
+      .def_property_readonly("sharp", copy_of(&DihedralReport::sharp),
+                             "Where: the shared edge (2 vertices) in 3D, the corner vertex (1 column) in 2D.")
+      .def_property_readonly("angles", copy_of(&DihedralReport::angles), "The surface angle at each row of `sharp`.");
+  py::class_<SeparabilityResult>(m, "SeparabilityResult", "A mesh made Voronoi-separable (make_voronoi_separable).")
+      .def_property_readonly("vertices", copy_of(&SeparabilityResult::vertices),
+                             "The refined mesh: input vertices first, then split points.")
+      .def_property_readonly("faces", copy_of(&SeparabilityResult::faces), "Conforming and oriented like the input.")
+      .def_readonly("separable", &SeparabilityResult::separable, "No encroachment is left.")
+      .def_readonly("iterations", &SeparabilityResult::iterations, "Splitting rounds applied (0: it was separable).")
+      .def_readonly("splits", &SeparabilityResult::splits, "Vertices inserted.")
+      .def_readonly("remaining", &SeparabilityResult::remaining, "Encroached simplices left when the cap was hit.");
 }
 
 }  // namespace
@@ -33,7 +43,7 @@ static void bind_voronoi_skeleton(py::module_& m) {
       .def_readonly("separable", &VoronoiSkeleton::separable)
       .def_readonly("iterations", &VoronoiSkeleton::iterations)
       .def_readonly("splits", &VoronoiSkeleton::splits)
-      .def_property_readonly("dihedral", [](const VoronoiSkeleton& s) { return dihedral_dict(s.dihedral); })
+      .def_readonly("dihedral", &VoronoiSkeleton::dihedral)
       .def_readonly("attachment", &VoronoiSkeleton::attachment)
       .def_readonly("bisectors", &VoronoiSkeleton::bisectors)
       .def_readonly("discarded", &VoronoiSkeleton::discarded)
@@ -44,7 +54,8 @@ static void bind_voronoi_skeleton(py::module_& m) {
 
   m.def("voronoi_skeleton",
         [](PointsRef V, SimplicesRef F, SkeletonSide side, int max_iterations, WrapShape wrap, int wrap_density,
-           double wrap_margin, double dihedral_limit, bool attach, int neighbourhood, double in_plane_angle) {
+           double wrap_margin, double dihedral_limit, bool attach, int neighbourhood, double in_plane_angle,
+           const py::object& progress, const py::object& interrupted) {
           SkeletonOptions o;
           o.internal = side != SkeletonSide::External;
           o.external = side != SkeletonSide::Internal;
@@ -57,15 +68,20 @@ static void bind_voronoi_skeleton(py::module_& m) {
           o.rule = {neighbourhood, in_plane_angle};
           const PointMatrix v = V;
           const SimplexMatrix f = F;
+          const Interrupter interrupter = interrupter_from(progress, interrupted);
           py::gil_scoped_release release;
-          return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o));
+          return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o, interrupter));
         },
         py::arg("vertices"), py::arg("faces"), py::arg("side") = SkeletonSide::Both,
         py::arg("max_iterations") = 4, py::arg("wrap") = WrapShape::Box, py::arg("wrap_density") = 4,
         py::arg("wrap_margin") = 1.0, py::arg("dihedral_limit") = M_PI / 4, py::arg("attach") = false, py::arg("neighbourhood") = 2,
-        py::arg("in_plane_angle") = 0.3,
-        "The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
-        "made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.");
+        py::arg("in_plane_angle") = 0.3, py::kw_only(), py::arg("progress") = py::none(),
+        py::arg("interrupted") = py::none(),
+        (std::string("The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), "
+                     "made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when "
+                     "Qhull fails.") +
+         kInterrupterDoc)
+            .c_str());
 
 }
 
@@ -80,19 +96,11 @@ static void bind_separability(py::module_& m) {
             py::gil_scoped_release release;
             r = make_voronoi_separable(v, f, max_iterations, {neighbourhood, in_plane_angle});
           }
-          py::dict d;
-          d["vertices"] = r.vertices;
-          d["faces"] = r.faces;
-          d["separable"] = r.separable;
-          d["iterations"] = r.iterations;
-          d["splits"] = r.splits;
-          d["remaining"] = r.remaining;
-          return d;
+          return r;
         },
         py::arg("vertices"), py::arg("faces"), py::arg("max_iterations") = 4, py::arg("neighbourhood") = 2,
         py::arg("in_plane_angle") = 0.3,
-        "Splits encroached faces until the mesh is Voronoi-separable (§7.2): dict of vertices, faces, separable, "
-        "iterations, splits, remaining.");
+        "Splits encroached faces until the mesh is Voronoi-separable (§7.2): a SeparabilityResult.");
 
   m.def("encroachments",
         [](PointsRef V, SimplicesRef F, int neighbourhood, double in_plane_angle) {
@@ -124,10 +132,10 @@ static void bind_separability(py::module_& m) {
             py::gil_scoped_release release;
             r = dihedral_test(v, f, limit);
           }
-          return dihedral_dict(r);
+          return r;
         },
         py::arg("vertices"), py::arg("faces"), py::arg("limit") = M_PI / 4,
-        "Dihedral angles of the mesh's edges against `limit` (radians): dict of limit, sharpest, passes, sharp, angles.");
+        "Dihedral angles of the mesh's edges against `limit` (radians): a DihedralReport.");
 
   m.def("wrap",
         [](PointsRef V, SimplicesRef F, WrapShape shape, int density, double margin) {
@@ -168,6 +176,7 @@ void bind_skeleton(py::module_& m) {
                   "Which Voronoi skeleton: internal (medial), external (concavities and holes) or both.");
   bind_named_enum(m, "WrapShape", "wrap shape", kWrapShapeNames,
                   "The shape around a mesh that bounds every Voronoi cell of the external skeleton (§7.6.4).");
+  bind_separability_results(m);
   bind_voronoi_skeleton(m);
   bind_separability(m);
 }

@@ -28,6 +28,13 @@ inline void raise_pending_python_signals() {
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
 }
 
+// A read-only property of a bound result class that returns a copy of
+// `member`: callers own the arrays they are given.
+template <class Class, class Member>
+auto copy_of(Member Class::*member) {
+  return [member](const Class& c) -> Member { return c.*member; };
+}
+
 void bind_errors(py::module_& m);
 void bind_errors_testing(py::module_& testing);
 // `testing` is _core._testing: entry points only the tests and benchmarks use.

@@ -1,6 +1,7 @@
 // delaunay_tetrahedra (delaunay.hpp): CGAL's 3D Delaunay triangulation.
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -24,7 +25,9 @@ SimplexMatrix delaunay_tetrahedra(const PointMatrix& points) {
       if (!std::isfinite(points(r, c))) fail<InputError>("point ", r, " has a non-finite coordinate");
     input.emplace_back(Kernel::Point_3(points(r, 0), points(r, 1), points(r, 2)), r);
   }
-  const Triangulation dt(input.begin(), input.end());
+  const Triangulation dt = translating_cgal_failures(
+      "triangulating " + std::to_string(points.rows()) + " points in R^3",
+      [&] { return Triangulation(input.begin(), input.end()); });
   if (dt.dimension() < 3) fail<InputError>("the points span only ", dt.dimension(), " dimensions of R^3");
   if (static_cast<Index>(dt.number_of_vertices()) != points.rows())
     fail<InputError>("coinciding points: a Delaunay triangulation needs distinct points");

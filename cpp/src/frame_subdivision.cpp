@@ -21,9 +21,7 @@
 namespace animanifold {
 
 FrameScheme parse_frame_scheme(const std::string& name) {
-  if (name == "loop") return FrameScheme::Loop;
-  if (name == "catmull-clark" || name == "catmull_clark" || name == "catmark") return FrameScheme::CatmullClark;
-  fail<InputError>("unknown frame subdivision scheme '", name, "': use 'loop' or 'catmull-clark'");
+  return parse_name(name, kFrameSchemeNames, "frame subdivision scheme");
 }
 
 namespace {
@@ -75,6 +73,8 @@ void check_frame_input(const PointMatrix& vertices, const SimplexMatrix& faces, 
   if (n != 3 && n != 4) fail<InputError>("frame faces must be triangles or quads, got ", n, " vertices per face");
   if (options.scheme == FrameScheme::Loop && n != 3)
     fail<InputError>("Loop subdivision needs triangles; use Catmull-Clark for quads");
+  if (options.scheme == FrameScheme::BSpline)
+    fail<InputError>("the bspline scheme subdivides polylines (subdivide_polyline), not surfaces");
   if (options.levels < 0 || options.levels > 8)
     fail<InputError>("frame subdivision levels must be in 0..8, got ", options.levels);
   check_finite(vertices, "frame vertex");

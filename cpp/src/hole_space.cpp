@@ -95,7 +95,7 @@ Solid hole_space(const PointMatrix& V, const SimplexMatrix& F) {
   const holes::Operand shape{V, F, "the shape"};
   check_arrays(shape);
   if (F.rows() == 0) fail<InputError>("the shape has no faces");
-  return canonical(holes::translating_cgal_failures("computing the hole space of the shape", [&] {
+  return canonical(translating_cgal_failures<BooleanError>("computing the hole space of the shape", [&] {
     return V.cols() == 3 ? holes::hole_space_3d(shape) : holes::hole_space_2d(shape);
   }));
 }
@@ -106,7 +106,7 @@ Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const Poi
   check_pair(a, b);
   Solid out = empty_like(VA);
   if (FA.rows() == 0 || FB.rows() == 0 || !boxes_overlap(a, b)) return out;
-  holes::translating_cgal_failures("intersecting two solids", [&] {
+  translating_cgal_failures<BooleanError>("intersecting two solids", [&] {
     return VA.cols() == 3 ? holes::boolean_3d(holes::Operation::Intersection, a, b, out)
                           : holes::boolean_2d(holes::Operation::Intersection, a, b, out);
   });
@@ -120,7 +120,7 @@ Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const P
   Subtraction result;
   bool changed = false;
   if (F.rows() > 0 && FH.rows() > 0 && boxes_overlap(frame, hole))
-    changed = holes::translating_cgal_failures("subtracting a solid from the frame", [&] {
+    changed = translating_cgal_failures<BooleanError>("subtracting a solid from the frame", [&] {
       return V.cols() == 3 ? holes::boolean_3d(holes::Operation::Difference, frame, hole, result.solid)
                            : holes::boolean_2d(holes::Operation::Difference, frame, hole, result.solid);
     });
@@ -133,7 +133,7 @@ bool intersects_itself(const PointMatrix& V, const SimplexMatrix& F) {
   const holes::Operand shape{V, F, "the mesh"};
   check_arrays(shape);
   if (V.cols() != 3) fail<InputError>("the mesh must have 3D points to test it for self-intersection");
-  return F.rows() > 0 && holes::translating_cgal_failures("testing the mesh for self-intersection",
+  return F.rows() > 0 && translating_cgal_failures<BooleanError>("testing the mesh for self-intersection",
                                                          [&] { return holes::intersects_itself_3d(shape); });
 }
 

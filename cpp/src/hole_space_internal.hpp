@@ -5,12 +5,7 @@
 
 #include "animanifold/errors.hpp"
 #include "animanifold/hole_space.hpp"
-
-#include <CGAL/exceptions.h>
-
-#include <exception>
-#include <new>
-#include <string>
+#include "cgal_failures.hpp"
 
 namespace animanifold::holes {
 
@@ -20,37 +15,6 @@ struct Operand {
   const SimplexMatrix& F;
   const char* name;
 };
-
-// CGAL's explanation of why it failed: its own exceptions carry the failed
-// condition and a message on several lines; other exceptions thrown from
-// inside CGAL (e.g. Constrained_triangulation_2's "Unauthorized
-// intersections of constraints", raised by the corefinement's face
-// triangulation) only a what().
-inline std::string cgal_reason(const std::exception& e) {
-  if (const auto* failure = dynamic_cast<const CGAL::Failure_exception*>(&e))
-    return !failure->message().empty() ? failure->message() : failure->expression();
-  return e.what();
-}
-
-// Runs `work` (CGAL's part of an operation) and turns what CGAL throws into
-// a BooleanError that says what we were doing (`doing`, "computing the hole
-// space of the shape"): callers see one error type, in our words, with
-// CGAL's explanation kept. Our own errors and running out of memory pass
-// through unchanged.
-template <class Work>
-auto translating_cgal_failures(const std::string& doing, Work&& work) -> decltype(work()) {
-  try {
-    return work();
-  } catch (const InputError&) {
-    throw;
-  } catch (const BooleanError&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    fail<BooleanError>("CGAL failed while ", doing, ": ", cgal_reason(e));
-  }
-}
 
 enum class Operation { Intersection, Difference };
 

@@ -1,6 +1,7 @@
 #include "animanifold/io.hpp"
 
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Simple_cartesian.h>
@@ -17,12 +18,8 @@ SurfaceMesh read_mesh(const std::string& path) {
   if (!std::filesystem::exists(path)) fail<IOError>("mesh file '", path, "' does not exist");
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
-  bool ok = false;
-  try {
-    ok = CGAL::IO::read_polygon_soup(path, points, polygons);
-  } catch (const std::exception& e) {
-    fail<IOError>("could not read mesh file '", path, "': ", e.what());
-  }
+  const bool ok = translating_cgal_failures<IOError>(
+      "reading mesh file '" + path + "'", [&] { return CGAL::IO::read_polygon_soup(path, points, polygons); });
   if (!ok) fail<IOError>("could not read mesh file '", path, "' (unknown extension or malformed contents)");
   if (polygons.empty()) fail<IOError>("mesh file '", path, "' has no faces");
 
@@ -69,12 +66,9 @@ void write_mesh(const std::string& path, const PointMatrix& vertices, const Simp
         fail<InputError>("face ", f, " refers to vertex ", faces(f, c), " of ", vertices.rows());
       polygons[f].push_back(static_cast<std::size_t>(faces(f, c)));
     }
-  bool ok = false;
-  try {
-    ok = CGAL::IO::write_polygon_soup(path, points, polygons, CGAL::parameters::stream_precision(17));
-  } catch (const std::exception& e) {
-    fail<IOError>("could not write mesh file '", path, "': ", e.what());
-  }
+  const bool ok = translating_cgal_failures<IOError>("writing mesh file '" + path + "'", [&] {
+    return CGAL::IO::write_polygon_soup(path, points, polygons, CGAL::parameters::stream_precision(17));
+  });
   if (!ok) fail<IOError>("could not write mesh file '", path, "' (unknown extension or unwritable)");
 }
 

@@ -398,6 +398,7 @@ struct Deformer::Impl {
   void place_handles_by_transform(const Eigen::MatrixXd& transform);
   void place_handles_at(const PointMatrix& positions, double s, const Eigen::MatrixXd* fit);
   void grow_constraints(const VertexAdjacency& adjacency);
+  void factor_under_boundary_rule(const Interrupter& interrupter);
   PointMatrix solve() const;
 };
 
@@ -540,14 +541,10 @@ PointMatrix Deformer::Impl::solve() const {
   return out;
 }
 
-Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
-                   const IndexVector& handles, const DeformerOptions& options)
-    : impl_(std::make_unique<Impl>()) {
-  Impl& d = *impl_;
-  check_mesh(V, S, "a Laplacian deformation");
-  if (!(options.constraint_weight >= 0) || !std::isfinite(options.constraint_weight))
-    fail<InputError>("constraint_weight must be >= 0 (0: hard constraints), got ", options.constraint_weight);
-  const Index vertex_count = static_cast<Index>(V.rows());
+namespace {
+
+// Anchors and handles: disjoint vertex indices in range, without repeats, not both empty.
+void check_constraints(const IndexVector& anchors, const IndexVector& handles, Index vertex_count) {
   if (anchors.size() + handles.size() == 0)
     fail<InputError>("no anchors and no handles: a Laplacian deformation needs at least one constrained vertex");
   std::vector<int> seen(vertex_count, 0);  // 1 anchor, 2 handle
@@ -564,6 +561,49 @@ Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVect
     if (seen[v] == 2) fail<InputError>("vertex ", v, " is listed twice as a handle");
     seen[v] = 2;
   }
+}
+
+}  // namespace
+
+// Factors the constrained system, growing the constraints (BoundaryRule::Grow)
+// until it has full rank; each attempt is a "factorising" step.
+void Deformer::Impl::factor_under_boundary_rule(const Interrupter& interrupter) {
+  const Index vertex_count = static_cast<Index>(V.rows());
+  VertexAdjacency adjacency;
+  for (int attempt = 0;; ++attempt) {
+    interrupter.step("factorising", 0.9 - 0.6 / (attempt + 1));
+    const Index deficiency = build_and_factor();
+    if (deficiency == 0) return;
+    const std::string ghosts =
+        info.ghosts > 0 ? " (the dual Laplacian has " + std::to_string(info.ghosts) +
+                              " ghost vertices at the boundary, which can leave directions free)"
+                        : "";
+    if (options.boundary == BoundaryRule::Grow) {
+      if (adjacency.offsets.empty()) adjacency = vertex_adjacency(S, vertex_count);
+      const Index before = info.grown;
+      grow_constraints(adjacency);
+      if (info.grown > before) continue;
+      fail<InputError>("the constrained system stays rank-deficient by ", deficiency,
+                       " after growing the constraints over every reachable vertex", ghosts,
+                       ": some part of the complex has no anchor or handle in its component");
+    }
+    fail<InputError>("the constrained system is rank-deficient: at least ", deficiency,
+                     " more independent constraint(s) (anchor or handle vertices) are needed", ghosts,
+                     "; ", anchors.size(), " anchors and ", handles.size(),
+                     " handles were given. Add constraints, or use boundary='grow'",
+                     options.boundary == BoundaryRule::GhostAnchors ? "" : " or 'ghost_anchors'");
+  }
+}
+
+Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors,
+                   const IndexVector& handles, const DeformerOptions& options, const Interrupter& interrupter)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  interrupter.step("checks", 0);
+  check_mesh(V, S, "a Laplacian deformation");
+  if (!(options.constraint_weight >= 0) || !std::isfinite(options.constraint_weight))
+    fail<InputError>("constraint_weight must be >= 0 (0: hard constraints), got ", options.constraint_weight);
+  check_constraints(anchors, handles, static_cast<Index>(V.rows()));
   d.V0 = V;
   d.V = V;
   d.S = S;
@@ -576,33 +616,12 @@ Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVect
   d.handle_source.resize(handles.size());
   std::iota(d.handle_source.begin(), d.handle_source.end(), 0);
 
+  interrupter.step("laplacian", 0.1);
   d.system = laplacian_system(V, S, options.laplacian);
   d.laplacian_rows = static_cast<Index>(d.system.L.rows());
   d.delta = d.system.delta;
 
-  VertexAdjacency adjacency;
-  for (;;) {
-    const Index deficiency = d.build_and_factor();
-    if (deficiency == 0) break;
-    const std::string ghosts =
-        d.info.ghosts > 0 ? " (the dual Laplacian has " + std::to_string(d.info.ghosts) +
-                                " ghost vertices at the boundary, which can leave directions free)"
-                          : "";
-    if (options.boundary == BoundaryRule::Grow) {
-      if (adjacency.offsets.empty()) adjacency = vertex_adjacency(S, vertex_count);
-      const Index before = d.info.grown;
-      d.grow_constraints(adjacency);
-      if (d.info.grown > before) continue;
-      fail<InputError>("the constrained system stays rank-deficient by ", deficiency,
-                       " after growing the constraints over every reachable vertex", ghosts,
-                       ": some part of the complex has no anchor or handle in its component");
-    }
-    fail<InputError>("the constrained system is rank-deficient: at least ", deficiency,
-                     " more independent constraint(s) (anchor or handle vertices) are needed", ghosts,
-                     "; ", d.anchors.size(), " anchors and ", d.handles.size(),
-                     " handles were given. Add constraints, or use boundary='grow'",
-                     options.boundary == BoundaryRule::GhostAnchors ? "" : " or 'ghost_anchors'");
-  }
+  d.factor_under_boundary_rule(interrupter);
   d.constraint_positions.resize(static_cast<Index>(d.constrained.size()), d.dim);
   for (size_t c = 0; c < d.constrained.size(); ++c) d.constraint_positions.row(c) = V.row(d.constrained[c]);
 }

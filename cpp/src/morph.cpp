@@ -426,7 +426,7 @@ void conform_and_fill(SeedMorph& m) {
     }
     mesher_errors.clear();
     m.conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
-    if (m.options.progress && !m.options.progress("conforming", 0.3)) throw Cancelled();
+    if (m.options.interrupter.progress && !m.options.interrupter.progress("conforming", 0.3)) throw Cancelled();
     stack_planes(m);
     if (fill_conforming_planes(m, scale)) break;
   }
@@ -621,7 +621,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
     const auto now = Clock::now();
     report.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - stage_start).count());
     stage_start = now;
-    if (options.progress && !options.progress(name, fraction)) throw Cancelled();
+    if (options.interrupter.progress && !options.interrupter.progress(name, fraction)) throw Cancelled();
   };
   const int d = static_cast<int>(source_points.cols());
   // What the morph is built on: the inputs, their flat polygons fanned from

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <queue>
 #include <limits>
+#include <numeric>
 #include <unordered_map>
 #include <vector>
 
@@ -51,6 +52,114 @@ constexpr int kLevellingRounds = 20;
 using FaceKey = SimplexKey<3>;  // a cell's facet (n <= 3 ids)
 using FaceHash = SimplexKeyHash;
 
+// The cells' vertex graph, and the free vertices on the boundary of their
+// union (on a facet of one cell only): where a free vertex's path may end.
+struct CellGraph {
+  std::vector<std::vector<Index>> neighbours;
+  std::vector<bool> sink;
+
+  CellGraph(const SimplexMatrix& cells, Index count, const std::vector<bool>& free)
+      : neighbours(count), sink(count, false) {
+    const int corners = static_cast<int>(cells.cols());
+    std::unordered_map<FaceKey, int, FaceHash> facets;
+    for (Index c = 0; c < cells.rows(); ++c) {
+      for (int drop = 0; drop < corners; ++drop) {
+        FaceKey key{-1, -1, -1};
+        for (int i = 0, j = 0; i < corners; ++i)
+          if (i != drop) key[j++] = cells(c, i);
+        std::sort(key.begin(), key.begin() + corners - 1);
+        ++facets[key];
+      }
+      for (int a = 0; a < corners; ++a)  // an edge is listed once per cell it is in: harmless
+        for (int b = a + 1; b < corners; ++b) {
+          const Index u = cells(c, a), v = cells(c, b);
+          neighbours[u].push_back(v), neighbours[v].push_back(u);
+        }
+    }
+    for (const auto& [key, times] : facets)
+      if (times == 1)
+        for (int i = 0; i < corners - 1; ++i)
+          if (free[key[i]]) sink[key[i]] = true;
+  }
+};
+
+// Regions of free vertices (joined by edges between free vertices): each
+// vertex's region (-1 for none) and whether each region reaches a sink.
+struct FreeRegions {
+  std::vector<Index> region;
+  std::vector<bool> reaches_sink;
+
+  FreeRegions(const CellGraph& graph, const std::vector<bool>& free) : region(graph.neighbours.size(), -1) {
+    const Index count = static_cast<Index>(graph.neighbours.size());
+    for (Index v = 0; v < count; ++v) {
+      if (!free[v] || region[v] >= 0 || graph.neighbours[v].empty()) continue;
+      const Index id = static_cast<Index>(reaches_sink.size());
+      reaches_sink.push_back(false);
+      std::vector<Index> stack{v};
+      region[v] = id;
+      while (!stack.empty()) {
+        const Index u = stack.back();
+        stack.pop_back();
+        if (graph.sink[u]) reaches_sink[id] = true;
+        for (const Index w : graph.neighbours[u])
+          if (free[w] && region[w] < 0) region[w] = id, stack.push_back(w);
+      }
+    }
+  }
+
+  bool levelled(Index v) const { return region[v] >= 0 && reaches_sink[region[v]]; }
+};
+
+// Down: every levelled vertex no higher than its best path to a sink, by
+// the path's lowest level (highest first). Whether a level changed.
+bool level_down(const CellGraph& graph, const FreeRegions& regions, Eigen::VectorXd& level) {
+  const Index count = static_cast<Index>(level.size());
+  std::vector<double> best(count, -1.0);
+  std::priority_queue<std::pair<double, Index>> widest;
+  for (Index v = 0; v < count; ++v)
+    if (graph.sink[v] && regions.levelled(v)) best[v] = level(v), widest.emplace(level(v), v);
+  while (!widest.empty()) {
+    const auto [at, v] = widest.top();
+    widest.pop();
+    if (at < best[v]) continue;
+    for (const Index w : graph.neighbours[v]) {
+      if (!regions.levelled(w)) continue;
+      const double through = std::min(level(w), at);
+      if (through > best[w]) best[w] = through, widest.emplace(through, w);
+    }
+  }
+  bool changed = false;
+  for (Index v = 0; v < count; ++v)
+    if (regions.levelled(v) && best[v] < level(v)) level(v) = std::max(best[v], 0.0), changed = true;
+  return changed;
+}
+
+// Up: every levelled vertex no lower than its best path to the input (a
+// vertex that is not free), by the path's highest level (lowest first).
+// Whether a level changed.
+bool level_up(const CellGraph& graph, const FreeRegions& regions, const std::vector<bool>& free,
+              Eigen::VectorXd& level) {
+  const Index count = static_cast<Index>(level.size());
+  std::vector<double> lowest(count, std::numeric_limits<double>::infinity());
+  std::priority_queue<std::pair<double, Index>, std::vector<std::pair<double, Index>>, std::greater<>> narrowest;
+  for (Index v = 0; v < count; ++v)
+    if (!free[v] && !graph.neighbours[v].empty()) lowest[v] = 0.0, narrowest.emplace(0.0, v);
+  while (!narrowest.empty()) {
+    const auto [at, v] = narrowest.top();
+    narrowest.pop();
+    if (at > lowest[v]) continue;
+    for (const Index w : graph.neighbours[v]) {
+      if (!free[w]) continue;
+      const double through = std::max(level(w), at);
+      if (through < lowest[w]) lowest[w] = through, narrowest.emplace(through, w);
+    }
+  }
+  bool changed = false;
+  for (Index v = 0; v < count; ++v)
+    if (regions.levelled(v) && lowest[v] > level(v) && std::isfinite(lowest[v])) level(v) = lowest[v], changed = true;
+  return changed;
+}
+
 // Per vertex of the cells (#C by n+1 over `spatial`'s rows): a level in
 // [0, 1] — 0 where not `free`, `distance_level` where free (its distance
 // from the input, as a share of a reference: the distance field's level sets
@@ -68,93 +177,21 @@ using FaceHash = SimplexKeyHash;
 Eigen::VectorXd free_vertex_levels(const PointMatrix& spatial, const SimplexMatrix& cells, const std::vector<bool>& free,
                                    const Eigen::VectorXd& distance_level, Index& sealed, Index& levelled) {
   const Index count = static_cast<Index>(spatial.rows());
-  const int corners = static_cast<int>(cells.cols());
-  std::unordered_map<FaceKey, int, FaceHash> facets;
-  std::vector<std::vector<Index>> neighbours(count);
-  for (Index c = 0; c < cells.rows(); ++c) {
-    for (int drop = 0; drop < corners; ++drop) {
-      FaceKey key{-1, -1, -1};
-      for (int i = 0, j = 0; i < corners; ++i)
-        if (i != drop) key[j++] = cells(c, i);
-      std::sort(key.begin(), key.begin() + corners - 1);
-      ++facets[key];
-    }
-    for (int a = 0; a < corners; ++a)  // an edge is listed once per cell it is in: harmless
-      for (int b = a + 1; b < corners; ++b) {
-        const Index u = cells(c, a), v = cells(c, b);
-        neighbours[u].push_back(v), neighbours[v].push_back(u);
-      }
-  }
-  std::vector<bool> sink(count, false);
-  for (const auto& [key, times] : facets)
-    if (times == 1)
-      for (int i = 0; i < corners - 1; ++i)
-        if (free[key[i]]) sink[key[i]] = true;
-  // Regions of free vertices (joined by edges between free vertices).
-  std::vector<Index> region(count, -1);
-  std::vector<bool> reaches_sink;
-  for (Index v = 0; v < count; ++v) {
-    if (!free[v] || region[v] >= 0 || neighbours[v].empty()) continue;
-    const Index id = static_cast<Index>(reaches_sink.size());
-    reaches_sink.push_back(false);
-    std::vector<Index> stack{v};
-    region[v] = id;
-    while (!stack.empty()) {
-      const Index u = stack.back();
-      stack.pop_back();
-      if (sink[u]) reaches_sink[id] = true;
-      for (const Index w : neighbours[u])
-        if (free[w] && region[w] < 0) region[w] = id, stack.push_back(w);
-    }
-  }
+  const CellGraph graph(cells, count, free);
+  const FreeRegions regions(graph, free);
   Eigen::VectorXd level = Eigen::VectorXd::Zero(count);
   sealed = 0;
   for (Index v = 0; v < count; ++v) {
-    if (region[v] < 0) continue;
+    if (regions.region[v] < 0) continue;
     level(v) = distance_level(v);
-    sealed += !reaches_sink[region[v]];
+    sealed += !regions.reaches_sink[regions.region[v]];
   }
-
   // The levelling, over the vertices of regions that reach the boundary.
-  auto levelled_region = [&](Index v) { return region[v] >= 0 && reaches_sink[region[v]]; };
   const Eigen::VectorXd unlevelled = level;
   for (int round = 0; round < kLevellingRounds; ++round) {
-    bool changed = false;
-    // Down: the best path to a sink, by its lowest level (highest first).
-    std::vector<double> best(count, -1.0);
-    std::priority_queue<std::pair<double, Index>> widest;
-    for (Index v = 0; v < count; ++v)
-      if (sink[v] && levelled_region(v)) best[v] = level(v), widest.emplace(level(v), v);
-    while (!widest.empty()) {
-      const auto [at, v] = widest.top();
-      widest.pop();
-      if (at < best[v]) continue;
-      for (const Index w : neighbours[v]) {
-        if (!levelled_region(w)) continue;
-        const double through = std::min(level(w), at);
-        if (through > best[w]) best[w] = through, widest.emplace(through, w);
-      }
-    }
-    for (Index v = 0; v < count; ++v)
-      if (levelled_region(v) && best[v] < level(v)) level(v) = std::max(best[v], 0.0), changed = true;
-    // Up: the best path to the input (a vertex that is not free), by its highest level (lowest first).
-    std::vector<double> lowest(count, std::numeric_limits<double>::infinity());
-    std::priority_queue<std::pair<double, Index>, std::vector<std::pair<double, Index>>, std::greater<>> narrowest;
-    for (Index v = 0; v < count; ++v)
-      if (!free[v] && !neighbours[v].empty()) lowest[v] = 0.0, narrowest.emplace(0.0, v);
-    while (!narrowest.empty()) {
-      const auto [at, v] = narrowest.top();
-      narrowest.pop();
-      if (at > lowest[v]) continue;
-      for (const Index w : neighbours[v]) {
-        if (!free[w]) continue;
-        const double through = std::max(level(w), at);
-        if (through < lowest[w]) lowest[w] = through, narrowest.emplace(through, w);
-      }
-    }
-    for (Index v = 0; v < count; ++v)
-      if (levelled_region(v) && lowest[v] > level(v) && std::isfinite(lowest[v])) level(v) = lowest[v], changed = true;
-    if (!changed) break;
+    const bool down = level_down(graph, regions, level);
+    const bool up = level_up(graph, regions, free, level);
+    if (!down && !up) break;
   }
   levelled = 0;
   for (Index v = 0; v < count; ++v) levelled += std::abs(level(v) - unlevelled(v)) > 1e-12;
@@ -277,21 +314,19 @@ void append_prism(const Index* cell, int corners, const Index* lower, const Inde
   }
 }
 
-PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const PlaneCells& plane,
-                       const PointMatrix& input_points, const SimplexMatrix& input_faces, double end_time,
-                       double fill_time) {
-  const int D = static_cast<int>(P.cols()), n = D - 1, corners = n + 1;
-  if (plane.cells.cols() != corners) fail<InputError>("a plane of R^", D, " has cells of ", corners, " corners");
-  PlaneLayer layer;
-  // K's cells, positive on the coordinates the fill was decided on (where
-  // they are a proper triangulation of the plane).
+namespace {
+
+// K's cells, positive on the coordinates the fill was decided on (where
+// they are a proper triangulation of the plane), without the cells outside
+// the input and flat to rounding on K's boundary (peel_boundary_slivers):
+// the fill's cell under each shows at the layer's top as a face of no volume.
+PlaneCells layer_cells(const PointMatrix& P, const PointMatrix& fill_points, const PlaneCells& plane, int n,
+                       PlaneLayer& layer) {
+  const int corners = n + 1;
   SimplexMatrix all_cells = plane.cells;
   const PointMatrix fill_spatial = fill_points.leftCols(n);
   for (Index c = 0; c < all_cells.rows(); ++c)
     if (exact_orientation(fill_spatial, all_cells.row(c).data()) < 0) std::swap(all_cells(c, 0), all_cells(c, 1));
-  // Cells outside the input and flat to rounding on K's boundary are left
-  // out of the layer (peel_boundary_slivers); the fill's cell under each
-  // shows at the layer's top as a face of no volume.
   std::vector<bool> sliver(all_cells.rows(), false);
   {
     const PointMatrix exact_spatial = P.leftCols(n);
@@ -299,7 +334,7 @@ PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const Pla
       sliver[c] = plane.outside[c] && relative_volume(exact_spatial, all_cells.row(c).data()) < kSliver;
   }
   const std::vector<bool> keep = peel_boundary_slivers(all_cells, sliver);
-  PlaneCells kept;  // K without them
+  PlaneCells kept;
   kept.cells.resize(std::count(keep.begin(), keep.end(), true), corners);
   for (Index c = 0, r = 0; c < all_cells.rows(); ++c)
     if (keep[c]) {
@@ -309,18 +344,32 @@ PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const Pla
     }
   kept.free = plane.free;
   layer.peeled_slivers = static_cast<Index>(all_cells.rows() - kept.cells.rows());
-  const SimplexMatrix& cells = kept.cells;
-  // The faces outside the input without a free vertex are split in K, at
-  // the layer's coordinates (the first n columns of P: exact), then the
-  // long edges outside it: the heights are linear on each cell, and a hole
-  // opens only as finely as the cells outside the input are.
-  const Index points = static_cast<Index>(P.rows());
-  PointMatrix spatial = P.leftCols(n);
-  SimplexMatrix split = cells;
-  std::vector<bool> outside = kept.outside;
+  return kept;
+}
+
+// K split at the layer's coordinates (the first n columns of P: exact): the
+// faces outside the input without a free vertex, then the long edges
+// outside it, since the heights are linear on each cell and a hole opens
+// only as finely as the cells outside the input are.
+struct SplitPlane {
+  Index points;                           // K's points (the split points follow)
+  PointMatrix spatial;                    // K's points and the split points
+  SimplexMatrix split;                    // the split cells
+  std::vector<bool> outside;              // per split cell
   std::vector<std::vector<Index>> faces;  // every face split, in order
-  PointMatrix split_points(0, n);  // where each split went, in order
-  auto split_these = [&](const std::vector<std::vector<Index>>& these, bool optional) {
+  PointMatrix split_points;               // where each split went, in order
+
+  SplitPlane(const PointMatrix& P, const PlaneCells& kept, int n, PlaneLayer& layer)
+      : points(static_cast<Index>(P.rows())), spatial(P.leftCols(n)), split(kept.cells), outside(kept.outside),
+        split_points(0, n) {
+    split_these(uncovered_outside_faces(kept), false);
+    layer.split_faces = static_cast<Index>(faces.size());
+    refine_long_edges(kept.cells, layer.split_faces);
+    layer.refinement_points = static_cast<Index>(faces.size()) - layer.split_faces;
+  }
+
+ private:
+  void split_these(const std::vector<std::vector<Index>>& these, bool optional) {
     std::vector<Index> parents;
     SplitOptions how;
     how.skip_unsafe = optional;
@@ -333,129 +382,169 @@ PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const Pla
     outside = std::move(inherited);
     for (Index f = 0; f < added.size(); ++f)
       if (added(f) >= 0) faces.push_back(these[static_cast<size_t>(f)]);
-    split_points.conservativeResize(spatial.rows() - points, n);
+    split_points.conservativeResize(spatial.rows() - points, split_points.cols());
     split_points.bottomRows(spatial.rows() - before) = spatial.bottomRows(spatial.rows() - before);
-  };
-  split_these(uncovered_outside_faces(kept), false);
-  layer.split_faces = static_cast<Index>(faces.size());
-  Index points_in_plane = 0;
-  {
+  }
+
+  void refine_long_edges(const SimplexMatrix& cells, Index split_faces_count) {
     std::vector<bool> in_cells(points, false);
     for (Index c = 0; c < cells.rows(); ++c)
-      for (int i = 0; i < corners; ++i) in_cells[cells(c, i)] = true;
-    points_in_plane = static_cast<Index>(std::count(in_cells.begin(), in_cells.end(), true));
+      for (int i = 0; i < cells.cols(); ++i) in_cells[cells(c, i)] = true;
+    const Index points_in_plane = static_cast<Index>(std::count(in_cells.begin(), in_cells.end(), true));
+    const double longest = kLongestOutsideEdge * (spatial.topRows(points).colwise().maxCoeff() -
+                                                  spatial.topRows(points).colwise().minCoeff()).norm();
+    for (int round = 0; round < kRefinementRounds; ++round) {
+      std::vector<std::vector<Index>> long_edges = long_outside_edges(spatial, split, outside, longest);
+      const Index budget = kRefinementBudget * points_in_plane - (static_cast<Index>(faces.size()) - split_faces_count);
+      if (static_cast<Index>(long_edges.size()) > budget) long_edges.resize(static_cast<size_t>(std::max<Index>(budget, 0)));
+      if (long_edges.empty()) break;
+      const size_t before = faces.size();
+      split_these(long_edges, true);
+      if (faces.size() == before) break;
+    }
   }
-  const double longest = kLongestOutsideEdge * (spatial.topRows(points).colwise().maxCoeff() -
-                                                spatial.topRows(points).colwise().minCoeff()).norm();
-  for (int round = 0; round < kRefinementRounds; ++round) {
-    std::vector<std::vector<Index>> long_edges = long_outside_edges(spatial, split, outside, longest);
-    const Index budget = kRefinementBudget * points_in_plane - (static_cast<Index>(faces.size()) - layer.split_faces);
-    if (static_cast<Index>(long_edges.size()) > budget) long_edges.resize(static_cast<size_t>(std::max<Index>(budget, 0)));
-    if (long_edges.empty()) break;
-    const size_t before = faces.size();
-    split_these(long_edges, true);
-    if (faces.size() == before) break;
-  }
-  layer.refinement_points = static_cast<Index>(faces.size()) - layer.split_faces;
-  const Index local = static_cast<Index>(spatial.rows());
-  std::vector<bool> free(local, false), used(local, false);
-  for (Index v = 0; v < points && v < static_cast<Index>(plane.free.size()); ++v) free[v] = plane.free[v];
-  for (Index v = points; v < local; ++v) free[v] = true;
-  for (Index c = 0; c < split.rows(); ++c)
-    for (int i = 0; i < corners; ++i) used[split(c, i)] = true;
-  // How high each free vertex goes: all the way where it lies far from the
-  // input (a hole's axis), in proportion where it lies closer, never nothing
-  // (free_vertex_levels).
-  std::vector<Index> free_ids;
-  for (Index v = 0; v < local; ++v)
-    if (free[v] && used[v]) free_ids.push_back(v);
-  PointMatrix where(static_cast<Index>(free_ids.size()), n);
-  for (size_t i = 0; i < free_ids.size(); ++i) where.row(static_cast<Index>(i)) = spatial.row(free_ids[i]);
-  const Eigen::VectorXd distance = distances_to_surface(where, input_points, input_faces);
-  const double reference = kOpenDistance * (distance.size() ? distance.maxCoeff() : 0.0);
-  Eigen::VectorXd distance_level = Eigen::VectorXd::Ones(local);
-  for (size_t i = 0; i < free_ids.size(); ++i)
-    if (reference > 0 && std::isfinite(distance(static_cast<Index>(i))))
-      distance_level(free_ids[i]) = std::clamp(distance(static_cast<Index>(i)) / reference, kLowestLevel, 1.0);
-  const Eigen::VectorXd level =
-      free_vertex_levels(spatial, split, free, distance_level, layer.sealed_vertices, layer.levelled_vertices);
+};
 
-  const double direction = fill_time > end_time ? 1.0 : -1.0;
+// Which vertices of the split plane are free (K's free ones and every split
+// point) and which its cells use, and how high each free vertex goes: all
+// the way where it lies far from the input (a hole's axis), in proportion
+// where it lies closer, never nothing (free_vertex_levels).
+struct FreeHeights {
+  std::vector<bool> free, used;
+  Eigen::VectorXd level;
+
+  FreeHeights(const SplitPlane& s, const PlaneCells& plane, const PointMatrix& input_points,
+              const SimplexMatrix& input_faces, PlaneLayer& layer) {
+    const Index local = static_cast<Index>(s.spatial.rows());
+    free.assign(local, false), used.assign(local, false);
+    for (Index v = 0; v < s.points && v < static_cast<Index>(plane.free.size()); ++v) free[v] = plane.free[v];
+    for (Index v = s.points; v < local; ++v) free[v] = true;
+    for (Index c = 0; c < s.split.rows(); ++c)
+      for (int i = 0; i < s.split.cols(); ++i) used[s.split(c, i)] = true;
+    std::vector<Index> free_ids;
+    for (Index v = 0; v < local; ++v)
+      if (free[v] && used[v]) free_ids.push_back(v);
+    PointMatrix where(static_cast<Index>(free_ids.size()), s.spatial.cols());
+    for (size_t i = 0; i < free_ids.size(); ++i) where.row(static_cast<Index>(i)) = s.spatial.row(free_ids[i]);
+    const Eigen::VectorXd distance = distances_to_surface(where, input_points, input_faces);
+    const double reference = kOpenDistance * (distance.size() ? distance.maxCoeff() : 0.0);
+    Eigen::VectorXd distance_level = Eigen::VectorXd::Ones(local);
+    for (size_t i = 0; i < free_ids.size(); ++i)
+      if (reference > 0 && std::isfinite(distance(static_cast<Index>(i))))
+        distance_level(free_ids[i]) = std::clamp(distance(static_cast<Index>(i)) / reference, kLowestLevel, 1.0);
+    level = free_vertex_levels(s.spatial, s.split, free, distance_level, layer.sealed_vertices, layer.levelled_vertices);
+  }
+};
+
+// Where the layer's copies of a vertex go: the end copies (at their
+// heights) of the split plane's vertices, then the mid copies of K's
+// vertices; the split points' mid copies are appended by the splits of the
+// upper part.
+struct LayerCopies {
+  std::vector<Index> end_copy, mid_copy;
+  double direction, mid_time;
+};
+
+// Appends the end and mid copies to P and records the free vertices' heights.
+LayerCopies place_copies(PointMatrix& P, const SplitPlane& s, const FreeHeights& heights, double end_time,
+                         double fill_time, PlaneLayer& layer) {
+  const int n = static_cast<int>(s.spatial.cols());
+  const Index local = static_cast<Index>(s.spatial.rows());
+  LayerCopies copies{std::vector<Index>(local, -1), std::vector<Index>(local, -1), fill_time > end_time ? 1.0 : -1.0, 0};
   const double thickness = std::abs(fill_time - end_time);
-  const double mid_time = end_time + direction * kSplitLevel * thickness;
+  copies.mid_time = end_time + copies.direction * kSplitLevel * thickness;
   const double highest = kHighest * kSplitLevel * thickness;
-  // New points: the end copies (at their heights) of K's split vertices,
-  // then the mid copies of the plane's vertices; the split points' mid
-  // copies are appended by the splits of the upper part below.
-  std::vector<Index> end_copy(local, -1), mid_copy(local, -1);
-  Index next = points;
+  Index next = s.points;
   for (Index v = 0; v < local; ++v)
-    if (used[v]) end_copy[v] = next++;
-  for (Index v = 0; v < points; ++v)
-    if (used[v]) mid_copy[v] = next++;
-  P.conservativeResize(next, D);
+    if (heights.used[v]) copies.end_copy[v] = next++;
+  for (Index v = 0; v < s.points; ++v)
+    if (heights.used[v]) copies.mid_copy[v] = next++;
+  P.conservativeResize(next, n + 1);
   double sum = 0;
   layer.smallest = std::numeric_limits<double>::infinity();
   for (Index v = 0; v < local; ++v) {
-    if (!used[v]) continue;
-    const double h = free[v] ? highest * level(v) : 0.0;
-    P.row(end_copy[v]).head(n) = spatial.row(v);
-    P(end_copy[v], n) = end_time + direction * h;
-    if (v < points) P.row(mid_copy[v]).head(n) = spatial.row(v), P(mid_copy[v], n) = mid_time;
-    if (free[v]) {
-      layer.free_copies.push_back(end_copy[v]);
+    if (!heights.used[v]) continue;
+    const double h = heights.free[v] ? highest * heights.level(v) : 0.0;
+    const Index end = copies.end_copy[v], mid = copies.mid_copy[v];
+    P.row(end).head(n) = s.spatial.row(v);
+    P(end, n) = end_time + copies.direction * h;
+    if (v < s.points) P.row(mid).head(n) = s.spatial.row(v), P(mid, n) = copies.mid_time;
+    if (heights.free[v]) {
+      layer.free_copies.push_back(end);
       ++layer.free_vertices;
       sum += h;
       layer.smallest = std::min(layer.smallest, h);
       layer.largest = std::max(layer.largest, h);
     } else {
-      layer.end_copies.push_back(end_copy[v]);
+      layer.end_copies.push_back(end);
     }
   }
   if (layer.free_vertices == 0) layer.smallest = 0;
   layer.mean = layer.free_vertices ? sum / layer.free_vertices : 0.0;
+  return copies;
+}
 
-  // The upper part: prisms over K's cells between the mid copies and the
-  // fill's own points, split at their mid level like K was.
-  std::vector<Index> rows;
+// Prisms over `cells` between the copies `from` (towards the end) and `to`
+// (towards the fill), appended to `rows`.
+void append_prisms(const SimplexMatrix& cells, const std::vector<Index>& from, const std::vector<Index>& to,
+                   double direction, std::vector<Index>& rows) {
   std::array<Index, 4> lower{}, upper{};
   for (Index c = 0; c < cells.rows(); ++c) {
-    for (int i = 0; i < corners; ++i) {
+    for (int i = 0; i < cells.cols(); ++i) {
       const Index v = cells(c, i);
-      lower[i] = direction > 0 ? mid_copy[v] : v;
-      upper[i] = direction > 0 ? v : mid_copy[v];
+      lower[i] = direction > 0 ? from[v] : to[v];
+      upper[i] = direction > 0 ? to[v] : from[v];
     }
-    append_prism(cells.row(c).data(), corners, lower.data(), upper.data(), rows);
+    append_prism(cells.row(c).data(), static_cast<int>(cells.cols()), lower.data(), upper.data(), rows);
   }
-  SimplexMatrix upper_part = Eigen::Map<SimplexMatrix>(rows.data(), static_cast<Index>(rows.size()) / (D + 1), D + 1);
-  // The k-th split appends the k-th split point's mid copy.
-  for (Index v = points; v < local; ++v) mid_copy[v] = static_cast<Index>(P.rows()) + (v - points);
-  std::vector<std::vector<Index>> mid_faces(faces.size());
-  PointMatrix positions(static_cast<Index>(faces.size()), D);
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (const Index v : faces[f]) mid_faces[f].push_back(mid_copy[v]);
-    positions.row(static_cast<Index>(f)).head(n) = split_points.row(static_cast<Index>(f));
-    positions(static_cast<Index>(f), n) = mid_time;
+}
+
+// The upper part: prisms over K's cells between the mid copies and the
+// fill's own points, split at their mid level like K was (the k-th split
+// appends the k-th split point's mid copy).
+SimplexMatrix upper_part(PointMatrix& P, const SimplexMatrix& cells, const SplitPlane& s, LayerCopies& copies) {
+  const int n = static_cast<int>(s.spatial.cols()), D = n + 1;
+  std::vector<Index> own(static_cast<size_t>(s.points));
+  std::iota(own.begin(), own.end(), Index{0});
+  std::vector<Index> rows;
+  append_prisms(cells, copies.mid_copy, own, copies.direction, rows);
+  SimplexMatrix part = Eigen::Map<SimplexMatrix>(rows.data(), static_cast<Index>(rows.size()) / (D + 1), D + 1);
+  const Index local = static_cast<Index>(s.spatial.rows());
+  for (Index v = s.points; v < local; ++v) copies.mid_copy[v] = static_cast<Index>(P.rows()) + (v - s.points);
+  std::vector<std::vector<Index>> mid_faces(s.faces.size());
+  PointMatrix positions(static_cast<Index>(s.faces.size()), D);
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    for (const Index v : s.faces[f]) mid_faces[f].push_back(copies.mid_copy[v]);
+    positions.row(static_cast<Index>(f)).head(n) = s.split_points.row(static_cast<Index>(f));
+    positions(static_cast<Index>(f), n) = copies.mid_time;
   }
   SplitOptions at_mid;
   at_mid.positions = &positions;
-  const IndexVector split_mid = split_faces(P, upper_part, mid_faces, at_mid);
+  const IndexVector split_mid = split_faces(P, part, mid_faces, at_mid);
   for (Index f = 0; f < split_mid.size(); ++f)
-    if (split_mid(f) != mid_copy[points + f]) fail<MeshingError>("the layer's splits lost their order");
+    if (split_mid(f) != copies.mid_copy[s.points + f]) fail<MeshingError>("the layer's splits lost their order");
+  return part;
+}
 
+}  // namespace
+
+PlaneLayer plane_layer(PointMatrix& P, const PointMatrix& fill_points, const PlaneCells& plane,
+                       const PointMatrix& input_points, const SimplexMatrix& input_faces, double end_time,
+                       double fill_time) {
+  const int D = static_cast<int>(P.cols()), n = D - 1, corners = n + 1;
+  if (plane.cells.cols() != corners) fail<InputError>("a plane of R^", D, " has cells of ", corners, " corners");
+  PlaneLayer layer;
+  const PlaneCells kept = layer_cells(P, fill_points, plane, n, layer);
+  const SplitPlane s(P, kept, n, layer);
+  const FreeHeights heights(s, plane, input_points, input_faces, layer);
+  LayerCopies copies = place_copies(P, s, heights, end_time, fill_time, layer);
+  const SimplexMatrix upper = upper_part(P, kept.cells, s, copies);
   // The lower part: prisms over the split cells between the end copies and the mid copies.
-  rows.clear();
-  for (Index c = 0; c < split.rows(); ++c) {
-    for (int i = 0; i < corners; ++i) {
-      const Index v = split(c, i);
-      lower[i] = direction > 0 ? end_copy[v] : mid_copy[v];
-      upper[i] = direction > 0 ? mid_copy[v] : end_copy[v];
-    }
-    append_prism(split.row(c).data(), corners, lower.data(), upper.data(), rows);
-  }
+  std::vector<Index> rows;
+  append_prisms(s.split, copies.end_copy, copies.mid_copy, copies.direction, rows);
   const Index lower_rows = static_cast<Index>(rows.size()) / (D + 1);
-  layer.simplices.resize(upper_part.rows() + lower_rows, D + 1);
-  layer.simplices.topRows(upper_part.rows()) = upper_part;
+  layer.simplices.resize(upper.rows() + lower_rows, D + 1);
+  layer.simplices.topRows(upper.rows()) = upper;
   layer.simplices.bottomRows(lower_rows) = Eigen::Map<SimplexMatrix>(rows.data(), lower_rows, D + 1);
   return layer;
 }

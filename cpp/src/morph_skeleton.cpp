@@ -5,6 +5,7 @@
 
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 #include "animanifold/morph.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/skeleton.hpp"
@@ -142,7 +143,8 @@ std::vector<std::array<Index, 3>> convex_hull_triangles(const PointMatrix& V) {
   std::vector<K::Point_3> input;
   for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1), V(v, 2));
   CGAL::Surface_mesh<K::Point_3> hull;
-  CGAL::convex_hull_3(input.begin(), input.end(), hull);
+  translating_cgal_failures("taking the convex hull of " + std::to_string(V.rows()) + " points in R^3",
+                            [&] { CGAL::convex_hull_3(input.begin(), input.end(), hull); });
   std::map<std::array<double, 3>, Index> index_of;  // the hull's points are V's rows, bit for bit
   for (Index v = V.rows() - 1; v >= 0; --v) index_of[{V(v, 0), V(v, 1), V(v, 2)}] = v;  // the first of duplicates
   std::vector<std::array<Index, 3>> triangles;
@@ -169,7 +171,9 @@ Eigen::VectorXd depth_in_hull(const PointMatrix& points, const PointMatrix& V) {
   }
   std::vector<K::Point_2> input, hull;
   for (Index v = 0; v < V.rows(); ++v) input.emplace_back(V(v, 0), V(v, 1));
-  CGAL::convex_hull_2(input.begin(), input.end(), std::back_inserter(hull));  // counter-clockwise
+  translating_cgal_failures(  // counter-clockwise
+      "taking the convex hull of " + std::to_string(V.rows()) + " points in R^2",
+      [&] { CGAL::convex_hull_2(input.begin(), input.end(), std::back_inserter(hull)); });
   for (size_t i = 0; i < hull.size(); ++i) {
     const Eigen::Vector2d a(hull[i].x(), hull[i].y()), b(hull[(i + 1) % hull.size()].x(), hull[(i + 1) % hull.size()].y());
     const Eigen::Vector2d outward = Eigen::Vector2d(b.y() - a.y(), a.x() - b.x()).normalized();

@@ -71,135 +71,177 @@ std::vector<std::vector<Index>> uncovered_outside_faces(const PlaneCells& shape)
   return faces;
 }
 
-IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std::vector<Index>>& faces,
-                        const SplitOptions& options) {
-  const PointMatrix* positions = options.positions;
-  std::vector<Index>* parents = options.parents;
-  const int D = static_cast<int>(P.cols());
-  IndexVector added(static_cast<Index>(faces.size()));
-  if (faces.empty()) {
-    if (parents) parents->resize(A.rows()), std::iota(parents->begin(), parents->end(), Index{0});
-    return added;
+namespace {
+
+// split_faces' state through its splits: the fill's simplices (A's rows, then
+// those appended), which simplices hold each vertex, and the points so far.
+class FaceSplitter {
+ public:
+  FaceSplitter(const PointMatrix& P, SimplexMatrix& A, Index face_count, const SplitOptions& options)
+      : A_(A), options_(options), D_(static_cast<int>(P.cols())), old_points_(static_cast<Index>(P.rows())),
+        at_vertex_(P.rows()), Q_(old_points_ + face_count, D_) {
+    for (Index s = 0; s < A.rows(); ++s)
+      for (int c = 0; c <= D_; ++c) at_vertex_[A(s, c)].push_back(s);
+    // The new points are written into Q as they come: the checks of the
+    // splits that follow need them.
+    Q_.topRows(old_points_) = P;
   }
-  // Which simplices hold each vertex, kept up to date through the splits.
-  std::vector<std::vector<Index>> at_vertex(P.rows());
-  for (Index s = 0; s < A.rows(); ++s)
-    for (int c = 0; c <= D; ++c) at_vertex[A(s, c)].push_back(s);
-  std::vector<Row> appended;  // simplices past A's rows
-  std::vector<Index> appended_parent;                             // ... and the row of A each comes from
-  auto parent_of = [&](Index s) { return s < A.rows() ? s : appended_parent[s - A.rows()]; };
-  auto row_of = [&](Index s) -> Row {
-    return s < A.rows() ? Row(A.row(s)) : appended[s - A.rows()];
-  };
-  auto set_row = [&](Index s, const Row& row) {
-    if (s < A.rows()) A.row(s) = row;
-    else appended[s - A.rows()] = row;
-  };
-  // The new points are written into `Q` as they come: the checks below
-  // need them for the splits that follow.
-  const Index old_points = static_cast<Index>(P.rows()), old_simplices = static_cast<Index>(A.rows());
-  PointMatrix Q(old_points + static_cast<Index>(faces.size()), D);
-  Q.topRows(old_points) = P;
-  // Not the centroid itself but a point near it, at random weights between
-  // 1 and 2: on symmetric inputs (a shape and its mirror image) centroids of
-  // chords line up with the input's own faces, and the cells they make are
-  // slivers that hold the point at the plane when it is pushed.
-  std::mt19937_64 rng(4242);
-  std::uniform_real_distribution<double> weight(1.0, 2.0);
-  std::vector<Index> star;
-  std::vector<bool> positive;
-  Index made = 0;  // split points so far
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const std::vector<Index>& face = faces[f];
-    const Index m = old_points + made;
-    // The star of the face: simplices holding all its vertices.
-    star.clear();
-    for (const Index s : at_vertex[face[0]]) {
+
+  // Splits face `f` (its vertices `face`) at a point inside it; the point's
+  // index, or -1 when options.skip_unsafe and every point tried inverts a
+  // simplex of the face's star.
+  Index split(size_t f, const std::vector<Index>& face) {
+    const std::vector<Index> star = star_of(face);
+    if (star.empty()) fail<MeshingError>("face ", f, " to split is not a face of the fill");
+    const Index m = old_points_ + made_;
+    const auto [best, inverted] = best_point(f, face, star, m);
+    if (inverted > 0 && options_.skip_unsafe) return -1;
+    Q_.row(m) = best;
+    ++made_;
+    at_vertex_.emplace_back();
+    replace_star(face, star, m);
+    return m;
+  }
+
+  // The points (P's rows, then the split points) and the simplices with
+  // those appended; `parents` (when asked) the row of A each comes from.
+  void finish(PointMatrix& P, std::vector<Index>* parents) {
+    const Index old_simplices = static_cast<Index>(A_.rows());
+    Q_.conservativeResize(old_points_ + made_, D_);
+    P = std::move(Q_);
+    if (parents) {
+      parents->resize(old_simplices + appended_.size());
+      std::iota(parents->begin(), parents->begin() + old_simplices, Index{0});
+      std::copy(appended_parent_.begin(), appended_parent_.end(), parents->begin() + old_simplices);
+    }
+    A_.conservativeResize(old_simplices + static_cast<Index>(appended_.size()), D_ + 1);
+    for (size_t s = 0; s < appended_.size(); ++s) A_.row(old_simplices + static_cast<Index>(s)) = appended_[s];
+  }
+
+ private:
+  Index parent_of(Index s) const { return s < A_.rows() ? s : appended_parent_[s - A_.rows()]; }
+  Row row_of(Index s) const { return s < A_.rows() ? Row(A_.row(s)) : appended_[s - A_.rows()]; }
+  void set_row(Index s, const Row& row) {
+    if (s < A_.rows()) A_.row(s) = row;
+    else appended_[s - A_.rows()] = row;
+  }
+
+  // The star of the face: simplices holding all its vertices.
+  std::vector<Index> star_of(const std::vector<Index>& face) const {
+    std::vector<Index> star;
+    for (const Index s : at_vertex_[face[0]]) {
       const auto row = row_of(s);
       bool holds = true;
       for (size_t i = 1; i < face.size() && holds; ++i)
-        holds = std::find(row.data(), row.data() + D + 1, face[i]) != row.data() + D + 1;
+        holds = std::find(row.data(), row.data() + D_ + 1, face[i]) != row.data() + D_ + 1;
       if (holds) star.push_back(s);
     }
-    if (star.empty()) fail<MeshingError>("face ", f, " to split is not a face of the fill");
-    // Replacing a corner of a positive simplex by a point of a face that
-    // holds the corner keeps it positive: the volume scales by the point's
-    // barycentric weight at that corner — for a point exactly on the face.
-    // In doubles the point is only near it, and a sliver of the star (far
-    // thinner than the rounding) can come out inverted. So the point is
-    // taken from the face's first corner along differences (coordinates all
-    // its corners share stay exact: a face in a flat side, a chord along a
-    // hull edge), and every new simplex is checked by the exact predicate;
-    // other weights are drawn while one fails (kept: the fewest failures).
-    // Simplices of the star that are not positive before have nothing to keep.
-    positive.clear();
-    for (const Index s : star) positive.push_back(exact_orientation(Q, row_of(s).data()) > 0);
+    return star;
+  }
+
+  // Replacing a corner of a positive simplex by a point of a face that
+  // holds the corner keeps it positive: the volume scales by the point's
+  // barycentric weight at that corner — for a point exactly on the face.
+  // In doubles the point is only near it, and a sliver of the star (far
+  // thinner than the rounding) can come out inverted. So the point is
+  // taken from the face's first corner along differences (coordinates all
+  // its corners share stay exact: a face in a flat side, a chord along a
+  // hull edge), and every new simplex is checked by the exact predicate;
+  // other weights are drawn while one fails (kept: the fewest failures).
+  // Simplices of the star that are not positive before have nothing to keep.
+  // Returns the point and how many simplices it inverts.
+  std::pair<Eigen::RowVectorXd, int> best_point(size_t f, const std::vector<Index>& face,
+                                                const std::vector<Index>& star, Index m) {
+    std::vector<bool> positive;
+    for (const Index s : star) positive.push_back(exact_orientation(Q_, row_of(s).data()) > 0);
     Eigen::RowVectorXd best;
     int best_inverted = std::numeric_limits<int>::max();
     auto inverted_by = [&](const Eigen::RowVectorXd& point) {  // stops counting at the best so far
-      Q.row(m) = point;
+      Q_.row(m) = point;
       int inverted = 0;
       for (size_t k = 0; k < star.size() && inverted < best_inverted; ++k) {
         if (!positive[k]) continue;
         const Row row = row_of(star[k]);
         for (size_t i = 0; i < face.size() && inverted < best_inverted; ++i) {
           Row split = row;
-          *std::find(split.data(), split.data() + D + 1, face[i]) = m;
-          inverted += exact_orientation(Q, split.data()) <= 0 ||
-                      (options.thinnest > 0 && relative_volume(Q, split.data()) < options.thinnest);
+          *std::find(split.data(), split.data() + D_ + 1, face[i]) = m;
+          inverted += exact_orientation(Q_, split.data()) <= 0 ||
+                      (options_.thinnest > 0 && relative_volume(Q_, split.data()) < options_.thinnest);
         }
       }
       return inverted;
     };
-    if (positions) best = positions->row(static_cast<Index>(f)), best_inverted = 0;
+    if (options_.positions) best = options_.positions->row(static_cast<Index>(f)), best_inverted = 0;
     for (int attempt = 0; attempt < kSplitAttempts && best_inverted > 0; ++attempt) {
       std::vector<double> w(face.size());
       double total = 0;
-      for (double& x : w) total += (x = weight(rng));
-      Eigen::RowVectorXd point = Q.row(face[0]);
-      for (size_t i = 1; i < face.size(); ++i) point += (w[i] / total) * (Q.row(face[i]) - Q.row(face[0]));
+      for (double& x : w) total += (x = weight_(rng_));
+      Eigen::RowVectorXd point = Q_.row(face[0]);
+      for (size_t i = 1; i < face.size(); ++i) point += (w[i] / total) * (Q_.row(face[i]) - Q_.row(face[0]));
       const int inverted = inverted_by(point);
       if (inverted < best_inverted) best_inverted = inverted, best = point;
     }
-    if (best_inverted > 0 && options.skip_unsafe) {
-      added(static_cast<Index>(f)) = -1;
-      continue;
-    }
-    Q.row(m) = best;
-    ++made;
-    at_vertex.emplace_back();
-    added(static_cast<Index>(f)) = m;
+    return {best, best_inverted};
+  }
+
+  // Each simplex of the star becomes one per corner of the face, with that
+  // corner replaced by point m (the first in place, the others appended).
+  void replace_star(const std::vector<Index>& face, const std::vector<Index>& star, Index m) {
     for (const Index s : star) {
       const auto original = row_of(s);
       for (size_t i = 0; i < face.size(); ++i) {
         auto row = original;
-        const int corner = static_cast<int>(std::find(row.data(), row.data() + D + 1, face[i]) - row.data());
+        const int corner = static_cast<int>(std::find(row.data(), row.data() + D_ + 1, face[i]) - row.data());
         row(corner) = m;
         Index target = s;
         if (i > 0) {
-          target = static_cast<Index>(A.rows() + appended.size());
-          appended.push_back(row);
-          appended_parent.push_back(parent_of(s));
+          target = static_cast<Index>(A_.rows() + appended_.size());
+          appended_.push_back(row);
+          appended_parent_.push_back(parent_of(s));
         } else {
           set_row(s, row);
         }
-        for (int c = 0; c <= D; ++c)
-          if (i > 0 || row(c) == m) at_vertex[row(c)].push_back(target);
+        for (int c = 0; c <= D_; ++c)
+          if (i > 0 || row(c) == m) at_vertex_[row(c)].push_back(target);
       }
       // The first replaced corner no longer holds s.
-      auto& list = at_vertex[face[0]];
+      auto& list = at_vertex_[face[0]];
       list.erase(std::find(list.begin(), list.end(), s));
     }
   }
-  Q.conservativeResize(old_points + made, D);
-  P = std::move(Q);
-  if (parents) {
-    parents->resize(old_simplices + appended.size());
-    std::iota(parents->begin(), parents->begin() + old_simplices, Index{0});
-    std::copy(appended_parent.begin(), appended_parent.end(), parents->begin() + old_simplices);
+
+  SimplexMatrix& A_;
+  const SplitOptions& options_;
+  int D_;
+  Index old_points_;
+  std::vector<std::vector<Index>> at_vertex_;  // kept up to date through the splits
+  std::vector<Row> appended_;                  // simplices past A's rows
+  std::vector<Index> appended_parent_;         // ... and the row of A each comes from
+  PointMatrix Q_;
+  Index made_ = 0;  // split points so far
+  // Not the centroid itself but a point near it, at random weights between
+  // 1 and 2: on symmetric inputs (a shape and its mirror image) centroids of
+  // chords line up with the input's own faces, and the cells they make are
+  // slivers that hold the point at the plane when it is pushed.
+  std::mt19937_64 rng_{4242};
+  std::uniform_real_distribution<double> weight_{1.0, 2.0};
+};
+
+}  // namespace
+
+IndexVector split_faces(PointMatrix& P, SimplexMatrix& A, const std::vector<std::vector<Index>>& faces,
+                        const SplitOptions& options) {
+  IndexVector added(static_cast<Index>(faces.size()));
+  if (faces.empty()) {
+    if (options.parents) {
+      options.parents->resize(A.rows());
+      std::iota(options.parents->begin(), options.parents->end(), Index{0});
+    }
+    return added;
   }
-  A.conservativeResize(old_simplices + static_cast<Index>(appended.size()), D + 1);
-  for (size_t s = 0; s < appended.size(); ++s) A.row(old_simplices + static_cast<Index>(s)) = appended[s];
+  FaceSplitter splitter(P, A, static_cast<Index>(faces.size()), options);
+  for (size_t f = 0; f < faces.size(); ++f) added(static_cast<Index>(f)) = splitter.split(f, faces[f]);
+  splitter.finish(P, options.parents);
   return added;
 }
 

@@ -24,16 +24,14 @@ void StageClock::begin(const std::string& name, double fraction) {
 }
 
 void StageClock::advance(double fraction) {
-  if (options_.progress && !options_.progress(running_, fraction)) throw Cancelled();
+  if (options_.interrupter.progress && !options_.interrupter.progress(running_, fraction)) throw Cancelled();
 }
 
 std::function<void()> StageClock::while_waiting() const { return interrupt_poll(options_); }
 
 std::function<void()> interrupt_poll(const MorphOptions& options) {
-  if (!options.interrupted) return {};
-  return [&options] {
-    if (options.interrupted()) throw Cancelled();
-  };
+  if (!options.interrupter.interrupted) return {};
+  return [&interrupter = options.interrupter] { interrupter.poll(); };
 }
 
 void hold_for_tests(const MorphOptions& options, const std::string& stage) {

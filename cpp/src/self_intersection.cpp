@@ -1,6 +1,7 @@
 #include "animanifold/self_intersection.hpp"
 
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -99,7 +100,11 @@ std::vector<std::pair<Index, Index>> triangle_pairs(const PointMatrix& V, const 
     face_id.push_back(f);
   }
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-  CGAL::Polygon_mesh_processing::self_intersections(mesh.faces(), mesh, std::back_inserter(pairs));
+  translating_cgal_failures("finding the self-intersections of a surface of " + std::to_string(F.rows()) + " faces",
+                            [&] {
+                              CGAL::Polygon_mesh_processing::self_intersections(mesh.faces(), mesh,
+                                                                                std::back_inserter(pairs));
+                            });
   std::vector<std::pair<Index, Index>> out;
   auto corners = [&](Index f) {
     Eigen::Matrix3d t;

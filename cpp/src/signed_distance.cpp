@@ -1,6 +1,7 @@
 #include "signed_distance.hpp"
 
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -44,11 +45,13 @@ SignedDistance::SignedDistance(const PointMatrix& V, const SimplexMatrix& F) : t
   for (Index f = 0; f < F.rows(); ++f)
     if (t.mesh.add_face(vertex[F(f, 0)], vertex[F(f, 1)], vertex[F(f, 2)]) == Mesh::null_face())
       fail<InputError>("face ", f, " cannot join the surface (not a manifold, or inconsistently oriented)");
-  t.tree = std::make_unique<AabbTree>(faces(t.mesh).first, faces(t.mesh).second, t.mesh);
-  // Built now, not at the first query: queries run in parallel.
-  t.tree->accelerate_distance_queries();
-  t.tree->build();
-  t.side = std::make_unique<Side>(*t.tree);
+  translating_cgal_failures("building the distance tree of a surface of " + std::to_string(F.rows()) + " faces", [&] {
+    t.tree = std::make_unique<AabbTree>(faces(t.mesh).first, faces(t.mesh).second, t.mesh);
+    // Built now, not at the first query: queries run in parallel.
+    t.tree->accelerate_distance_queries();
+    t.tree->build();
+    t.side = std::make_unique<Side>(*t.tree);
+  });
 }
 
 SignedDistance::~SignedDistance() = default;

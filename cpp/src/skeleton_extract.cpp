@@ -5,6 +5,7 @@
 // predicates (Epick).
 #include "animanifold/errors.hpp"
 #include "animanifold/skeleton.hpp"
+#include "cgal_failures.hpp"
 #include "skeleton_internal.hpp"
 
 #include <CGAL/AABB_segment_primitive.h>
@@ -55,6 +56,7 @@ class MeshQuery {
       for (Index f = 0; f < F.rows(); ++f)
         triangles_.emplace_back(to_point(P[F(f, 0)]), to_point(P[F(f, 1)]), to_point(P[F(f, 2)]));
       triangle_tree_ = std::make_unique<TriangleTree>(triangles_.begin(), triangles_.end());
+      triangle_tree_->build();  // now, so that CGAL's failures surface where mesh_query translates them
       edges_ = edge_table(F);
       face_normal_.resize(static_cast<size_t>(F.rows()));
       vertex_normal_.assign(P.size(), Vec3::Zero());
@@ -72,6 +74,7 @@ class MeshQuery {
     } else {
       for (Index s = 0; s < F.rows(); ++s) segments_.emplace_back(to_point(P[F(s, 0)]), to_point(P[F(s, 1)]));
       segment_tree_ = std::make_unique<SegmentTree>(segments_.begin(), segments_.end());
+      segment_tree_->build();
       face_normal_.resize(static_cast<size_t>(F.rows()));
       vertex_normal_.assign(P.size(), Vec3::Zero());
       for (Index s = 0; s < F.rows(); ++s) {
@@ -155,6 +158,12 @@ class MeshQuery {
   std::vector<Index> first_face_;
 };
 
+// The mesh's query structure, with CGAL's failures in our words.
+MeshQuery mesh_query(const std::vector<Vec3>& P, const SimplexMatrix& F) {
+  return translating_cgal_failures("building the search tree of a mesh of " + std::to_string(F.rows()) + " faces",
+                                   [&] { return MeshQuery(P, F); });
+}
+
 }  // namespace
 
 std::vector<bool> faces_intersecting_mesh(const PointMatrix& faces_V, const SimplexMatrix& faces, const PointMatrix& V,
@@ -174,7 +183,7 @@ std::vector<bool> faces_intersecting_mesh(const PointMatrix& faces_V, const Simp
   }
   const auto P = to_vec3(V);
   const auto Q = to_vec3(faces_V);
-  const MeshQuery mesh(P, F);
+  const MeshQuery mesh = mesh_query(P, F);
   std::vector<bool> out(static_cast<size_t>(faces.rows()));
   for (Index f = 0; f < faces.rows(); ++f)
     out[f] = D == 3 ? mesh.intersects_triangle(Q[faces(f, 0)], Q[faces(f, 1)], Q[faces(f, 2)])
@@ -490,8 +499,11 @@ class BisectorJudge {
   Index serial_ = 0;  // keys the cuts of edges that no other polygon shares
 };
 
+// Bisector polygons judged between two step()s of the interrupter.
+constexpr size_t kPolygonsPerStep = 1024;
+
 // The skeleton of the separable mesh (out.refined_vertices, out.refined_faces).
-void extract(const SkeletonOptions& options, VoronoiSkeleton& out) {
+void extract(const SkeletonOptions& options, const Interrupter& interrupter, VoronoiSkeleton& out) {
   const int D = static_cast<int>(out.refined_vertices.cols());
   const PointMatrix& M = out.refined_vertices;
   const SimplexMatrix& MF = out.refined_faces;
@@ -500,20 +512,27 @@ void extract(const SkeletonOptions& options, VoronoiSkeleton& out) {
   const double diag = (M.colwise().maxCoeff() - M.colwise().minCoeff()).norm();
   const double on_tolerance = 1e-9 * diag;  // Voronoi vertices this close lie on the mesh (Figure 7.10)
 
+  interrupter.step("voronoi", 0.4);
   const Delaunay del = voronoi_of_sites(M, options);
   const std::vector<Vec3> centre = rows_as_vec3(del.centers);
-  const MeshQuery mesh(P, MF);
+  const MeshQuery mesh = mesh_query(P, MF);
   const auto neighbours = vertex_neighbours(MF, n);
   const Hull hull = options.external ? qhull_convex_hull(M) : Hull{};
   // Collected first so that the sides of their Voronoi vertices are found together.
   const BisectorPolygons polygons = bisector_polygons(del, n);
+  interrupter.step("sides", 0.5);
   const std::vector<signed char> side = classify_sides(polygons, centre, mesh, on_tolerance);
 
   const ExtractionInputs inputs{D, n, P, centre, side, mesh, neighbours, options, 1e-4 * diag, 1e-12 * diag};
   SkeletonAssembly assembly(centre.size(), n);
   BisectorJudge judge(inputs, hull, assembly, out);
-  for (size_t k = 0; k < polygons.size(); ++k)
+  for (size_t k = 0; k < polygons.size(); ++k) {
+    if (k % kPolygonsPerStep == 0)
+      interrupter.step("bisectors", loop_fraction(0.55, 0.95, static_cast<long long>(k),
+                                                  static_cast<long long>(polygons.size())));
     judge.handle(polygons.a[k], polygons.b[k], polygons.corners(k), polygons.links(k));
+  }
+  interrupter.step("assembly", 0.95);
   assembly.drop_unused(D);
   assembly.write(out, D);
   out.attachment = options.attach
@@ -523,12 +542,15 @@ void extract(const SkeletonOptions& options, VoronoiSkeleton& out) {
 
 }  // namespace
 
-VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, const SkeletonOptions& options) {
+VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, const SkeletonOptions& options,
+                                 const Interrupter& interrupter) {
+  interrupter.step("checks", 0);
   check_options(options);
   const auto start = std::chrono::steady_clock::now();
   VoronoiSkeleton out;
   out.dihedral = dihedral_test(V, F, options.dihedral_limit);  // also validates the input
   {
+    interrupter.step("separability", 0.05);
     SeparabilityResult sep = make_voronoi_separable(V, F, options.max_iterations, options.rule);
     out.refined_vertices = std::move(sep.vertices);
     out.refined_faces = std::move(sep.faces);
@@ -538,7 +560,7 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
   }
   out.seconds_separability = seconds_since(start);
   const auto extraction_start = std::chrono::steady_clock::now();
-  extract(options, out);
+  extract(options, interrupter, out);
   out.seconds_extraction = seconds_since(extraction_start);
   return out;
 }

@@ -97,7 +97,10 @@ std::vector<std::vector<Index>> vertex_neighbours(const SimplexMatrix& F, Index 
 
 // ------------------------------------------------------------------- checks
 
-void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
+namespace {
+
+// Columns, faces that repeat a vertex, vertices no face uses.
+void check_faces_and_vertices(const PointMatrix& V, const SimplexMatrix& F) {
   const int D = static_cast<int>(V.cols());
   if (D != 2 && D != 3)
     fail<InputError>("the Voronoi skeleton needs vertices in R^2 or R^3, got ", D, " columns");
@@ -122,7 +125,11 @@ void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
     for (int a = 0; a < D; ++a) ++used[F(f, a)];
   for (Index v = 0; v < V.rows(); ++v)
     if (!used[v]) fail<InputError>("vertex ", v, " is not used by any ", face_word, " (remove unused vertices)");
+}
 
+// The faces' adjacency, every facet with a neighbour.
+FacetAdjacency closed_adjacency(const SimplexMatrix& F) {
+  const int D = static_cast<int>(F.cols());
   FacetAdjacency adjacency;
   try {
     adjacency = facet_adjacency(F);
@@ -138,44 +145,54 @@ void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
         fail<InputError>("the mesh is open: edge (", F(f, (i + 1) % 3), ", ", F(f, (i + 2) % 3), ") of face ", f,
                          " has no neighbour (the Voronoi skeleton needs closed meshes)");
       }
-  // Consistent orientation: neighbours list their shared facet in opposite orders.
-  if (D == 3)
-    for (Index f = 0; f < F.rows(); ++f)
-      for (int i = 0; i < 3; ++i) {
-        const Index g = adjacency.neighbour(f, i);
-        if (g < f) continue;
-        Index a[2], b[2];
-        facet(F.row(f).data(), 3, i, a);
-        facet(F.row(g).data(), 3, adjacency.opposite(f, i), b);
-        if (a[0] == b[0])
-          fail<InputError>("faces ", f, " and ", g, " are inconsistently oriented across edge (", a[0], ", ", a[1],
-                           ")");
-      }
-  if (D == 2) {
-    for (Index f = 0; f < F.rows(); ++f) {
-      // Vertex F(f,1) must start the next segment (not end another one).
-      const Index g = adjacency.neighbour(f, 0);  // across facet 0 = vertex F(f,1)
-      if (F(g, 0) != F(f, 1))
-        fail<InputError>("segments ", f, " and ", g, " are inconsistently oriented at vertex ", F(f, 1));
+  return adjacency;
+}
+
+// Triangles: neighbours list their shared edge in opposite orders.
+void check_consistent_triangles(const SimplexMatrix& F, const FacetAdjacency& adjacency) {
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const Index g = adjacency.neighbour(f, i);
+      if (g < f) continue;
+      Index a[2], b[2];
+      facet(F.row(f).data(), 3, i, a);
+      facet(F.row(g).data(), 3, adjacency.opposite(f, i), b);
+      if (a[0] == b[0])
+        fail<InputError>("faces ", f, " and ", g, " are inconsistently oriented across edge (", a[0], ", ", a[1],
+                         ")");
     }
-  } else {
-    // Manifold vertices: the faces around each vertex form one fan.
-    const VertexStar star = vertex_star(F, static_cast<Index>(V.rows()));
-    for (Index v = 0; v < V.rows(); ++v) {
-      const Index first = star.simplices[star.offsets[v]];
-      Index f = first, steps = 0;
-      do {
-        int k = 0;
-        while (F(f, k) != v) ++k;
-        f = adjacency.neighbour(f, (k + 2) % 3);  // across edge (v, next)
-        ++steps;
-      } while (f != first && steps <= star.offsets[v + 1] - star.offsets[v]);
-      if (steps != star.offsets[v + 1] - star.offsets[v])
-        fail<InputError>("the mesh is non-manifold at vertex ", v, ": its ", star.offsets[v + 1] - star.offsets[v],
-                         " faces form more than one fan");
-    }
+}
+
+// Segments: the vertex that ends a segment starts the next one (not ends another).
+void check_consistent_segments(const SimplexMatrix& F, const FacetAdjacency& adjacency) {
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Index g = adjacency.neighbour(f, 0);  // across facet 0 = vertex F(f,1)
+    if (F(g, 0) != F(f, 1))
+      fail<InputError>("segments ", f, " and ", g, " are inconsistently oriented at vertex ", F(f, 1));
   }
-  // Coincident vertices would share one Voronoi cell.
+}
+
+// Manifold vertices: the faces around each vertex form one fan.
+void check_vertex_fans(Index vertex_count, const SimplexMatrix& F, const FacetAdjacency& adjacency) {
+  const VertexStar star = vertex_star(F, vertex_count);
+  for (Index v = 0; v < vertex_count; ++v) {
+    const Index first = star.simplices[star.offsets[v]];
+    Index f = first, steps = 0;
+    do {
+      int k = 0;
+      while (F(f, k) != v) ++k;
+      f = adjacency.neighbour(f, (k + 2) % 3);  // across edge (v, next)
+      ++steps;
+    } while (f != first && steps <= star.offsets[v + 1] - star.offsets[v]);
+    if (steps != star.offsets[v + 1] - star.offsets[v])
+      fail<InputError>("the mesh is non-manifold at vertex ", v, ": its ", star.offsets[v + 1] - star.offsets[v],
+                       " faces form more than one fan");
+  }
+}
+
+// Coincident vertices would share one Voronoi cell.
+void check_distinct_vertices(const PointMatrix& V) {
+  const int D = static_cast<int>(V.cols());
   std::vector<Index> order(static_cast<size_t>(V.rows()));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](Index a, Index b) {
@@ -187,7 +204,11 @@ void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
     if ((V.row(order[i]) - V.row(order[i - 1])).squaredNorm() == 0)
       fail<InputError>("vertices ", std::min(order[i], order[i - 1]), " and ", std::max(order[i], order[i - 1]),
                        " coincide");
-  // Outward orientation: positive enclosed area / volume.
+}
+
+// Outward orientation: positive enclosed area / volume.
+void check_outward(const PointMatrix& V, const SimplexMatrix& F) {
+  const int D = static_cast<int>(V.cols());
   double measure = 0;
   for (Index f = 0; f < F.rows(); ++f) {
     if (D == 2) {
@@ -199,7 +220,22 @@ void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
   }
   if (!(measure > 0))
     fail<InputError>("the ", D == 2 ? "polygon" : "mesh", " is oriented inward (enclosed ", D == 2 ? "area " : "volume ",
-                     measure / (D == 2 ? 2 : 6), " <= 0): reverse its ", face_word, "s");
+                     measure / (D == 2 ? 2 : 6), " <= 0): reverse its ", D == 2 ? "segment" : "face", "s");
+}
+
+}  // namespace
+
+void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F) {
+  check_faces_and_vertices(V, F);
+  const FacetAdjacency adjacency = closed_adjacency(F);
+  if (V.cols() == 3) {
+    check_consistent_triangles(F, adjacency);
+    check_vertex_fans(static_cast<Index>(V.rows()), F, adjacency);
+  } else {
+    check_consistent_segments(F, adjacency);
+  }
+  check_distinct_vertices(V);
+  check_outward(V, F);
 }
 
 // ----------------------------------------------------------- dihedral test
@@ -278,58 +314,42 @@ struct Encroached {
   int type;
 };
 
-// The closest encroacher of every encroached edge/segment and face.
-std::vector<Encroached> find_encroached(const std::vector<Vec3>& P, const SimplexMatrix& F, int D,
-                                        const EdgeTable* edges, const EncroachmentRule& rule) {
-  const int neighbourhood = rule.neighbourhood;
-  const double in_plane_sine = rule.in_plane_angle > 0 ? std::sin(rule.in_plane_angle) : 0.0;
-  std::vector<std::vector<Index>> adjacent;
-  if (D == 3 && neighbourhood >= 2) adjacent = vertex_neighbours(F, static_cast<Index>(P.size()));
-  // Edge tests skipped in R^3: edges of the vertex's one-ring triangles (neighbourhood 1, the
-  // dissertation's rule) or every edge touching its one-ring vertices (neighbourhood 2).
-  auto skip_edge = [&](Index p, Index a, Index b, Index apex0, Index apex1) {
-    if (p == a || p == b || p == apex0 || p == apex1) return true;
-    if (adjacent.empty()) return false;
-    return std::binary_search(adjacent[a].begin(), adjacent[a].end(), p) ||
-           std::binary_search(adjacent[b].begin(), adjacent[b].end(), p);
-  };
-  double mean = 0;
-  Index count = 0;
-  auto edge_count = D == 2 ? F.rows() : static_cast<Index>(edges->edge.size());
-  auto edge_ends = [&](Index e) -> std::array<Index, 2> {
-    if (D == 2) return {F(e, 0), F(e, 1)};
-    return edges->edge[e];
-  };
-  for (Index e = 0; e < edge_count; ++e, ++count) {
-    auto [a, b] = edge_ends(e);
-    mean += (P[a] - P[b]).norm();
+// The closest encroachers of a mesh's edges (segments) and faces under an
+// encroachment rule: one method per kind of test.
+class EncroachmentSearch {
+ public:
+  EncroachmentSearch(const std::vector<Vec3>& P, const SimplexMatrix& F, int D, const EdgeTable* edges,
+                     const EncroachmentRule& rule)
+      : P_(P), F_(F), D_(D), edges_(edges),
+        in_plane_sine_(rule.in_plane_angle > 0 ? std::sin(rule.in_plane_angle) : 0.0),
+        edge_count_(D == 2 ? F.rows() : static_cast<Index>(edges->edge.size())),
+        grid_(P, mean_edge_length()) {
+    if (D == 3 && rule.neighbourhood >= 2) adjacent_ = vertex_neighbours(F, static_cast<Index>(P.size()));
   }
-  mean /= std::max<Index>(count, 1);
-  const PointGrid grid(P, mean);
-  std::vector<Encroached> out;
 
-  // Edge (diametral sphere) encroachment; one-ring edges skipped in R^3.
-  std::vector<Index> edge_encroacher(static_cast<size_t>(edge_count), -1);
-  for (Index e = 0; e < edge_count; ++e) {
+  Index edge_count() const { return edge_count_; }
+
+  // Edge (diametral sphere) encroachment of edge `e`; one-ring edges skipped in R^3.
+  Encroached edge(Index e) const {
     auto [a, b] = edge_ends(e);
-    const Vec3 &pa = P[a], &pb = P[b];
+    const Vec3 &pa = P_[a], &pb = P_[b];
     const Vec3 mid = 0.5 * (pa + pb);
     const double r = 0.5 * (pb - pa).norm();
     const double margin = kStrict * (pb - pa).squaredNorm();
     Index apex0 = -1, apex1 = -1;
-    if (D == 3) apex0 = edges->opposite[e][0], apex1 = edges->opposite[e][1];
+    if (D_ == 3) apex0 = edges_->opposite[e][0], apex1 = edges_->opposite[e][1];
     Encroached best{false, e, -1, std::numeric_limits<double>::max(), Vec3::Zero(), 2};
-    grid.query(mid - Vec3::Constant(r), mid + Vec3::Constant(r), [&](Index p) {
+    grid_.query(mid - Vec3::Constant(r), mid + Vec3::Constant(r), [&](Index p) {
       if (skip_edge(p, a, b, apex0, apex1)) return;
-      const Vec3& x = P[p];
+      const Vec3& x = P_[p];
       if ((x - pa).dot(x - pb) >= -margin) return;
       const double t = (x - pa).dot(pb - pa) / (pb - pa).squaredNorm();
       const Vec3 foot = pa + t * (pb - pa);
       const double d = (x - foot).norm();
-      if (D == 3 && in_plane_sine > 0)  // within the surface (§7.6: in-plane degree of freedom)
+      if (D_ == 3 && in_plane_sine_ > 0)  // within the surface (§7.6: in-plane degree of freedom)
         for (Index apex : {apex0, apex1}) {
-          const Vec3 nf = (pb - pa).cross(P[apex] - pa).normalized();
-          if (std::abs(nf.dot(x - pa)) < in_plane_sine * d) return;
+          const Vec3 nf = (pb - pa).cross(P_[apex] - pa).normalized();
+          if (std::abs(nf.dot(x - pa)) < in_plane_sine_ * d) return;
         }
       if (d < best.distance || (d == best.distance && p < best.vertex)) {
         best.vertex = p;
@@ -337,20 +357,18 @@ std::vector<Encroached> find_encroached(const std::vector<Vec3>& P, const Simple
         best.point = foot;
       }
     });
-    if (best.vertex >= 0) {
-      edge_encroacher[e] = best.vertex;
-      out.push_back(best);
-    }
+    return best;
   }
-  if (D == 2) return out;
 
-  // Face (minimum equatorial sphere, above or below the face) encroachment.
-  for (Index f = 0; f < F.rows(); ++f) {
-    const Index ia = F(f, 0), ib = F(f, 1), ic = F(f, 2);
-    const Vec3 &a = P[ia], &b = P[ib], &c = P[ic];
+  // Face (minimum equatorial sphere, above or below the face) encroachment of
+  // face `f`, type 4 when the encroacher also encroaches an edge of the face.
+  Encroached face(Index f) const {
+    const Index ia = F_(f, 0), ib = F_(f, 1), ic = F_(f, 2);
+    const Vec3 &a = P_[ia], &b = P_[ib], &c = P_[ic];
     const Vec3 ab = b - a, ac = c - a, n = ab.cross(ac);
     const double n2 = n.squaredNorm();
-    if (n2 == 0) continue;
+    Encroached best{true, f, -1, std::numeric_limits<double>::max(), Vec3::Zero(), 3};
+    if (n2 == 0) return best;
     const Vec3 centre = a + (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) / (2 * n2);
     const double R2 = (centre - a).squaredNorm();
     const double R = std::sqrt(R2);
@@ -359,10 +377,9 @@ std::vector<Encroached> find_encroached(const std::vector<Vec3>& P, const Simple
     const Vec3 slab = R * unit.cwiseAbs();
     lo = (lo - slab).cwiseMax(centre - Vec3::Constant(R));
     hi = (hi + slab).cwiseMin(centre + Vec3::Constant(R));
-    Encroached best{true, f, -1, std::numeric_limits<double>::max(), Vec3::Zero(), 3};
-    grid.query(lo, hi, [&](Index p) {
+    grid_.query(lo, hi, [&](Index p) {
       if (p == ia || p == ib || p == ic) return;
-      const Vec3& x = P[p];
+      const Vec3& x = P_[p];
       if ((x - centre).squaredNorm() >= R2 * (1 - kStrict)) return;
       const double h = (x - a).dot(unit);
       const Vec3 q = x - h * unit;
@@ -378,17 +395,67 @@ std::vector<Encroached> find_encroached(const std::vector<Vec3>& P, const Simple
         best.point = q;
       }
     });
-    if (best.vertex < 0) continue;
-    // Type 4 when the encroacher also encroaches an edge of the face.
-    const Vec3& x = P[best.vertex];
-    for (int k = 0; k < 3; ++k) {
-      const Index e = edges->face_edges[f][k];
-      const auto [u, v] = edges->edge[e];
-      if (skip_edge(best.vertex, u, v, edges->opposite[e][0], edges->opposite[e][1])) continue;
-      if ((x - P[u]).dot(x - P[v]) < -kStrict * (P[u] - P[v]).squaredNorm()) best.type = 4;
-    }
-    out.push_back(best);
+    if (best.vertex >= 0 && encroaches_an_edge_of(f, best.vertex)) best.type = 4;
+    return best;
   }
+
+ private:
+  std::array<Index, 2> edge_ends(Index e) const {
+    if (D_ == 2) return {F_(e, 0), F_(e, 1)};
+    return edges_->edge[e];
+  }
+
+  double mean_edge_length() const {
+    double mean = 0;
+    Index count = 0;
+    for (Index e = 0; e < edge_count_; ++e, ++count) {
+      auto [a, b] = edge_ends(e);
+      mean += (P_[a] - P_[b]).norm();
+    }
+    return mean / std::max<Index>(count, 1);
+  }
+
+  // Edge tests skipped in R^3: edges of the vertex's one-ring triangles (neighbourhood 1, the
+  // dissertation's rule) or every edge touching its one-ring vertices (neighbourhood 2).
+  bool skip_edge(Index p, Index a, Index b, Index apex0, Index apex1) const {
+    if (p == a || p == b || p == apex0 || p == apex1) return true;
+    if (adjacent_.empty()) return false;
+    return std::binary_search(adjacent_[a].begin(), adjacent_[a].end(), p) ||
+           std::binary_search(adjacent_[b].begin(), adjacent_[b].end(), p);
+  }
+
+  bool encroaches_an_edge_of(Index f, Index vertex) const {
+    const Vec3& x = P_[vertex];
+    bool any = false;
+    for (int k = 0; k < 3; ++k) {
+      const Index e = edges_->face_edges[f][k];
+      const auto [u, v] = edges_->edge[e];
+      if (skip_edge(vertex, u, v, edges_->opposite[e][0], edges_->opposite[e][1])) continue;
+      if ((x - P_[u]).dot(x - P_[v]) < -kStrict * (P_[u] - P_[v]).squaredNorm()) any = true;
+    }
+    return any;
+  }
+
+  const std::vector<Vec3>& P_;
+  const SimplexMatrix& F_;
+  int D_;
+  const EdgeTable* edges_;
+  double in_plane_sine_;
+  Index edge_count_;
+  std::vector<std::vector<Index>> adjacent_;
+  PointGrid grid_;
+};
+
+// The closest encroacher of every encroached edge/segment and face.
+std::vector<Encroached> find_encroached(const std::vector<Vec3>& P, const SimplexMatrix& F, int D,
+                                        const EdgeTable* edges, const EncroachmentRule& rule) {
+  const EncroachmentSearch search(P, F, D, edges, rule);
+  std::vector<Encroached> out;
+  for (Index e = 0; e < search.edge_count(); ++e)
+    if (const Encroached best = search.edge(e); best.vertex >= 0) out.push_back(best);
+  if (D == 2) return out;
+  for (Index f = 0; f < F.rows(); ++f)
+    if (const Encroached best = search.face(f); best.vertex >= 0) out.push_back(best);
   return out;
 }
 

@@ -302,7 +302,9 @@ void cut_triangle(const Index* t, const bool* above, int above_count, Index sour
 
 }  // namespace
 
-Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
+namespace {
+
+void check_slice_request(const Complex& m, int axis, double value, const IntervalIndex* index) {
   const int D = m.ambient_dimension();
   const int k = m.vertices_per_simplex();
   if (k != D || (D != 3 && D != 4))
@@ -311,53 +313,76 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   if (!std::isfinite(value)) fail<InputError>("slicing value is not finite");
   if (index && (index->axis() != axis))
     fail<InputError>("interval index was built for axis ", index->axis(), ", not ", axis);
+}
 
-  std::vector<Index> candidates;
-  double lowest, highest;
-  if (index) {
-    lowest = index->lowest(), highest = index->highest();
-  } else {
-    lowest = m.V.rows() ? m.V.col(axis).minCoeff() : 0.0;
-    highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
-  }
-  auto stab = [&](double at) {
-    candidates.clear();
+// The simplices a hyperplane may cut, found through the index or by a scan.
+class Stabber {
+ public:
+  Stabber(const Complex& m, int axis, const IntervalIndex* index) : m_(m), axis_(axis), index_(index) {
     if (index) {
-      index->stab(at, candidates);
+      lowest = index->lowest(), highest = index->highest();
+    } else {
+      lowest = m.V.rows() ? m.V.col(axis).minCoeff() : 0.0;
+      highest = m.V.rows() ? m.V.col(axis).maxCoeff() : 0.0;
+    }
+  }
+
+  // The simplices whose extent along the axis holds `at`, into `candidates`.
+  void stab(double at, std::vector<Index>& candidates) const {
+    candidates.clear();
+    if (index_) {
+      index_->stab(at, candidates);
       return;
     }
+    const int k = m_.vertices_per_simplex();
     candidates.reserve(1024);
-    for (Index s = 0; s < m.S.rows(); ++s) {
-      double low = m.V(m.S(s, 0), axis), high = low;
+    for (Index s = 0; s < m_.S.rows(); ++s) {
+      double low = m_.V(m_.S(s, 0), axis_), high = low;
       for (int c = 1; c < k; ++c) {
-        const double x = m.V(m.S(s, c), axis);
+        const double x = m_.V(m_.S(s, c), axis_);
         low = std::min(low, x), high = std::max(high, x);
       }
       if (low <= at && at <= high) candidates.push_back(s);
     }
-  };
-  // A value a rounding away from vertices (a frame's time computed as
-  // t0 + k·dt next to a keyframe, or a layer of a morph) is taken as theirs:
-  // cut a hair off them, edges from each vertex would give slice vertices
-  // of their own within an ulp of it, and faces between them that fold.
-  // Just outside the manifold's ends, the ends' own.
-  const double snap = kSnapToVertices * (highest - lowest);
-  if (value < lowest && lowest - value <= snap) value = lowest;
-  if (value > highest && value - highest <= snap) value = highest;
-  stab(value);
+  }
+
+  double lowest, highest;
+
+ private:
+  const Complex& m_;
+  int axis_;
+  const IntervalIndex* index_;
+};
+
+// A value a rounding away from vertices (a frame's time computed as
+// t0 + k·dt next to a keyframe, or a layer of a morph) is taken as theirs:
+// cut a hair off them, edges from each vertex would give slice vertices
+// of their own within an ulp of it, and faces between them that fold.
+// Just outside the manifold's ends, the ends' own. Returns the value cut at,
+// with `candidates` the simplices that may cut there.
+double snapped_value(const Complex& m, int axis, double value, const Stabber& stabber,
+                     std::vector<Index>& candidates) {
+  const int k = m.vertices_per_simplex();
+  const double snap = kSnapToVertices * (stabber.highest - stabber.lowest);
+  if (value < stabber.lowest && stabber.lowest - value <= snap) value = stabber.lowest;
+  if (value > stabber.highest && value - stabber.highest <= snap) value = stabber.highest;
+  stabber.stab(value, candidates);
   double nearest = value, distance = std::numeric_limits<double>::infinity();
   for (const Index s : candidates)
     for (int c = 0; c < k; ++c) {
       const double x = m.V(m.S(s, c), axis), d = std::abs(x - value);
       if (d <= snap && d < distance) nearest = x, distance = d;
     }
-  if (nearest != value) value = nearest, stab(value);
-  // On-plane vertices count as below, except at the very top of the manifold.
-  const bool on_plane_is_above = value >= highest;
+  if (nearest != value) value = nearest, stabber.stab(value, candidates);
+  return value;
+}
 
-  CutPoints cuts(m, axis, value, candidates.size() * 2);
-  FaceSink faces{{}, {}, k - 1};
-  faces.corners.reserve(candidates.size() * 2 * (k - 1));
+// Each candidate cut by the hyperplane: its faces into `faces`, their
+// corners welded in `cuts`. On-plane vertices count as below, except at the
+// very top of the manifold.
+void cut_candidates(const Complex& m, int axis, double value, bool on_plane_is_above,
+                    const std::vector<Index>& candidates, CutPoints& cuts, FaceSink& faces) {
+  const int k = m.vertices_per_simplex();
   bool above[4];
   for (const Index s : candidates) {
     const Index* t = m.S.row(s).data();
@@ -371,8 +396,13 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
     if (k == 4) cut_tet(t, above, above_count, s, cuts, faces);
     else cut_triangle(t, above, above_count, s, cuts, faces);
   }
+}
 
-  cancel_opposite_pairs(faces, cuts);
+// The frame from its welded cut points and faces: coordinates other than
+// `axis`, attributes interpolated along the cut edges (inherited by faces).
+Slice frame_of_cuts(const Complex& m, int axis, const CutPoints& cuts, FaceSink& faces) {
+  const int D = m.ambient_dimension();
+  const int k = m.vertices_per_simplex();
   // Only the cut points that corners of the frame use: on a vertex plane,
   // a simplex whose faces there are degenerate (or cancelled) registers its
   // corners too, and where the manifold holds copies of a vertex (split at a
@@ -413,6 +443,25 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
     for (Index f = 0; f < F; ++f) values.row(f) = table.row(out.face_simplex(f));
     out.face_attributes[name] = std::move(values);
   }
+  return out;
+}
+
+}  // namespace
+
+Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
+  check_slice_request(m, axis, value, index);
+  const int D = m.ambient_dimension();
+  const int k = m.vertices_per_simplex();
+  const Stabber stabber(m, axis, index);
+  std::vector<Index> candidates;
+  value = snapped_value(m, axis, value, stabber, candidates);
+
+  CutPoints cuts(m, axis, value, candidates.size() * 2);
+  FaceSink faces{{}, {}, k - 1};
+  faces.corners.reserve(candidates.size() * 2 * (k - 1));
+  cut_candidates(m, axis, value, value >= stabber.highest, candidates, cuts, faces);
+  cancel_opposite_pairs(faces, cuts);
+  Slice out = frame_of_cuts(m, axis, cuts, faces);
 
   // Dropping coordinate `axis` instead of the last one permutes the remaining
   // coordinates' orientation by (-1)^(D-1-axis): the table's faces would then

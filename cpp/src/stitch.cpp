@@ -109,7 +109,8 @@ void split_prism(const Index* face, Index bottom, Index top, const IndexVector& 
 
 }  // namespace
 
-Complex stitch(const StitchInput& in) {
+Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
+  interrupter.step("checks", 0);
   Index m = 0, k = 0;
   int d = 0;
   validate(in, m, k, d);
@@ -139,12 +140,15 @@ Complex stitch(const StitchInput& in) {
   }
   const Eigen::Index prism_count = static_cast<Eigen::Index>(m - 1) * l;
   out.S.resize(prism_count * n, d + 1);
-  for (Index i = 0; i + 1 < m; ++i)
+  for (Index i = 0; i + 1 < m; ++i) {
+    interrupter.step("prisms", loop_fraction(0.1, 0.9, i, m - 1));
     for (Index f = 0; f < l; ++f) {
       Index* dst = out.S.row(stitched_simplex(i, f, l, n)).data();
       if (n == 3) split_prism<3>(in.faces.row(f).data(), i * k, (i + 1) * k, rank, dst);
       else split_prism<2>(in.faces.row(f).data(), i * k, (i + 1) * k, rank, dst);
     }
+  }
+  interrupter.step("attributes", 0.9);
 
   for (const auto& [name, table] : in.vertex_attributes) {
     if (table.rows() == out.V.rows()) {

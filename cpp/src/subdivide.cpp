@@ -708,19 +708,31 @@ void cut_octahedra(const Level& L, int D, ManifoldSubdivision& out) {
   }
 }
 
+// How far a subdivision into `levels` levels is when level `level` starts:
+// each level costs eight times the one before, and the levels span [0.05, 0.9].
+double level_fraction(int level, int levels) {
+  return loop_fraction(0.05, 0.9, (1ll << (3 * level)) - 1, (1ll << (3 * levels)) - 1);
+}
+
 }  // namespace
 
-ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options) {
+ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options,
+                                       const Interrupter& interrupter) {
+  interrupter.step("checks", 0);
   check_manifold_input(manifold, options);
   const int D = manifold.ambient_dimension();
   std::vector<Index> boundary = boundary_facet_list(manifold.S);
   const std::vector<double> times = keyframe_times(manifold, boundary, options.keyframe_times);
   Level L = first_level(manifold, std::move(boundary), times);
   for (int level = 0; level < options.levels; ++level) {
+    interrupter.step("refining", level_fraction(level, options.levels));
     L = refine(L);
-    if (options.scheme == ManifoldScheme::Schaefer) average(L, D, times, options.keep_keyframe_times);
+    if (options.scheme != ManifoldScheme::Schaefer) continue;
+    interrupter.step("averaging", (level_fraction(level, options.levels) + level_fraction(level + 1, options.levels)) / 2);
+    average(L, D, times, options.keep_keyframe_times);
   }
 
+  interrupter.step("octahedra", 0.9);
   ManifoldSubdivision out;
   cut_octahedra(L, D, out);
   out.manifold.V = L.X.leftCols(D);

@@ -1,6 +1,7 @@
 #include "animanifold/surface_distance.hpp"
 
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -47,10 +48,14 @@ Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatri
       if (!t.is_degenerate()) triangles.push_back(t);
     }
     if (triangles.empty()) return out;
-    Tree tree(triangles.begin(), triangles.end());
-    tree.accelerate_distance_queries();
-    for (Index p = 0; p < points.rows(); ++p)
-      out(p) = std::sqrt(tree.squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))));
+    translating_cgal_failures(
+        "measuring " + std::to_string(points.rows()) + " distances to " + std::to_string(triangles.size()) + " triangles",
+        [&] {
+          Tree tree(triangles.begin(), triangles.end());
+          tree.accelerate_distance_queries();
+          for (Index p = 0; p < points.rows(); ++p)
+            out(p) = std::sqrt(tree.squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))));
+        });
     return out;
   }
   if (d == 2) {

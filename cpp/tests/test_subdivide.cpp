@@ -86,6 +86,20 @@ TEST(Subdivide, Errors) {
   EXPECT_THROW(parse_manifold_scheme("loop"), InputError);
 }
 
+// One name per frame scheme, as the Python API spells them; the B-spline
+// scheme is the polylines', not the surfaces'.
+TEST(FrameSubdivision, SchemesAreNamedOnceAndBSplineIsForPolylines) {
+  EXPECT_EQ(parse_frame_scheme("catmull_clark"), FrameScheme::CatmullClark);
+  EXPECT_EQ(parse_frame_scheme("bspline"), FrameScheme::BSpline);
+  EXPECT_THROW(parse_frame_scheme("catmull-clark"), InputError);
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  FrameSubdivisionOptions options;
+  options.scheme = FrameScheme::BSpline;
+  EXPECT_THROW(subdivide_frame(V, F, options), InputError);
+}
+
 TEST(FrameSubdivision, CatmullClarkCubeAndCreases) {
   PointMatrix V(8, 3);
   for (int i = 0; i < 8; ++i) V.row(i) << (i & 4 ? 1 : -1), (i & 2 ? 1 : -1), (i & 1 ? 1 : -1);

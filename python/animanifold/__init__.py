@@ -21,14 +21,14 @@ topology. ::
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
-from ._core import Error
+from ._core import Cancelled, Error
 from .cache import CacheError, load, save
 from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
 from .interval_frame import IntervalFrame
 from .laplacian import Deformer, LaplacianOptions, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
-from .manifold import AnimationManifold, HoleSpaceWarning, axis_index, stitch
+from .manifold import AnimationManifold, HoleSpaceWarning, axis_index
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
@@ -36,10 +36,13 @@ from .refinement import Refinement, refine, refine_complex
 from .regularisation import Regularisation, RegularisationMaps, RegulariseOptions, regularise
 from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
-from .subdivision import subdivide
+from .stitching import stitch
+from .subdivision import subdivide, subdivided_simplex_count
 from .welding import weld
 from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
+from . import frame_quality  # noqa: E402,F401  (frames' topology and pieces: the add-on's morph report)
+from .core_job import CoreJob
 from .morph_job import MorphJob
 
 __version__ = "0.1.0"
@@ -54,6 +57,7 @@ __all__ = [
     "Deformer",
     "HoleSpaceWarning",
     "IntervalFrame",
+    "CoreJob",
     "MorphJob",
     "RestoreStatus",
     "Slice",
@@ -61,6 +65,7 @@ __all__ = [
     "SmoothFrame",
     "VoronoiSkeleton",
     "axis_index",
+    "Cancelled",
     "deform",
     "handle_transform",
     "hole_space",
@@ -83,6 +88,7 @@ __all__ = [
     "solid_measure",
     "stitch",
     "subdivide",
+    "subdivided_simplex_count",
     "subdivide_frame",
     "subtract_solid",
     "voronoi_skeleton",

@@ -1,7 +1,7 @@
 """The names of the core's enumerations, as users type them.
 
-Each choice users make (Laplacian method, boundary rule, subdivision scheme,
-refine order, skeleton side, wrap shape, morph method) is declared once, as a
+Each choice users make (Laplacian method, boundary rule, manifold and frame
+subdivision schemes, refine order, skeleton side, wrap shape, morph method) is declared once, as a
 C++ ``enum class`` with its table of names, and bound as a ``_core`` enum whose
 members are those names. The option checks, the CLI's ``choices=`` and the
 add-on's EnumProperty items all come from :func:`names`, so no other list of

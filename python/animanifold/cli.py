@@ -33,9 +33,10 @@ from ._core import Error
 from . import cli_farm, cli_skeleton
 from .cache import load, save
 from .demo import run_demo as build_demo
-from .manifold import AXES, AnimationManifold, axis_index, stitch
+from .manifold import AXES, AnimationManifold, axis_index
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import METHODS, cut_frame_warnings, morph
+from .stitching import stitch
 
 PROG = "animanifold"
 EXIT_USER_ERROR = 2
@@ -220,7 +221,7 @@ def manifold_info(path: str, manifold: AnimationManifold) -> dict:
     """Everything `info` reports, as plain JSON-ready values."""
     low, high = manifold.bounding_box
     axes = "xyzt" if manifold.dimension == 4 else "xyt"
-    validity = {key: (bool(v) if isinstance(v, bool) else int(v)) for key, v in manifold.check().items()}
+    validity = {key: (bool(v) if isinstance(v, bool) else int(v)) for key, v in manifold.check().to_dict().items()}
     return {
         "file": path,
         "file_bytes": os.path.getsize(path),
@@ -438,7 +439,7 @@ def run_morph(args: argparse.Namespace) -> int:
         print(f"{PROG}: warning: in-between frames hold bubbles enclosed in the solid (time: count "
               f"{', '.join(f'{t:.3g}: {n}' for t, n in report['bubble_frames'])}; up to "
               f"{100 * report['largest_bubble_fraction']:.2g} % of the volume)", file=sys.stderr)
-    if not manifold.check()["is_oriented_manifold"]:
+    if not manifold.check().is_oriented_manifold:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
               ("; the skeleton method (--method skeleton) avoids that" if args.method == "strip" else ""),
               file=sys.stderr)

@@ -110,10 +110,10 @@ def run(args: argparse.Namespace) -> int:
     if not sk.separable:
         print(f"{PROG}: warning: the mesh is not Voronoi separable after --max-iterations {args.max_iterations}; "
               "the skeleton may miss faces where the shape is thin or sharp", file=sys.stderr)
-    if not sk.dihedral["passes"]:
-        print(f"{PROG}: warning: {len(sk.dihedral['angles'])} edges are sharper than {args.dihedral_limit:g}° "
-              f"(sharpest {math.degrees(sk.dihedral['sharpest']):.1f}°, first at vertices "
-              f"{tuple(int(i) for i in sk.dihedral['sharp'][0])}); the skeleton may miss faces there",
+    if not sk.dihedral.passes:
+        print(f"{PROG}: warning: {len(sk.dihedral.angles)} edges are sharper than {args.dihedral_limit:g}° "
+              f"(sharpest {math.degrees(sk.dihedral.sharpest):.1f}°, first at vertices "
+              f"{tuple(int(i) for i in sk.dihedral.sharp[0])}); the skeleton may miss faces there",
               file=sys.stderr)
     return 0
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from .cache import save
 from .contact_sheet import render_contact_sheet
-from .manifold import stitch
+from .stitching import stitch
 from .meshio import write_mesh
 from .procedural import demo_keyframes
 

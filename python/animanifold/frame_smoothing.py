@@ -20,10 +20,13 @@ from typing import Mapping
 import numpy as np
 
 from . import _core
+from .choices import checked, names
 from .seams import weld_copies
 from .slices import Slice
 
-FRAME_SCHEMES = ("loop", "catmull-clark", "bspline")
+FRAME_SCHEMES = names(_core.FrameScheme)
+# The scheme a mesh gets when none is named, by vertices per face.
+_DEFAULT_SCHEME = {2: "bspline", 3: "loop", 4: "catmull_clark"}
 
 
 @dataclass(frozen=True)
@@ -60,7 +63,7 @@ def subdivide_frame(
 
     vertices (V, 3) — (V, d) for polylines; faces (F, 3) triangles, (F, 4)
     quads or (F, 2) directed segments. scheme: "loop" (triangles; the default
-    for them), "catmull-clark" (triangles or quads; the default for quads) or
+    for them), "catmull_clark" (triangles or quads; the default for quads) or
     "bspline" (segments; their default and only scheme). Edges whose faces
     meet at more than `crease_angle` degrees, and `crease_edges` (C, 2),
     become infinitely sharp creases; polylines keep corners where they turn
@@ -76,10 +79,7 @@ def subdivide_frame(
         raise ValueError(f"faces must be (F, 3), (F, 4) or (F, 2) segments, got shape {faces.shape}")
     if faces.size and not np.issubdtype(faces.dtype, np.integer):
         raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
-    if scheme is None:
-        scheme = {2: "bspline", 3: "loop", 4: "catmull-clark"}[faces.shape[1]]
-    if scheme not in FRAME_SCHEMES:
-        raise ValueError(f"unknown scheme {scheme!r}: use one of {', '.join(FRAME_SCHEMES)}")
+    scheme = _DEFAULT_SCHEME[faces.shape[1]] if scheme is None else checked(scheme, _core.FrameScheme, "scheme")
     if (scheme == "bspline") != (faces.shape[1] == 2):
         raise ValueError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
     if vertices.ndim != 2 or (vertices.shape[1] != 3 and scheme != "bspline"):
@@ -102,13 +102,13 @@ def subdivide_frame(
     else:
         r = _core.subdivide_frame(vertices, faces, int(levels), scheme, float(crease_angle), creases, bool(limit), va, fa)
     return SmoothFrame(
-        vertices=r["vertices"],
-        faces=r["faces"],
-        normals=r["normals"],
-        face_parent=r["face_parent"],
-        crease_count=int(r["crease_count"]),
-        vertex_attributes={k: _squeeze(v) for k, v in r["vertex_attributes"].items()},
-        face_attributes={k: _squeeze(v) for k, v in r["face_attributes"].items()},
+        vertices=r.vertices,
+        faces=r.faces,
+        normals=r.normals,
+        face_parent=r.face_parent,
+        crease_count=int(r.crease_count),
+        vertex_attributes={k: _squeeze(v) for k, v in r.vertex_attributes.items()},
+        face_attributes={k: _squeeze(v) for k, v in r.face_attributes.items()},
     )
 
 

@@ -33,7 +33,7 @@ makes them soft rows of that weight instead, as in the dissertation.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -210,7 +210,9 @@ class Deformer:
     vertex indices (or boolean masks), disjoint, not both empty. Graph-Laplacian
     parameters: ``lam`` (λ of eq. 4.2), ``xi`` (ξ, the weight floor), ``ridge``.
     ``zero_detail_vertices`` get uniform weights and δ = 0 (for the offline
-    regularisation of §4.5.1: vertices added by refinement).
+    regularisation of §4.5.1: vertices added by refinement). ``progress(step,
+    fraction)`` and ``interrupted()`` follow the factorisation's steps; False
+    from the one or True from the other raises :class:`animanifold.Cancelled`.
     """
 
     def __init__(
@@ -227,6 +229,8 @@ class Deformer:
         ridge: float = 1e-8,
         constraint_weight: float = 0.0,
         zero_detail_vertices=None,
+        progress: Callable[[str, float], bool] | None = None,
+        interrupted: Callable[[], bool] | None = None,
     ):
         points = np.ascontiguousarray(points, dtype=np.float64)
         simplices = np.asarray(simplices)
@@ -267,16 +271,18 @@ class Deformer:
             ridge=float(ridge),
             constraint_weight=float(constraint_weight),
             zero_detail_vertices=zero.tolist(),
+            progress=progress,
+            interrupted=interrupted,
         )
         self.status: RestoreStatus | None = None
 
     @classmethod
     def from_options(cls, points, simplices, anchors, handles, options: LaplacianOptions,
-                     zero_detail_vertices=None) -> "Deformer":
+                     zero_detail_vertices=None, progress=None, interrupted=None) -> "Deformer":
         """A Deformer with the method, boundary rule and Laplacian parameters of `options`."""
         return cls(points, simplices, anchors, handles, options.method, options.boundary, lam=options.lam,
                    xi=options.xi, ridge=options.ridge, constraint_weight=options.constraint_weight,
-                   zero_detail_vertices=zero_detail_vertices)
+                   zero_detail_vertices=zero_detail_vertices, progress=progress, interrupted=interrupted)
 
     # -- solving ------------------------------------------------------------
     def deform(

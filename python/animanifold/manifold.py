@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from typing import Mapping, Sequence
+from typing import Mapping
 
 import numpy as np
 
@@ -104,8 +104,8 @@ class AnimationManifold:
             raise ValueError(
                 f"simplices must be (M, {points.shape[1]}) for {points.shape[1]}D points, got shape {simplices.shape}"
             )
-        va = {k: _as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
-        sa = {k: _as_table(v, np.int32, f"simplex attribute {k!r}") for k, v in (simplex_attributes or {}).items()}
+        va = {k: as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
+        sa = {k: as_table(v, np.int32, f"simplex attribute {k!r}") for k, v in (simplex_attributes or {}).items()}
         return cls(_core.Complex(points, simplices, va, sa), metadata, hole_space)
 
     # -- data ---------------------------------------------------------------
@@ -261,8 +261,9 @@ class AnimationManifold:
             self._slicer = _core.Slicer(self._complex)
         return self._slicer
 
-    def check(self) -> dict:
-        """Manifold validity: facet counts, non-manifold and misoriented facets."""
+    def check(self) -> "_core.ManifoldReport":
+        """Manifold validity: facet counts, non-manifold and misoriented facets
+        (``.is_oriented_manifold``; ``.to_dict()`` for a JSON report)."""
         return _core.check_manifold(self.simplices)
 
     def boundary(self) -> np.ndarray:
@@ -314,7 +315,9 @@ def _subtract_holes(s: "_core.Slice", hole: tuple[np.ndarray, np.ndarray], axis:
                  face_attributes={k: squeezed(v) for k, v in cut.face_attributes.items()})
 
 
-def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
+def as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
+    """`values` as a C-contiguous 2D table of `dtype` (a 1D array becomes one column);
+    ValueError naming `what` for another shape or non-integers where integers are due."""
     table = np.asarray(values)
     if table.ndim == 1:
         table = table[:, None]
@@ -323,80 +326,3 @@ def _as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
     if dtype is np.int32 and table.size and not np.issubdtype(table.dtype, np.integer):
         raise ValueError(f"{what} must be integers, got {table.dtype}")
     return np.ascontiguousarray(table, dtype=dtype)
-
-
-def _seam_order(stacked: np.ndarray) -> np.ndarray:
-    """The keyframe vertices ordered by index, except that copies of one point
-    (same position in every keyframe: a vertex split at a UV seam) follow the
-    first copy. Stitching in this order splits the prisms on both sides of a
-    seam alike, so animanifold.weld() closes the seam completely."""
-    m, k, d = stacked.shape
-    tracks = np.ascontiguousarray(stacked.transpose(1, 0, 2).reshape(k, m * d))
-    _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)
-    if len(first) == k:
-        return np.arange(k, dtype=np.int32)
-    return np.lexsort((np.arange(k), first[np.asarray(group).reshape(-1)])).astype(np.int32)
-
-
-def stitch(
-    frames: np.ndarray | Sequence[np.ndarray],
-    faces: np.ndarray,
-    times: Sequence[float] | np.ndarray,
-    vertex_attributes: Mapping[str, np.ndarray] | None = None,
-    face_attributes: Mapping[str, np.ndarray] | None = None,
-) -> AnimationManifold:
-    """Keyframes with vertex correspondence → animation manifold (§2.2).
-
-    frames: (m, k, 3) or a list of m (k, 3) arrays — (m, k, 2) for contours;
-    faces: (l, 3) triangles — (l, 2) edges for contours — shared by all
-    keyframes; times: (m,) strictly increasing. vertex_attributes: name →
-    (k,) / (k, c) constant over time, or (m, k) / (m, k, c) per keyframe.
-    face_attributes: name → (l,) / (l, c) integers (material index, ...).
-    The result has exactly 3·l·(m−1) tets (2·l·(m−1) triangles for contours).
-    """
-    if isinstance(frames, np.ndarray):
-        stacked = frames
-        if stacked.ndim != 3:
-            raise ValueError(f"frames must be (m, k, d), got shape {stacked.shape}")
-    else:
-        frames = [np.asarray(f) for f in frames]
-        if not frames:
-            raise ValueError("an animation manifold needs at least two keyframes, got 0")
-        for i, f in enumerate(frames):
-            if f.ndim != 2:
-                raise ValueError(f"keyframe {i} must be (k, d), got shape {f.shape}")
-            if f.shape != frames[0].shape:
-                raise ValueError(
-                    f"keyframe {i} has {f.shape[0]} vertices of {f.shape[1]}D; keyframe 0 has "
-                    f"{frames[0].shape[0]} of {frames[0].shape[1]}D: keyframes must correspond vertex for vertex"
-                )
-        stacked = np.stack(frames)
-    m, k, d = stacked.shape
-    times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
-    if len(times) != m:
-        raise ValueError(f"{m} keyframes but {len(times)} times")
-    faces = np.asarray(faces)
-    if faces.ndim != 2 or faces.shape[1] != d:
-        raise ValueError(f"faces must be (l, {d}) for {d}D keyframes, got shape {faces.shape}")
-    if faces.size and not np.issubdtype(faces.dtype, np.integer):
-        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
-    if faces.size and (faces.max() >= 2**31 or faces.min() < -(2**31)):
-        raise ValueError("face indices do not fit in 32 bits")
-
-    va = {}
-    for name, values in (vertex_attributes or {}).items():
-        table = np.asarray(values, dtype=np.float64)
-        if table.ndim == 3:  # (m, k, c): per keyframe
-            if table.shape[:2] != (m, k):
-                raise ValueError(f"vertex attribute {name!r} has shape {table.shape}; expected ({m}, {k}, c)")
-            table = table.reshape(m * k, -1)
-        elif table.ndim == 2 and table.shape == (m, k) and m != k:  # (m, k): per keyframe, one channel
-            table = table.reshape(m * k, 1)
-        va[name] = _as_table(table, np.float64, f"vertex attribute {name!r}")
-    fa = {name: _as_table(values, np.int32, f"face attribute {name!r}") for name, values in (face_attributes or {}).items()}
-
-    flat = np.ascontiguousarray(stacked.reshape(m * k, d), dtype=np.float64)
-    return AnimationManifold(
-        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa, _seam_order(stacked)),
-        metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
-    )

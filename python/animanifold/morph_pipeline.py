@@ -1,4 +1,35 @@
-"""Morphing between closed shapes (chapters 5 and 8): numpy in, AnimationManifold out."""
+"""Morphing between closed shapes (chapters 5 and 8): numpy in, AnimationManifold out.
+
+What :func:`morph`'s report (``validity``) says of its frames and of the hole space:
+
+Frames are checked for running through themselves (`crossing_frames`), for bubbles enclosed in
+the solid that neither input has (`bubble_frames` lists [time, bubbles] where there are,
+`largest_bubble_fraction` their largest share of a frame's volume) and, in 3D, for leaving the
+inputs' topology (`noise_frames`): in 3D by the core, for every method, on 24 frames spread
+over the range and frames bisecting towards every change of topology, within a budget of 25 %
+of the morph's own time and at most 60 s (`frames_checked`, `frames_capped` when the budget cut
+them short, `topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for
+crossings (their frames hold no cavities).
+
+Validity 3 (shared holes are kept): the hole spaces H_S = CH(S) \\ S and
+H_T of the inputs (§8.6.5) are intersected into H = H_S ∩ H_T, which the
+result keeps (`hole_space`, saved with it) and subtracts from every time
+slice strictly between t0 and t1. The report adds `shared_hole_volume`
+(the volume of H; its area for 2D inputs), `hole_overlap_volume` (the
+largest part of H, relative to H, that a raw frame fills, over
+`hole_checks` frames evenly spaced in (t0, t1): what the cut removes,
+volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
+could be cut, and no point just inside H lies inside the cut frame,
+`hole_frames_verified` of `hole_frames_checked`; what failed is listed in
+`hole_errors`). The cut frames, the ones the user gets, are checked too: `cut_crossing_frames`
+lists those that run through themselves (the boolean leaves thin slivers), and
+`cut_frame_pieces` [t, pieces, cavities of the raw frame, pieces, cavities of the cut one]
+those whose shells the cut changes. H is computed first, before the core's stages (`progress`
+hears "holes" first), so that a shape CGAL cannot work on stops the morph in
+seconds, with an animanifold.BooleanError that names the input; "hole
+validity" follows the core's "validity", and `interrupted()` is polled
+between its frames.
+"""
 
 from __future__ import annotations
 
@@ -86,33 +117,8 @@ def morph(
     Flat sides of an input's hull that span a hole (a torus's caps) get a free point over them
     (report: `source_cap_points`, `target_cap_points`), so the hole opens from its ends.
 
-    Frames are checked for running through themselves (`crossing_frames`), for bubbles enclosed in
-    the solid that neither input has (`bubble_frames` lists [time, bubbles] where there are,
-    `largest_bubble_fraction` their largest share of a frame's volume) and, in 3D, for leaving the
-    inputs' topology (`noise_frames`): in 3D by the core, for every method, on 24 frames spread
-    over the range and frames bisecting towards every change of topology, within a budget of 25 %
-    of the morph's own time and at most 60 s (`frames_checked`, `frames_capped` when the budget cut
-    them short, `topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for
-    crossings (their frames hold no cavities).
-
-    Validity 3 (shared holes are kept): the hole spaces H_S = CH(S) \\ S and
-    H_T of the inputs (§8.6.5) are intersected into H = H_S ∩ H_T, which the
-    result keeps (`hole_space`, saved with it) and subtracts from every time
-    slice strictly between t0 and t1. The report adds `shared_hole_volume`
-    (the volume of H; its area for 2D inputs), `hole_overlap_volume` (the
-    largest part of H, relative to H, that a raw frame fills, over
-    `hole_checks` frames evenly spaced in (t0, t1): what the cut removes,
-    volume(raw) - volume(raw \\ H)) and `holes_preserved` (every checked frame
-    could be cut, and no point just inside H lies inside the cut frame,
-    `hole_frames_verified` of `hole_frames_checked`; what failed is listed in
-    `hole_errors`). The cut frames, the ones the user gets, are checked too: `cut_crossing_frames`
-    lists those that run through themselves (the boolean leaves thin slivers), and
-    `cut_frame_pieces` [t, pieces, cavities of the raw frame, pieces, cavities of the cut one]
-    those whose shells the cut changes. H is computed first, before the core's stages (`progress`
-    hears "holes" first), so that a shape CGAL cannot work on stops the morph in
-    seconds, with an animanifold.BooleanError that names the input; "hole
-    validity" follows the core's "validity", and `interrupted()` is polled
-    between its frames.
+    Frames are checked (crossings, bubbles, topology) and the shared hole space is kept and cut
+    from every frame between the ends: the module's docstring lists what the report says of both.
     method "field": the zero set of a signed-distance field blended over a space-time
     triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
     set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
@@ -139,16 +145,7 @@ def morph(
     """
     if method not in METHODS:
         raise ValueError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
-    (vs, fs), (vt, ft) = source, target
-    arrays = []
-    for name, v, f in (("source", vs, fs), ("target", vt, ft)):
-        v = np.ascontiguousarray(v, dtype=np.float64)
-        f = np.asarray(f)
-        if v.ndim != 2 or v.shape[1] not in (2, 3):
-            raise ValueError(f"the {name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
-        if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
-            raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
-        arrays += [v, _canonical_faces(np.ascontiguousarray(f, dtype=np.int32))]
+    arrays = _input_arrays(source, target)
     if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
         raise ValueError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
     if fill not in FILLS:
@@ -169,6 +166,21 @@ def morph(
         manifold = carry_surface_attributes(manifold, source, target, *looks)
         _stage_finished(progress, "surface attributes", 1.0)
     return manifold
+
+
+def _input_arrays(source, target) -> list[np.ndarray]:
+    """[source vertices, source faces, target vertices, target faces] as the core takes them;
+    ValueError naming the input whose arrays have the wrong shape or type."""
+    arrays = []
+    for name, (v, f) in (("source", source), ("target", target)):
+        v = np.ascontiguousarray(v, dtype=np.float64)
+        f = np.asarray(f)
+        if v.ndim != 2 or v.shape[1] not in (2, 3):
+            raise ValueError(f"the {name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
+        if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
+            raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
+        arrays += [v, _canonical_faces(np.ascontiguousarray(f, dtype=np.int32))]
+    return arrays
 
 
 def _seed_morph(arrays: list[np.ndarray], t0: float, t1: float, method: str, progress, max_push: float, fill: str,
@@ -224,7 +236,7 @@ def _seed_morph(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
         return len(report["crossing_frames"]), report["largest_bubble_fraction"]
 
     if (second["ends_reproduced"] and second["inverted_simplices"] == 0 and flaws(second) < flaws(first)
-            and retry.check()["is_oriented_manifold"]):
+            and retry.check().is_oriented_manifold):
         second["perturbation_mode"] = "position"
         why = "frames crossed" if first["frames_cross_themselves"] else "bubbles"
         second["stage_seconds"].insert(0, [f"first perturbation ({why})", first_seconds])

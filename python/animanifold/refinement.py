@@ -70,6 +70,7 @@ class Refinement:
 def refine(
     manifold: AnimationManifold,
     splits,
+    *,
     epsilon: float = 1e-3,
     order: str = "degeneracy",
 ) -> tuple[AnimationManifold, Refinement]:
@@ -93,6 +94,7 @@ def refine_complex(
     points: np.ndarray,
     simplices: np.ndarray,
     splits,
+    *,
     epsilon: float = 1e-3,
     order: str = "degeneracy",
     vertex_attributes: Mapping[str, np.ndarray] | None = None,

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -75,7 +76,7 @@ class VoronoiSkeleton:
     separable: bool
     iterations: int
     splits: int
-    dihedral: dict
+    dihedral: "_core.DihedralReport"
     attachment: np.ndarray
     stats: dict = field(default_factory=dict)
 
@@ -128,6 +129,8 @@ def voronoi_skeleton(
     neighbourhood: int = 2,
     in_plane_angle: float = 0.3,
     warn: bool = True,
+    progress: Callable[[str, float], bool] | None = None,
+    interrupted: Callable[[], bool] | None = None,
 ) -> VoronoiSkeleton:
     """The Voronoi skeleton of a closed, oriented polygon (R^2) or triangle mesh (R^3).
 
@@ -141,6 +144,8 @@ def voronoi_skeleton(
     input raises ValueError. When ``max_iterations`` rounds do not make the
     mesh separable, the skeleton is still returned with ``separable=False``
     and a :class:`SeparabilityWarning` is issued (``warn=False`` silences it).
+    ``progress(step, fraction)`` and ``interrupted()`` follow the core's steps;
+    False from the one or True from the other raises :class:`animanifold.Cancelled`.
     """
     side = checked(side, _core.SkeletonSide, "skeleton side")
     wrap = "none" if wrap is None else checked(wrap, _core.WrapShape, "wrap shape")
@@ -155,7 +160,8 @@ def voronoi_skeleton(
     raw = _core.voronoi_skeleton(
         v, f, side=side, max_iterations=int(max_iterations), wrap=wrap, wrap_density=int(wrap_density),
         wrap_margin=float(wrap_margin), dihedral_limit=float(dihedral_limit), attach=bool(attach),
-        neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle))
+        neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle), progress=progress,
+        interrupted=interrupted)
     sides = np.where(np.asarray(raw.side) == 0, INTERNAL, EXTERNAL)
     sk = VoronoiSkeleton(
         vertices=np.asarray(raw.vertices),
@@ -181,17 +187,22 @@ def voronoi_skeleton(
         },
     )
     if warn and not sk.separable:
-        warnings.warn(
-            f"the mesh is not Voronoi separable after {sk.iterations} splitting rounds (max_iterations="
-            f"{max_iterations}); the skeleton may miss faces where the shape is thin or sharp",
-            SeparabilityWarning, stacklevel=2)
+        warnings.warn(separability_warning(sk, max_iterations), SeparabilityWarning, stacklevel=2)
     return sk
 
 
+def separability_warning(sk: VoronoiSkeleton, max_iterations: int) -> str | None:
+    """What :func:`voronoi_skeleton` warns of when `sk` is not separable (None when it is)."""
+    if sk.separable:
+        return None
+    return (f"the mesh is not Voronoi separable after {sk.iterations} splitting rounds (max_iterations="
+            f"{max_iterations}); the skeleton may miss faces where the shape is thin or sharp")
+
+
 def make_voronoi_separable(vertices, faces, max_iterations: int = 4, *, neighbourhood: int = 2,
-                           in_plane_angle: float = 0.3) -> dict:
-    """Splits encroached simplices (§7.5-7.6). Returns a dict with ``vertices``,
-    ``faces`` (the refined mesh), ``separable``, ``iterations``, ``splits`` and
+                           in_plane_angle: float = 0.3) -> "_core.SeparabilityResult":
+    """Splits encroached simplices (§7.5-7.6). Returns the ``vertices`` and
+    ``faces`` of the refined mesh, ``separable``, ``iterations``, ``splits`` and
     ``remaining`` (encroached simplices left when the cap was hit)."""
     return _core.make_voronoi_separable(_points(vertices), _simplices(faces), int(max_iterations),
                                         neighbourhood=int(neighbourhood), in_plane_angle=float(in_plane_angle))
@@ -205,7 +216,7 @@ def encroachments(vertices, faces, *, neighbourhood: int = 2, in_plane_angle: fl
                                in_plane_angle=float(in_plane_angle))
 
 
-def dihedral_test(vertices, faces, limit: float = math.pi / 4) -> dict:
+def dihedral_test(vertices, faces, limit: float = math.pi / 4) -> "_core.DihedralReport":
     """§7.6.6: ``passes`` (no surface angle sharper than ``limit`` radians),
     ``sharpest``, and where: ``sharp`` (edges in R^3, corner vertices in R^2)
     with their ``angles``."""

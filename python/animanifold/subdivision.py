@@ -10,7 +10,7 @@ its time. Single frames are smoothed by :mod:`animanifold.frame_smoothing`.
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -21,13 +21,22 @@ from .manifold import AnimationManifold
 MANIFOLD_SCHEMES = names(_core.ManifoldScheme)
 
 
+def subdivided_simplex_count(manifold: AnimationManifold, levels: int) -> int:
+    """Simplices after `levels` of :func:`subdivide`, without subdividing: each level
+    splits a tet into 8 (a triangle of a 2D animation into 4)."""
+    return len(manifold.simplices) * (2 ** (manifold.dimension - 1)) ** int(levels)
+
+
 def subdivide(
     manifold: AnimationManifold,
     levels: int = 1,
+    *,
     scheme: str = "schaefer",
     keep_keyframe_times: bool = False,
     keyframe_times: Sequence[float] | None = None,
     return_parents: bool = False,
+    progress: Callable[[str, float], bool] | None = None,
+    interrupted: Callable[[], bool] | None = None,
 ):
     """A new manifold: `levels` of subdivision of `manifold`.
 
@@ -41,6 +50,9 @@ def subdivide(
     relative to the previous level — (v, v) for a kept vertex (same id),
     (a, b) for the midpoint of edge (a, b), (-1, -1) for an octahedron
     centre — and simplex_parent (S',) the input simplex of each output one.
+    ``progress(step, fraction)`` and ``interrupted()`` follow the core's steps
+    (each level); False from the one or True from the other raises
+    :class:`animanifold.Cancelled`.
     """
     scheme = checked(scheme, _core.ManifoldScheme, "scheme")
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
@@ -48,7 +60,8 @@ def subdivide(
     if keyframe_times is None:
         keyframe_times = manifold.metadata.get("keyframe_times") or []
     times = [float(t) for t in keyframe_times]
-    result = _core.subdivide_manifold(manifold.core_complex, int(levels), scheme, bool(keep_keyframe_times), times)
+    result = _core.subdivide_manifold(manifold.core_complex, int(levels), scheme, bool(keep_keyframe_times), times,
+                                      progress=progress, interrupted=interrupted)
     metadata = {k: v for k, v in manifold.metadata.items() if k not in ("keyframe_vertices", "keyframe_faces")}
     metadata["keyframe_times"] = np.asarray(result.keyframe_times).tolist()
     history = list(manifold.metadata.get("subdivisions", []))

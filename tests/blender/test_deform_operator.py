@@ -229,7 +229,7 @@ def test_manifold_deform_keeps_frames_bounded_by_anchors_and_moves_the_handles(m
     assert os.path.isfile(bpy.path.abspath(new_path)) and os.path.isfile(bpy.path.abspath(old_path))
     new = am.load(bpy.path.abspath(new_path))
     np.testing.assert_array_equal(new.simplices, old.simplices)
-    assert new.check()["is_oriented_manifold"]
+    assert new.check().is_oriented_manifold
     # Frames up to the anchored keyframe are untouched: the manifold vertices there
     # (a stitched manifold's tets up to frame 24 use only those) and the slices.
     early = old.points[:, 3] <= 24.0 + 1e-9
@@ -301,7 +301,7 @@ def test_manifold_regularise_adds_vertices_and_stays_a_manifold(manifold_object)
     new = am.load(bpy.path.abspath(man.animanifold.cache_path))
     summary = new.metadata["regularisation"]
     assert summary["added_vertices"] > 0 and len(new.points) == len(old.points) + summary["added_vertices"]
-    assert new.check()["is_oriented_manifold"]
+    assert new.check().is_oriented_manifold
     # Converged: no edge is both longer than ε and stretched, so none is longer than ε or
     # than the longest edge of the input (edges long already are left alone).
     from animanifold.regularisation import edges_of, manhattan_lengths
@@ -373,6 +373,30 @@ def test_interactive_deform_resolves_on_empty_moves_and_applies(sphere):
     assert not obj.animanifold_deform.interactive and interactive_deform.session(obj) is None
     np.testing.assert_allclose(mesh_vertices(obj.data)[handles], v0[handles] + [0, 0, 0.5], atol=1e-6)
     assert not interactive_deform.any_running()
+
+
+def test_starting_interactive_deform_shows_the_factorisations_steps_on_the_progress_bar(sphere, monkeypatch):
+    from animanifold_blender import interactive_deform
+
+    steps, ended = [], []
+
+    class Recording(interactive_deform.CoreProgress):
+        def __call__(self, step, fraction):
+            steps.append((step, fraction))
+            return super().__call__(step, fraction)
+
+        def end(self):
+            ended.append(True)
+            super().end()
+
+    monkeypatch.setattr(interactive_deform, "CoreProgress", Recording)
+    obj, _ = sphere
+    obj.animanifold_deform.method = "graph"
+    obj.animanifold_deform.interactive = True
+    assert interactive_deform.session(obj) is not None
+    assert [s for s, _ in steps] == ["checks", "laplacian", "factorising"] and ended == [True]
+    assert [f for _, f in steps] == sorted(f for _, f in steps)
+    obj.animanifold_deform.interactive = False
 
 
 def test_interactive_cannot_start_without_handles_and_says_why(sphere):

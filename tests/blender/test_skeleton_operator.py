@@ -63,3 +63,126 @@ def test_convex_shape_has_no_external_skeleton(empty_scene):
 def test_poll_needs_a_mesh(empty_scene):
     bpy.ops.object.empty_add()
     assert not bpy.ops.animanifold.skeleton.poll()
+
+
+def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
+    from animanifold_blender import ops_skeleton
+
+    calls = []
+
+    class WM:
+        def progress_begin(self, lo, hi):
+            calls.append(("begin", lo, hi))
+
+        def progress_update(self, value):
+            calls.append(("update", value))
+
+        def progress_end(self):
+            calls.append(("end",))
+
+    steps = []
+
+    class Recording(ops_skeleton.CoreProgress):
+        def __init__(self, wm, *args, **kwargs):
+            super().__init__(WM(), *args, **kwargs)
+
+        def __call__(self, step, fraction):
+            steps.append(step)
+            return super().__call__(step, fraction)
+
+    monkeypatch.setattr(ops_skeleton, "CoreProgress", Recording)
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
+    assert bpy.ops.animanifold.skeleton(side="INTERNAL") == {"FINISHED"}
+    assert calls[0] == ("begin", 0, 100) and calls[-1] == ("end",)
+    values = [c[1] for c in calls if c[0] == "update"]
+    assert values == sorted(values) and 0 <= values[0] and values[-1] <= 100
+    assert steps[:3] == ["checks", "separability", "voronoi"] and "bisectors" in steps
+
+
+class _FakeWindowManager:
+    """What the modal skeleton asks of the window manager, recorded (bpy has no window to give one)."""
+
+    def __init__(self, calls):
+        self.calls = calls
+
+    def event_timer_remove(self, timer):
+        self.calls.append(("timer removed", timer))
+
+    def progress_update(self, value):
+        self.calls.append(("progress", value))
+
+    def progress_end(self):
+        self.calls.append(("progress end",))
+
+
+def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_main_thread(empty_scene):
+    """modal() while the job runs (a stand-in operator: Blender operators cannot be made outside
+    an operator call, and modal() needs a window's events): timer ticks move the bar, view events
+    pass, everything else waits; Esc stops the core at its next step and nothing is added; a
+    finished job's object is made by modal() in the main thread, as execute() makes it."""
+    import functools
+    import threading
+    import time
+    from types import SimpleNamespace
+
+    from animanifold_blender import ops_skeleton
+    from animanifold_blender._lib import am
+    from animanifold_blender.mesh_input import closed_triangle_mesh
+
+    calls = []
+
+    class Context:  # bpy.context, with the window manager recorded
+        window_manager = _FakeWindowManager(calls)
+
+        def __getattr__(self, name):
+            return getattr(bpy.context, name)
+
+    def event(kind, value="NOTHING"):
+        return SimpleNamespace(type=kind, value=value)
+
+    def operator(job, source):
+        cls = ops_skeleton.ANIMANIFOLD_OT_skeleton
+        op = SimpleNamespace(_job=job, _source=source, _timer="the timer", side="INTERNAL", max_iterations=4,
+                             wrap="BOX", reports=[])
+        op.report = lambda kind, text: op.reports.append((set(kind), text))
+        for name in ("_finish", "_stop_waiting", "cancel"):
+            setattr(op, name, functools.partial(getattr(cls, name), op))
+        return functools.partial(cls.modal, op), op
+
+    def until_done(modal):
+        for _ in range(1200):  # a bound on the waits, not an assertion on time
+            result = modal(Context(), event("TIMER"))
+            if result != {"RUNNING_MODAL"}:
+                return result
+            time.sleep(0.05)
+        return None
+
+    bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
+    torus = bpy.context.active_object
+    vertices, faces = closed_triangle_mesh(bpy.context, torus)
+    objects = len(bpy.data.objects)
+
+    esc = threading.Event()
+
+    def held_at_separability(v, f, progress, interrupted, **options):
+        def step(name, fraction):
+            if name == "separability":
+                esc.wait(30.0)  # the core waits here until the test has pressed Esc
+            return progress(name, fraction)
+
+        return am.voronoi_skeleton(v, f, progress=step, interrupted=interrupted, **options)
+
+    modal, op = operator(am.CoreJob(held_at_separability, vertices, faces, side="internal", warn=False), torus)
+    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"} and calls[0][0] == "progress"
+    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
+    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    esc.set()
+    assert until_done(modal) == {"CANCELLED"}
+    assert op._job.cancelled and op._job.stage == "separability"
+    assert ("timer removed", "the timer") in calls and ("progress end",) in calls
+    assert any("cancelled" in text for _, text in op.reports) and len(bpy.data.objects) == objects
+
+    modal, op = operator(am.CoreJob(am.voronoi_skeleton, vertices, faces, side="internal", warn=False), torus)
+    assert until_done(modal) == {"FINISHED"}, op.reports
+    assert bpy.context.active_object.name == "Torus_skeleton" and len(bpy.data.objects) == objects + 1

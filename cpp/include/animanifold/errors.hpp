@@ -11,6 +11,7 @@
 //   Cancelled    -> _core.Cancelled(Error)
 #pragma once
 
+#include <exception>
 #include <new>
 #include <sstream>
 #include <stdexcept>
@@ -56,12 +57,25 @@ template <class Error, class... Parts>
   throw Error(message.str());
 }
 
+// The library's own explanation of a failure: by default its what().
+inline std::string library_reason(const std::exception& e) { return e.what(); }
+
 // Runs `work` (a call into `library`) and turns what the library throws into
-// a MeshingError: "<library> failed while <doing>: <its text>", so that
-// callers see one type in our words with the library's reason kept. Our own
-// errors and running out of memory pass through unchanged.
-template <class Work>
-auto translating_library_failures(const char* library, const std::string& doing, Work&& work) -> decltype(work()) {
+// an `Error` (MeshingError unless the caller names another):
+// "<library> failed while <doing>: <reason(e)>", so that callers see one type
+// in our words with the library's reason kept. Our own errors and running out
+// of memory pass through unchanged.
+//
+// Inputs:
+//   library  the library's name as messages show it ("CGAL", "TetGen")
+//   doing    what we were doing, with its size ("triangulating 12 points in R^4")
+//   work     the call into the library; its result is returned
+//   reason   extracts the library's explanation from its exception
+// Throws:
+//   Error    when `work` throws anything but our errors or std::bad_alloc
+template <class Error = MeshingError, class Work, class Reason = std::string (*)(const std::exception&)>
+auto translating_library_failures(const char* library, const std::string& doing, Work&& work,
+                                  Reason reason = &library_reason) -> decltype(work()) {
   try {
     return work();
   } catch (const InputError&) {
@@ -77,7 +91,7 @@ auto translating_library_failures(const char* library, const std::string& doing,
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    fail<MeshingError>(library, " failed while ", doing, ": ", e.what());
+    fail<Error>(library, " failed while ", doing, ": ", reason(e));
   }
 }
 

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "animanifold/enum_names.hpp"
+#include "animanifold/progress.hpp"
 #include "animanifold/types.hpp"
 
 #include <Eigen/SparseCore>
@@ -212,9 +213,12 @@ Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 //   V, S     #V by D points, #S by D simplices
 //   anchors  vertices that stay
 //   handles  vertices that follow deform()/deform_to()
-//   options  Laplacian, boundary rule, constraint weight, restore settings
+//   options      Laplacian, boundary rule, constraint weight, restore settings
+//   interrupter  told of the constructor's steps "checks", "laplacian" and
+//                "factorising" (once per attempt at a full-rank system)
 // Outputs: deform(), deform_to() and restore() give #V by D points
-// Throws: InputError (see below and on each method)
+// Throws: InputError (see below and on each method); Cancelled when the
+//   interrupter says so
 //
 // Laplacian editing with a kept factorisation.
 //
@@ -232,7 +236,7 @@ Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 class Deformer {
  public:
   Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors, const IndexVector& handles,
-           const DeformerOptions& options = {});
+           const DeformerOptions& options = {}, const Interrupter& interrupter = {});
   ~Deformer();
   Deformer(Deformer&&) noexcept;
   Deformer& operator=(Deformer&&) noexcept;

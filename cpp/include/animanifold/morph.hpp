@@ -29,6 +29,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/enum_names.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/progress.hpp"
 
 #include <array>
 #include <functional>
@@ -90,14 +91,13 @@ struct MorphOptions {
   // as cells across the shapes' size (morph_field.hpp).
   int field_layers = 17;
   double field_resolution = 24;
-  // Called with (stage, fraction done) between stages; returning false cancels
-  // (the call then throws Cancelled).
-  std::function<bool(const std::string&, double)> progress;
-  // Polled about every 0.1 s while a mesher runs in its child process (TetGen
-  // takes seconds on large inputs, and on unlucky ones runs until its
-  // timeout); returning true stops it and cancels the morph (Cancelled). The
-  // Python binding checks for a Ctrl-C there.
-  std::function<bool()> interrupted;
+  // progress() is called with (stage, fraction done) between stages;
+  // returning false cancels (the call then throws Cancelled). interrupted()
+  // is polled about every 0.1 s while a mesher runs in its child process
+  // (TetGen takes seconds on large inputs, and on unlucky ones runs until its
+  // timeout); returning true stops it and cancels the morph. The Python
+  // binding checks for a Ctrl-C there.
+  Interrupter interrupter;
   // For tests of cancellation: at the start of the stage named `hold_stage`,
   // a stand-in child process sleeps `hold_seconds` under the same polling as
   // TetGen's, so a cancel or a Ctrl-C can be tested while the core waits on

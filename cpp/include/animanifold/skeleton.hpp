@@ -16,6 +16,7 @@
 #pragma once
 
 #include "animanifold/enum_names.hpp"
+#include "animanifold/progress.hpp"
 #include "animanifold/types.hpp"
 
 #include <cmath>
@@ -203,13 +204,17 @@ struct VoronoiSkeleton {
 
 // Inputs:
 //   V, F     the closed, outward shape: #V by D points, #F by D faces (D = 2 or 3)
-//   options  sides, separability rounds and rule, wrap, attachment
+//   options      sides, separability rounds and rule, wrap, attachment
+//   interrupter  told of the steps "checks", "separability", "voronoi",
+//                "sides", "bisectors" (every 1024 bisector polygons) and "assembly"
 // Outputs:
 //   VoronoiSkeleton: skeleton vertices and faces with their side and sites, the
 //   separable mesh they belong to, the attachment, diagnostics
 // Throws: InputError naming the culprit when the shape is not closed, manifold
-//   and outward; std::runtime_error when Qhull fails
-VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, const SkeletonOptions& options = {});
+//   and outward; MeshingError when Qhull or CGAL fails; Cancelled when the
+//   interrupter says so
+VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, const SkeletonOptions& options = {},
+                                 const Interrupter& interrupter = {});
 
 // Inputs:
 //   faces_V, faces  the faces to test: points and #T by D faces

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/progress.hpp"
 
 namespace animanifold {
 
@@ -36,7 +37,8 @@ struct StitchInput {
 };
 
 // Inputs:
-//   input  StitchInput: frames (m*k) by d, faces l by d, times m, attributes, vertex_order
+//   input        StitchInput: frames (m*k) by d, faces l by d, times m, attributes, vertex_order
+//   interrupter  told of the steps "checks", "prisms" (once per keyframe gap) and "attributes"
 // Outputs:
 //   the manifold: (m*k) by d+1 points (time last), n*l*(m-1) by d+1 simplices,
 //   vertex attributes per point, face attributes per simplex
@@ -45,8 +47,8 @@ struct StitchInput {
 // Throws InputError naming the keyframe, vertex or face at fault: fewer than
 // two keyframes, frames not a multiple of the keyframe count, non-finite
 // coordinates, non-increasing times, face indices out of range or repeated,
-// attribute tables of the wrong size.
-Complex stitch(const StitchInput& input);
+// attribute tables of the wrong size. Cancelled when the interrupter says so.
+Complex stitch(const StitchInput& input, const Interrupter& interrupter = {});
 
 // The manifold simplex that face `face` of the prism between keyframes
 // `segment` and `segment+1` became: simplices of one prism are consecutive,

@@ -43,6 +43,7 @@
 
 #include "animanifold/complex.hpp"
 #include "animanifold/enum_names.hpp"
+#include "animanifold/progress.hpp"
 #include "animanifold/slice.hpp"
 
 #include <string>
@@ -93,22 +94,32 @@ struct ManifoldSubdivision {
 
 // Inputs:
 //   manifold  #V by D points, #S by 4 tets (or by 3 triangles)
-//   options   levels, scheme, keyframe times to keep
+//   options      levels, scheme, keyframe times to keep
+//   interrupter  told of the steps "checks", "refining" and "averaging" (once
+//                per level) and "octahedra"
 // Outputs:
 //   ManifoldSubdivision: the refined manifold, each vertex's parents, each
 //   simplex's input simplex, the keyframe times used
-// Throws: InputError (see below)
+// Throws: InputError (see below); Cancelled when the interrupter says so
 //
 // Subdivides a manifold of tetrahedra (4 columns) or triangles (3 columns)
 // embedded in R^D (D >= columns - 1; the last coordinate is time).
 // Throws InputError when the complex is invalid (see Complex::validate), when
 // a simplex repeats a vertex, when a facet is shared by more than two
 // simplices, when levels < 0, or when the result would not fit 32-bit indices.
-ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options = {});
+ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options = {},
+                                       const Interrupter& interrupter = {});
 
 // --- Frames: OpenSubdiv ----------------------------------------------------
 
-enum class FrameScheme { Loop, CatmullClark };
+// Loop (triangles) and Catmull-Clark (triangles or quads) refine surfaces
+// (subdivide_frame); B-splines refine the polylines of 2D animations
+// (subdivide_polyline), which take no other scheme.
+enum class FrameScheme { Loop, CatmullClark, BSpline };
+
+// The names users choose from, the default for triangles first (enum_names.hpp).
+inline constexpr NameTable<FrameScheme, 3> kFrameSchemeNames{
+    {{FrameScheme::Loop, "loop"}, {FrameScheme::CatmullClark, "catmull_clark"}, {FrameScheme::BSpline, "bspline"}}};
 
 struct FrameSubdivisionOptions {
   int levels = 1;
@@ -145,7 +156,7 @@ struct FrameSubdivision {
 // with OpenSubdiv (Far::TopologyRefiner + PrimvarRefiner): Loop needs
 // triangles, Catmull-Clark takes either. Throws InputError naming the
 // offending face or edge (index out of range, repeated vertex, Loop on
-// quads, an edge shared by faces that OpenSubdiv rejects).
+// quads, the B-spline scheme, an edge shared by faces that OpenSubdiv rejects).
 FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatrix& faces,
                                  const FrameSubdivisionOptions& options = {},
                                  const VertexAttributes& vertex_attributes = {},
@@ -186,7 +197,8 @@ FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMa
 // manifold edges).
 Slice smooth_slice(const Slice& frame, const FrameSubdivisionOptions& options);
 
-// Parses "schaefer"/"linear" and "loop"/"catmull-clark" (InputError otherwise).
+// The value of kManifoldSchemeNames / kFrameSchemeNames named `name`
+// (InputError naming it and the choices otherwise).
 ManifoldScheme parse_manifold_scheme(const std::string& name);
 FrameScheme parse_frame_scheme(const std::string& name);
 

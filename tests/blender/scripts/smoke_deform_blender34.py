@@ -73,7 +73,7 @@ new_path = man.animanifold.cache_path
 assert new_path != old_path and os.path.isfile(bpy.path.abspath(new_path)), new_path
 assert os.path.isfile(bpy.path.abspath(old_path))
 new = am.load(bpy.path.abspath(new_path))
-assert new.check()["is_oriented_manifold"]
+assert new.check().is_oriented_manifold
 early = old.points[:, 3] <= 24.0 + 1e-9
 err = np.abs(new.points[early] - old.points[early]).max()
 assert err < 1e-3, f"frames up to 24 moved by {err}"

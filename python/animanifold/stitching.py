@@ -1,0 +1,100 @@
+"""Keyframes with vertex correspondence → an animation manifold (§2.2): :func:`stitch`.
+
+Each keyframe face sweeps a prism to the next keyframe, split into tets by a
+global vertex order (the core's ``stitch``). The order puts copies of one point
+(a vertex split at a UV seam) next to each other, so the prisms on both sides
+of a seam split alike and :func:`animanifold.weld` closes the seam.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from . import _core
+from .manifold import AnimationManifold, as_table
+
+
+def _seam_order(stacked: np.ndarray) -> np.ndarray:
+    """The keyframe vertices ordered by index, except that copies of one point
+    (same position in every keyframe: a vertex split at a UV seam) follow the
+    first copy. Stitching in this order splits the prisms on both sides of a
+    seam alike, so animanifold.weld() closes the seam completely."""
+    m, k, d = stacked.shape
+    tracks = np.ascontiguousarray(stacked.transpose(1, 0, 2).reshape(k, m * d))
+    _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)
+    if len(first) == k:
+        return np.arange(k, dtype=np.int32)
+    return np.lexsort((np.arange(k), first[np.asarray(group).reshape(-1)])).astype(np.int32)
+
+
+def stitch(
+    frames: np.ndarray | Sequence[np.ndarray],
+    faces: np.ndarray,
+    times: Sequence[float] | np.ndarray,
+    vertex_attributes: Mapping[str, np.ndarray] | None = None,
+    face_attributes: Mapping[str, np.ndarray] | None = None,
+    *,
+    progress: Callable[[str, float], bool] | None = None,
+    interrupted: Callable[[], bool] | None = None,
+) -> AnimationManifold:
+    """Keyframes with vertex correspondence → animation manifold (§2.2).
+
+    frames: (m, k, 3) or a list of m (k, 3) arrays — (m, k, 2) for contours;
+    faces: (l, 3) triangles — (l, 2) edges for contours — shared by all
+    keyframes; times: (m,) strictly increasing. vertex_attributes: name →
+    (k,) / (k, c) constant over time, or (m, k) / (m, k, c) per keyframe.
+    face_attributes: name → (l,) / (l, c) integers (material index, ...).
+    The result has exactly 3·l·(m−1) tets (2·l·(m−1) triangles for contours).
+    progress(step, fraction) and interrupted() follow the core's steps (once per
+    keyframe gap); False from the one or True from the other raises
+    :class:`animanifold.Cancelled`.
+    """
+    if isinstance(frames, np.ndarray):
+        stacked = frames
+        if stacked.ndim != 3:
+            raise ValueError(f"frames must be (m, k, d), got shape {stacked.shape}")
+    else:
+        frames = [np.asarray(f) for f in frames]
+        if not frames:
+            raise ValueError("an animation manifold needs at least two keyframes, got 0")
+        for i, f in enumerate(frames):
+            if f.ndim != 2:
+                raise ValueError(f"keyframe {i} must be (k, d), got shape {f.shape}")
+            if f.shape != frames[0].shape:
+                raise ValueError(
+                    f"keyframe {i} has {f.shape[0]} vertices of {f.shape[1]}D; keyframe 0 has "
+                    f"{frames[0].shape[0]} of {frames[0].shape[1]}D: keyframes must correspond vertex for vertex"
+                )
+        stacked = np.stack(frames)
+    m, k, d = stacked.shape
+    times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
+    if len(times) != m:
+        raise ValueError(f"{m} keyframes but {len(times)} times")
+    faces = np.asarray(faces)
+    if faces.ndim != 2 or faces.shape[1] != d:
+        raise ValueError(f"faces must be (l, {d}) for {d}D keyframes, got shape {faces.shape}")
+    if faces.size and not np.issubdtype(faces.dtype, np.integer):
+        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+    if faces.size and (faces.max() >= 2**31 or faces.min() < -(2**31)):
+        raise ValueError("face indices do not fit in 32 bits")
+
+    va = {}
+    for name, values in (vertex_attributes or {}).items():
+        table = np.asarray(values, dtype=np.float64)
+        if table.ndim == 3:  # (m, k, c): per keyframe
+            if table.shape[:2] != (m, k):
+                raise ValueError(f"vertex attribute {name!r} has shape {table.shape}; expected ({m}, {k}, c)")
+            table = table.reshape(m * k, -1)
+        elif table.ndim == 2 and table.shape == (m, k) and m != k:  # (m, k): per keyframe, one channel
+            table = table.reshape(m * k, 1)
+        va[name] = as_table(table, np.float64, f"vertex attribute {name!r}")
+    fa = {name: as_table(values, np.int32, f"face attribute {name!r}") for name, values in (face_attributes or {}).items()}
+
+    flat = np.ascontiguousarray(stacked.reshape(m * k, d), dtype=np.float64)
+    return AnimationManifold(
+        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa, _seam_order(stacked),
+                     progress=progress, interrupted=interrupted),
+        metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
+    )

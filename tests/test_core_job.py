@@ -1,0 +1,55 @@
+"""CoreJob: any long core call in a worker thread, told of its steps through the core's one
+interrupter and stopped at the next step once cancelled. Plain Python: no Blender needed;
+the cancel is tied to a step the call reports, so nothing here depends on timing."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+import animanifold as am
+from animanifold import _core
+from helpers.shapes import icosphere
+
+
+def _jittered_sphere():
+    v, f = icosphere(2)
+    return v * (1 + 1e-6 * np.random.default_rng(1).standard_normal(len(v)))[:, None], f
+
+
+def test_a_cancel_stops_the_call_at_its_next_step_with_no_result():
+    steps, ready, holder = [], threading.Event(), {}
+
+    def skeleton_cancelled_during_separability(v, f, progress, interrupted):
+        def reporting(step, fraction):
+            ready.wait(10.0)  # the job exists
+            steps.append(step)
+            if step == "separability":
+                holder["job"].cancel()  # the user's Esc, between two of the core's steps
+            return progress(step, fraction)
+
+        return am.voronoi_skeleton(v, f, side="internal", progress=reporting, interrupted=interrupted)
+
+    job = am.CoreJob(skeleton_cancelled_during_separability, *_jittered_sphere())
+    holder["job"] = job
+    ready.set()
+    assert job.wait(60.0)
+    assert job.cancelled and job.cancelling and job.result is None and job.error is None
+    assert steps == ["checks", "separability"] and job.stage == "separability"
+
+
+def test_a_finished_job_gives_what_the_blocking_call_gives():
+    v, f = _jittered_sphere()
+    job = am.CoreJob(am.voronoi_skeleton, v, f, side="internal")
+    assert job.wait(60.0) and not job.cancelled and job.error is None
+    blocking = am.voronoi_skeleton(v, f, side="internal")
+    assert np.array_equal(job.result.vertices, blocking.vertices) and np.array_equal(job.result.faces, blocking.faces)
+    assert job.stage == "assembly" and 0.9 <= job.fraction <= 1.0
+
+
+def test_an_input_the_core_refuses_is_the_jobs_error_not_raised_in_the_thread():
+    v, f = icosphere(1)
+    job = am.CoreJob(am.voronoi_skeleton, v, f[1:])
+    assert job.wait(30.0) and isinstance(job.error, _core.InputError) and "open" in str(job.error)
+    assert not job.cancelled and job.result is None
