@@ -136,7 +136,7 @@ def _morph_pair(pair: dict, folder: Path, fmt: str) -> dict:
     files.append(sheet.name)
     seconds["contact_sheet"] = time.perf_counter() - start
     return {"status": "ok", "tets": int(len(manifold.simplices)),
-            "is_oriented_manifold": bool(manifold.check()["is_oriented_manifold"]),
+            "is_oriented_manifold": bool(manifold.check().is_oriented_manifold),
             "validity": json_safe(manifold.validity), "seconds": seconds, "files": files}
 
 
