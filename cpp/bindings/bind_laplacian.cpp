@@ -119,7 +119,7 @@ static void bind_deformer(py::module_& m) {
       .def_readonly("rcond", &DeformerInfo::rcond, "CHOLMOD's reciprocal condition estimate of the factor.")
       .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
-      .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
+      .def(py::init([](PointsRef V, SimplicesRef S, IndicesRef anchors, IndicesRef handles,
                        LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,
                        double constraint_weight, const std::vector<Index>& zero_detail) {
              DeformerOptions o;

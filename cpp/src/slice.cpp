@@ -16,6 +16,13 @@ namespace {
 // vertex's coordinate slice at the vertex's (see slice()).
 constexpr double kSnapToVertices = 1e-12;
 
+// How close to a vertex coordinate a value is taken as it: kSnapToVertices of
+// the manifold's extent along the axis. Scaled before subtracting, so that a
+// manifold from -1e308 to 1e308 has a finite tolerance, not an infinite one.
+double snap_tolerance(double lowest, double highest) {
+  return kSnapToVertices * highest - kSnapToVertices * lowest;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- interval index
@@ -59,7 +66,7 @@ IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int a
 
 std::optional<std::pair<double, double>> IntervalIndex::topology_interval(double value) const {
   // The same snap as slice(): a value it would move onto a vertex has that vertex's faces.
-  const double snap = kSnapToVertices * (highest_ - lowest_);
+  const double snap = snap_tolerance(lowest_, highest_);
   const auto above = std::upper_bound(vertex_values_.begin(), vertex_values_.end(), value);
   if (above == vertex_values_.begin() || above == vertex_values_.end()) return std::nullopt;
   const double lo = *(above - 1), hi = *above;
@@ -341,7 +348,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   // cut a hair off them, edges from each vertex would give slice vertices
   // of their own within an ulp of it, and faces between them that fold.
   // Just outside the manifold's ends, the ends' own.
-  const double snap = kSnapToVertices * (highest - lowest);
+  const double snap = snap_tolerance(lowest, highest);
   if (value < lowest && lowest - value <= snap) value = lowest;
   if (value > highest && value - highest <= snap) value = highest;
   stab(value);

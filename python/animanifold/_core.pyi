@@ -37,7 +37,7 @@ class Complex:
     """
     Points (#V by D) and oriented simplices (#S by k+1) with per-vertex float and per-simplex integer attributes.
     """
-    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> None:
+    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> None:
         """
         A complex from points (#V by D), simplices (#S by k+1) and attribute tables; raises InputError naming the simplex or vertex when they do not fit.
         """
@@ -911,7 +911,7 @@ class Deformer:
     """
     Laplacian editing with a kept CHOLMOD factorisation.
     """
-    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
+    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
         """
         Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.
         """
@@ -957,11 +957,11 @@ class Deformer:
         """
         Current points (#V by D).
         """
-def boundary_facets(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+def boundary_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
     """
     Facets (#B by k) that belong to one simplex only, oriented outward.
     """
-def check_manifold(simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> dict:
+def check_manifold(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> dict:
     """
     Facet counts of simplices (#S by k+1) as a dict: interior_facets, boundary_facets, nonmanifold_facets, misoriented_facets, degenerate_simplices, is_oriented_manifold.
     """
@@ -969,47 +969,47 @@ def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.f
     """
     Raises InputError (a ValueError) naming the shape (`name`) and the face or vertex when morph() would refuse it.
     """
-def closest_points(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+def closest_points(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
     """
     (distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.
     """
-def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> dict:
+def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> dict:
     """
     Dihedral angles of the mesh's edges against `limit` (radians): dict of limit, sharpest, passes, sharp, angles.
     """
-def distances_to_surface(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+def distances_to_surface(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
     Distance from each point to the surface (triangles in R^3, segments in R^2); inf without faces.
     """
-def encroachments(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+def encroachments(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
     """
     (rows, distance): rows (vertex, a, b, c or -1, type 2/3/4) per encroached simplex and its closest encroacher.
     """
-def faces_intersecting_mesh(faces_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], mesh_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
+def faces_intersecting_mesh(faces_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], mesh_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
     """
     Per face (triangles in R^3, segments in R^2): does it intersect the mesh? CGAL exact predicates.
     """
-def frame_vertex_normals(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+def frame_vertex_normals(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """
     Area-weighted unit vertex normals of a frame (triangles in R^3, segments in R^2).
     """
-def hole_space(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+def hole_space(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
     """
     (vertices, faces) of CH(C) \\ C for a closed outward mesh (triangles in R^3) or counter-clockwise polygons (edges in R^2); empty arrays when C is convex. Raises BooleanError naming what CGAL refused.
     """
-def intersect_solids(vertices_a: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_a: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertices_b: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_b: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+def intersect_solids(vertices_a: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_a: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertices_b: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_b: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
     """
     (vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons); raises BooleanError.
     """
-def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> dict:
+def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> dict:
     """
     Splits encroached faces until the mesh is Voronoi-separable (§7.2): dict of vertices, faces, separable, iterations, splits, remaining.
     """
-def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], options: typing.Any = None, progress: typing.Any = None, interrupted: typing.Any = None, **kwargs) -> tuple[Complex, MorphReport]:
+def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], options: typing.Any = None, progress: typing.Any = None, interrupted: typing.Any = None, **kwargs) -> tuple[Complex, MorphReport]:
     """
     Morph between two closed shapes: (manifold Complex, MorphReport). `options` (a MorphOptions; fields may also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the other, cancels (raises Cancelled). Raises InputError naming a bad input, MeshingError when a mesher fails.
     """
-def points_inside_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
+def points_inside_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.bool], "[m, 1]"]:
     """
     Whether each point (#P, 3) lies inside (or on) the closed outward triangle mesh; cavities and tunnels are outside.
     """
@@ -1017,11 +1017,11 @@ def read_mesh(path: str) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.fl
     """
     (vertices, triangles, polygons_triangulated) of an OFF/OBJ/PLY/STL file, via CGAL; raises FileError (an OSError) naming the file when it cannot be read.
     """
-def refine(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]], split_vertices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], split_barycentric: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], epsilon: typing.SupportsFloat | typing.SupportsIndex = 0.001, order: RefineOrder = ...) -> Refinement:
+def refine(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]], split_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], split_barycentric: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], epsilon: typing.SupportsFloat | typing.SupportsIndex = 0.001, order: RefineOrder = ...) -> Refinement:
     """
     Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) are the split tuples; returns a Refinement. Raises InputError naming a bad split tuple.
     """
-def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> list[tuple[int, int]]:
+def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> list[tuple[int, int]]:
     """
     Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all. tolerance > 0: only pairs that pass through each other by more than that (rounding left out).
     """
@@ -1029,15 +1029,15 @@ def smooth_slice(slice: Slice, levels: typing.SupportsInt | typing.SupportsIndex
     """
     A frame refined with Loop subdivision (OpenSubdiv), or B-spline curves for 2D animations; face_simplex inherited.
     """
-def solid_measure(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> float:
+def solid_measure(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> float:
     """
     Volume (3D) or area (2D) enclosed by a closed outward boundary.
     """
-def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> Complex:
+def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> Complex:
     """
     Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises InputError naming the keyframe, vertex or face that is wrong.
     """
-def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: str = 'loop', crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, crease_edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"] | None = None, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
+def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: str = 'loop', crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, crease_edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"] | None = None, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
     """
     OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays (vertices, faces, normals, vertex_attributes, face_attributes, face_parent, crease_count); raises InputError for a bad mesh or scheme.
     """
@@ -1045,27 +1045,27 @@ def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.Su
     """
     Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels.
     """
-def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
+def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
     """
     Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations).
     """
-def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], hole_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], hole_faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], bool]:
+def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], hole_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], hole_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], bool]:
     """
     (vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame (the arrays are then a copy of the frame's). Raises BooleanError.
     """
-def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """
     Volume-weighted unit normals (#V by n+1) of a manifold of n-simplices in R^(n+1).
     """
-def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], side: SkeletonSide = ..., max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: WrapShape = ..., wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> VoronoiSkeleton:
+def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], side: SkeletonSide = ..., max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: WrapShape = ..., wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> VoronoiSkeleton:
     """
     The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.
     """
-def wrap(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"], shape: WrapShape = ..., density: typing.SupportsInt | typing.SupportsIndex = 4, margin: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, int]:
+def wrap(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], shape: WrapShape = ..., density: typing.SupportsInt | typing.SupportsIndex = 4, margin: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, int]:
     """
     (vertices, faces, input_vertices, input_faces): the mesh inside a WrapShape for the external skeleton; raises InputError for an unknown shape.
     """
-def write_mesh(path: str, vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]", "flags.c_contiguous"]) -> None:
+def write_mesh(path: str, vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> None:
     """
     Writes vertices (#V by 3) and triangles (#F by 3) to an OFF/OBJ/PLY/STL file (by extension); raises FileError naming the file when it cannot be written.
     """

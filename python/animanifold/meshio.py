@@ -7,6 +7,7 @@ import os
 import numpy as np
 
 from . import _core
+from .indices import as_indices
 
 
 def read_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray]:
@@ -20,4 +21,4 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise ValueError(f"vertices must be (k, 3), got shape {vertices.shape}")
-    _core.write_mesh(os.fspath(path), vertices, np.ascontiguousarray(faces, dtype=np.int32))
+    _core.write_mesh(os.fspath(path), vertices, as_indices(faces, "faces"))
