@@ -156,6 +156,34 @@ def test_off_and_ply_headers_claiming_more_than_the_file_holds_are_refused(tmp_p
         _core.read_mesh(str(ply))
 
 
+PLY_HEADER = ("ply\nformat {format} 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "element face 1\nproperty list {count} int vertex_indices\nend_header\n")
+
+
+def binary_ply(tmp_path, corners: int, indices: list[int]):
+    body = np.zeros(9, "<f4").tobytes() + np.array([corners], "<i4").tobytes() + np.array(indices, "<i4").tobytes()
+    path = tmp_path / "binary.ply"
+    path.write_bytes(PLY_HEADER.format(format="binary_little_endian", count="int").encode() + body)
+    return path
+
+
+def test_ply_lists_claiming_more_items_than_the_file_holds_are_refused(tmp_path):
+    text = PLY_HEADER.format(format="ascii", count="int") + "0 0 0\n1 0 0\n0 1 0\n400000000 0 1 2\n"
+    ascii_ply = write(tmp_path, "ascii.ply", text)
+    with pytest.raises(_core.FileError, match="ascii.ply': face 0 declares a list of 400000000 items"):
+        _core.read_mesh(str(ascii_ply))
+    with pytest.raises(_core.FileError, match="binary.ply': face 0 declares a list of 400000000 items"):
+        _core.read_mesh(str(binary_ply(tmp_path, 400_000_000, [0, 1, 2])))
+
+
+def test_honest_ply_files_still_read(tmp_path):
+    text = PLY_HEADER.format(format="ascii", count="uchar") + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    vertices, faces, _ = _core.read_mesh(str(write(tmp_path, "ascii.ply", text)))
+    assert vertices.shape == (3, 3) and faces.tolist() == [[0, 1, 2]]
+    vertices, faces, _ = _core.read_mesh(str(binary_ply(tmp_path, 3, [0, 1, 2])))
+    assert vertices.shape == (3, 3) and faces.tolist() == [[0, 1, 2]]
+
+
 def test_honest_off_files_still_read(tmp_path):
     body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3"  # no final newline
     for header in ("OFF 4 4 0\n", "OFF\n# a comment\n\n4 4 0\n"):

@@ -1,6 +1,6 @@
 // A mesh file checked before CGAL's readers see it. They size their arrays
 // from the counts a file declares (OFF's header and each face's corner count,
-// PLY's element counts), so a 44-byte file could make them allocate
+// PLY's element counts and each list's length), so a 44-byte file could make them allocate
 // gigabytes; and reading a FIFO or /dev/zero would block or never end.
 #pragma once
 
