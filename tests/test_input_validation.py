@@ -89,6 +89,7 @@ def test_int64_indices_beyond_32_bits_are_refused_not_wrapped(sphere, value):
         lambda: _core.voronoi_skeleton(v, bad),
         lambda: _core.subdivide_frame(v, bad),
         lambda: _core.Complex(v, bad),
+        lambda: _core.check_morph_input(v, bad, "source"),
         lambda: _core.stitch(np.vstack([v, v]), bad, np.array([0.0, 1.0])),
     ):
         with pytest.raises(_core.InputError, match=message):
@@ -126,6 +127,8 @@ def test_deformer_anchors_and_crease_edges_beyond_32_bits_are_refused(sphere):
     v, f = sphere
     with pytest.raises(_core.InputError, match="holds 4294967296 at row 0"):
         _core.Deformer(v, f, np.array([2**32], np.int64), np.array([1], np.int32))
+    with pytest.raises(_core.InputError, match="holds 4294967296 at row 1"):
+        _core.Deformer(v, f, np.array([0], np.int32), np.array([1], np.int32), zero_detail_vertices=[5, 2**32])
     with pytest.raises(_core.InputError, match="holds 4294967297 at row 0, column 1"):
         _core.subdivide_frame(v, f, crease_edges=np.array([[0, 2**32 + 1]], np.int64))
 

@@ -35,11 +35,11 @@ GraphWeightOptions graph_options(double lambda, double xi, double ridge) {
 }
 
 LaplacianOptions laplacian_options(LaplacianMethod method, double lambda, double xi, double ridge,
-                                   const std::vector<Index>& zero_detail) {
+                                   IndicesRef zero_detail) {
   LaplacianOptions o;
   o.method = method;
   o.graph = graph_options(lambda, xi, ridge);
-  o.zero_detail_vertices = zero_detail;
+  o.zero_detail_vertices.assign(zero_detail.data(), zero_detail.data() + zero_detail.size());
   return o;
 }
 
@@ -86,7 +86,7 @@ static void bind_laplacian_parts(py::module_& testing) {
         "(D as CSR, neighbours (#S by n+1), ghost_facets (#G by 2)).");
   testing.def("laplacian_system",
         [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge,
-           const std::vector<Index>& zero_detail) {
+           IndicesRef zero_detail) {
           DifferentialSystem s;
           {
             py::gil_scoped_release release;
@@ -96,7 +96,7 @@ static void bind_laplacian_parts(py::module_& testing) {
         },
         py::arg("points"), py::arg("simplices"), py::arg("method") = LaplacianMethod::Dual, py::arg("lam") = defaults.lambda,
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
-        py::arg("zero_detail_vertices") = std::vector<Index>{}, "(L as CSR, delta): L V = Δ for the input.");
+        py::arg("zero_detail_vertices") = IndexVector{}, "(L as CSR, delta): L V = Δ for the input.");
 
   testing.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
         "T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).");
@@ -121,7 +121,7 @@ static void bind_deformer(py::module_& m) {
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, IndicesRef anchors, IndicesRef handles,
                        LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,
-                       double constraint_weight, const std::vector<Index>& zero_detail) {
+                       double constraint_weight, IndicesRef zero_detail) {
              DeformerOptions o;
              o.laplacian = laplacian_options(method, lambda, xi, ridge, zero_detail);
              o.boundary = boundary;
@@ -134,7 +134,7 @@ static void bind_deformer(py::module_& m) {
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
            py::arg("method") = LaplacianMethod::Dual, py::arg("boundary") = BoundaryRule::Grow, py::arg("lam") = defaults.lambda,
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
-           py::arg("zero_detail_vertices") = std::vector<Index>{},
+           py::arg("zero_detail_vertices") = IndexVector{},
            "Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles "
            "fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.")
       .def("deform",

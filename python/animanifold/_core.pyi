@@ -911,7 +911,7 @@ class Deformer:
     """
     Laplacian editing with a kept CHOLMOD factorisation.
     """
-    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex] = []) -> None:
+    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> None:
         """
         Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.
         """
@@ -965,7 +965,7 @@ def check_manifold(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int
     """
     Facet counts of simplices (#S by k+1) as a dict: interior_facets, boundary_facets, nonmanifold_facets, misoriented_facets, degenerate_simplices, is_oriented_manifold.
     """
-def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"], name: str) -> None:
+def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], name: str) -> None:
     """
     Raises InputError (a ValueError) naming the shape (`name`) and the face or vertex when morph() would refuse it.
     """
