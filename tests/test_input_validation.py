@@ -106,6 +106,8 @@ def test_float_simplex_indices_are_refused_not_truncated(sphere):
     v, f = sphere
     with pytest.raises(_core.InputError, match="dtype float64"):
         _core.Complex(v, f + 0.7)
+    with pytest.raises(_core.InputError, match="an index array has dtype bool: indices must be integers"):
+        _core.frame_vertex_normals(v, f > 3)
     points, simplices = tetrahedron_4d()
     with pytest.raises(am.Error, match="simplices must be integer indices, got dtype float64"):
         am.AnimationManifold.from_arrays(points, simplices + 0.5)

@@ -49,8 +49,7 @@ inline void check_index_array(py::handle src, const std::string& what) {
   if (!a || a.size() == 0) return;
   const char kind = a.dtype().kind();
   if (kind != 'i' && kind != 'u')
-    fail<InputError>(what, " has dtype ", py::str(a.dtype()).cast<std::string>(),
-                     ": indices must be integers (a float index would be truncated)");
+    fail<InputError>(what, " has dtype ", py::str(a.dtype()).cast<std::string>(), ": indices must be integers");
   const py::int_ lowest(INT32_MIN), highest(INT32_MAX);
   const py::int_ lo(a.attr("min")()), hi(a.attr("max")());
   const bool low = lo < lowest, high = hi > highest;

@@ -90,6 +90,8 @@ struct VertexAdjacency {
 VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count);
 
 // Vertices on a boundary facet (facets in exactly one simplex). #V flags.
+// InputError when an index is outside 0..vertex_count-1 (also vertex_adjacency
+// and dual_operator).
 std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count);
 
 // The eq. 4.2 weights of one vertex from its one-ring edge vectors
