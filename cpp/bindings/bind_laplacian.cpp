@@ -36,11 +36,11 @@ GraphWeightOptions graph_options(double lambda, double xi, double ridge) {
 }
 
 LaplacianOptions laplacian_options(LaplacianMethod method, double lambda, double xi, double ridge,
-                                   const std::vector<Index>& zero_detail) {
+                                   IndicesRef zero_detail) {
   LaplacianOptions o;
   o.method = method;
   o.graph = graph_options(lambda, xi, ridge);
-  o.zero_detail_vertices = zero_detail;
+  o.zero_detail_vertices.assign(zero_detail.data(), zero_detail.data() + zero_detail.size());
   return o;
 }
 
@@ -87,7 +87,7 @@ static void bind_laplacian_parts(py::module_& testing) {
         "(D as CSR, neighbours (#S by n+1), ghost_facets (#G by 2)).");
   testing.def("laplacian_system",
         [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge,
-           const std::vector<Index>& zero_detail) {
+           IndicesRef zero_detail) {
           DifferentialSystem s;
           {
             py::gil_scoped_release release;
@@ -97,7 +97,7 @@ static void bind_laplacian_parts(py::module_& testing) {
         },
         py::arg("points"), py::arg("simplices"), py::arg("method") = LaplacianMethod::Dual, py::arg("lam") = defaults.lambda,
         py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge,
-        py::arg("zero_detail_vertices") = std::vector<Index>{}, "(L as CSR, delta): L V = Δ for the input.");
+        py::arg("zero_detail_vertices") = IndexVector{}, "(L as CSR, delta): L V = Δ for the input.");
 
   testing.def("affine_power", &affine_power, py::arg("transform"), py::arg("s"),
         "T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).");
@@ -120,9 +120,9 @@ static void bind_deformer(py::module_& m) {
       .def_readonly("rcond", &DeformerInfo::rcond, "CHOLMOD's reciprocal condition estimate of the factor.")
       .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
-      .def(py::init([](PointsRef V, SimplicesRef S, const IndexVector& anchors, const IndexVector& handles,
+      .def(py::init([](PointsRef V, SimplicesRef S, IndicesRef anchors, IndicesRef handles,
                        LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,
-                       double constraint_weight, const std::vector<Index>& zero_detail, const py::object& progress,
+                       double constraint_weight, IndicesRef zero_detail, const py::object& progress,
                        const py::object& interrupted) {
              DeformerOptions o;
              o.laplacian = laplacian_options(method, lambda, xi, ridge, zero_detail);
@@ -137,7 +137,7 @@ static void bind_deformer(py::module_& m) {
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
            py::arg("method") = LaplacianMethod::Dual, py::arg("boundary") = BoundaryRule::Grow, py::arg("lam") = defaults.lambda,
            py::arg("xi") = defaults.xi, py::arg("ridge") = defaults.ridge, py::arg("constraint_weight") = 0.0,
-           py::arg("zero_detail_vertices") = std::vector<Index>{}, py::kw_only(), py::arg("progress") = py::none(),
+           py::arg("zero_detail_vertices") = IndexVector{}, py::kw_only(), py::arg("progress") = py::none(),
            py::arg("interrupted") = py::none(),
            (std::string("Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and "
                         "handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when "

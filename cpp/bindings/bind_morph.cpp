@@ -90,7 +90,9 @@ void bind_morph(py::module_& m, py::module_& testing) {
       "The morph's frame checks (morph_validity.hpp) on a manifold (tets in R^4) that should run from the "
       "source at t0 to the target at t1: a MorphReport with frames_checked, frames_capped, topology_changes, "
       "crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.");
-  m.def("check_morph_input", &check_morph_input, py::arg("vertices"), py::arg("faces"), py::arg("name"),
+  m.def("check_morph_input",
+        [](const PointMatrix& V, SimplicesRef F, const std::string& name) { check_morph_input(V, F, name); },
+        py::arg("vertices"), py::arg("faces"), py::arg("name"),
         py::call_guard<py::gil_scoped_release>(),
         "Raises InputError (a ValueError) naming the shape (`name`) and the face or vertex when morph() would refuse it.");
   m.def(
@@ -130,7 +132,9 @@ void bind_morph(py::module_& m, py::module_& testing) {
       py::arg("points"), py::arg("vertices"), py::arg("faces"),
       "(distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): "
       "its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.");
-  testing.def("external_skeleton_points", &external_skeleton_points, py::arg("points"), py::arg("faces"), py::arg("gap"),
+  testing.def("external_skeleton_points",
+        [](const PointMatrix& V, SimplicesRef F, double gap) { return external_skeleton_points(V, F, gap); },
+        py::arg("points"), py::arg("faces"), py::arg("gap"),
         py::call_guard<py::gil_scoped_release>(),
         "Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).");
 }

@@ -7,10 +7,10 @@ namespace animanifold::bindings {
 void bind_stitch(py::module_& m) {
   m.def("stitch",
         [](PointsRef frames, SimplicesRef faces, const Eigen::VectorXd& times, VertexAttributes vertex_attributes,
-           SimplexAttributes face_attributes, IndexVector vertex_order, const py::object& progress,
+           SimplexAttributes face_attributes, IndicesRef vertex_order, const py::object& progress,
            const py::object& interrupted) {
           StitchInput in{frames, faces, times, std::move(vertex_attributes), std::move(face_attributes),
-                         std::move(vertex_order)};
+                         IndexVector(vertex_order)};
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           py::gil_scoped_release release;
           return std::make_shared<Complex>(stitch(in, interrupter));

@@ -10,14 +10,14 @@
 #include <optional>
 
 #include "animanifold/types.hpp"
+#include "index_arrays.hpp"
 
 namespace animanifold::bindings {
 
 namespace py = pybind11;
 
-// C-contiguous inputs map onto these without a copy.
+// C-contiguous inputs map onto these without a copy (index arrays: index_arrays.hpp).
 using PointsRef = Eigen::Ref<const PointMatrix>;
-using SimplicesRef = Eigen::Ref<const SimplexMatrix>;
 
 // For long work that runs with the GIL released (TetGen, in its child
 // process): takes the GIL and raises what a signal handler raised meanwhile

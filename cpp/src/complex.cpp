@@ -1,6 +1,7 @@
 #include "animanifold/complex.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -13,6 +14,12 @@ void Complex::validate() const {
   for (Index v = 0; v < n; ++v)
     for (int c = 0; c < V.cols(); ++c)
       if (!std::isfinite(V(v, c))) fail<InputError>("vertex ", v, " has a non-finite coordinate ", c);
+  // Slicing divides by differences of coordinates: each must be finite too.
+  for (int c = 0; c < V.cols() && n > 0; ++c) {
+    const double low = V.col(c).minCoeff(), high = V.col(c).maxCoeff();
+    if (!std::isfinite(high - low))
+      fail<InputError>("vertex coordinates ", c, " span from ", low, " to ", high, ", more than a double can hold");
+  }
   for (Index s = 0; s < S.rows(); ++s)
     for (int c = 0; c < S.cols(); ++c)
       if (S(s, c) < 0 || S(s, c) >= n)
@@ -168,6 +175,7 @@ Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S) {
   const int D = static_cast<int>(V.cols());
   if (S.cols() != D + 1)
     fail<InputError>("signed volume needs full-dimensional simplices: ", S.cols(), " vertices in R^", D);
+  check_indices(S, V.rows(), "simplex");
   double factorial = 1;
   for (int i = 2; i <= D; ++i) factorial *= i;
   Eigen::VectorXd volumes(S.rows());
@@ -190,6 +198,7 @@ double relative_volume(const PointMatrix& V, const Index* corners) {
 }
 
 Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S) {
+  check_indices(S, V.rows(), "simplex");
   const int n = static_cast<int>(S.cols()) - 1;
   double factorial = 1;
   for (int i = 2; i <= n; ++i) factorial *= i;
@@ -204,6 +213,7 @@ Eigen::VectorXd simplex_volumes(const PointMatrix& V, const SimplexMatrix& S) {
 }
 
 VertexStar vertex_star(const SimplexMatrix& S, Index vertex_count) {
+  check_indices(S, vertex_count, "simplex");
   VertexStar star;
   star.offsets.assign(static_cast<size_t>(vertex_count) + 1, 0);
   for (Index s = 0; s < S.rows(); ++s)

@@ -2,12 +2,12 @@
 
 #include "animanifold/errors.hpp"
 #include "cgal_failures.hpp"
+#include "mesh_file_check.hpp"
 
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Simple_cartesian.h>
 
 #include <cmath>
-#include <filesystem>
 #include <vector>
 
 namespace animanifold {
@@ -15,7 +15,7 @@ namespace animanifold {
 using Kernel = CGAL::Simple_cartesian<double>;
 
 SurfaceMesh read_mesh(const std::string& path) {
-  if (!std::filesystem::exists(path)) fail<IOError>("mesh file '", path, "' does not exist");
+  check_mesh_file(path);
   std::vector<Kernel::Point_3> points;
   std::vector<std::vector<std::size_t>> polygons;
   const bool ok = translating_cgal_failures<IOError>(

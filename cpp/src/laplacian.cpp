@@ -2,6 +2,7 @@
 
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/validation.hpp"
 #include "animanifold/normals.hpp"
 #include "animanifold/simplex_qp.hpp"
 #include "sparse_cholesky.hpp"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numeric>
 
 namespace animanifold {
@@ -36,6 +38,7 @@ std::string to_string(BoundaryRule rule) { return name_of(rule, kBoundaryRuleNam
 // Combinatorics
 
 VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count) {
+  check_indices(S, vertex_count, "simplex");
   const int k = static_cast<int>(S.cols());
   std::vector<std::pair<Index, Index>> edges;
   edges.reserve(static_cast<size_t>(S.rows()) * k * (k - 1));
@@ -57,6 +60,7 @@ VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count) {
 }
 
 std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count) {
+  check_indices(S, vertex_count, "simplex");
   std::vector<char> on_boundary(vertex_count, 0);
   const SimplexMatrix B = boundary_facets(S);
   for (Index r = 0; r < B.rows(); ++r)
@@ -181,6 +185,7 @@ SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, Lap
 // Dual operator
 
 DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count) {
+  check_indices(S, vertex_count, "simplex");
   const int k = static_cast<int>(S.cols());  // n + 1 vertices per simplex
   const int n = k - 1;
   const Index simplex_count = static_cast<Index>(S.rows());
@@ -393,6 +398,10 @@ struct Deformer::Impl {
   PointMatrix constraint_positions;  // constraints by dim, in `constrained` order
   bool deformed = false;
   DeformerInfo info;
+  // deform, deform_to, restore and points() take it: they read and write V,
+  // delta and the constraint positions, and the bindings call them with the
+  // GIL released, so Python threads may share one Deformer.
+  mutable std::mutex mutex;
 
   Index build_and_factor();
   void place_handles_by_transform(const Eigen::MatrixXd& transform);
@@ -400,6 +409,7 @@ struct Deformer::Impl {
   void grow_constraints(const VertexAdjacency& adjacency);
   void factor_under_boundary_rule(const Interrupter& interrupter);
   PointMatrix solve() const;
+  RestoreStatus restore(int max_iterations, double tolerance);
 };
 
 Index Deformer::Impl::build_and_factor() {
@@ -731,6 +741,7 @@ Eigen::MatrixXd best_fit_rigid(const PointMatrix& rest, const PointMatrix& moved
 
 PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
   Impl& d = *impl_;
+  const std::lock_guard lock(d.mutex);
   check_transform(transform, d.dim);
   if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
   if (d.system.method != LaplacianMethod::Dual) steps = 1;
@@ -739,13 +750,14 @@ PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
     d.place_handles_by_transform(k == steps ? transform : affine_power(transform, double(k) / steps));
     d.V = d.solve();
     d.deformed = true;
-    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
   }
   return d.V;
 }
 
 PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
   Impl& d = *impl_;
+  const std::lock_guard lock(d.mutex);
   const Index given = static_cast<Index>(d.given_handles.size());
   if (positions.rows() != given || positions.cols() != d.dim)
     fail<InputError>("handle positions must be ", given, " by ", d.dim, " (one row per handle), got ",
@@ -773,13 +785,18 @@ PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
     d.place_handles_at(positions, double(k) / steps, use_fit ? &fit : nullptr);
     d.V = d.solve();
     d.deformed = true;
-    if (k < steps) restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
   }
   return d.V;
 }
 
 RestoreStatus Deformer::restore(int max_iterations, double tolerance) {
-  Impl& d = *impl_;
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->restore(max_iterations, tolerance);
+}
+
+RestoreStatus Deformer::Impl::restore(int max_iterations, double tolerance) {
+  Impl& d = *this;
   if (d.system.method != LaplacianMethod::Dual)
     fail<InputError>("restore applies to the dual Laplacian only (this Deformer uses '", to_string(d.system.method),
                      "')");
@@ -851,7 +868,10 @@ RestoreStatus Deformer::restore(int max_iterations, double tolerance) {
   return status;
 }
 
-const PointMatrix& Deformer::points() const { return impl_->V; }
+PointMatrix Deformer::points() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->V;
+}
 const PointMatrix& Deformer::rest_points() const { return impl_->V0; }
 const IndexVector& Deformer::anchors() const { return impl_->anchors; }
 const IndexVector& Deformer::handles() const { return impl_->handles; }

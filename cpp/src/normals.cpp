@@ -1,8 +1,10 @@
 #include "animanifold/normals.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
+#include <cmath>
 
 namespace animanifold {
 
@@ -50,10 +52,27 @@ Eigen::VectorXd wedge(const PointMatrix& vectors) {
   return n;
 }
 
+namespace {
+
+// Weighted normals are products of D-1 coordinate differences, and their
+// lengths square those: coordinates of 1e154 (3D) or far less (4D) overflow
+// to inf, tiny ones underflow to 0, and the unit normals become NaN or zero.
+// Scaling every point by one power of two is exact and keeps the weights'
+// ratios (the unit normals are bit for bit those of the unscaled points), so
+// points far from unit size are brought to it first.
+PointMatrix scaled_for_products(const PointMatrix& V) {
+  const double largest = V.size() ? V.cwiseAbs().maxCoeff() : 0.0;
+  if (!std::isfinite(largest) || largest == 0 || (largest > 1e-32 && largest < 1e32)) return V;
+  return V * std::ldexp(1.0, -std::ilogb(largest));
+}
+
+}  // namespace
+
 PointMatrix simplex_normals(const PointMatrix& V, const SimplexMatrix& S) {
   const int D = static_cast<int>(V.cols());
   if (S.cols() != D)
     fail<InputError>("simplex normals need n-simplices in R^(n+1); got ", S.cols(), " vertices in R^", D);
+  check_indices(S, V.rows(), "simplex");
   PointMatrix N(S.rows(), D);
   switch (D) {
     case 2: simplex_normals_fixed<2>(V, S, N); break;
@@ -71,7 +90,7 @@ PointMatrix simplex_normals(const PointMatrix& V, const SimplexMatrix& S) {
 }
 
 PointMatrix vertex_normals(const PointMatrix& V, const SimplexMatrix& S) {
-  const PointMatrix face_normals = simplex_normals(V, S);
+  const PointMatrix face_normals = simplex_normals(scaled_for_products(V), S);
   PointMatrix N = PointMatrix::Zero(V.rows(), V.cols());
   for (Index s = 0; s < S.rows(); ++s)
     for (int c = 0; c < S.cols(); ++c) N.row(S(s, c)) += face_normals.row(s);
@@ -98,14 +117,16 @@ PointMatrix drop_component(const PointMatrix& normals, int axis) {
 PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   const int d = static_cast<int>(V.cols());
   if (F.cols() != d) fail<InputError>("frame faces must have ", d, " corners in R^", d, ", got ", F.cols());
+  check_indices(F, V.rows(), "face");
+  const PointMatrix scaled = scaled_for_products(V);
   PointMatrix N = PointMatrix::Zero(V.rows(), d);
   for (Index f = 0; f < F.rows(); ++f) {
     Eigen::RowVectorXd n(d);
     if (d == 3) {
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      const Eigen::Vector3d a = scaled.row(F(f, 0)), b = scaled.row(F(f, 1)), c = scaled.row(F(f, 2));
       n = (b - a).cross(c - a).transpose();  // twice the area
     } else if (d == 2) {
-      const Eigen::Vector2d e = V.row(F(f, 1)) - V.row(F(f, 0));
+      const Eigen::Vector2d e = scaled.row(F(f, 1)) - scaled.row(F(f, 0));
       n << e.y(), -e.x();  // the segment's length
     } else {
       fail<InputError>("frames are 2D or 3D, got ", d, "D");

@@ -2,6 +2,7 @@
 
 #include "animanifold/errors.hpp"
 #include "cgal_failures.hpp"
+#include "animanifold/validation.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -176,6 +177,7 @@ std::vector<std::pair<Index, Index>> segment_pairs(const PointMatrix& V, const S
 
 std::vector<std::pair<Index, Index>> self_intersections(const PointMatrix& V, const SimplexMatrix& F, std::size_t max_pairs,
                                                         double tolerance) {
+  check_indices(F, V.rows(), "face");
   if (V.cols() == 3 && F.cols() == 3) return triangle_pairs(V, F, max_pairs, tolerance);
   if (V.cols() == 2 && F.cols() == 2) return segment_pairs(V, F, max_pairs, tolerance);
   fail<InputError>("self-intersection is checked for triangles in R^3 and segments in R^2, got ", F.cols(),

@@ -16,6 +16,13 @@ namespace {
 // vertex's coordinate slice at the vertex's (see slice()).
 constexpr double kSnapToVertices = 1e-12;
 
+// How close to a vertex coordinate a value is taken as it: kSnapToVertices of
+// the manifold's extent along the axis. Scaled before subtracting, so that a
+// manifold from -1e308 to 1e308 has a finite tolerance, not an infinite one.
+double snap_tolerance(double lowest, double highest) {
+  return kSnapToVertices * highest - kSnapToVertices * lowest;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- interval index
@@ -59,7 +66,7 @@ IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int a
 
 std::optional<std::pair<double, double>> IntervalIndex::topology_interval(double value) const {
   // The same snap as slice(): a value it would move onto a vertex has that vertex's faces.
-  const double snap = kSnapToVertices * (highest_ - lowest_);
+  const double snap = snap_tolerance(lowest_, highest_);
   const auto above = std::upper_bound(vertex_values_.begin(), vertex_values_.end(), value);
   if (above == vertex_values_.begin() || above == vertex_values_.end()) return std::nullopt;
   const double lo = *(above - 1), hi = *above;
@@ -363,7 +370,7 @@ class Stabber {
 double snapped_value(const Complex& m, int axis, double value, const Stabber& stabber,
                      std::vector<Index>& candidates) {
   const int k = m.vertices_per_simplex();
-  const double snap = kSnapToVertices * (stabber.highest - stabber.lowest);
+  const double snap = snap_tolerance(stabber.lowest, stabber.highest);
   if (value < stabber.lowest && stabber.lowest - value <= snap) value = stabber.lowest;
   if (value > stabber.highest && value - stabber.highest <= snap) value = stabber.highest;
   stabber.stab(value, candidates);

@@ -1,39 +1,84 @@
 #include "animanifold/stitch.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace animanifold {
 
 namespace {
 
-void validate(const StitchInput& in, Index& m, Index& k, int& d) {
+// The keyframe count m and vertices per keyframe k, checked against the
+// arrays' shapes and the 32-bit index.
+void check_shape(const StitchInput& in, Index& m, Index& k, int& d) {
   d = static_cast<int>(in.frames.cols());
   if (d != 2 && d != 3) fail<InputError>("keyframe points must be 2D or 3D, got ", d, " coordinates");
   if (in.faces.cols() != d)
     fail<InputError>("faces must have ", d, " vertices for ", d, "D keyframes (", d == 3 ? "triangles" : "edges",
                      "), got ", in.faces.cols());
+  if (in.times.size() < 2) fail<InputError>("an animation manifold needs at least two keyframes, got ", in.times.size());
+  if (in.frames.rows() % in.times.size() != 0)
+    fail<InputError>(in.frames.rows(), " keyframe points do not split into ", in.times.size(),
+                     " keyframes of equal size");
+  check_stitch_size(in.times.size(), in.frames.rows() / in.times.size(), in.faces.rows(), d);
   m = static_cast<Index>(in.times.size());
-  if (m < 2) fail<InputError>("an animation manifold needs at least two keyframes, got ", m);
-  if (in.frames.rows() % m != 0)
-    fail<InputError>(in.frames.rows(), " keyframe points do not split into ", m, " keyframes of equal size");
   k = static_cast<Index>(in.frames.rows() / m);
   if (k == 0) fail<InputError>("keyframes have no vertices");
   if (in.faces.rows() == 0) fail<InputError>("keyframes have no faces");
+}
+
+void check_times_and_points(const StitchInput& in, Index m, Index k, int d) {
   for (Index i = 0; i < m; ++i) {
     if (!std::isfinite(in.times(i))) fail<InputError>("time of keyframe ", i, " is not finite");
     if (i > 0 && !(in.times(i) > in.times(i - 1)))
       fail<InputError>("keyframe times must increase strictly: keyframe ", i, " at t=", in.times(i),
                        " follows t=", in.times(i - 1));
   }
+  // Slicing measures positions along the time axis by differences of times.
+  if (!std::isfinite(in.times(m - 1) - in.times(0)))
+    fail<InputError>("keyframe times from t=", in.times(0), " (keyframe 0) to t=", in.times(m - 1), " (keyframe ",
+                     m - 1, ") span more than a double can hold");
   for (Index r = 0; r < in.frames.rows(); ++r)
     for (int c = 0; c < d; ++c)
       if (!std::isfinite(in.frames(r, c)))
         fail<InputError>("keyframe ", r / k, ", vertex ", r % k, " has a non-finite coordinate");
+}
+
+// A face and its exact reverse bound nothing between them: both cancel in
+// every slice, so no keyframe would be reproduced.
+void check_no_reversed_faces(const SimplexMatrix& faces) {
+  struct Record {
+    std::array<Index, 3> key;
+    int parity;
+    Index face;
+  };
+  const int d = static_cast<int>(faces.cols());
+  std::vector<Record> records(faces.rows());
+  for (Index f = 0; f < faces.rows(); ++f) {
+    Record& r = records[f];
+    r.key = {-1, -1, -1};
+    std::copy(faces.row(f).data(), faces.row(f).data() + d, r.key.begin());
+    r.parity = permutation_parity(r.key.data(), d);
+    std::sort(r.key.begin(), r.key.begin() + d);
+    r.face = f;
+  }
+  std::sort(records.begin(), records.end(),
+            [](const Record& a, const Record& b) { return a.key < b.key || (a.key == b.key && a.face < b.face); });
+  for (size_t i = 0; i + 1 < records.size(); ++i) {
+    const Record &a = records[i], &b = records[i + 1];
+    if (a.key == b.key && a.parity != b.parity)
+      fail<InputError>("faces ", a.face, " and ", b.face, " are one ", d == 3 ? "triangle" : "edge",
+                       " in opposite orientations: they cancel in every slice, so no keyframe would be reproduced");
+  }
+}
+
+void check_faces(const StitchInput& in, Index k, int d) {
   for (Index f = 0; f < in.faces.rows(); ++f)
     for (int a = 0; a < d; ++a) {
       const Index v = in.faces(f, a);
@@ -41,6 +86,10 @@ void validate(const StitchInput& in, Index& m, Index& k, int& d) {
       for (int b = a + 1; b < d; ++b)
         if (in.faces(f, b) == v) fail<InputError>("face ", f, " repeats vertex ", v);
     }
+  check_no_reversed_faces(in.faces);
+}
+
+void check_attributes(const StitchInput& in, Index m, Index k) {
   for (const auto& [name, table] : in.vertex_attributes)
     if (table.rows() != k && table.rows() != static_cast<Eigen::Index>(m) * k)
       fail<InputError>("vertex attribute '", name, "' has ", table.rows(), " rows; expected ", k,
@@ -48,6 +97,13 @@ void validate(const StitchInput& in, Index& m, Index& k, int& d) {
   for (const auto& [name, table] : in.face_attributes)
     if (table.rows() != in.faces.rows())
       fail<InputError>("face attribute '", name, "' has ", table.rows(), " rows for ", in.faces.rows(), " faces");
+}
+
+void validate(const StitchInput& in, Index& m, Index& k, int& d) {
+  check_shape(in, m, k, d);
+  check_times_and_points(in, m, k, d);
+  check_faces(in, k, d);
+  check_attributes(in, m, k);
 }
 
 // The staircase split of the prism over a face whose vertices, sorted by
@@ -108,6 +164,16 @@ void split_prism(const Index* face, Index bottom, Index top, const IndexVector& 
 }
 
 }  // namespace
+
+void check_stitch_size(std::int64_t keyframes, std::int64_t vertices, std::int64_t faces, int corners) {
+  // Each factor is checked alone first, so that no product below can overflow 64 bits.
+  checked_index_count(keyframes, "keyframes");
+  checked_index_count(vertices, "vertices per keyframe");
+  checked_index_count(faces, "faces");
+  checked_index_count(keyframes * vertices, "the manifold's points (keyframes times vertices)");
+  const Index prisms = checked_index_count((keyframes - 1) * faces, "the manifold's prisms");
+  checked_index_count(std::int64_t{prisms} * corners, "the manifold's simplices");
+}
 
 Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   interrupter.step("checks", 0);

@@ -56,13 +56,6 @@ void check_attribute_rows(const Attributes& attributes, Index count, const char*
 template void check_attribute_rows(const VertexAttributes&, Index, const char*, const char*);
 template void check_attribute_rows(const SimplexAttributes&, Index, const char*, const char*);
 
-void check_indices(const SimplexMatrix& elements, Index count, const char* what) {
-  for (Index e = 0; e < elements.rows(); ++e)
-    for (Eigen::Index i = 0; i < elements.cols(); ++i)
-      if (elements(e, i) < 0 || elements(e, i) >= count)
-        fail<InputError>(what, " ", e, " refers to vertex ", elements(e, i), ", outside 0..", count - 1);
-}
-
 void check_finite(const PointMatrix& points, const char* what) {
   for (Index v = 0; v < points.rows(); ++v)
     for (Eigen::Index c = 0; c < points.cols(); ++c)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "animanifold/types.hpp"
+#include "animanifold/validation.hpp"
 
 #include <string>
 
@@ -28,9 +29,6 @@ IndexVector identity_parent(Index count);
 // name them in the message ("vertex", "vertices").
 template <class Attributes>
 void check_attribute_rows(const Attributes& attributes, Index count, const char* kind, const char* element);
-
-// Throws InputError naming the element (`what` and its row) whose index is outside 0..count-1.
-void check_indices(const SimplexMatrix& elements, Index count, const char* what);
 
 // Throws InputError naming the first point (`what` and its row) with a non-finite coordinate.
 void check_finite(const PointMatrix& points, const char* what);

@@ -2,6 +2,7 @@
 
 #include "animanifold/errors.hpp"
 #include "cgal_failures.hpp"
+#include "animanifold/validation.hpp"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -39,6 +40,7 @@ Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatri
   if (points.rows() == 0 || faces.rows() == 0) return out;
   if (points.cols() != d || faces.cols() != d)
     fail<InputError>("distance to a surface needs matching dimensions (points ", points.cols(), "D, surface ", d, "D)");
+  check_indices(faces, vertices.rows(), "face");
   if (d == 3) {
     std::vector<Triangle> triangles;
     triangles.reserve(faces.rows());

@@ -1,4 +1,5 @@
 // Wedge products and simplex / vertex normals (normals.hpp).
+#include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
 
 #include <Eigen/Geometry>
@@ -35,4 +36,27 @@ TEST(Normals, SphereVertexNormalsAreRadial) {
   const PointMatrix dropped = drop_component(N, 2);
   EXPECT_NEAR(dropped.row(0).norm(), 1.0, 1e-14);
   EXPECT_NEAR(dropped.row(4).norm(), 0.0, 1e-14);  // the pole's normal was all z
+}
+
+TEST(Normals, HugeAndTinyFramesHaveTheUnitFramesNormals) {
+  // Octahedron frame: cross products of 1e154-sized edges overflow unless scaled first.
+  PointMatrix V(6, 3);
+  V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
+  SimplexMatrix F(8, 3);
+  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  const PointMatrix unit = frame_vertex_normals(V, F);
+  for (const double scale : {1e154, 1e300, 1e-170}) {
+    const PointMatrix scaled = frame_vertex_normals(V * scale, F);
+    EXPECT_TRUE(scaled.allFinite()) << scale;
+    EXPECT_LT((scaled - unit).cwiseAbs().maxCoeff(), 1e-15) << scale;
+  }
+}
+
+TEST(Normals, IndicesOutsideThePointsAreRefused) {
+  PointMatrix V = PointMatrix::Identity(3, 3);
+  SimplexMatrix F(1, 3);
+  F << 0, 1, 100000000;
+  EXPECT_THROW(frame_vertex_normals(V, F), InputError);
+  F(0, 2) = -1000000;
+  EXPECT_THROW(vertex_normals(V, F), InputError);
 }

@@ -202,3 +202,16 @@ TEST(Slicer, ThreadsTakingTheFirstSlicesAtOnceGetTheSerialSlices) {
 }
 
 }  // namespace interval_frames
+
+TEST(Slice, TheSnapToleranceOfAnExtremeManifoldIsFinite) {
+  // Times at -1e308 and 1e308: their difference overflows, and a tolerance
+  // computed from it would take every value for a vertex's.
+  Complex m = stitch(octahedron_animation());
+  for (Index v = 0; v < m.V.rows(); ++v)
+    if (m.V(v, 3) != 0.4) m.V(v, 3) = m.V(v, 3) == 0.0 ? -1e308 : 1e308;
+  const IntervalIndex index(m.V, m.S, 3);
+  const auto interval = index.topology_interval(5e307);
+  ASSERT_TRUE(interval.has_value());
+  EXPECT_EQ(interval->first, 0.4);
+  EXPECT_EQ(interval->second, 1e308);
+}

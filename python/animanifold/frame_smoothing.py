@@ -21,6 +21,7 @@ import numpy as np
 
 from . import _core
 from .choices import checked, names
+from .indices import as_indices
 from .seams import weld_copies
 from .slices import Slice
 
@@ -91,10 +92,10 @@ def subdivide_frame(
             creases = np.zeros((0, 2), np.int32)
         if creases.ndim != 2 or creases.shape[1] != 2 or not np.issubdtype(creases.dtype, np.integer):
             raise ValueError(f"crease_edges must be (C, 2) integer vertex pairs, got {creases.shape} {creases.dtype}")
-        creases = np.ascontiguousarray(creases, dtype=np.int32)
+        creases = as_indices(creases, "crease_edges")
     va = {k: _table(v, np.float64) for k, v in (vertex_attributes or {}).items()}
     fa = {k: _table(v, np.int32) for k, v in (face_attributes or {}).items()}
-    faces = np.ascontiguousarray(faces, dtype=np.int32)
+    faces = as_indices(faces, "faces")
     if scheme == "bspline":
         if creases is not None:
             raise ValueError("crease_edges apply to surfaces; polylines take corners from crease_angle")

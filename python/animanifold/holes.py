@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
+from .indices import as_indices
 
 BooleanError = _core.BooleanError
 
@@ -36,7 +37,7 @@ def _solid(solid, name: str) -> Solid:
         f = f.reshape(0, v.shape[1])
     if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
         raise ValueError(f"{name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
-    return v, np.ascontiguousarray(f, dtype=np.int32)
+    return v, as_indices(f, f"{name}'s faces")
 
 
 def is_empty(solid: Solid | None) -> bool:

@@ -38,6 +38,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from . import _core
+from .indices import as_indices
 from .choices import checked, names
 
 METHODS = names(_core.LaplacianMethod)
@@ -261,7 +262,7 @@ class Deformer:
         self._rest_handles = points[handles].copy()
         self._core = _core.Deformer(
             points,
-            np.ascontiguousarray(simplices, dtype=np.int32),
+            as_indices(simplices, "simplices"),
             anchors,
             handles,
             method=method,

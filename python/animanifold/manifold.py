@@ -20,6 +20,7 @@ import numpy as np
 from . import _core
 from .frame_smoothing import smooth_slice
 from .hole_cut import cut_frame
+from .indices import as_indices
 from .interval_frame import IntervalFrame
 from .slices import Slice, squeezed
 
@@ -97,7 +98,7 @@ class AnimationManifold:
         """Builds a manifold from raw arrays (validated: indices in range, finite
         points); `hole_space` (vertices (k, D-1), faces (l, D-1)) as in the class doc."""
         points = np.ascontiguousarray(points, dtype=np.float64)
-        simplices = np.ascontiguousarray(simplices, dtype=np.int32)
+        simplices = as_indices(simplices, "simplices")
         if points.ndim != 2 or points.shape[1] not in (3, 4):
             raise ValueError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
         if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
@@ -323,6 +324,6 @@ def as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
         table = table[:, None]
     if table.ndim != 2:
         raise ValueError(f"{what} must be 1D or 2D, got shape {table.shape}")
-    if dtype is np.int32 and table.size and not np.issubdtype(table.dtype, np.integer):
-        raise ValueError(f"{what} must be integers, got {table.dtype}")
+    if dtype is np.int32:
+        return as_indices(table, what)
     return np.ascontiguousarray(table, dtype=dtype)

@@ -15,6 +15,7 @@ import numpy as np
 from . import _core
 from ._core import Error
 from .atomic_file import replacing
+from .indices import as_indices
 
 
 EXTENSIONS = (".obj", ".ply", ".off", ".stl")
@@ -35,7 +36,7 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3:
         raise ValueError(f"vertices must be (k, 3), got shape {vertices.shape}")
-    faces = np.ascontiguousarray(faces, dtype=np.int32)
+    faces = as_indices(faces, "faces")
     if os.path.splitext(os.fspath(path))[1].lower() not in EXTENSIONS:
         raise ValueError(f"cannot write mesh file {os.fspath(path)}: the extension must be one of {', '.join(EXTENSIONS)}")
     with replacing(path, keep_extension=True, many_per_folder=True) as temporary:

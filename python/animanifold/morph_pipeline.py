@@ -40,6 +40,7 @@ from typing import Callable
 import numpy as np
 
 from . import _core
+from .indices import as_indices
 from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is_empty, points_inside, solid_measure,
                     subtract_solid)
 from .cavities import shell_volumes
@@ -179,7 +180,7 @@ def _input_arrays(source, target) -> list[np.ndarray]:
             raise ValueError(f"the {name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
         if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
             raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
-        arrays += [v, _canonical_faces(np.ascontiguousarray(f, dtype=np.int32))]
+        arrays += [v, _canonical_faces(as_indices(f, f"the {name}'s faces"))]
     return arrays
 
 

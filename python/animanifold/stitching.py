@@ -13,6 +13,7 @@ from typing import Callable, Mapping, Sequence
 import numpy as np
 
 from . import _core
+from .indices import as_indices
 from .manifold import AnimationManifold, as_table
 
 
@@ -94,7 +95,7 @@ def stitch(
 
     flat = np.ascontiguousarray(stacked.reshape(m * k, d), dtype=np.float64)
     return AnimationManifold(
-        _core.stitch(flat, np.ascontiguousarray(faces, dtype=np.int32), times, va, fa, _seam_order(stacked),
+        _core.stitch(flat, as_indices(faces, "faces"), times, va, fa, _seam_order(stacked),
                      progress=progress, interrupted=interrupted),
         metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
     )

@@ -29,8 +29,9 @@ struct Complex {
   int vertices_per_simplex() const { return static_cast<int>(S.cols()); }
 
   // Throws InputError naming the offending simplex, vertex or attribute when
-  // indices are out of range, coordinates are not finite, or attribute
-  // tables have the wrong number of rows.
+  // indices are out of range, coordinates are not finite or span more than a
+  // double holds along an axis (slicing divides by their differences), or
+  // attribute tables have the wrong number of rows.
   void validate() const;
 };
 
@@ -99,7 +100,7 @@ ManifoldReport check_manifold(const SimplexMatrix& S);
 //   S  #S by D+1 simplices
 // Outputs:
 //   #S signed volumes
-// Throws: InputError when S does not have D+1 columns
+// Throws: InputError when S does not have D+1 columns or an index is outside V
 //
 // Signed volume of full-dimensional simplices (k = D+1 vertices in R^D):
 // det[v1-v0, ..., vD-v0] / D!. #S vector.
@@ -110,7 +111,7 @@ Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S);
 //   S  #S by k+1 simplices, any k <= D
 // Outputs:
 //   #S unsigned k-volumes
-// Throws: nothing
+// Throws: InputError when an index is outside V
 //
 // Unsigned k-volume of k-simplices in any ambient dimension (length, area,
 // volume, ...), from the Gram determinant. #S vector.
@@ -134,7 +135,7 @@ double relative_volume(const PointMatrix& V, const Index* corners);
 //   vertex_count  #V
 // Outputs:
 //   VertexStar: offsets (#V+1) and incident simplices
-// Throws: nothing
+// Throws: InputError when an index is outside 0..vertex_count-1
 //
 // Vertex-to-simplex incidence in compressed form: the simplices incident to
 // vertex v are `simplices[offsets[v] .. offsets[v+1])`.

@@ -18,12 +18,14 @@ struct SurfaceMesh {
 //   path  an OFF, OBJ, PLY or STL file
 // Outputs:
 //   SurfaceMesh: vertices #V by 3, triangles #F by 3, how many polygons were fan-split
-// Throws: IOError (see below)
+// Throws: IOError (see below); InputError when path is not a regular file
 //
 // Reads a polygon mesh; polygons with more than three corners are split into
 // fans (the same split for files with the same connectivity, so keyframes
 // still correspond). Throws IOError naming the file when it cannot be read,
-// has no faces, or has a face with fewer than three corners.
+// has no faces, has a face with fewer than three corners, or declares more
+// vertices, faces or corners than its size can hold (checked before CGAL
+// reads it, so a tiny file cannot make it allocate gigabytes).
 SurfaceMesh read_mesh(const std::string& path);
 
 // Inputs:

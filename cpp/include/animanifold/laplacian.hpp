@@ -91,6 +91,8 @@ struct VertexAdjacency {
 VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count);
 
 // Vertices on a boundary facet (facets in exactly one simplex). #V flags.
+// InputError when an index is outside 0..vertex_count-1 (also vertex_adjacency
+// and dual_operator).
 std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count);
 
 // The eq. 4.2 weights of one vertex from its one-ring edge vectors
@@ -233,6 +235,11 @@ Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 // rank-deficient system (detected from the factorisation and confirmed by
 // the inertia of AᵀA − τI) is treated by the boundary rule or refused with
 // an InputError saying how many more constraints are needed.
+//
+// Threads: one Deformer may be shared. deform, deform_to, restore and
+// points() take an internal mutex, so concurrent calls run one after the
+// other (each as if alone: deform and deform_to start from the rest shape).
+// The other accessors return what the constructor built and never changes.
 class Deformer {
  public:
   Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVector& anchors, const IndexVector& handles,
@@ -268,7 +275,7 @@ class Deformer {
   // deform. Returns the status; the points are `points()`.
   RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6);
 
-  const PointMatrix& points() const;        // the latest result (the input before any deform)
+  PointMatrix points() const;               // a copy of the latest result (the input before any deform)
   const PointMatrix& rest_points() const;   // the input
   const IndexVector& anchors() const;       // after growth
   const IndexVector& handles() const;       // after growth (given handles first)

@@ -24,7 +24,7 @@ Eigen::VectorXd wedge(const PointMatrix& vectors);
 //   S  #S by D simplices (n-simplices in R^(n+1))
 // Outputs:
 //   #S by D normals, of length n! times the simplex's n-volume
-// Throws: InputError when S.cols() != V.cols()
+// Throws: InputError when S.cols() != V.cols() or an index is outside V (check_indices)
 //
 // Unnormalised normal of every simplex: wedge(v1-v0, ..., vn-v0). Its length
 // is n! times the simplex's n-volume, so summing these is area weighting.
@@ -36,7 +36,7 @@ PointMatrix simplex_normals(const PointMatrix& V, const SimplexMatrix& S);
 //   S  #S by D simplices
 // Outputs:
 //   #V by D unit normals (zero rows where undefined)
-// Throws: InputError when S.cols() != V.cols()
+// Throws: InputError when S.cols() != V.cols() or an index is outside V (check_indices)
 //
 // Area-weighted smooth vertex normals (eq. 2.3), unit length; zero for a
 // vertex with no incident simplex or whose incident normals cancel. #V by D.
@@ -59,7 +59,8 @@ PointMatrix drop_component(const PointMatrix& normals, int axis);
 //   faces     #F by d (triangles, or segments)
 // Outputs:
 //   #P by d unit vertex normals
-// Throws: InputError unless d is 2 or 3 and faces have d corners
+// Throws: InputError unless d is 2 or 3 and faces have d corners, or for an
+//   index outside vertices (check_indices)
 //
 // Area-weighted unit vertex normals of a frame: triangles in R^3 (right-hand
 // rule) or segments in R^2 (the right side of each segment, outward for a

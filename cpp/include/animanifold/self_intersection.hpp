@@ -15,7 +15,8 @@ namespace animanifold {
 //   tolerance  depth below which a crossing is left out (0: none)
 // Outputs:
 //   pairs of face indices that cross; empty when the shape is simple
-// Throws: InputError when the shape is not a manifold of the right dimension
+// Throws: InputError when the shape is not a manifold of the right dimension,
+//   or a face refers to a vertex outside V
 //
 // Pairs of faces of the closed, manifold shape (V, F) that intersect other
 // than along the edges and corners they share: triangles in R^3 (CGAL's

@@ -15,6 +15,8 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/progress.hpp"
 
+#include <cstdint>
+
 namespace animanifold {
 
 struct StitchInput {
@@ -46,15 +48,25 @@ struct StitchInput {
 //
 // Throws InputError naming the keyframe, vertex or face at fault: fewer than
 // two keyframes, frames not a multiple of the keyframe count, non-finite
-// coordinates, non-increasing times, face indices out of range or repeated,
-// attribute tables of the wrong size. Cancelled when the interrupter says so.
+// coordinates, non-increasing times (or times whose span overflows), face
+// indices out of range or repeated, a face together with its exact reverse
+// (both would vanish from every slice), attribute tables of the wrong size,
+// or a manifold too large for 32-bit indices. Cancelled when the interrupter
+// says so.
 Complex stitch(const StitchInput& input, const Interrupter& interrupter = {});
+
+// Inputs:
+//   keyframes, vertices, faces  m, k (per keyframe) and l, in 64 bits
+//   corners                     vertices per face (n)
+// Throws: InputError when the manifold's m*k points or n*l*(m-1) simplices
+//   would not fit a 32-bit index. stitch() calls it before allocating.
+void check_stitch_size(std::int64_t keyframes, std::int64_t vertices, std::int64_t faces, int corners);
 
 // The manifold simplex that face `face` of the prism between keyframes
 // `segment` and `segment+1` became: simplices of one prism are consecutive,
-// starting at (segment * l + face) * n.
-inline Index stitched_simplex(Index segment, Index face, Index face_count, int simplices_per_prism) {
-  return (segment * face_count + face) * simplices_per_prism;
+// starting at (segment * l + face) * n. Computed in 64 bits (a row index).
+inline Eigen::Index stitched_simplex(Index segment, Index face, Index face_count, int simplices_per_prism) {
+  return (Eigen::Index{segment} * face_count + face) * simplices_per_prism;
 }
 
 }  // namespace animanifold

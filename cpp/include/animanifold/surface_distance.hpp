@@ -24,7 +24,8 @@ double max_distance_to_surface(const PointMatrix& points, const PointMatrix& ver
 // Inputs: as max_distance_to_surface
 // Outputs:
 //   #P distances
-// Throws: InputError when the dimensions disagree or are not 2 or 3
+// Throws: InputError when the dimensions disagree or are not 2 or 3, or a
+//   face refers to a vertex outside `vertices`
 //
 // The distance from each of `points` to the surface (+infinity for all when
 // the surface has no proper face).

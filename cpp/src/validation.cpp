@@ -1,0 +1,26 @@
+#include "animanifold/validation.hpp"
+
+#include "animanifold/errors.hpp"
+
+#include <limits>
+
+namespace animanifold {
+
+void check_indices(const Eigen::Ref<const SimplexMatrix>& rows, Eigen::Index count, const char* what) {
+  for (Eigen::Index r = 0; r < rows.rows(); ++r)
+    for (Eigen::Index c = 0; c < rows.cols(); ++c) {
+      const Index v = rows(r, c);
+      if (v >= 0 && v < count) continue;
+      if (count == 0) fail<InputError>(what, " ", r, " refers to vertex ", v, ", but there are no vertices");
+      fail<InputError>(what, " ", r, " refers to vertex ", v, ", outside 0..", count - 1);
+    }
+}
+
+Index checked_index_count(std::int64_t count, const char* what) {
+  constexpr std::int64_t largest = std::numeric_limits<Index>::max();
+  if (count < 0 || count > largest)
+    fail<InputError>(what, ": ", count, " is more than a 32-bit index can address (at most ", largest, ")");
+  return static_cast<Index>(count);
+}
+
+}  // namespace animanifold
