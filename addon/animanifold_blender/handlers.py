@@ -1,5 +1,7 @@
 """Application handlers, all registered here, in the order of _HANDLERS: live slicing
-on frame change (before and after the frame is evaluated), interactive deformation
+on frame change (before and after the frame is evaluated) of the objects Blender
+evaluates, and of hidden ones once shown again (depsgraph update; renders slice what
+renders: render init/complete/cancel), interactive deformation
 (solving when its Empty moves, and its preview shown over the frame the slicer
 wrote), re-attach after load, forget what was written after undo/redo.
 
@@ -12,7 +14,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import interactive_deform, live
+from . import interactive_deform, live, visibility
 from .live_registry import registry
 
 
@@ -43,10 +45,29 @@ def animanifold_interactive_deform_depsgraph_post(scene, depsgraph=None):
 
 
 @persistent
+def animanifold_show_revealed(scene, depsgraph=None):
+    # An object the frame handlers skipped as hidden is shown at the current frame
+    # once Blender evaluates it again (unhidden, its collection included).
+    live.show_revealed(scene)
+
+
+@persistent
+def animanifold_render_init(*_args):
+    # While rendering, what renders is sliced, whatever the viewport hides.
+    visibility.set_rendering(True)
+
+
+@persistent
+def animanifold_render_done(*_args):
+    visibility.set_rendering(False)
+
+
+@persistent
 def animanifold_load_post(*_args):
     # A new file: forget caches and errors of the previous one, then show every
     # live manifold at its scene's current frame (its cache may have changed).
     registry.clear()
+    visibility.set_rendering(False)
     for scene in bpy.data.scenes:
         live.update_scene(scene, force=True)
 
@@ -64,6 +85,10 @@ _HANDLERS = (
     (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
     (bpy.app.handlers.frame_change_post, animanifold_interactive_deform_frame_post),
     (bpy.app.handlers.depsgraph_update_post, animanifold_interactive_deform_depsgraph_post),
+    (bpy.app.handlers.depsgraph_update_post, animanifold_show_revealed),
+    (bpy.app.handlers.render_init, animanifold_render_init),
+    (bpy.app.handlers.render_complete, animanifold_render_done),
+    (bpy.app.handlers.render_cancel, animanifold_render_done),
     (bpy.app.handlers.load_post, animanifold_load_post),
     (bpy.app.handlers.undo_post, animanifold_undo_post),
     (bpy.app.handlers.redo_post, animanifold_undo_post),
@@ -87,3 +112,4 @@ def unregister_handlers():
     for handler_list, fn in _HANDLERS:
         _remove_by_name(handler_list, fn.__name__)
     registry.clear()
+    visibility.set_rendering(False)
