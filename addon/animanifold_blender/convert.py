@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import live_nodes, sampling
+from . import live_nodes, messages, sampling
 from ._lib import am
 from .cache_paths import convert_cache_path
 from .live import scene_frame
@@ -38,7 +38,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
     """Samples `obj` over frames start..end (`mode` KEYFRAMES or EVERY_N with `step`), saves
     the manifold to a cache (in `directory`, else beside the .blend) and makes the object."""
     if obj.type != "MESH":
-        raise OperatorError(f"'{obj.name}' is a {obj.type.lower()}, not a mesh: only mesh objects can be converted")
+        raise OperatorError(f"'{obj.name}' is {messages.object_type(obj)}, not a mesh: only mesh objects can be converted")
     if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
         raise OperatorError(f"'{obj.name}' is already a manifold object")
     if end <= start:

@@ -49,6 +49,8 @@ import struct
 
 import bpy
 
+from . import messages
+
 SUPPORTED = bpy.app.version >= (4, 2, 0)
 
 GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
@@ -221,7 +223,7 @@ def ensure_modifier(obj):
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None or mod.type != "NODES":
         if mod is not None:  # a modifier of another kind with our name: not ours to change
-            raise RuntimeError(f"'{obj.name}' has a {mod.type.lower()} modifier named '{MODIFIER_NAME}'")
+            raise RuntimeError(f"'{obj.name}' has {messages.with_article(mod.type.lower().replace('_', ' '))} modifier named '{MODIFIER_NAME}'")
         mod = obj.modifiers.new(MODIFIER_NAME, "NODES")
         if len(obj.modifiers) > 1:
             obj.modifiers.move(len(obj.modifiers) - 1, 0)

@@ -166,13 +166,32 @@ def _interactive_toggled(self, context):
     interactive_deform.toggled(self, context)
 
 
+def _conventional_group(obj, name: str) -> str:
+    groups = getattr(obj, "vertex_groups", None)
+    return name if groups is not None and groups.get(name) is not None else ""
+
+
 class AnimanifoldDeformSettings(PropertyGroup):
     """Per object: the Deform panel's values, used as the operator's defaults."""
 
-    anchor_group: StringProperty(name="Anchors", default="anchor",
-                                 description="Vertex group of the vertices that stay (empty: none)")
-    handle_group: StringProperty(name="Handles", default="handle",
-                                 description="Vertex group of the vertices the Empty moves (empty: none)")
+    # Empty by default, so the panel does not show a group the mesh lacks (drawn red, as
+    # an error, before anything is done); the conventional names are used when present.
+    anchor_group: StringProperty(name="Anchors", default="",
+                                 description="Vertex group of the vertices that stay (empty: the group "
+                                             "'anchor' if the mesh has one, else none)")
+    handle_group: StringProperty(name="Handles", default="",
+                                 description="Vertex group of the vertices the Empty moves (empty: the group "
+                                             "'handle' if the mesh has one, else none)")
+    @property
+    def anchor_group_used(self) -> str:
+        """The anchor group Deform uses: the one chosen, else 'anchor' if the object has it."""
+        return self.anchor_group or _conventional_group(self.id_data, "anchor")
+
+    @property
+    def handle_group_used(self) -> str:
+        """The handle group Deform uses: the one chosen, else 'handle' if the object has it."""
+        return self.handle_group or _conventional_group(self.id_data, "handle")
+
     empty: PointerProperty(name="Empty", type=bpy.types.Object, poll=_is_empty,
                            description="The Empty whose motion moves the handles")
     method: EnumProperty(name="Method", items=METHOD_ITEMS, default=METHOD_ITEMS[0][0])

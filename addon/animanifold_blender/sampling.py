@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from . import messages
 from .reporting import ReportedError
 
 
@@ -206,6 +207,14 @@ def weld_corners(tri_vertices: np.ndarray, corner_uvs: list) -> tuple[np.ndarray
     return faces, tri_vertices.reshape(-1)[first_corner].astype(np.int32), first_corner
 
 
+def _topology_change(sample: MeshSample, ref: MeshSample, ref_frame: float) -> str:
+    counts = f"{len(sample.positions)} vertices, {len(sample.poly_start)} faces"
+    if len(sample.positions) != len(ref.positions) or len(sample.poly_start) != len(ref.poly_start):
+        return f"{counts}; frame {ref_frame:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces"
+    change = messages.connectivity_change(sample.poly_start, sample.loop_vertex, ref.poly_start, ref.loop_vertex)
+    return f"{counts} as at frame {ref_frame:g}, but {change} there"
+
+
 def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
     """Evaluates `obj` at each frame and returns corresponding keyframes.
 
@@ -235,8 +244,7 @@ def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:
                         or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
                     raise SamplingError(
                         f"the topology of '{obj.name}' changes at frame {frame:g} "
-                        f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
-                        f"{frames[0]:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
+                        f"({_topology_change(sample, ref, frames[0])}): "
                         "a keyframed action must keep the mesh's connectivity"
                     )
             samples.append(sample)

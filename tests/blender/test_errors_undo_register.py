@@ -23,7 +23,9 @@ def test_not_a_mesh(empty_scene):
     bpy.ops.object.camera_add()
     fails(r"'Camera' is a camera, not a mesh")
     bpy.ops.object.empty_add()
-    fails(r"'Empty' is a empty, not a mesh|not a mesh")
+    fails(r"'Empty' is an empty, not a mesh")
+    bpy.ops.object.armature_add()
+    fails(r"'Armature' is an armature, not a mesh")
 
 
 def test_no_animation(empty_scene):
@@ -60,6 +62,20 @@ def test_topology_change_names_the_frame(demo):
     with pytest.raises(RuntimeError, match=r"topology of 'Blob' changes at frame 12 "):
         bpy.ops.animanifold.convert_action()
     assert scene_state() == before
+
+
+def test_topology_change_with_the_same_counts_says_what_changed(empty_scene):
+    # A Triangulate modifier whose quad method is keyframed: the same vertices and faces,
+    # other diagonals.
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    mod = cube.modifiers.new("Triangulate", "TRIANGULATE")
+    for frame, method in ((1, "FIXED"), (10, "FIXED_ALTERNATE")):
+        mod.quad_method = method
+        cube.keyframe_insert('modifiers["Triangulate"].quad_method', frame=frame)
+    with pytest.raises(RuntimeError, match=r"changes at frame 10 \(8 vertices, 12 faces as at frame 1, but face \d+ "
+                                           r"joins vertices \([\d, ]+\) instead of \([\d, ]+\) there\)"):
+        bpy.ops.animanifold.convert_action()
 
 
 def test_unsaved_file_with_relative_cache_folder(demo):
@@ -153,6 +169,12 @@ class _FakeLayout:
 
     def row(self, **_kw):
         return self
+
+    def column(self, **_kw):
+        return self
+
+    def prop_search(self, data, name, *_args, **kw):
+        self.prop(data, name, **kw)
 
     def label(self, text="", **_kw):
         self.log.append(("label", text))
