@@ -52,20 +52,26 @@ import bpy
 from . import messages
 
 SUPPORTED = bpy.app.version >= (4, 2, 0)
+# Blender 4.5+: the modifier sets the smooth normals too (Set Mesh Normal); before, an
+# object that shows them is written by the handler.
+NORMALS_SUPPORTED = SUPPORTED and hasattr(bpy.types, "GeometryNodeSetMeshNormal")
 
 GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
 # Custom property marking the node group as ours (and its layout version), so a
 # user's group that happens to have the name is never used or changed.
 GROUP_TAG = "animanifold_live"
-# 2: Cut Frame, and the mesh passes through at Frame. A group of an older version is
-# not ours any more: the modifier is pointed at a new one the next time a cut is written.
-GROUP_VERSION = 2
+# 2: Cut Frame, and the mesh passes through at Frame. 3: Animate Normals. A group of an
+# older version is not ours any more: the modifier is pointed at a new one the next time
+# a cut is written.
+GROUP_VERSION = 3
 
 RATE = "am_rate"  # point, float vector: d position / d frame
 UV = "am_uv"  # point, float vector (u, v, 0): the UV at Frame
 UV_RATE = "am_uv_rate"  # point, float vector: d UV / d frame
+NORMAL = "am_normal"  # point, float vector: the smooth normal at Cut Frame (not normalised)
+NORMAL_RATE = "am_normal_rate"  # point, float vector: d normal / d frame
 _UV_NOW = "am_uv_now"  # point, inside the group only
-ATTRIBUTES = (RATE, UV, UV_RATE)
+ATTRIBUTES = (RATE, UV, UV_RATE, NORMAL, NORMAL_RATE)
 
 _INPUTS = (  # name, socket type, default
     ("Active", "NodeSocketBool", False),
@@ -75,6 +81,7 @@ _INPUTS = (  # name, socket type, default
     ("End", "NodeSocketFloat", 0.0),
     ("Animate UV", "NodeSocketBool", False),
     ("UV Map", "NodeSocketString", "UVMap"),
+    ("Animate Normals", "NodeSocketBool", False),
 )
 
 
@@ -193,8 +200,9 @@ def _build():
     links.new(inp.outputs["Geometry"], moved.inputs["False"])
     links.new(move.outputs[0], moved.inputs["True"])
 
+    geometry = _normals(nodes, links, node, named, scale, since, inp, moved.outputs[0])
+
     # The evaluated mesh (render, export, Apply) carries none of our attributes.
-    geometry = moved.outputs[0]
     for i, name in enumerate(ATTRIBUTES + (_UV_NOW,)):
         remove = node("GeometryNodeRemoveAttribute", 350 + 100 * i, -150)
         remove.inputs["Name"].default_value = name
@@ -207,6 +215,29 @@ def _build():
     links.new(geometry, active.inputs["True"])
     links.new(active.outputs[0], out.inputs[0])
     return group
+
+
+def _normals(nodes, links, node, named, scale, since, inp, geometry):
+    """The smooth normals, as the bake sets them: normalize(am_normal + am_normal_rate *
+    (t - Cut Frame)) per point, set as free custom normals when Animate Normals is on
+    (on every frame: the mesh holds positions only at Frame). Blender before 4.5 has no
+    node for it: the geometry passes (playback.can_drive keeps such objects)."""
+    if not NORMALS_SUPPORTED:
+        return geometry
+    now = node("ShaderNodeVectorMath", 400, -600, operation="ADD")
+    links.new(named(NORMAL, 0, -550).outputs["Attribute"], now.inputs[0])
+    links.new(scale(named(NORMAL_RATE, 0, -700).outputs["Attribute"], since("Cut Frame", 0, -850), 200, -750),
+              now.inputs[1])
+    unit = node("ShaderNodeVectorMath", 550, -600, operation="NORMALIZE")
+    links.new(now.outputs[0], unit.inputs[0])
+    set_normal = node("GeometryNodeSetMeshNormal", 700, -450, mode="FREE", domain="POINT")
+    links.new(geometry, set_normal.inputs["Mesh"])
+    links.new(unit.outputs[0], set_normal.inputs["Custom Normal"])
+    switch = node("GeometryNodeSwitch", 850, -300, input_type="GEOMETRY")
+    links.new(inp.outputs["Animate Normals"], switch.inputs["Switch"])
+    links.new(geometry, switch.inputs["False"])
+    links.new(set_normal.outputs[0], switch.inputs["True"])
+    return switch.outputs[0]
 
 
 def usable(obj) -> bool:
@@ -255,12 +286,15 @@ def _set(obj, mod, values: dict) -> None:
         obj.update_tag()
 
 
-def drive(obj, frame: float, cut_frame: float, start: float, end: float, uv_name: str | None) -> None:
+def drive(obj, frame: float, cut_frame: float, start: float, end: float, uv_name: str | None,
+          normals: bool = False) -> None:
     """Turns the modifier on for the cut of the interval (start, end) at `cut_frame` just
-    written, the mesh showing `frame`; `uv_name` names its UV map (None without UVs)."""
+    written, the mesh showing `frame`; `uv_name` names its UV map (None without UVs);
+    `normals`: the cut carries smooth normals and their rates (NORMAL, NORMAL_RATE)."""
     mod = ensure_modifier(obj)
     _set(obj, mod, {"Active": True, "Frame": float(frame), "Cut Frame": float(cut_frame), "Start": float(start),
-                    "End": float(end), "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+                    "End": float(end), "Animate UV": uv_name is not None, "UV Map": uv_name or "",
+                    "Animate Normals": bool(normals)})
 
 
 def set_frame(obj, frame: float) -> None:

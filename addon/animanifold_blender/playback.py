@@ -62,7 +62,7 @@ def can_drive(obj, scene=None) -> bool:
     frame (no Time Stretching)."""
     settings = obj.animanifold
     if not (live_nodes.SUPPORTED and settings.axis == "t" and settings.smooth_levels <= 0
-            and not settings.live_normals and live_nodes.usable(obj)):
+            and (live_nodes.NORMALS_SUPPORTED or not settings.live_normals) and live_nodes.usable(obj)):
         return False
     scene = scene if scene is not None else bpy.context.scene
     return scene is None or scene.render.frame_map_old == scene.render.frame_map_new
@@ -168,8 +168,13 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
         frame = _frame(manifold, cut_key, cut, value) or live_cuts.interval_frame(cut, cut.value)
         vertices, corner_uv, mesh_value = frame.positions.reshape(-1, 3), frame.corner_uv, frame.value
     uv_name = obj.animanifold.uv_name or "UVMap"
+    normals = obj.animanifold.live_normals and cut.normal is not None
+    if normals and vectors is not None:
+        vectors[live_nodes.NORMAL] = cut.normal
+        vectors[live_nodes.NORMAL_RATE] = cut.normal_rate
     mesh_writer.write_mesh(mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv,
-                           material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors)
+                           material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors,
+                           normals=_unit(cut.normal) if normals and vectors is None else None)
     if cut.edges is None:
         cut.edges = mesh_writer.mesh_edges(mesh)
         registry.cuts.resized(manifold, cut_key)
@@ -177,9 +182,15 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
         live_nodes.release(obj)
     else:
         live_nodes.drive(obj, mesh_value, cut.value, interval[0], interval[1],
-                         uv_name if cut.uv_rate is not None else None)
+                         uv_name if cut.uv_rate is not None else None, normals=normals)
     registry.set_shown(obj, Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None,
                                   cut=cut if interval is not None else None, mesh_value=mesh_value))
+
+
+def _unit(normals: np.ndarray) -> np.ndarray:
+    """Normals of unit length, as the bake sets them (am.display.slice_normals)."""
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals / np.where(length > 0, length, 1.0)
 
 
 def _has_rates(mesh) -> bool:

@@ -88,9 +88,9 @@ class AnimanifoldObjectSettings(PropertyGroup):
     time_scale: FloatProperty(name="Time Scale", default=0.05, min=1e-6, soft_max=10.0, update=_reslice,
                               description="Length per frame along the sliced axis in sweep views")
     live_normals: BoolProperty(
-        name="Smooth Normals", default=False, update=_reslice,
-        description="Live slices get the keyframes' smooth normals as custom normals (nicer shading between "
-                    "keyframes, slower playback); baked frames always have them")
+        name="Smooth Normals", default=True, update=_reslice,
+        description="Live frames get the keyframes' smooth normals carried along the manifold, as baked frames "
+                    "do (off: Blender's own normals, flat along thin faces and creased at UV seams)")
     subdivision_levels: IntProperty(
         name="Manifold Levels", default=0, min=0, max=2, update=_resmooth,
         description="Tetrahedral subdivision of the animation manifold (Schaefer et al. 2004): smooths the shape "
