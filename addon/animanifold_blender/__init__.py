@@ -31,10 +31,11 @@ bl_info = {
 
 import bpy  # noqa: E402
 
-from . import handlers, operators, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
+from . import handlers, operators, ops_cache, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
 
 # Parent panels before their sub-panels.
-classes = (properties.classes + operators.classes + ops_skeleton.classes + ops_deform.classes + ops_morph.classes
+classes = (properties.classes + operators.classes + ops_cache.classes + ops_skeleton.classes + ops_deform.classes
+           + ops_morph.classes
            + ui.classes
            + ui_tools.classes)
 

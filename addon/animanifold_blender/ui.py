@@ -60,6 +60,7 @@ def _draw_manifold(box, obj) -> None:
     error = live.last_error(obj)
     if error:
         box.label(text=error, icon="ERROR")
+        box.operator("animanifold.relink_cache", text="Relink Cache", icon="FILE_REFRESH")
     if settings.mode == "LIVE":
         row = col.row()
         row.prop(settings, "axis", text="Slice Axis", expand=True)

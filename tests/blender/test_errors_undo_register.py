@@ -108,9 +108,10 @@ def test_undo_after_convert_restores_the_scene(demo):
 
 
 _LISTS = ("frame_change_pre", "frame_change_post", "depsgraph_update_post", "load_post", "undo_post", "redo_post",
-          "render_init", "render_complete", "render_cancel")
-# Playback (2), shown again (1), rendering (3), interactive deformation (2), load, undo, redo: handlers._HANDLERS.
-HANDLERS = 11
+          "render_init", "render_complete", "render_cancel", "save_pre", "save_post")
+# Playback (2), shown again (1), rendering (3), interactive deformation (2), save (2), load, undo, redo:
+# handlers._HANDLERS.
+HANDLERS = 13
 
 
 def _handler_count():
