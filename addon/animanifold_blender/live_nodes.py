@@ -32,7 +32,12 @@ Modifier inputs (set by playback.py only):
               handler (add-on missing) the object holds the interval's ends
               instead of extrapolating;
   Animate UV  whether the UV map moves (the manifold has UVs);
-  UV Map      its name.
+  UV Map      its name;
+  Animate Normals  whether the smooth normals are set from `am_normal` and
+              `am_normal_rate` (Blender 4.5+: Set Mesh Normal), as the bake sets them;
+  Shown From, Shown To  the scene frames the output is right for; more than SLACK
+              frames outside them (a file played without the add-on) the text
+              WARNING is shown instead of a wrong pose.
 
 Only playback.py writes the inputs, and every other writer of a manifold object's
 mesh turns Active off (release): the UV map is rebuilt from `am_uv`, so Animate
