@@ -7,7 +7,8 @@ stored path will point (beside the new .blend, under a free name if another file
 there), and the stored path set to it, so the saved file and the session both find it.
 Copied, not moved: undo may bring back the old path, and the old .blend still uses it.
 Absolute paths the user chose are left alone. A "Save Copy" (the session stays on the
-old file) gets its old paths back after the save.
+old file) gets its old paths back after the save. Blender before 4.x's save handlers get
+no file path (3.4 passes None): there caches do not follow, and Relink Cache repairs.
 
 Blender's own path tools (File > External Data: Make Paths Relative/Absolute, Report
 Missing Files) walk only data-block file paths (images, libraries, caches of the
