@@ -53,9 +53,12 @@ def animanifold_show_revealed(scene, depsgraph=None):
 
 
 @persistent
-def animanifold_render_init(*_args):
-    # While rendering, what renders is sliced, whatever the viewport hides.
+def animanifold_render_init(scene=None, *_args):
+    # While rendering, what renders is sliced, whatever the viewport hides; an object
+    # skipped as hidden in the viewport is shown at the frame now (a still has no frame change).
     visibility.set_rendering(True)
+    if scene is not None:
+        live.show_revealed(scene)
 
 
 @persistent

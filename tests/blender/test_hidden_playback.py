@@ -102,3 +102,19 @@ def test_renders_slice_what_renders_even_when_hidden_in_the_viewport(live):
         assert slices_between(calls, [14]) == []
     finally:
         visibility.set_rendering(False)
+
+
+def test_a_still_render_shows_an_object_hidden_only_in_the_viewport(live):
+    from animanifold_blender import handlers, visibility
+
+    man, calls = live
+    man.hide_set(True)
+    assert slices_between(calls, [12, 22]) == []
+    calls.clear()
+    try:
+        handlers.animanifold_render_init(bpy.context.scene)  # F12: no frame change comes
+        assert calls == [(man.name, 22.0)]
+        assert_shows_frame(man, 22)
+    finally:
+        handlers.animanifold_render_done()
+    assert not visibility.rendering()
