@@ -45,9 +45,11 @@ def register():
         bpy.utils.register_class(cls)
     properties.register_properties()
     handlers.register_handlers()
+    ops_cache.register_menu()
 
 
 def unregister():
+    ops_cache.unregister_menu()
     handlers.unregister_handlers()
     properties.unregister_properties()
     for cls in reversed(classes):

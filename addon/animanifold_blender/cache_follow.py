@@ -13,7 +13,8 @@ no file path (3.4 passes None): there caches do not follow, and Relink Cache rep
 Blender's own path tools (File > External Data: Make Paths Relative/Absolute, Report
 Missing Files) walk only data-block file paths (images, libraries, caches of the
 modifiers they know); a manifold's path is an add-on property they never see. The panel
-shows a missing cache as the object's error, and Relink Cache points it at a file.
+shows a missing cache as the object's error, Report Missing Manifold Caches (beside
+Blender's in that menu) lists them, and Relink Cache points one at a file.
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
 """Relink Cache: points a manifold object whose cache is missing or damaged at another
 .amf file, checked by loading it first (the object is left as it was if it does not
-load), instead of converting again into a second manifold object."""
+load), instead of converting again into a second manifold object. Report Missing Caches
+(File > External Data, beside Blender's Report Missing Files, which walks only data-block
+paths and never sees a manifold's): a warning per manifold object whose cache is gone."""
 
 from __future__ import annotations
 
@@ -10,7 +12,7 @@ import bpy
 from bpy.props import StringProperty
 from bpy.types import Operator
 
-from . import live
+from . import cache_paths, live
 from ._lib import am
 from .live_registry import registry
 from .reporting import OperatorError, reporting
@@ -64,4 +66,43 @@ class ANIMANIFOLD_OT_relink_cache(Operator):
         return {"CANCELLED"}
 
 
-classes = (ANIMANIFOLD_OT_relink_cache,)
+class ANIMANIFOLD_OT_report_missing_caches(Operator):
+    """Report the manifold objects whose cache file is missing"""
+
+    bl_idname = "animanifold.report_missing_caches"
+    bl_label = "Report Missing Manifold Caches"
+
+    def execute(self, context):
+        missing = 0
+        for obj in bpy.data.objects:
+            if not _is_manifold(obj):
+                continue
+            try:
+                path = cache_paths.cache_abspath(obj)
+            except am.CacheError as e:
+                self.report({"WARNING"}, str(e))
+                missing += 1
+                continue
+            if not os.path.isfile(path):
+                self.report({"WARNING"}, f"'{obj.name}': cache {obj.animanifold.cache_path} not found ({path})")
+                missing += 1
+        if not missing:
+            self.report({"INFO"}, "No manifold cache is missing")
+        return {"FINISHED"}
+
+
+def draw_external_data_menu(self, _context):
+    self.layout.operator(ANIMANIFOLD_OT_report_missing_caches.bl_idname)
+
+
+def register_menu() -> None:
+    unregister_menu()  # never twice (a register without its unregister)
+    bpy.types.TOPBAR_MT_file_external_data.append(draw_external_data_menu)
+
+
+def unregister_menu() -> None:
+    if draw_external_data_menu in bpy.types.TOPBAR_MT_file_external_data._dyn_ui_initialize():
+        bpy.types.TOPBAR_MT_file_external_data.remove(draw_external_data_menu)
+
+
+classes = (ANIMANIFOLD_OT_relink_cache, ANIMANIFOLD_OT_report_missing_caches)

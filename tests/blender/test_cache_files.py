@@ -116,3 +116,21 @@ def test_relink_cache(demo, tmp_path):
 
 def test_relink_cache_needs_a_manifold_object(demo):
     assert not bpy.ops.animanifold.relink_cache.poll()
+
+
+def test_report_missing_caches_names_the_object(demo, tmp_path, capfd):
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "shot.blend"))
+    convert(demo)
+    capfd.readouterr()
+    assert bpy.ops.animanifold.report_missing_caches() == {"FINISHED"}
+    assert "No manifold cache is missing" in capfd.readouterr().out
+    # Blender's own Report Missing Files walks data-block paths only: it says nothing of it.
+    os.remove(tmp_path / "shot.Blob_manifold.amf")
+    bpy.ops.file.report_missing_files()
+    assert "shot.Blob_manifold.amf" not in "".join(capfd.readouterr())
+    assert bpy.ops.animanifold.report_missing_caches() == {"FINISHED"}
+    out = capfd.readouterr().out
+    assert "'Blob_manifold': cache //shot.Blob_manifold.amf not found" in out
+    from animanifold_blender import ops_cache  # in File > External Data
+
+    assert ops_cache.draw_external_data_menu in bpy.types.TOPBAR_MT_file_external_data._dyn_ui_initialize()
