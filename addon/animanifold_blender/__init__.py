@@ -39,10 +39,11 @@ from . import module_alias  # noqa: E402
 
 module_alias.install(__name__)  # `import animanifold_blender` also when Blender named us bl_ext.<repo>.…
 
-from . import handlers, operators, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
+from . import handlers, operators, ops_cache, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
 
 # Parent panels before their sub-panels.
-classes = (properties.classes + operators.classes + ops_skeleton.classes + ops_deform.classes + ops_morph.classes
+classes = (properties.classes + operators.classes + ops_cache.classes + ops_skeleton.classes + ops_deform.classes
+           + ops_morph.classes
            + ui.classes
            + ui_tools.classes)
 
@@ -52,9 +53,11 @@ def register():
         bpy.utils.register_class(cls)
     properties.register_properties()
     handlers.register_handlers()
+    ops_cache.register_menu()
 
 
 def unregister():
+    ops_cache.unregister_menu()
     handlers.unregister_handlers()
     properties.unregister_properties()
     for cls in reversed(classes):

@@ -1,6 +1,7 @@
 """Where manifold caches live: the path an object stores (relative to the .blend where it
 can be, '//...') and the absolute path it names. Convert and Morph Selected put a new
-cache beside the .blend (or in a chosen folder, or a temporary one for an unsaved file);
+cache beside the .blend (or in a chosen folder, or a temporary one for an unsaved file, copied
+beside the .blend when it is saved: cache_follow);
 Deform writes a new file beside the object's cache, so that undo, which restores the
 object's old cache path, restores the old manifold too."""
 
@@ -32,8 +33,8 @@ def cache_abspath(obj) -> str:
 def _temporary(stem: str, what: str) -> tuple[str, str, str]:
     folder = os.path.join(tempfile.gettempdir(), "animanifold")
     absolute = os.path.join(folder, f"{stem}.{uuid.uuid4().hex[:8]}.amf")
-    note = (f"The .blend is not saved: the {what} cache is in the temporary folder {folder}; "
-            f"save the .blend and {'convert' if what == 'manifold' else 'morph'} again to keep the cache beside it")
+    note = (f"The .blend is not saved: the {what} cache is in the temporary folder {folder} until the .blend "
+            "is saved, when it is copied beside it")
     return absolute, absolute, note
 
 

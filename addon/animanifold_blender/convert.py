@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import adaptive_sampling, live_nodes, sampling
+from . import adaptive_sampling, live_nodes, messages, sampling
 from ._lib import am
 from .cache_paths import convert_cache_path
 from .live import scene_frame
@@ -43,7 +43,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
     `max_samples`; KEYFRAMES; or EVERY_N with `step`), saves the manifold to a cache (in
     `directory`, else beside the .blend) and makes the object."""
     if obj.type != "MESH":
-        raise OperatorError(f"'{obj.name}' is a {obj.type.lower()}, not a mesh: only mesh objects can be converted")
+        raise OperatorError(f"'{obj.name}' is {messages.object_type(obj)}, not a mesh: only mesh objects can be converted")
     if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
         raise OperatorError(f"'{obj.name}' is already a manifold object")
     if end <= start:

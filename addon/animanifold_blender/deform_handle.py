@@ -11,6 +11,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from . import messages
 from .reporting import OperatorError
 
 REST_KEY = "animanifold_deform_rest"
@@ -30,7 +31,7 @@ def empty_for(obj, name: str, settings):
     if empty is None:
         raise OperatorError(f"choose an Empty to drive the handles of '{obj.name}'")
     if empty.type != "EMPTY":
-        raise OperatorError(f"'{empty.name}' is a {empty.type.lower()}, not an Empty")
+        raise OperatorError(f"'{empty.name}' is {messages.object_type(empty)}, not an Empty")
     return empty
 
 

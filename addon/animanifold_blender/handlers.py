@@ -1,5 +1,8 @@
 """Application handlers, all registered here, in the order of _HANDLERS: live slicing
-on frame change (before and after the frame is evaluated), interactive deformation
+on frame change (before and after the frame is evaluated) of the objects Blender
+evaluates, and of hidden ones once shown again (depsgraph update; renders slice what
+renders: render init/complete/cancel), caches copied beside the .blend on save
+(cache_follow), interactive deformation
 (solving when its Empty moves, and its preview shown over the frame the slicer
 wrote), re-attach after load, forget what was written after undo/redo.
 
@@ -12,7 +15,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
-from . import interactive_deform, live
+from . import cache_follow, interactive_deform, live, visibility
 from .live_registry import registry
 
 
@@ -43,10 +46,47 @@ def animanifold_interactive_deform_depsgraph_post(scene, depsgraph=None):
 
 
 @persistent
+def animanifold_show_revealed(scene, depsgraph=None):
+    # An object the frame handlers skipped as hidden is shown at the current frame
+    # once Blender evaluates it again (unhidden, its collection included).
+    live.show_revealed(scene)
+
+
+@persistent
+def animanifold_render_init(scene=None, *_args):
+    # While rendering, what renders is sliced, whatever the viewport hides; an object
+    # skipped as hidden in the viewport is shown at the frame now (a still has no frame change).
+    visibility.set_rendering(True)
+    if scene is not None:
+        live.show_revealed(scene)
+
+
+@persistent
+def animanifold_render_done(*_args):
+    visibility.set_rendering(False)
+
+
+@persistent
+def animanifold_save_pre(filepath=None, *_args):
+    # Caches follow the .blend to its new folder (cache_follow); a failure is printed, the
+    # save goes on (the panel then shows the missing cache).
+    if isinstance(filepath, str) and filepath:
+        for note in cache_follow.before_save(filepath):
+            print(f"animanifold: {note}")
+
+
+@persistent
+def animanifold_save_post(filepath=None, *_args):
+    if isinstance(filepath, str) and filepath:
+        cache_follow.after_save(filepath)
+
+
+@persistent
 def animanifold_load_post(*_args):
     # A new file: forget caches and errors of the previous one, then show every
     # live manifold at its scene's current frame (its cache may have changed).
     registry.clear()
+    visibility.set_rendering(False)
     for scene in bpy.data.scenes:
         live.update_scene(scene, force=True)
 
@@ -64,6 +104,12 @@ _HANDLERS = (
     (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
     (bpy.app.handlers.frame_change_post, animanifold_interactive_deform_frame_post),
     (bpy.app.handlers.depsgraph_update_post, animanifold_interactive_deform_depsgraph_post),
+    (bpy.app.handlers.depsgraph_update_post, animanifold_show_revealed),
+    (bpy.app.handlers.render_init, animanifold_render_init),
+    (bpy.app.handlers.render_complete, animanifold_render_done),
+    (bpy.app.handlers.render_cancel, animanifold_render_done),
+    (bpy.app.handlers.save_pre, animanifold_save_pre),
+    (bpy.app.handlers.save_post, animanifold_save_post),
     (bpy.app.handlers.load_post, animanifold_load_post),
     (bpy.app.handlers.undo_post, animanifold_undo_post),
     (bpy.app.handlers.redo_post, animanifold_undo_post),
@@ -87,3 +133,4 @@ def unregister_handlers():
     for handler_list, fn in _HANDLERS:
         _remove_by_name(handler_list, fn.__name__)
     registry.clear()
+    visibility.set_rendering(False)

@@ -66,8 +66,8 @@ def start(context, obj) -> None:
     if empty is None:
         raise OperatorError(f"choose an Empty to drive the handles of '{obj.name}'")
     notes: list[str] = []
-    opt = {name: getattr(settings, name) for name in (
-        "anchor_group", "handle_group", "method", "boundary", "restore", "endpoints", "use_selected_faces")}
+    opt = {name: getattr(settings, name) for name in ("method", "boundary", "restore", "endpoints", "use_selected_faces")}
+    opt["anchor_group"], opt["handle_group"] = settings.anchor_group_used, settings.handle_group_used
     rest = matrix(empty.matrix_world)
     if is_manifold_object(obj):
         anchors, handles, manifold = manifold_constraints(context, obj, opt, notes)

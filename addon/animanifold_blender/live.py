@@ -9,7 +9,7 @@ from __future__ import annotations
 import traceback
 import warnings
 
-from . import playback
+from . import playback, visibility
 from ._lib import am
 from .live_registry import registry
 from .reporting import ReportedError
@@ -51,9 +51,11 @@ def show_object(obj, frame: float, force: bool = True, scene=None) -> bool:
 
 
 def update_scene(scene, force: bool = False, after_evaluation: bool = False) -> int:
-    """Shows every live manifold object of `scene` at its frame (playback.update_object; on
-    a frame change nothing is written for objects whose mesh shows it already);
-    never raises (show_object). Returns the count shown.
+    """Shows every live manifold object of `scene` that Blender evaluates
+    (visibility.is_evaluated) at its frame (playback.update_object; on a frame change
+    nothing is written for objects whose mesh shows it already); never raises
+    (show_object). Objects skipped as hidden are kept (live_registry) and shown by
+    show_revealed once visible. Returns the count shown.
 
     `after_evaluation` (the post-frame handler): objects shown at this frame before
     the evaluation are skipped unless animated (an animated setting, a keyframed
@@ -65,11 +67,36 @@ def update_scene(scene, force: bool = False, after_evaluation: bool = False) -> 
     for obj in scene.objects:
         if not is_live(obj):
             continue
+        if not visibility.is_evaluated(obj, scene):
+            registry.set_skipped(obj)
+            continue
         if after_evaluation and not force and registry.shown_at(obj, checked) and obj.animation_data is None:
             count += 1
             continue
-        registry.set_shown_at(obj, None)
-        if show_object(obj, frame, force=force, scene=scene):
-            registry.set_shown_at(obj, checked)
-            count += 1
+        count += _show_at(obj, scene, frame, force)
+    return count
+
+
+def _show_at(obj, scene, frame: float, force: bool) -> bool:
+    checked = (scene.as_pointer(), frame)
+    registry.set_shown_at(obj, None)
+    if show_object(obj, frame, force=force, scene=scene):
+        registry.set_shown_at(obj, checked)
+        return True
+    return False
+
+
+def show_revealed(scene) -> int:
+    """Shows at the scene's frame the objects update_scene skipped as hidden that Blender
+    evaluates now (after a depsgraph update: unhidden, a collection included again).
+    Returns the count shown."""
+    frame = scene_frame(scene)
+    count = 0
+    # By name (live objects are local: name_full is the name): a hidden object costs
+    # a look-up per depsgraph update, not a pass over the scene.
+    for name in registry.skipped_names():
+        obj = scene.objects.get(name)
+        if obj is not None and is_live(obj) and visibility.is_evaluated(obj, scene):
+            registry.clear_skipped(obj)
+            count += _show_at(obj, scene, frame, force=True)
     return count

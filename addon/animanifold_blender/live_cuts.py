@@ -58,10 +58,14 @@ class Cut:
     uv: np.ndarray | None = None
     uv_rate: np.ndarray | None = None
     edges: tuple | None = None  # (edge_verts (2E,), corner_edge (3F,)) int32, as Blender made them
+    # The source's smooth normals carried along the manifold (None for flat-shaded
+    # sources): at `value` (P, 3), not normalised, and, for interval cuts, their rate.
+    normal: np.ndarray | None = None
+    normal_rate: np.ndarray | None = None
 
     def nbytes(self) -> int:
         arrays = [self.faces, self.material_index, self.smooth, self.vertices, self.corner_uv, self.rate,
-                  self.uv, self.uv_rate] + list(self.edges or ())
+                  self.uv, self.uv_rate, self.normal, self.normal_rate] + list(self.edges or ())
         return sum(a.nbytes for a in arrays if a is not None)
 
 
@@ -86,6 +90,10 @@ def interval_cut(frame) -> Cut:
         cut.corner_uv = corner_values(now, faces)
         cut.uv = _padded(now)
         cut.uv_rate = _padded(uv_rate)
+    normal_rate = frame.attribute_rates.get("normal")
+    if normal_rate is not None and len(normal_rate):
+        cut.normal = _f32(np.asarray(s.vertex_attributes["normal"]) + dt * np.asarray(normal_rate))
+        cut.normal_rate = _f32(normal_rate)
     return cut
 
 
@@ -123,8 +131,10 @@ def vertex_time_cut(s) -> Cut:
     """The cut at a vertex time: the slice itself."""
     faces = _faces(s)
     uv = s.vertex_attributes.get("uv")
+    normal = s.vertex_attributes.get("normal")
     return Cut(float(s.value), faces, _own(s.face_attributes.get("material_index")),
-               _own(s.face_attributes.get("smooth")), _f32(s.vertices), None if uv is None else corner_values(uv, faces))
+               _own(s.face_attributes.get("smooth")), _f32(s.vertices), None if uv is None else corner_values(uv, faces),
+               normal=None if normal is None or not len(normal) else _f32(normal))
 
 
 def corner_values(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:

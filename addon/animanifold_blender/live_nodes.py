@@ -32,7 +32,12 @@ Modifier inputs (set by playback.py only):
               handler (add-on missing) the object holds the interval's ends
               instead of extrapolating;
   Animate UV  whether the UV map moves (the manifold has UVs);
-  UV Map      its name.
+  UV Map      its name;
+  Animate Normals  whether the smooth normals are set from `am_normal` and
+              `am_normal_rate` (Blender 4.5+: Set Mesh Normal), as the bake sets them;
+  Shown From, Shown To  the scene frames the output is right for; more than SLACK
+              frames outside them (a file played without the add-on) the text
+              WARNING is shown instead of a wrong pose.
 
 Only playback.py writes the inputs, and every other writer of a manifold object's
 mesh turns Active off (release): the UV map is rebuilt from `am_uv`, so Animate
@@ -49,21 +54,39 @@ import struct
 
 import bpy
 
+from . import messages
+
 SUPPORTED = bpy.app.version >= (4, 2, 0)
+# Blender 4.5+: the modifier sets the smooth normals too (Set Mesh Normal); before, an
+# object that shows them is written by the handler.
+NORMALS_SUPPORTED = SUPPORTED and hasattr(bpy.types, "GeometryNodeSetMeshNormal")
 
 GROUP_NAME = MODIFIER_NAME = "Animanifold Live"
 # Custom property marking the node group as ours (and its layout version), so a
 # user's group that happens to have the name is never used or changed.
 GROUP_TAG = "animanifold_live"
-# 2: Cut Frame, and the mesh passes through at Frame. A group of an older version is
-# not ours any more: the modifier is pointed at a new one the next time a cut is written.
-GROUP_VERSION = 2
+# 2: Cut Frame, and the mesh passes through at Frame. 3: Animate Normals, Shown From/To
+# and the warning. A group of an
+# older version is not ours any more: the modifier is pointed at a new one the next time
+# a cut is written.
+GROUP_VERSION = 3
 
 RATE = "am_rate"  # point, float vector: d position / d frame
 UV = "am_uv"  # point, float vector (u, v, 0): the UV at Frame
 UV_RATE = "am_uv_rate"  # point, float vector: d UV / d frame
+NORMAL = "am_normal"  # point, float vector: the smooth normal at Cut Frame (not normalised)
+NORMAL_RATE = "am_normal_rate"  # point, float vector: d normal / d frame
 _UV_NOW = "am_uv_now"  # point, inside the group only
-ATTRIBUTES = (RATE, UV, UV_RATE)
+ATTRIBUTES = (RATE, UV, UV_RATE, NORMAL, NORMAL_RATE)
+
+# Shown From/To when the mesh is right at every scene time (sweep views, bakes, previews).
+ALWAYS = 1e30
+# Frames beyond Shown From/To the mesh is still shown (held at the interval's end): a
+# render's motion blur steps reach up to a frame away without a frame change.
+SLACK = 1.0
+WARNING = "animanifold add-on required"
+# Point attribute (boolean) of the warning's geometry: how a script tells it from a frame.
+WARNING_ATTRIBUTE = "animanifold_add_on_required"
 
 _INPUTS = (  # name, socket type, default
     ("Active", "NodeSocketBool", False),
@@ -73,6 +96,9 @@ _INPUTS = (  # name, socket type, default
     ("End", "NodeSocketFloat", 0.0),
     ("Animate UV", "NodeSocketBool", False),
     ("UV Map", "NodeSocketString", "UVMap"),
+    ("Animate Normals", "NodeSocketBool", False),
+    ("Shown From", "NodeSocketFloat", -ALWAYS),
+    ("Shown To", "NodeSocketFloat", ALWAYS),
 )
 
 
@@ -191,8 +217,9 @@ def _build():
     links.new(inp.outputs["Geometry"], moved.inputs["False"])
     links.new(move.outputs[0], moved.inputs["True"])
 
+    geometry = _normals(nodes, links, node, named, scale, since, inp, moved.outputs[0])
+
     # The evaluated mesh (render, export, Apply) carries none of our attributes.
-    geometry = moved.outputs[0]
     for i, name in enumerate(ATTRIBUTES + (_UV_NOW,)):
         remove = node("GeometryNodeRemoveAttribute", 350 + 100 * i, -150)
         remove.inputs["Name"].default_value = name
@@ -203,8 +230,68 @@ def _build():
     links.new(inp.outputs["Active"], active.inputs["Switch"])
     links.new(inp.outputs["Geometry"], active.inputs["False"])
     links.new(geometry, active.inputs["True"])
-    links.new(active.outputs[0], out.inputs[0])
+    links.new(_warning(node, links, inp, time, active.outputs[0]), out.inputs[0])
     return group
+
+
+def _warning(node, links, inp, time, geometry):
+    """Outside Shown From - SLACK .. Shown To + SLACK (a file played without the add-on,
+    which writes every frame's cut before it is evaluated), the mesh would hold a frame
+    that is not the scene's: the text WARNING is shown in its place instead."""
+    low = node("ShaderNodeMath", 400, -1000, operation="SUBTRACT")
+    links.new(inp.outputs["Shown From"], low.inputs[0])
+    low.inputs[1].default_value = SLACK
+    high = node("ShaderNodeMath", 400, -1150, operation="ADD")
+    links.new(inp.outputs["Shown To"], high.inputs[0])
+    high.inputs[1].default_value = SLACK
+    before = node("ShaderNodeMath", 550, -1000, operation="LESS_THAN")
+    links.new(time.outputs["Frame"], before.inputs[0])
+    links.new(low.outputs[0], before.inputs[1])
+    after = node("ShaderNodeMath", 550, -1150, operation="GREATER_THAN")
+    links.new(time.outputs["Frame"], after.inputs[0])
+    links.new(high.outputs[0], after.inputs[1])
+    outside = node("ShaderNodeMath", 700, -1050, operation="MAXIMUM")
+    links.new(before.outputs[0], outside.inputs[0])
+    links.new(after.outputs[0], outside.inputs[1])
+    text = node("GeometryNodeStringToCurves", 400, -1300)
+    text.inputs["String"].default_value = WARNING
+    text.inputs["Size"].default_value = 0.25
+    fill = node("GeometryNodeFillCurve", 550, -1300)
+    links.new(text.outputs["Curve Instances"], fill.inputs["Curve"])
+    realize = node("GeometryNodeRealizeInstances", 700, -1300)
+    links.new(fill.outputs[0], realize.inputs[0])
+    tag = node("GeometryNodeStoreNamedAttribute", 850, -1300, data_type="BOOLEAN", domain="POINT")
+    tag.inputs["Name"].default_value = WARNING_ATTRIBUTE
+    tag.inputs["Value"].default_value = True
+    links.new(realize.outputs[0], tag.inputs["Geometry"])
+    switch = node("GeometryNodeSwitch", 1000, -300, input_type="GEOMETRY")
+    links.new(outside.outputs[0], switch.inputs["Switch"])
+    links.new(geometry, switch.inputs["False"])
+    links.new(tag.outputs[0], switch.inputs["True"])
+    return switch.outputs[0]
+
+
+def _normals(nodes, links, node, named, scale, since, inp, geometry):
+    """The smooth normals, as the bake sets them: normalize(am_normal + am_normal_rate *
+    (t - Cut Frame)) per point, set as free custom normals when Animate Normals is on
+    (on every frame: the mesh holds positions only at Frame). Blender before 4.5 has no
+    node for it: the geometry passes (playback.can_drive keeps such objects)."""
+    if not NORMALS_SUPPORTED:
+        return geometry
+    now = node("ShaderNodeVectorMath", 400, -600, operation="ADD")
+    links.new(named(NORMAL, 0, -550).outputs["Attribute"], now.inputs[0])
+    links.new(scale(named(NORMAL_RATE, 0, -700).outputs["Attribute"], since("Cut Frame", 0, -850), 200, -750),
+              now.inputs[1])
+    unit = node("ShaderNodeVectorMath", 550, -600, operation="NORMALIZE")
+    links.new(now.outputs[0], unit.inputs[0])
+    set_normal = node("GeometryNodeSetMeshNormal", 700, -450, mode="FREE", domain="POINT")
+    links.new(geometry, set_normal.inputs["Mesh"])
+    links.new(unit.outputs[0], set_normal.inputs["Custom Normal"])
+    switch = node("GeometryNodeSwitch", 850, -300, input_type="GEOMETRY")
+    links.new(inp.outputs["Animate Normals"], switch.inputs["Switch"])
+    links.new(geometry, switch.inputs["False"])
+    links.new(set_normal.outputs[0], switch.inputs["True"])
+    return switch.outputs[0]
 
 
 def usable(obj) -> bool:
@@ -221,7 +308,7 @@ def ensure_modifier(obj):
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None or mod.type != "NODES":
         if mod is not None:  # a modifier of another kind with our name: not ours to change
-            raise RuntimeError(f"'{obj.name}' has a {mod.type.lower()} modifier named '{MODIFIER_NAME}'")
+            raise RuntimeError(f"'{obj.name}' has {messages.with_article(mod.type.lower().replace('_', ' '))} modifier named '{MODIFIER_NAME}'")
         mod = obj.modifiers.new(MODIFIER_NAME, "NODES")
         if len(obj.modifiers) > 1:
             obj.modifiers.move(len(obj.modifiers) - 1, 0)
@@ -253,12 +340,15 @@ def _set(obj, mod, values: dict) -> None:
         obj.update_tag()
 
 
-def drive(obj, frame: float, cut_frame: float, start: float, end: float, uv_name: str | None) -> None:
+def drive(obj, frame: float, cut_frame: float, start: float, end: float, uv_name: str | None,
+          normals: bool = False) -> None:
     """Turns the modifier on for the cut of the interval (start, end) at `cut_frame` just
-    written, the mesh showing `frame`; `uv_name` names its UV map (None without UVs)."""
+    written, the mesh showing `frame`; `uv_name` names its UV map (None without UVs);
+    `normals`: the cut carries smooth normals and their rates (NORMAL, NORMAL_RATE)."""
     mod = ensure_modifier(obj)
     _set(obj, mod, {"Active": True, "Frame": float(frame), "Cut Frame": float(cut_frame), "Start": float(start),
-                    "End": float(end), "Animate UV": uv_name is not None, "UV Map": uv_name or ""})
+                    "End": float(end), "Animate UV": uv_name is not None, "UV Map": uv_name or "",
+                    "Animate Normals": bool(normals), "Shown From": float(start), "Shown To": float(end)})
 
 
 def set_frame(obj, frame: float) -> None:
@@ -266,11 +356,17 @@ def set_frame(obj, frame: float) -> None:
     _set(obj, obj.modifiers.get(MODIFIER_NAME), {"Frame": float(frame)})
 
 
-def release(obj) -> None:
-    """The mesh holds its frame as written: the modifier (if any) passes it through."""
+def release(obj, shown: tuple[float, float] | None = None) -> None:
+    """The mesh holds its frame as written: the modifier passes it through. `shown`: the
+    scene frames (from, to) at which that frame is right (None: at every frame); given,
+    the modifier is added where there is none, so that a file opened without the add-on
+    shows the WARNING rather than this frame at another time."""
     mod = obj.modifiers.get(MODIFIER_NAME)
+    if shown is not None and SUPPORTED and (mod is None or mod.type == "NODES"):
+        mod = ensure_modifier(obj)
     if mod is not None and _is_ours(mod.node_group):
-        _set(obj, mod, {"Active": False})
+        low, high = shown if shown is not None else (-ALWAYS, ALWAYS)
+        _set(obj, mod, {"Active": False, "Shown From": float(low), "Shown To": float(high)})
 
 
 def drives(obj, start: float, end: float, frame: float | None = None, cut_frame: float | None = None) -> bool:

@@ -7,7 +7,8 @@
   (live_cuts);
 * per manifold object (by its full name): the last error (shown in the panel), what
   its mesh shows (so a frame change that moves nothing writes nothing) and the scene
-  frame it was last shown at without error.
+  frame it was last shown at without error, and whether the frame handlers skipped it
+  as hidden (it is shown when it becomes visible).
 
 A new file forgets everything (another file's objects may have the same names);
 undo and redo forget what the meshes show (they may have gone back).
@@ -35,6 +36,7 @@ class LiveRegistry:
         self._errors: dict[str, str] = {}
         self._shown: dict[str, object] = {}
         self._checked: dict[str, tuple] = {}
+        self._skipped: set[str] = set()
         self.subdivisions = SubdivisionCache()
         self.cuts = live_cuts.CutCache()
 
@@ -43,6 +45,7 @@ class LiveRegistry:
         self._errors.clear()
         self._shown.clear()
         self._checked.clear()
+        self._skipped.clear()
         self.subdivisions.clear()
         self.cuts.clear()
 
@@ -113,6 +116,17 @@ class LiveRegistry:
             self._checked.pop(obj.name_full, None)
         else:
             self._checked[obj.name_full] = checked
+
+    def set_skipped(self, obj) -> None:
+        """The frame handlers skipped `obj` as hidden: its mesh may show another frame."""
+        self._skipped.add(obj.name_full)
+        self._checked.pop(obj.name_full, None)
+
+    def skipped_names(self) -> list[str]:
+        return sorted(self._skipped)
+
+    def clear_skipped(self, obj) -> None:
+        self._skipped.discard(obj.name_full)
 
 
 registry = LiveRegistry()

@@ -17,6 +17,10 @@ from . import live_cuts
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
 _NEEDS_AUTO_SMOOTH = bpy.app.version < (4, 1, 0)
 _ATTRIBUTES = bpy.app.version >= (4, 0, 0)
+# 4.5+ keeps "free" custom normals as a float vector attribute, exactly as given; before,
+# they are encoded against the computed normals (an error up to ~1e-3).
+_FREE_NORMALS = bpy.app.version >= (4, 5, 0)
+FREE_NORMALS_NAME = "custom_normal"
 
 
 def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | None = None,
@@ -82,7 +86,23 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     if normals is not None and F:
         if _NEEDS_AUTO_SMOOTH:
             mesh.use_auto_smooth = True
-        mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
+        set_vertex_normals(mesh, normals)
+
+
+def set_vertex_normals(mesh, normals: np.ndarray) -> None:
+    """Custom normals per vertex (P, 3), unit length; the live modifier's are set the
+    same way (Set Mesh Normal, free, on points), so live frames shade as baked ones."""
+    values = np.ascontiguousarray(normals, dtype=np.float32)
+    if not _FREE_NORMALS:
+        mesh.normals_split_custom_set_from_vertices(values)
+        return
+    layer = mesh.attributes.get(FREE_NORMALS_NAME)
+    if layer is None or layer.domain != "POINT" or layer.data_type != "FLOAT_VECTOR":
+        if layer is not None:
+            mesh.attributes.remove(layer)
+        layer = mesh.attributes.new(FREE_NORMALS_NAME, "FLOAT_VECTOR", "POINT")
+    layer.data.foreach_set("vector", values.reshape(-1))
+    mesh.update()
 
 
 def mesh_edges(mesh) -> tuple[np.ndarray, np.ndarray] | None:
@@ -116,7 +136,7 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
     mesh.update()
     tag_positions_changed(mesh)  # bounds too
     if normals is not None and len(corner_vertex):
-        mesh.normals_split_custom_set_from_vertices(np.ascontiguousarray(normals, dtype=np.float32))
+        set_vertex_normals(mesh, normals)
 
 
 def write_frame(mesh, uv_name: str, frame: live_cuts.Frame) -> bool:

@@ -42,8 +42,12 @@ class ANIMANIFOLD_OT_convert_action(Operator):
         if context.mode != "OBJECT":
             cls.poll_message_set("Switch to Object Mode")
             return False
-        if context.active_object is None:
+        obj = context.active_object
+        if obj is None:
             cls.poll_message_set("Select the object to convert")
+            return False
+        if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
+            cls.poll_message_set("The active object is a manifold already: select its source to convert again")
             return False
         return True
 

@@ -22,6 +22,8 @@ from .reporting import OperatorError, reporting
 
 _OPTIONS = ("anchor_group", "handle_group", "method", "boundary", "restore", "regularise", "time_weight",
             "endpoints", "use_selected_faces")
+# The group names the panel's settings resolve (AnimanifoldDeformSettings.*_used).
+_SETTING = {"anchor_group": "anchor_group_used", "handle_group": "handle_group_used"}
 
 
 class ANIMANIFOLD_OT_deform(Operator):
@@ -58,7 +60,7 @@ class ANIMANIFOLD_OT_deform(Operator):
         obj = context.active_object
         with reporting(self, f"Deform of '{obj.name}' failed"):
             settings = obj.animanifold_deform
-            opt = {name: option(self, settings, name) for name in _OPTIONS}
+            opt = {name: option(self, settings, name, _SETTING.get(name)) for name in _OPTIONS}
             empty = empty_for(obj, self.empty if self.properties.is_property_set("empty") else "", settings)
             check_target(obj, opt["regularise"])
             state = session(obj)
@@ -94,12 +96,12 @@ class ANIMANIFOLD_OT_deform_store(Operator):
         s = obj.animanifold_deform
         with reporting(self, f"Cannot store constraints of '{obj.name}'"):
             notes: list[str] = []
-            anchors, handles, _, _ = slice_constraints(obj, scene_frame(context.scene), s.anchor_group,
-                                                       s.handle_group, s.endpoints, s.use_selected_faces,
+            anchors, handles, _, _ = slice_constraints(obj, scene_frame(context.scene), s.anchor_group_used,
+                                                       s.handle_group_used, s.endpoints, s.use_selected_faces,
                                                        stored_anchors=True, stored_handles=True, notes=notes)
             if not len(anchors) and not len(handles):
                 raise OperatorError(f"the slice of '{obj.name}' has nothing in the vertex groups "
-                                    f"'{s.anchor_group}' / '{s.handle_group}' and no selected faces: nothing stored")
+                                    f"'{s.anchor_group_used}' / '{s.handle_group_used}' and no selected faces: nothing stored")
             a, h = resolve(np.concatenate([stored(obj, ANCHORS_KEY), anchors]),
                            np.concatenate([stored(obj, HANDLES_KEY), handles]), notes)
             store(obj, a, h)

@@ -51,6 +51,14 @@ class Shown:
     mesh_value: float = math.nan  # driven: the frame the mesh's positions and UV map hold
 
 
+# A custom property every live object carries, for whoever opens the file without the
+# add-on (Object Properties > Custom Properties): the mesh holds one frame only. Blender
+# 4.2+ also shows live_nodes.WARNING in the viewport at other frames.
+NOTE_KEY = "animanifold_note"
+NOTE = ("live animanifold object: its mesh follows the scene frame only with the animanifold add-on "
+        "enabled; bake it (Animanifold > Bake) to play without the add-on")
+
+
 def _counts(mesh) -> tuple[int, int]:
     return len(mesh.vertices), len(mesh.polygons)
 
@@ -62,8 +70,13 @@ def can_drive(obj, scene=None) -> bool:
     frame (no Time Stretching)."""
     settings = obj.animanifold
     if not (live_nodes.SUPPORTED and settings.axis == "t" and settings.smooth_levels <= 0
-            and not settings.live_normals and live_nodes.usable(obj)):
+            and (live_nodes.NORMALS_SUPPORTED or not settings.live_normals) and live_nodes.usable(obj)):
         return False
+    return _time_is_frame(scene)
+
+
+def _time_is_frame(scene) -> bool:
+    """Whether the scene's Scene Time (the modifier's clock) is its frame: no Time Stretching."""
     scene = scene if scene is not None else bpy.context.scene
     return scene is None or scene.render.frame_map_old == scene.render.frame_map_new
 
@@ -86,6 +99,8 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     this frame; other callers (settings, operators) always rewrite, since they
     may have changed the mesh or the manifold."""
     settings = obj.animanifold
+    if obj.get(NOTE_KEY) != NOTE:
+        obj[NOTE_KEY] = NOTE
     manifold = shown_manifold(obj)
     value = slice_value(obj, manifold, frame)
     mesh = obj.data
@@ -102,7 +117,9 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
 
     if not force and shown is not None and shown.value == value and not shown.driven:
         return  # a sweep view (or a vertex time) on a frame change: nothing moved
-    live_nodes.release(obj)
+    # Sweeps are right at any frame; with Time Stretching the modifier's clock is not the frame.
+    timed = settings.axis == "t" and _time_is_frame(scene)
+    live_nodes.release(obj, _shown_range(manifold, value) if timed else None)
     interval = None if smoothed else manifold.topology_interval(value, settings.axis)
     carried = ["uv"] + (["normal"] if normals_wanted else [])
     if (shown is not None and interval is not None and shown.interval == interval
@@ -168,18 +185,36 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
         frame = _frame(manifold, cut_key, cut, value) or live_cuts.interval_frame(cut, cut.value)
         vertices, corner_uv, mesh_value = frame.positions.reshape(-1, 3), frame.corner_uv, frame.value
     uv_name = obj.animanifold.uv_name or "UVMap"
+    normals = obj.animanifold.live_normals and cut.normal is not None
+    if normals and vectors is not None:
+        vectors[live_nodes.NORMAL] = cut.normal
+        vectors[live_nodes.NORMAL_RATE] = cut.normal_rate
     mesh_writer.write_mesh(mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv,
-                           material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors)
+                           material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors,
+                           normals=_unit(cut.normal) if normals and vectors is None else None)
     if cut.edges is None:
         cut.edges = mesh_writer.mesh_edges(mesh)
         registry.cuts.resized(manifold, cut_key)
     if interval is None:
-        live_nodes.release(obj)
+        live_nodes.release(obj, _shown_range(manifold, value))
     else:
         live_nodes.drive(obj, mesh_value, cut.value, interval[0], interval[1],
-                         uv_name if cut.uv_rate is not None else None)
+                         uv_name if cut.uv_rate is not None else None, normals=normals)
     registry.set_shown(obj, Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None,
                                   cut=cut if interval is not None else None, mesh_value=mesh_value))
+
+
+def _shown_range(manifold, value: float) -> tuple[float, float]:
+    """The scene frames at which the time slice at `value` is the right frame: that one,
+    and before the manifold's first time or after its last all frames that hold it."""
+    t0, t1 = manifold.time_range
+    return (-live_nodes.ALWAYS if value <= t0 else value), (live_nodes.ALWAYS if value >= t1 else value)
+
+
+def _unit(normals: np.ndarray) -> np.ndarray:
+    """Normals of unit length, as the bake sets them (am.display.slice_normals)."""
+    length = np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals / np.where(length > 0, length, 1.0)
 
 
 def _has_rates(mesh) -> bool:

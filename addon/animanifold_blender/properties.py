@@ -91,9 +91,9 @@ class AnimanifoldObjectSettings(PropertyGroup):
     time_scale: FloatProperty(name="Time Scale", default=0.05, min=1e-6, soft_max=10.0, update=_reslice,
                               description="Length per frame along the sliced axis in sweep views")
     live_normals: BoolProperty(
-        name="Smooth Normals", default=False, update=_reslice,
-        description="Live slices get the keyframes' smooth normals as custom normals (nicer shading between "
-                    "keyframes, slower playback); baked frames always have them")
+        name="Smooth Normals", default=True, update=_reslice,
+        description="Live frames get the keyframes' smooth normals carried along the manifold, as baked frames "
+                    "do (off: Blender's own normals, flat along thin faces and creased at UV seams)")
     subdivision_levels: IntProperty(
         name="Manifold Levels", default=0, min=0, max=2, update=_resmooth,
         description="Tetrahedral subdivision of the animation manifold (Schaefer et al. 2004): smooths the shape "
@@ -182,13 +182,32 @@ def _interactive_toggled(self, context):
     interactive_deform.toggled(self, context)
 
 
+def _conventional_group(obj, name: str) -> str:
+    groups = getattr(obj, "vertex_groups", None)
+    return name if groups is not None and groups.get(name) is not None else ""
+
+
 class AnimanifoldDeformSettings(PropertyGroup):
     """Per object: the Deform panel's values, used as the operator's defaults."""
 
-    anchor_group: StringProperty(name="Anchors", default="anchor",
-                                 description="Vertex group of the vertices that stay (empty: none)")
-    handle_group: StringProperty(name="Handles", default="handle",
-                                 description="Vertex group of the vertices the Empty moves (empty: none)")
+    # Empty by default, so the panel does not show a group the mesh lacks (drawn red, as
+    # an error, before anything is done); the conventional names are used when present.
+    anchor_group: StringProperty(name="Anchors", default="",
+                                 description="Vertex group of the vertices that stay (empty: the group "
+                                             "'anchor' if the mesh has one, else none)")
+    handle_group: StringProperty(name="Handles", default="",
+                                 description="Vertex group of the vertices the Empty moves (empty: the group "
+                                             "'handle' if the mesh has one, else none)")
+    @property
+    def anchor_group_used(self) -> str:
+        """The anchor group Deform uses: the one chosen, else 'anchor' if the object has it."""
+        return self.anchor_group or _conventional_group(self.id_data, "anchor")
+
+    @property
+    def handle_group_used(self) -> str:
+        """The handle group Deform uses: the one chosen, else 'handle' if the object has it."""
+        return self.handle_group or _conventional_group(self.id_data, "handle")
+
     empty: PointerProperty(name="Empty", type=bpy.types.Object, poll=_is_empty,
                            description="The Empty whose motion moves the handles")
     method: EnumProperty(name="Method", items=METHOD_ITEMS, default=METHOD_ITEMS[0][0])

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import animation_sources
+from . import animation_sources, messages
 from ._lib import am
 from .reporting import ReportedError
 
@@ -200,10 +200,17 @@ def _check_topology(obj, sample: MeshSample, ref: MeshSample, frame: float, fram
             or not np.array_equal(sample.loop_vertex, ref.loop_vertex)):
         raise SamplingError(
             f"the topology of '{obj.name}' changes at frame {frame:g} "
-            f"({len(sample.positions)} vertices, {len(sample.poly_start)} faces; frame "
-            f"{frame0:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces): "
+            f"({_topology_change(sample, ref, frame0)}): "
             "a keyframed action must keep the mesh's connectivity"
         )
+
+
+def _topology_change(sample: MeshSample, ref: MeshSample, ref_frame: float) -> str:
+    counts = f"{len(sample.positions)} vertices, {len(sample.poly_start)} faces"
+    if len(sample.positions) != len(ref.positions) or len(sample.poly_start) != len(ref.poly_start):
+        return f"{counts}; frame {ref_frame:g} has {len(ref.positions)} vertices, {len(ref.poly_start)} faces"
+    change = messages.connectivity_change(sample.poly_start, sample.loop_vertex, ref.poly_start, ref.loop_vertex)
+    return f"{counts} as at frame {ref_frame:g}, but {change} there"
 
 
 def sample_object(context, obj, frames: np.ndarray, progress=None) -> Keyframes:

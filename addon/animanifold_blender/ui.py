@@ -18,67 +18,85 @@ class VIEW3D_PT_animanifold(Panel):
 
     def draw(self, context):
         layout = self.layout
+        # Labels left, fields right (as Blender's own panels): no label is cut at the
+        # default sidebar width; a label longer than LABEL_CHARS would be.
+        layout.use_property_split = True
+        layout.use_property_decorate = False
         scene_settings = context.scene.animanifold
         obj = context.active_object
+        _draw_convert(layout.box(), scene_settings)
+        if obj is not None and obj.animanifold.is_manifold:
+            _draw_manifold(layout.box(), obj)
+        _draw_bake(layout.box(), scene_settings)
 
-        box = layout.box()
-        box.label(text="Convert", icon="MOD_MESHDEFORM")
-        box.prop(scene_settings, "sampling")
-        if scene_settings.sampling == "EVERY_N":
-            box.prop(scene_settings, "step")
-        elif scene_settings.sampling == "ADAPTIVE":
-            box.prop(scene_settings, "tolerance")
-        box.prop(scene_settings, "use_scene_range")
-        if not scene_settings.use_scene_range:
-            row = box.row(align=True)
-            row.prop(scene_settings, "frame_start")
-            row.prop(scene_settings, "frame_end")
-        box.prop(scene_settings, "cache_directory")
-        box.operator("animanifold.convert_action", icon="PLAY")
 
-        if obj is None or not obj.animanifold.is_manifold:
-            return
-        settings = obj.animanifold
+# The longest label the panels draw: at the default sidebar width a split layout's
+# label column holds about this many characters.
+LABEL_CHARS = 12
 
-        box = layout.box()
-        box.label(text=f"Manifold: {obj.name}", icon="MESH_ICOSPHERE")
-        box.prop(settings, "cache_path")
-        if settings.source is not None:
-            box.label(text=f"Source: {settings.source.name}")
-        if settings.max_deviation >= 0 and settings.source_size > 0:
-            box.label(text=f"Deviation: {100 * settings.max_deviation / settings.source_size:.3g} % "
-                           f"(frame {settings.deviation_frame:g})")
-        error = live.last_error(obj)
-        if error:
-            box.label(text=error, icon="ERROR")
-        if settings.mode == "LIVE":
-            row = box.row()
-            row.prop(settings, "axis", expand=True)
-            if settings.axis == "t":
-                box.prop(settings, "live_normals")
-            else:
-                box.prop(settings, "sweep_value")
-                box.prop(settings, "time_scale")
+
+def _draw_convert(box, scene_settings) -> None:
+    box.label(text="Convert", icon="ACTION")
+    col = box.column()
+    col.prop(scene_settings, "sampling")
+    if scene_settings.sampling == "EVERY_N":
+        col.prop(scene_settings, "step", text="Every")
+    elif scene_settings.sampling == "ADAPTIVE":
+        col.prop(scene_settings, "tolerance")
+    col.prop(scene_settings, "use_scene_range", text="Scene Range")
+    if not scene_settings.use_scene_range:
+        sub = col.column(align=True)
+        sub.prop(scene_settings, "frame_start", text="Start")
+        sub.prop(scene_settings, "frame_end", text="End")
+    col.prop(scene_settings, "cache_directory", text="Cache")
+    box.operator("animanifold.convert_action", text="Convert", icon="ACTION")
+
+
+def _draw_manifold(box, obj) -> None:
+    settings = obj.animanifold
+    box.label(text=obj.name, icon="MESH_ICOSPHERE")
+    col = box.column()
+    col.prop(settings, "cache_path", text="Cache")
+    if settings.source is not None:
+        col.prop(settings, "source", text="Source")
+    if settings.max_deviation >= 0 and settings.source_size > 0:
+        # two lines: one would be cut at the default sidebar width
+        col.label(text=f"Deviation: {100 * settings.max_deviation / settings.source_size:.3g} %")
+        col.label(text=f"Worst Frame: {settings.deviation_frame:g}")
+    error = live.last_error(obj)
+    if error:
+        box.label(text=error, icon="ERROR")
+        box.operator("animanifold.relink_cache", text="Relink Cache", icon="FILE_REFRESH")
+    if settings.mode == "LIVE":
+        row = col.row()
+        row.prop(settings, "axis", text="Slice Axis", expand=True)
+        if settings.axis == "t":
+            col.prop(settings, "live_normals", text="Normals")
         else:
-            box.label(text="Baked: shown without the add-on", icon="CHECKMARK")
-            box.operator("animanifold.make_live", icon="FILE_REFRESH")
+            col.prop(settings, "sweep_value", text="Value")
+            col.prop(settings, "time_scale", text="Time Scale")
+    else:
+        box.label(text="Baked: plays without the add-on", icon="CHECKMARK")
+        box.operator("animanifold.make_live", icon="FILE_REFRESH")
 
-        box = layout.box()
-        box.label(text="Bake", icon="RENDER_ANIMATION")
-        box.prop(scene_settings, "bake_use_scene_range")
-        if not scene_settings.bake_use_scene_range:
-            row = box.row(align=True)
-            row.prop(scene_settings, "bake_start")
-            row.prop(scene_settings, "bake_end")
-        row = box.row()
-        row.enabled = bake.alembic_supported()
-        row.prop(scene_settings, "bake_alembic")
-        sub = box.row()
-        sub.enabled = bake.alembic_supported() and scene_settings.bake_alembic
-        sub.prop(scene_settings, "bake_use_mesh_cache")
-        box.prop(scene_settings, "bake_export")
-        box.prop(scene_settings, "bake_directory")
-        box.operator("animanifold.bake", icon="EXPORT")
+
+def _draw_bake(box, scene_settings) -> None:
+    box.label(text="Bake", icon="RENDER_ANIMATION")
+    col = box.column()
+    col.prop(scene_settings, "bake_use_scene_range", text="Scene Range")
+    if not scene_settings.bake_use_scene_range:
+        sub = col.column(align=True)
+        sub.prop(scene_settings, "bake_start", text="Start")
+        sub.prop(scene_settings, "bake_end", text="End")
+    row = col.row()
+    row.enabled = bake.alembic_supported()
+    row.prop(scene_settings, "bake_alembic", text="Alembic")
+    row = col.row()
+    row.enabled = bake.alembic_supported() and scene_settings.bake_alembic
+    row.prop(scene_settings, "bake_use_mesh_cache", text="Mesh Cache")
+    col.prop(scene_settings, "bake_export", text="Sequence")
+    col.prop(scene_settings, "bake_directory", text="Folder")
+    box.operator("animanifold.bake", text="Bake", icon="EXPORT")
 
 
 class VIEW3D_PT_animanifold_smooth(Panel):
@@ -99,15 +117,17 @@ class VIEW3D_PT_animanifold_smooth(Panel):
 
     def draw(self, context):
         layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
         obj = context.active_object
         settings = obj.animanifold
 
         col = layout.column()
-        col.label(text="Manifold (shape and motion)", icon="MOD_SUBSURF")
-        col.prop(settings, "subdivision_levels")
+        col.label(text="Manifold", icon="MOD_SUBSURF")
+        col.prop(settings, "subdivision_levels", text="Levels")
         row = col.row()
         row.enabled = settings.subdivision_levels > 0
-        row.prop(settings, "keep_keyframe_times")
+        row.prop(settings, "keep_keyframe_times", text="Keep Keys")
         manifold = loaded_manifold(obj)  # never loads or subdivides while drawing
         if manifold is not None:
             tets = am.subdivided_simplex_count(manifold, settings.subdivision_levels)
@@ -118,11 +138,11 @@ class VIEW3D_PT_animanifold_smooth(Panel):
                 col.label(text=f"{tets:,} {kind}", icon="INFO")
 
         col = layout.column()
-        col.label(text="Frames (OpenSubdiv)", icon="SURFACE_NSURFACE")
-        col.prop(settings, "smooth_levels")
+        col.label(text="Frames", icon="SURFACE_NSURFACE")
+        col.prop(settings, "smooth_levels", text="Levels")
         row = col.row()
         row.enabled = settings.smooth_levels > 0
-        row.prop(settings, "crease_angle")
+        row.prop(settings, "crease_angle", text="Crease")
         if settings.mode == "LIVE" and obj.type == "MESH" and obj.data is not None and settings.smooth_levels > 0:
             faces = len(obj.data.polygons)
             col.label(text=f"{faces:,} faces this frame", icon="ERROR" if faces >= LARGE_FACES else "INFO")

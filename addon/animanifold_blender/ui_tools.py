@@ -19,13 +19,17 @@ class VIEW3D_PT_animanifold_tools(Panel):
 
     def draw(self, context):
         layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
         col = layout.column(align=True)
-        col.label(text="Voronoi Skeleton", icon="OUTLINER_DATA_ARMATURE")
-        col.operator("animanifold.skeleton", text="Internal Skeleton").side = "INTERNAL"
-        col.operator("animanifold.skeleton", text="External Skeleton").side = "EXTERNAL"
+        col.label(text="Skeleton", icon="OUTLINER_DATA_ARMATURE")
+        row = col.row(align=True)
+        row.operator("animanifold.skeleton", text="Internal").side = "INTERNAL"
+        row.operator("animanifold.skeleton", text="External").side = "EXTERNAL"
         col = layout.column(align=True)
-        col.label(text="Morph (select source, then target)", icon="MOD_SIMPLEDEFORM")
-        col.operator("animanifold.morph_selected", icon="FORWARD")
+        # The order is in the operator's tooltip: source selected first, target active.
+        col.label(text="Morph", icon="MOD_SIMPLEDEFORM")
+        col.operator("animanifold.morph_selected", text="Morph Selected", icon="FORWARD")
 
         obj = context.active_object
         if obj is None or obj.type != "MESH" or not hasattr(obj, "animanifold_deform"):
@@ -33,34 +37,33 @@ class VIEW3D_PT_animanifold_tools(Panel):
         settings = obj.animanifold_deform
         manifold = obj.animanifold.is_manifold
         box = layout.box()
-        box.label(text="Laplacian Deform", icon="MOD_LATTICE")
-        box.prop_search(settings, "anchor_group", obj, "vertex_groups")
-        box.prop_search(settings, "handle_group", obj, "vertex_groups")
-        box.prop(settings, "empty")
-        row = box.row(align=True)
-        row.prop(settings, "method", text="")
-        row.prop(settings, "boundary", text="")
-        row = box.row(align=True)
-        row.prop(settings, "restore")
+        box.label(text="Deform", icon="MOD_LATTICE")
+        col = box.column()
+        col.prop_search(settings, "anchor_group", obj, "vertex_groups", text="Anchors")
+        col.prop_search(settings, "handle_group", obj, "vertex_groups", text="Handles")
+        col.prop(settings, "empty", text="Empty")
+        col.prop(settings, "method", text="Method")
+        col.prop(settings, "boundary", text="Boundary")
+        col.prop(settings, "restore", text="Restore")
         if manifold:
-            row.prop(settings, "regularise")
+            col.prop(settings, "regularise", text="Regularise")
             if settings.regularise:
-                box.prop(settings, "time_weight")
-            box.prop(settings, "endpoints")
-            box.prop(settings, "use_selected_faces")
+                col.prop(settings, "time_weight", text="Time Weight")
+            col.prop(settings, "endpoints", text="Endpoints")
+            col.prop(settings, "use_selected_faces", text="Face Handles")
             anchors = len(stored(obj, ANCHORS_KEY))
             handles = len(stored(obj, HANDLES_KEY))
             row = box.row(align=True)
-            row.operator("animanifold.deform_store", icon="PINNED")
+            row.operator("animanifold.deform_store", text="Store", icon="PINNED")
             row.operator("animanifold.deform_clear", text="", icon="X")
             if anchors or handles:
-                box.label(text=f"Stored: {anchors} anchors, {handles} handles")
+                box.label(text=f"{anchors} anchors, {handles} handles")
         running = session(obj) is not None
         row = box.row(align=True)
-        row.prop(settings, "interactive", toggle=True, icon="PLAY" if not running else "PAUSE")
+        row.prop(settings, "interactive", text="Live Deform", toggle=True, icon="HAND" if not running else "PAUSE")
         row.operator("animanifold.deform", text="Apply" if running else "Deform", icon="MOD_SIMPLEDEFORM")
         if settings.interactive and not running:
-            box.label(text="Interactive is not running: toggle it off and on", icon="ERROR")
+            box.label(text="Not running: toggle it again", icon="ERROR")
 
 
 classes = (VIEW3D_PT_animanifold_tools,)

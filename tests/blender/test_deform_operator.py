@@ -320,6 +320,7 @@ def test_manifold_failures_change_nothing(manifold_object):
     scene.frame_set(36)
     empty = add_empty()
     man.animanifold_deform.empty = empty
+    man.animanifold_deform.anchor_group, man.animanifold_deform.handle_group = "anchor", "handle"
     fails(man, r"no vertex group 'anchor' for the anchors")
     add_group(man, "anchor", [0, 1, 2])
     fails(man, r"no vertex group 'handle' for the handles")

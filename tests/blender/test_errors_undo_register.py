@@ -23,7 +23,9 @@ def test_not_a_mesh(empty_scene):
     bpy.ops.object.camera_add()
     fails(r"'Camera' is a camera, not a mesh")
     bpy.ops.object.empty_add()
-    fails(r"'Empty' is a empty, not a mesh|not a mesh")
+    fails(r"'Empty' is an empty, not a mesh")
+    bpy.ops.object.armature_add()
+    fails(r"'Armature' is an armature, not a mesh")
 
 
 def test_no_animation(empty_scene):
@@ -69,6 +71,20 @@ def test_topology_change_names_the_frame(demo):
     assert scene_state() == before
 
 
+def test_topology_change_with_the_same_counts_says_what_changed(empty_scene):
+    # A Triangulate modifier whose quad method is keyframed: the same vertices and faces,
+    # other diagonals.
+    bpy.ops.mesh.primitive_cube_add()
+    cube = bpy.context.active_object
+    mod = cube.modifiers.new("Triangulate", "TRIANGULATE")
+    for frame, method in ((1, "FIXED"), (10, "FIXED_ALTERNATE")):
+        mod.quad_method = method
+        cube.keyframe_insert('modifiers["Triangulate"].quad_method', frame=frame)
+    with pytest.raises(RuntimeError, match=r"changes at frame 10 \(8 vertices, 12 faces as at frame 1, but face \d+ "
+                                           r"joins vertices \([\d, ]+\) instead of \([\d, ]+\) there\)"):
+        bpy.ops.animanifold.convert_action()
+
+
 def test_unsaved_file_with_relative_cache_folder(demo):
     fails(r"relative to the \.blend, which is not saved yet", cache_directory="//caches/")
 
@@ -98,9 +114,11 @@ def test_undo_after_convert_restores_the_scene(demo):
     assert len(man.data.polygons) > 0 and bpy.data.objects["Blob"].hide_get()
 
 
-_LISTS = ("frame_change_pre", "frame_change_post", "depsgraph_update_post", "load_post", "undo_post", "redo_post")
-# Playback (2), interactive deformation (2), load, undo, redo: handlers._HANDLERS.
-HANDLERS = 7
+_LISTS = ("frame_change_pre", "frame_change_post", "depsgraph_update_post", "load_post", "undo_post", "redo_post",
+          "render_init", "render_complete", "render_cancel", "save_pre", "save_post")
+# Playback (2), shown again (1), rendering (3), interactive deformation (2), save (2), load, undo, redo:
+# handlers._HANDLERS.
+HANDLERS = 13
 
 
 def _handler_count():
@@ -160,6 +178,12 @@ class _FakeLayout:
     def row(self, **_kw):
         return self
 
+    def column(self, **_kw):
+        return self
+
+    def prop_search(self, data, name, *_args, **kw):
+        self.prop(data, name, **kw)
+
     def label(self, text="", **_kw):
         self.log.append(("label", text))
 
@@ -189,7 +213,8 @@ def test_panel_draws_for_plain_live_and_baked_objects(demo, addon):
     assert ("prop", "axis") in log and ("operator", "animanifold.bake") in log
     settings = bpy.context.active_object.animanifold
     percent = 100 * settings.max_deviation / settings.source_size
-    assert 0 < percent <= 0.2 and ("label", f"Deviation: {percent:.3g} % (frame {settings.deviation_frame:g})") in log
+    assert 0 < percent <= 0.2 and ("label", f"Deviation: {percent:.3g} %") in log
+    assert ("label", f"Worst Frame: {settings.deviation_frame:g}") in log
     bpy.context.active_object.animanifold.axis = "x"
     assert ("prop", "sweep_value") in draw()
     assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
