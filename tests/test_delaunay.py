@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from animanifold import _core
-from helpers.shapes import icosphere, polygon
+from helpers.shapes import icosphere
 
 
 def circumsphere(points: np.ndarray) -> tuple[np.ndarray, float]:

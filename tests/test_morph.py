@@ -13,7 +13,7 @@ import pytest
 import animanifold as am
 from animanifold import _core
 from helpers.contours import blob, polygon_area, polygons
-from helpers.shapes import cube, cylinder, face_normals, icosphere, torus
+from helpers.shapes import cube, face_normals, icosphere, torus
 from helpers.surface_properties import assert_closed_oriented_surface
 
 

@@ -4,7 +4,6 @@ watertightness, and refusal of bad input."""
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest

@@ -8,7 +8,7 @@ import pytest
 import animanifold as am
 from animanifold import _core
 from helpers.keyframes import TIMES, wobble
-from helpers.shapes import cube, face_normals, icosphere, polygon
+from helpers.shapes import cube, icosphere, polygon
 
 
 @pytest.fixture

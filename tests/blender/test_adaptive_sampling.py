@@ -15,6 +15,7 @@ bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip in
 
 import animanifold as am  # noqa: E402
 from helpers.blender_helpers import mesh_vertices  # noqa: E402
+from helpers.surface_checks import distance_to_surface  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -25,33 +26,8 @@ TOLERANCE = 0.002  # the default: 0.2 % of the bounding-box diagonal
 
 def point_triangle_distances(points: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """Distance from each point (P, 3) to the nearest of the triangles (T, 3, 3), by
-    brute force: the closest point of every triangle (Ericson's regions), vectorised."""
-    p = points[:, None, :]
-    a, b, c = (tris[None, :, i, :] for i in range(3))
-    ab, ac, ap = b - a, c - a, p - a
-    d1, d2 = (ab * ap).sum(-1), (ac * ap).sum(-1)
-    bp, cp = p - b, p - c
-    d3, d4 = (ab * bp).sum(-1), (ac * bp).sum(-1)
-    d5, d6 = (ab * cp).sum(-1), (ac * cp).sum(-1)
-    va, vb, vc = d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2
-    with np.errstate(divide="ignore", invalid="ignore"):
-        denom = va + vb + vc
-        v_in, w_in = vb / denom, vc / denom
-        v_ab = d1 / (d1 - d3)
-        w_ac = d2 / (d2 - d6)
-        w_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
-    closest = a + v_in[..., None] * ab + w_in[..., None] * ac
-    regions = [  # later regions win: the order of Ericson's tests, reversed
-        ((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0), b + w_bc[..., None] * (c - b)),
-        ((vb <= 0) & (d2 >= 0) & (d6 <= 0), a + w_ac[..., None] * ac),
-        ((d6 >= 0) & (d5 <= d6), c),
-        ((vc <= 0) & (d1 >= 0) & (d3 <= 0), a + v_ab[..., None] * ab),
-        ((d3 >= 0) & (d4 <= d3), b),
-        ((d1 <= 0) & (d2 <= 0), a),
-    ]
-    for mask, point in regions:
-        closest = np.where(mask[..., None], np.broadcast_to(point, closest.shape), closest)
-    return np.sqrt(((p - closest) ** 2).sum(-1)).min(axis=1)
+    brute force over every triangle (helpers.surface_checks: Ericson's regions)."""
+    return distance_to_surface(points, tris)
 
 
 def two_sided(v1, f1, v2, f2) -> float:

@@ -5,9 +5,6 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest

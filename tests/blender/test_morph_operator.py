@@ -13,8 +13,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, mesh_corners, mesh_vertices,  # noqa: E402
-                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks)
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, RecordingProgressBar, mesh_corners,  # noqa: E402
+                             mesh_vertices, run_blender_binary_smoke, run_blender_in_window, scene_state, shown,
+                             triangle_looks)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -396,23 +397,13 @@ def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_s
 def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
     from animanifold_blender import ops_morph
 
-    calls = []
-
-    class WM:
-        def progress_begin(self, lo, hi):
-            calls.append(("begin", lo, hi))
-
-        def progress_update(self, value):
-            calls.append(("update", value))
-
-        def progress_end(self):
-            calls.append(("end",))
+    bar = RecordingProgressBar()
 
     stages = []
 
     class Recording(ops_morph.MorphStages):
         def __init__(self, wm):
-            super().__init__(WM())
+            super().__init__(bar)
 
         def __call__(self, finished, fraction):
             stages.append(finished)
@@ -424,9 +415,7 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
     bpy.ops.mesh.primitive_cube_add(size=1.5)
     select(source, bpy.context.active_object)
     assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
-    assert calls[0] == ("begin", 0, 100) and calls[-1] == ("end",)
-    values = [c[1] for c in calls if c[0] == "update"]
-    assert values == sorted(values) and 0 <= values[0] and values[-1] <= 100
+    bar.assert_filled_once_in_order()
     # two convex primitives: the skeleton method builds the hull (no mesher: no "conforming")
     first = ["skeleton", "fill"] if best_method() == "skeleton" else ["conforming", "fill"]
     # the shared hole space first (a shape CGAL refuses fails before the morph), its check last

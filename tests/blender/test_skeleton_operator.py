@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import scene_state  # noqa: E402
+from helpers.blender_helpers import RecordingProgressBar, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -68,23 +68,13 @@ def test_poll_needs_a_mesh(empty_scene):
 def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
     from animanifold_blender import ops_skeleton
 
-    calls = []
-
-    class WM:
-        def progress_begin(self, lo, hi):
-            calls.append(("begin", lo, hi))
-
-        def progress_update(self, value):
-            calls.append(("update", value))
-
-        def progress_end(self):
-            calls.append(("end",))
+    bar = RecordingProgressBar()
 
     steps = []
 
     class Recording(ops_skeleton.CoreProgress):
         def __init__(self, wm, *args, **kwargs):
-            super().__init__(WM(), *args, **kwargs)
+            super().__init__(bar, *args, **kwargs)
 
         def __call__(self, step, fraction):
             steps.append(step)
@@ -93,9 +83,7 @@ def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
     monkeypatch.setattr(ops_skeleton, "CoreProgress", Recording)
     bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
     assert bpy.ops.animanifold.skeleton(side="INTERNAL") == {"FINISHED"}
-    assert calls[0] == ("begin", 0, 100) and calls[-1] == ("end",)
-    values = [c[1] for c in calls if c[0] == "update"]
-    assert values == sorted(values) and 0 <= values[0] and values[-1] <= 100
+    bar.assert_filled_once_in_order()
     assert steps[:3] == ["checks", "separability", "voronoi"] and "bisectors" in steps
 
 

@@ -180,3 +180,29 @@ def run_blender_in_window(tmp_path: Path, script: str) -> subprocess.CompletedPr
     finally:
         screen.terminate()
         screen.wait(timeout=10)
+
+
+class RecordingProgressBar:
+    """A window manager's progress bar that records its calls: ("begin", lo, hi),
+    ("update", value), ("end",); `values` are the updates in order."""
+
+    def __init__(self):
+        self.calls = []
+
+    def progress_begin(self, lo, hi):
+        self.calls.append(("begin", lo, hi))
+
+    def progress_update(self, value):
+        self.calls.append(("update", value))
+
+    def progress_end(self):
+        self.calls.append(("end",))
+
+    @property
+    def values(self) -> list:
+        return [c[1] for c in self.calls if c[0] == "update"]
+
+    def assert_filled_once_in_order(self) -> None:
+        """Begun at 0..100, ended, and updated with non-decreasing values inside it."""
+        assert self.calls[0] == ("begin", 0, 100) and self.calls[-1] == ("end",)
+        assert self.values == sorted(self.values) and 0 <= self.values[0] and self.values[-1] <= 100
