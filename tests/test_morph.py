@@ -7,6 +7,8 @@ import signal
 import sys
 import threading
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -255,7 +257,7 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
                              "largest_bubble_fraction": bubble if perturbation == "hull_faces" else 0.0}
 
         def check(self):
-            return {"is_oriented_manifold": True}
+            return SimpleNamespace(is_oriented_manifold=True)
 
     def made_once(arrays, perturbation, **once):
         calls.append(perturbation)
