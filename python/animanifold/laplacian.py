@@ -40,6 +40,7 @@ import numpy as np
 from . import _core
 from .indices import as_indices
 from .choices import checked, names
+from .interrupting import InterruptedCallback, ProgressCallback, Span
 
 METHODS = names(_core.LaplacianMethod)
 BOUNDARY_RULES = names(_core.BoundaryRule)
@@ -363,20 +364,40 @@ def laplacian_deform(
     *,
     handle_positions: np.ndarray | None = None,
     options: LaplacianOptions = LaplacianOptions(),
+    progress: ProgressCallback | None = None,
+    interrupted: InterruptedCallback | None = None,
 ) -> np.ndarray:
     """One-off deformation: builds a :class:`Deformer` as `options` say, moves
     the handles (by `handle_transform` or to `handle_positions`) and, for the
     dual method with ``options.restore``, restores features. Returns (N, D)
-    points."""
-    d = Deformer.from_options(points, simplices, anchors, handles, options)
-    return solve(d, handle_transform, handle_positions, options)
+    points. ``progress(step, fraction)`` follows the factorisation's steps,
+    then "deforming", "restoring" and "done", with fractions growing in
+    [0, 1]; ``interrupted()`` is polled with it; False from the one or True
+    from the other raises :class:`animanifold.Cancelled` (the restore's own
+    rounds are not interrupted: it is polled before them)."""
+    span = Span(progress, interrupted)
+    factorising = span.part(0.0, _FACTORISING)
+    d = Deformer.from_options(points, simplices, anchors, handles, options, progress=factorising.core_progress(),
+                              interrupted=interrupted)
+    out = solve(d, handle_transform, handle_positions, options, span.part(_FACTORISING, 1.0))
+    span.step("done", 1.0)
+    return out
 
 
-def solve(deformer: Deformer, handle_transform, handle_positions, options: LaplacianOptions) -> np.ndarray:
+# The share of a one-off solve's progress given to building and factoring the system:
+# it is what takes time, unless the restore runs many rounds.
+_FACTORISING = 0.6
+
+
+def solve(deformer: Deformer, handle_transform, handle_positions, options: LaplacianOptions,
+          span: Span = Span()) -> np.ndarray:
     """Moves `deformer`'s handles in ``options.steps`` increments and restores
     features when ``options.restore`` asks for it and the method has a restore
-    (dual only). Returns the deformer's new (N, D) points."""
+    (dual only). Returns the deformer's new (N, D) points. Reports "deforming"
+    and "restoring" on `span` (Cancelled when its caller says stop)."""
+    span.step("deforming", 0.0)
     out = deformer.deform(handle_transform, handle_positions=handle_positions, steps=options.steps)
     if options.restore and deformer.method == "dual":
+        span.step("restoring", 0.5)
         out = deformer.restore(options.restore_iterations, options.tolerance)
     return out
