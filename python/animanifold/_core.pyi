@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'Error', 'FileError', 'FillTriangulation', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldScheme', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldReport', 'ManifoldScheme', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -64,6 +64,46 @@ class Complex:
     def vertex_attributes(self) -> dict:
         """
         Per-vertex float tables by name (#V rows), read-only views.
+        """
+class ManifoldReport:
+    """
+    What check_manifold found: facet counts by kind (complex.hpp).
+    """
+    def __repr__(self) -> str:
+        ...
+    def to_dict(self) -> dict:
+        """
+        The counts and is_oriented_manifold as a dict of plain values (for JSON reports).
+        """
+    @property
+    def boundary_facets(self) -> int:
+        """
+        Facets of exactly one simplex.
+        """
+    @property
+    def degenerate_simplices(self) -> int:
+        """
+        Simplices repeating a vertex.
+        """
+    @property
+    def interior_facets(self) -> int:
+        """
+        Facets shared by exactly two simplices.
+        """
+    @property
+    def is_oriented_manifold(self) -> bool:
+        """
+        No non-manifold or misoriented facet and no degenerate simplex.
+        """
+    @property
+    def misoriented_facets(self) -> int:
+        """
+        Facets shared by two simplices with the same orientation.
+        """
+    @property
+    def nonmanifold_facets(self) -> int:
+        """
+        Facets of three or more simplices.
         """
 class Slice:
     """
@@ -484,6 +524,101 @@ class Refinement:
         """
         Per-vertex tables (#V' rows), interpolated at new vertices.
         """
+class FrameSubdivision:
+    """
+    A frame (or polyline) refined by subdivide_frame/_polyline.
+    """
+    @property
+    def crease_count(self) -> int:
+        """
+        Input edges made sharp (corners for polylines).
+        """
+    @property
+    def face_attributes(self) -> dict[str, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+        """
+        Per-face tables inherited from the input face.
+        """
+    @property
+    def face_parent(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        #F': the input face each face descends from.
+        """
+    @property
+    def faces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        #F' by 3 (Loop), 4 (Catmull-Clark) or 2 (segments), oriented like the input.
+        """
+    @property
+    def normals(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        #V' by 3 unit area-weighted normals of the refined mesh.
+        """
+    @property
+    def vertex_attributes(self) -> dict[str, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        Per-vertex tables refined with the same stencils as the points.
+        """
+    @property
+    def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        #V' by 3 refined points.
+        """
+class FrameScheme:
+    """
+    Frame subdivision: loop (triangles), catmull_clark (triangles or quads), bspline (polylines).
+    
+    Members:
+    
+      loop
+    
+      catmull_clark
+    
+      bspline
+    """
+    __members__: typing.ClassVar[dict[str, FrameScheme]]
+    bspline: typing.ClassVar[FrameScheme]
+    catmull_clark: typing.ClassVar[FrameScheme]
+    loop: typing.ClassVar[FrameScheme]
+    @typing.overload
+    def __eq__(self, other: FrameScheme) -> bool:
+        ...
+    @typing.overload
+    def __eq__(self, other: typing.Any) -> bool:
+        ...
+    def __getstate__(self) -> int:
+        ...
+    def __hash__(self) -> int:
+        ...
+    def __index__(self) -> int:
+        ...
+    @typing.overload
+    def __init__(self, value: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, name: str) -> None:
+        """
+        The value named `name`.
+        """
+    def __int__(self) -> int:
+        ...
+    @typing.overload
+    def __ne__(self, other: FrameScheme) -> bool:
+        ...
+    @typing.overload
+    def __ne__(self, other: typing.Any) -> bool:
+        ...
+    def __repr__(self) -> str:
+        ...
+    def __setstate__(self, state: typing.SupportsInt | typing.SupportsIndex) -> None:
+        ...
+    def __str__(self) -> str:
+        ...
+    @property
+    def name(self) -> str:
+        ...
+    @property
+    def value(self) -> int:
+        ...
 class ManifoldScheme:
     """
     Tetrahedral subdivision: schaefer (split and average: smooth) or linear (split only).
@@ -673,6 +808,69 @@ class WrapShape:
     @property
     def value(self) -> int:
         ...
+class DihedralReport:
+    """
+    The mesh's surface angles against a limit (dihedral_test).
+    """
+    @property
+    def angles(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        The surface angle at each row of `sharp`.
+        """
+    @property
+    def limit(self) -> float:
+        """
+        The limit tested against (radians).
+        """
+    @property
+    def passes(self) -> bool:
+        """
+        No surface angle is sharper than the limit.
+        """
+    @property
+    def sharp(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        Where: the shared edge (2 vertices) in 3D, the corner vertex (1 column) in 2D.
+        """
+    @property
+    def sharpest(self) -> float:
+        """
+        The smallest surface angle found (radians).
+        """
+class SeparabilityResult:
+    """
+    A mesh made Voronoi-separable (make_voronoi_separable).
+    """
+    @property
+    def faces(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        Conforming and oriented like the input.
+        """
+    @property
+    def iterations(self) -> int:
+        """
+        Splitting rounds applied (0: it was separable).
+        """
+    @property
+    def remaining(self) -> int:
+        """
+        Encroached simplices left when the cap was hit.
+        """
+    @property
+    def separable(self) -> bool:
+        """
+        No encroachment is left.
+        """
+    @property
+    def splits(self) -> int:
+        """
+        Vertices inserted.
+        """
+    @property
+    def vertices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        The refined mesh: input vertices first, then split points.
+        """
 class VoronoiSkeleton:
     """
     Internal/external Voronoi skeleton (chapter 7).
@@ -684,7 +882,7 @@ class VoronoiSkeleton:
     def bisectors(self) -> int:
         ...
     @property
-    def dihedral(self) -> dict:
+    def dihedral(self) -> DihedralReport:
         ...
     @property
     def discarded(self) -> int:
@@ -911,21 +1109,21 @@ class Deformer:
     """
     Laplacian editing with a kept CHOLMOD factorisation.
     """
-    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> None:
+    def __init__(self, points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], anchors: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], handles: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], method: LaplacianMethod = ..., boundary: BoundaryRule = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, constraint_weight: typing.SupportsFloat | typing.SupportsIndex = 0.0, zero_detail_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ..., *, progress: typing.Any = None, interrupted: typing.Any = None) -> None:
         """
-        Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails.
+        Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def deform(self, transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def deform(self, transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1, *, progress: typing.Any = None, interrupted: typing.Any = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions.
+        Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions, each a "deforming" step. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def deform_to(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def deform_to(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1, *, progress: typing.Any = None, interrupted: typing.Any = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions.
+        Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions, each a "deforming" step. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def restore(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 50, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06) -> RestoreStatus:
+    def restore(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 50, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06, *, progress: typing.Any = None, interrupted: typing.Any = None) -> RestoreStatus:
         """
-        Iterates the rotation-restoring solve; returns a RestoreStatus.
+        Iterates the rotation-restoring solve, each round a "restoring" step; returns a RestoreStatus. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
@@ -961,9 +1159,9 @@ def boundary_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.in
     """
     Facets (#B by k) that belong to one simplex only, oriented outward.
     """
-def check_manifold(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> dict:
+def check_manifold(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> ManifoldReport:
     """
-    Facet counts of simplices (#S by k+1) as a dict: interior_facets, boundary_facets, nonmanifold_facets, misoriented_facets, degenerate_simplices, is_oriented_manifold.
+    Facet counts of simplices (#S by k+1): a ManifoldReport.
     """
 def check_morph_input(vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], name: str) -> None:
     """
@@ -973,9 +1171,9 @@ def closest_points(points: typing.Annotated[numpy.typing.NDArray[numpy.float64],
     """
     (distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.
     """
-def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> dict:
+def dihedral_test(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483) -> DihedralReport:
     """
-    Dihedral angles of the mesh's edges against `limit` (radians): dict of limit, sharpest, passes, sharp, angles.
+    Dihedral angles of the mesh's edges against `limit` (radians): a DihedralReport.
     """
 def distances_to_surface(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
     """
@@ -1001,9 +1199,9 @@ def intersect_solids(vertices_a: typing.Annotated[numpy.typing.NDArray[numpy.flo
     """
     (vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons); raises BooleanError.
     """
-def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> dict:
+def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> SeparabilityResult:
     """
-    Splits encroached faces until the mesh is Voronoi-separable (§7.2): dict of vertices, faces, separable, iterations, splits, remaining.
+    Splits encroached faces until the mesh is Voronoi-separable (§7.2): a SeparabilityResult.
     """
 def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], options: typing.Any = None, progress: typing.Any = None, interrupted: typing.Any = None, **kwargs) -> tuple[Complex, MorphReport]:
     """
@@ -1033,21 +1231,21 @@ def solid_measure(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64]
     """
     Volume (3D) or area (2D) enclosed by a closed outward boundary.
     """
-def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> Complex:
+def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ..., *, progress: typing.Any = None, interrupted: typing.Any = None) -> Complex:
     """
-    Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises InputError naming the keyframe, vertex or face that is wrong.
+    Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises InputError naming the keyframe, vertex or face that is wrong. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
     """
-def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: str = 'loop', crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, crease_edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"] | None = None, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
+def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: FrameScheme = ..., crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, crease_edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"] | None = None, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> FrameSubdivision:
     """
-    OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: dict of arrays (vertices, faces, normals, vertex_attributes, face_attributes, face_parent, crease_count); raises InputError for a bad mesh or scheme.
+    OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; raises InputError for a bad mesh or scheme.
     """
-def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: ManifoldScheme = ..., keep_keyframe_times: bool = False, keyframe_times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = []) -> SubdividedManifold:
+def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: ManifoldScheme = ..., keep_keyframe_times: bool = False, keyframe_times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], *, progress: typing.Any = None, interrupted: typing.Any = None) -> SubdividedManifold:
     """
-    Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels.
+    Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
     """
-def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> dict:
+def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> FrameSubdivision:
     """
-    Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations).
+    Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations): a FrameSubdivision.
     """
 def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], hole_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], hole_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], bool]:
     """
@@ -1057,9 +1255,9 @@ def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64],
     """
     Volume-weighted unit normals (#V by n+1) of a manifold of n-simplices in R^(n+1).
     """
-def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], side: SkeletonSide = ..., max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: WrapShape = ..., wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> VoronoiSkeleton:
+def voronoi_skeleton(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], side: SkeletonSide = ..., max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, wrap: WrapShape = ..., wrap_density: typing.SupportsInt | typing.SupportsIndex = 4, wrap_margin: typing.SupportsFloat | typing.SupportsIndex = 1.0, dihedral_limit: typing.SupportsFloat | typing.SupportsIndex = 0.7853981633974483, attach: bool = False, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3, *, progress: typing.Any = None, interrupted: typing.Any = None) -> VoronoiSkeleton:
     """
-    The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails.
+    The `side` Voronoi skeleton(s) of a closed triangle mesh (vertices #V by 3, faces #F by 3), made Voronoi-separable first; raises InputError for a bad mesh or wrap name, MeshingError when Qhull fails. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
     """
 def wrap(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], shape: WrapShape = ..., density: typing.SupportsInt | typing.SupportsIndex = 4, margin: typing.SupportsFloat | typing.SupportsIndex = 1.0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, int]:
     """
@@ -1069,3 +1267,149 @@ def write_mesh(path: str, vertices: typing.Annotated[numpy.typing.NDArray[numpy.
     """
     Writes vertices (#V by 3) and triangles (#F by 3) to an OFF/OBJ/PLY/STL file (by extension); raises FileError naming the file when it cannot be written.
     """
+class _testing:
+    """Entry points used only by the tests and benchmarks. (the submodule _core._testing)"""
+    class ConformingDelaunay:
+        """
+        A conforming Delaunay triangulation and its refined constraints (delaunay.hpp).
+        """
+        @property
+        def constraint_parent(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+            """
+            The input constraint each refined one lies in.
+            """
+        @property
+        def constraints(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+            """
+            The refined constraints, each oriented like the input constraint it lies in.
+            """
+        @property
+        def is_delaunay(self) -> bool:
+            """
+            Every refined constraint is a face of the Delaunay triangulation.
+            """
+        @property
+        def mended_points(self) -> int:
+            """
+            3D: points the mending added.
+            """
+        @property
+        def mending_rounds(self) -> int:
+            """
+            3D: how many times TetGen ran again after mending.
+            """
+        @property
+        def non_delaunay_faces(self) -> int:
+            """
+            Refined constraints that are not faces of the triangulation.
+            """
+        @property
+        def points(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+            """
+            Input points first (same indices), then the Steiner points the mesher added.
+            """
+        @property
+        def simplices(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+            """
+            The Delaunay triangulation of `points`, positively oriented.
+            """
+    @staticmethod
+    def affine_power(transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], s: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        T^s: the fraction s of an affine (D+1)x(D+1) transform (polar factors about its fixed point).
+        """
+    @staticmethod
+    def boundary_vertices(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertex_count: typing.SupportsInt | typing.SupportsIndex) -> numpy.typing.NDArray[numpy.bool]:
+        """
+        Whether each of the vertex_count vertices lies on a boundary facet of the simplices (#V bool vector).
+        """
+    @staticmethod
+    def check_morph_frames(manifold: Complex, t0: typing.SupportsFloat | typing.SupportsIndex, t1: typing.SupportsFloat | typing.SupportsIndex, source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], budget_seconds: typing.SupportsFloat | typing.SupportsIndex = 60.0) -> MorphReport:
+        """
+        The morph's frame checks (morph_validity.hpp) on a manifold (tets in R^4) that should run from the source at t0 to the target at t1: a MorphReport with frames_checked, frames_capped, topology_changes, crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.
+        """
+    @staticmethod
+    def conforming_delaunay_2d(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> ConformingDelaunay:
+        """
+        Conforming Delaunay triangulation (CGAL) of points (#P by 2) and constraint segments (#E by 2): a ConformingDelaunay; raises InputError for bad indices, MeshingError when CGAL fails.
+        """
+    @staticmethod
+    def conforming_delaunay_3d(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> ConformingDelaunay:
+        """
+        Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles (#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails.
+        """
+    @staticmethod
+    def delaunay(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+        """
+        (simplices, flat_count, flat_simplices): Delaunay triangulation of points (#P by d) in any dimension (Qhull); raises InputError for too few or non-finite points, MeshingError when Qhull fails.
+        """
+    @staticmethod
+    def delaunay_exact(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+        """
+        (simplices, flat_count, flat_simplices): Delaunay triangulation of points (#P by 3 or 4) (CGAL); raises InputError for bad points, MeshingError when CGAL fails.
+        """
+    @staticmethod
+    def dual_operator(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertex_count: typing.SupportsInt | typing.SupportsIndex) -> tuple[tuple, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+        """
+        (D as CSR, neighbours (#S by n+1), ghost_facets (#G by 2)).
+        """
+    @staticmethod
+    def edge_length_degeneracy(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Variance of each simplex's edge lengths over their squared mean (§6.3). #S vector.
+        """
+    @staticmethod
+    def external_skeleton_points(points: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], gap: typing.SupportsFloat | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Vertices of the external Voronoi skeleton off the surface, at least gap apart (§8.6.1).
+        """
+    @staticmethod
+    def facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
+        """
+        All facets (#S*k by k-1), facet i of simplex s at row s*k+i, oriented by the rule of §2.4.
+        """
+    @staticmethod
+    def laplacian_system(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], method: LaplacianMethod = ..., lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08, zero_detail_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ...) -> tuple[tuple, typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]]:
+        """
+        (L as CSR, delta): L V = Δ for the input.
+        """
+    @staticmethod
+    def missing_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+        """
+        Rows of faces that are not faces of any simplex (Theorem 5.2.1).
+        """
+    @staticmethod
+    def primal_weights(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], method: LaplacianMethod, lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08) -> tuple:
+        """
+        Primal weights W (#V by #V) as CSR (indptr, indices, data, shape); raises ValueError for an unknown method.
+        """
+    @staticmethod
+    def raise_error(type: str, message: str) -> None:
+        """
+        Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled) with `message`, through the module's translator: what a core call raises in that case.
+        """
+    @staticmethod
+    def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Signed volume of each n-simplex in R^n (#S vector); negative when inverted.
+        """
+    @staticmethod
+    def simplex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Unit normal of each n-simplex in R^(n+1) (#S by n+1), oriented by the simplex.
+        """
+    @staticmethod
+    def simplex_qp(H: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], g: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], lower: typing.SupportsFloat | typing.SupportsIndex, max_iterations: typing.SupportsInt | typing.SupportsIndex = 0) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"], float, int, bool]:
+        """
+        min ½wᵀHw + gᵀw s.t. Σw = 1, w >= lower → (weights, objective, iterations, converged).
+        """
+    @staticmethod
+    def simplex_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Unsigned k-volume of each simplex in any R^D (#S vector).
+        """
+    @staticmethod
+    def slice(manifold: Complex, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> Slice:
+        """
+        One slice without an index or cached normals (tests every simplex).
+        """

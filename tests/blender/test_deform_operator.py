@@ -422,7 +422,8 @@ def test_deform_shows_the_cores_steps_on_the_progress_bar(sphere, monkeypatch):
     bpy.context.view_layer.update()
     assert bpy.ops.animanifold.deform() == {"FINISHED"}
     names = [s for s, _ in steps]
-    assert names[0] == "checks" and "factorising" in names and names[-3:] == ["deforming", "restoring", "done"]
+    assert names[0] == "checks" and "factorising" in names and names[-1] == "done"
+    assert names.index("factorising") < names.index("deforming") < names.index("restoring")  # a round each
     fractions = [f for _, f in steps]
     assert fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] == 1.0 and ended == [True]
 
