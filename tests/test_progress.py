@@ -1,5 +1,6 @@
 """The one interrupter of long core calls (cpp/include/animanifold/progress.hpp):
-stitch, voronoi_skeleton, the Deformer's factorisation and subdivide report their
+stitch, voronoi_skeleton, the Deformer's factorisation, subdivide, and the
+package's chains of them (laplacian_deform, regularise, deform) report their
 steps with fractions growing in [0, 1], and stop with animanifold.Cancelled at the
 step where the caller's progress() answers False or its interrupted() True. The
 calls are counted, so nothing here depends on how fast the machine is."""
@@ -42,7 +43,35 @@ def _subdivide(**callbacks):
     return am.subdivide(_STITCHED, levels=2, **callbacks)
 
 
-CALLS = {"stitch": _stitch, "voronoi_skeleton": _skeleton, "Deformer": _deformer, "subdivide": _subdivide}
+def _pulled_sphere():
+    """An icosphere with its bottom anchored and its top cap pulled 4 radii up: regularise splits."""
+    v, f = icosphere(2)
+    z = v[:, 2]
+    return v, f, np.flatnonzero(z < -0.5), np.flatnonzero(z > 0.8), am.handle_transform(translation=[0, 0, 4.0],
+                                                                                       dimension=3)
+
+
+def _laplacian_deform(**callbacks):
+    return am.laplacian_deform(*_pulled_sphere(), **callbacks)
+
+
+def _regularise(**callbacks):
+    return am.regularise(*_pulled_sphere(), **callbacks)
+
+
+def _deform(**callbacks):
+    global _STITCHED
+    if _STITCHED is None:
+        _STITCHED = _stitch()
+    t = _STITCHED.points[:, 3]
+    anchors, handles = np.flatnonzero(t == t.min()), np.flatnonzero(t == t.max())
+    return am.deform(_STITCHED, anchors, handles, am.handle_transform(translation=[0, 0, 0.5, 0]),
+                     options=am.DeformOptions(regularise=am.RegulariseOptions(max_iterations=2)), **callbacks)
+
+
+CALLS = {"stitch": _stitch, "voronoi_skeleton": _skeleton, "Deformer": _deformer, "subdivide": _subdivide,
+         "laplacian_deform": _laplacian_deform, "regularise": _regularise, "deform": _deform}
+CHAINS = ("laplacian_deform", "regularise", "deform")
 
 
 class Recorder:
@@ -91,6 +120,27 @@ def test_true_from_interrupted_stops_the_call_at_that_poll(name):
     with pytest.raises(am.Cancelled):
         CALLS[name](**recorder.callbacks())
     assert recorder.polls == 2 and len(recorder.steps) == 2
+
+
+@pytest.mark.parametrize("name", CHAINS)
+def test_a_chain_of_core_calls_stops_at_any_counted_poll_past_its_first_factorisation(name):
+    counted = Recorder()
+    CALLS[name](**counted.callbacks())
+    names = [step for step, _ in counted.steps]
+    assert "deforming" in names and names[-1] == "done", names
+    for stop in (names.index("deforming") + 1, counted.polls - 1, counted.polls):
+        recorder = Recorder(stop_interrupted_at=stop)
+        with pytest.raises(am.Cancelled):
+            CALLS[name](**recorder.callbacks())
+        assert recorder.polls == stop and len(recorder.steps) == stop
+
+
+def test_regularise_reports_a_factorisation_per_round():
+    recorder = Recorder()
+    _, _, maps = _regularise(**recorder.callbacks())
+    assert maps.iterations >= 1
+    assert [step for step, _ in recorder.steps].count("deforming") == maps.iterations + 1
+    assert recorder.steps[-1] == ("done", 1.0)
 
 
 def test_an_exception_in_a_callback_reaches_the_caller_unchanged():

@@ -8,8 +8,8 @@ Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
   application handler, in order); ui, ui_tools (panels);
 * operators, thin (properties, poll, execute/invoke): operators (Convert, Bake,
   Back to Live), ops_morph (Morph Selected; modal, the core in am.MorphJob's
-  worker thread, Esc cancels), ops_skeleton (modal likewise, in am.CoreJob),
-  ops_deform; `reporting` turns their
+  worker thread, Esc cancels), ops_skeleton and ops_deform (modal likewise, in
+  am.CoreJob, through job_modal); `reporting` turns their
   failures into reports;
 * what they run: convert, bake_object and bake, morph_object, deform_apply with
   deform_constraints, deform_handle and interactive_deform;

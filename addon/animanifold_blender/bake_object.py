@@ -14,7 +14,7 @@ import bpy
 from . import bake
 from .cache_paths import is_blend_relative
 from .object_manifold import manifold_for, shown_manifold
-from .progress import Progress
+from .progress import CoreProgress, Progress
 from .reporting import OperatorError
 
 
@@ -23,7 +23,11 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
     """Bakes `obj` (see the module); the report's text."""
     scene = context.scene
     manifold_for(obj)  # validates the cache before anything changes
-    manifold = shown_manifold(obj)  # and subdivides it (Smooth settings) before anything changes
+    subdividing = CoreProgress(context.window_manager, where="subdividing the manifold")
+    try:
+        manifold = shown_manifold(obj, subdividing)  # and subdivides it (Smooth settings) before anything changes
+    finally:
+        subdividing.end()
     if use_scene_range:
         start, end = scene.frame_start, scene.frame_end
     t0, t1 = manifold.time_range

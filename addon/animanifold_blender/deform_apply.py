@@ -13,6 +13,7 @@ changes; a failure leaves the scene as it was.
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass, field
 
 import bpy
 import numpy as np
@@ -26,7 +27,7 @@ from .live_registry import registry
 from .mesh_input import mesh_arrays
 from .mesh_writer import write_points
 from .playback import update_object
-from .progress import Progress
+from .progress import CoreProgress
 from .reporting import OperatorError
 
 
@@ -41,9 +42,39 @@ def check_target(obj, regularise: bool) -> None:
         raise OperatorError(f"'{obj.name}' has shape keys: deforming its vertices would be hidden by them")
 
 
-def deform_object(context, obj, opt: dict, empty, report) -> set:
-    """Deforms `obj` by the motion of `empty` since its recorded rest with the options `opt`
-    (the operator's properties); reports on `report` (Operator.report); the operator's result."""
+@dataclass
+class DeformPlan:
+    """What a Deform computes, read from the scene beforehand: `compute` touches no Blender
+    data, so it may run in a worker thread (am.CoreJob) while the interface keeps drawing."""
+
+    obj_name: str
+    empty_name: str
+    opt: dict
+    anchors: np.ndarray
+    handles: np.ndarray
+    transform: np.ndarray
+    manifold: object = None  # the object's AnimationManifold; None for a plain mesh
+    points: np.ndarray | None = None  # a plain mesh's vertices and triangles
+    triangles: np.ndarray | None = None
+    notes: list = field(default_factory=list)
+
+    def compute(self, progress=None, interrupted=None):
+        """The deformed manifold, or a plain mesh's moved (N, 3) vertices."""
+        laplacian = _laplacian_options(self.opt)
+        if self.manifold is None:
+            return am.laplacian_deform(self.points, self.triangles, self.anchors, self.handles, self.transform,
+                                       options=laplacian, progress=progress, interrupted=interrupted)
+        regularise = None
+        if self.opt["regularise"]:
+            regularise = am.RegulariseOptions(axis_weights=(1.0, 1.0, 1.0, float(self.opt["time_weight"])))
+        return am.deform(self.manifold, self.anchors, self.handles, self.transform,
+                         options=am.DeformOptions(laplacian, regularise), progress=progress, interrupted=interrupted)
+
+
+def plan_deform(context, obj, opt: dict, empty, report) -> tuple[DeformPlan | None, set]:
+    """What deforming `obj` by the motion of `empty` since its recorded rest with the options `opt`
+    (the operator's properties) computes; (None, the operator's result) when there is nothing to
+    compute: the rest is recorded first, or the Empty has not moved (reported on `report`)."""
     notes: list[str] = []
     if is_manifold_object(obj):
         anchors, handles, manifold = manifold_constraints(context, obj, opt, notes)
@@ -56,29 +87,46 @@ def deform_object(context, obj, opt: dict, empty, report) -> set:
         record_rest(obj, empty)
         report({"INFO"}, f"Recorded where '{empty.name}' is: move it and run Deform again to move the "
                          f"handles of '{obj.name}'")
-        return {"FINISHED"}
+        return None, {"FINISHED"}
     T = local_transform(obj, empty, rest, dimension)
     if np.allclose(T, np.eye(len(T)), atol=1e-9):
         report({"INFO"}, f"'{empty.name}' has not moved since the last deformation of '{obj.name}': nothing to do")
-        return {"CANCELLED"}
-    progress = Progress(context, 4)
+        return None, {"CANCELLED"}
+    points, triangles = (None, None) if manifold is not None else mesh_arrays(obj.data)
+    return DeformPlan(obj.name, empty.name, opt, anchors, handles, T, manifold, points, triangles, notes), set()
+
+
+def deform_object(context, obj, opt: dict, empty, report) -> set:
+    """Deforms `obj` by the motion of `empty` (plan_deform), blocking, with the core's steps on
+    the progress bar; reports on `report` (Operator.report); the operator's result."""
+    plan, result = plan_deform(context, obj, opt, empty, report)
+    if plan is None:
+        return result
+    progress = CoreProgress(context.window_manager, 5.0, 90.0, where="reading the constraints")
     try:
-        progress(1)
-        if manifold is not None:
-            where = _deform_manifold(context, obj, manifold, anchors, handles, T, opt, notes, progress)
-        else:
-            points, triangles = mesh_arrays(obj.data)
-            moved = am.laplacian_deform(points, triangles, anchors, handles, T,
-                                        options=_laplacian_options(opt))
-            progress(3)
-            write_points(obj.data, moved)
-            where = ""
-        progress(4)
+        progress.at("before the core's first step", 5.0)
+        deformed = plan.compute(progress=progress)
+        progress.at("writing the result", 90.0)
+        return finish_deform(context, obj, plan, deformed, report)
     finally:
         progress.end()
-    record_rest(obj, empty)
-    report({"INFO"}, f"Deformed '{obj.name}' ({opt['method']}): {len(anchors)} anchors, {len(handles)} "
-                     f"handles moved by '{empty.name}'{where}" + ("; " + "; ".join(notes) if notes else ""))
+
+
+def finish_deform(context, obj, plan: DeformPlan, deformed, report) -> set:
+    """Writes what `plan.compute` returned into `obj` (its mesh, or a new cache), records the
+    Empty's new rest and reports; the operator's result."""
+    notes = list(plan.notes)
+    if plan.manifold is not None:
+        where = _write_deformed_manifold(context, obj, deformed, plan.opt, notes)
+    else:
+        write_points(obj.data, deformed)
+        where = ""
+    empty = bpy.data.objects.get(plan.empty_name)
+    if empty is not None:
+        record_rest(obj, empty)
+    report({"INFO"}, f"Deformed '{obj.name}' ({plan.opt['method']}): {len(plan.anchors)} anchors, "
+                     f"{len(plan.handles)} handles moved by '{plan.empty_name}'{where}"
+           + ("; " + "; ".join(notes) if notes else ""))
     return {"FINISHED"}
 
 
@@ -87,13 +135,8 @@ def _laplacian_options(opt) -> "am.LaplacianOptions":
     return am.LaplacianOptions(method=opt["method"], boundary=opt["boundary"], restore=bool(opt["restore"]))
 
 
-def _deform_manifold(context, obj, manifold, anchors, handles, T, opt, notes, progress) -> str:
-    """Deforms a manifold object's manifold into a new cache; the report's words on where it went."""
-    regularise = None
-    if opt["regularise"]:
-        regularise = am.RegulariseOptions(axis_weights=(1.0, 1.0, 1.0, float(opt["time_weight"])))
-    moved = am.deform(manifold, anchors, handles, T, options=am.DeformOptions(_laplacian_options(opt), regularise))
-    progress(3)
+def _write_deformed_manifold(context, obj, moved, opt, notes) -> str:
+    """Saves a manifold object's deformed manifold into a new cache; the report's words on where it went."""
     summary = moved.metadata.get("regularisation") if opt["regularise"] else None
     if summary is not None:
         notes.append(f"regularised: {summary['added_vertices']} vertices added in "

@@ -28,18 +28,19 @@ def loaded_manifold(obj):
         return None
 
 
-def shown_manifold(obj):
+def shown_manifold(obj, progress=None):
     """The manifold whose slices `obj` shows: its cache's manifold, subdivided as its
     Smooth settings say. Each subdivision is computed once per loaded manifold and
     kept; a failure (or a result that would not fit in memory) raises SmoothingError
-    and is remembered until a setting changes."""
+    and is remembered until a setting changes. `progress(step, fraction)` follows the
+    subdivision's steps when it is computed here (an operator's bar)."""
     base = manifold_for(obj)
     settings = obj.animanifold
     levels = int(settings.subdivision_levels)
     if levels <= 0:
         return base
     return registry.subdivisions.subdivided(cache_paths.cache_abspath(obj), base, levels,
-                                            settings.keep_keyframe_times, obj.name)
+                                            settings.keep_keyframe_times, obj.name, progress)
 
 
 def prune_subdivided() -> None:

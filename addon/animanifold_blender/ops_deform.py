@@ -6,15 +6,18 @@ deformation made permanent: deform_apply; Interactive mode: interactive_deform.
 
 from __future__ import annotations
 
+import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy.types import Operator
 
-from .deform_apply import apply_interactive, check_target, deform_object
+from ._lib import am
+from .deform_apply import apply_interactive, check_target, deform_object, finish_deform, plan_deform
 from .deform_constraints import (ANCHORS_KEY, HANDLES_KEY, is_manifold_object, resolve, slice_constraints, store,
                                  stored)
 from .deform_handle import REST_EMPTY_KEY, REST_KEY, empty_for
 from .interactive_deform import session
+from .job_modal import CoreJobModal
 from .live import scene_frame
 from .operator_defaults import option
 from .properties import BOUNDARY_ITEMS, ENDPOINT_ITEMS, METHOD_ITEMS
@@ -26,7 +29,7 @@ _OPTIONS = ("anchor_group", "handle_group", "method", "boundary", "restore", "re
 _SETTING = {"anchor_group": "anchor_group_used", "handle_group": "handle_group_used"}
 
 
-class ANIMANIFOLD_OT_deform(Operator):
+class ANIMANIFOLD_OT_deform(CoreJobModal, Operator):
     """Laplacian deformation: anchors stay, handles follow the Empty's motion since its last use
     (a manifold object through space and time, or a plain mesh)"""
 
@@ -56,13 +59,19 @@ class ANIMANIFOLD_OT_deform(Operator):
             return False
         return True
 
+    def _inputs(self, context, obj):
+        """(options, Empty) of a Deform of `obj`, checked; raises OperatorError."""
+        settings = obj.animanifold_deform
+        opt = {name: option(self, settings, name, _SETTING.get(name)) for name in _OPTIONS}
+        empty = empty_for(obj, self.empty if self.properties.is_property_set("empty") else "", settings)
+        check_target(obj, opt["regularise"])
+        return opt, empty
+
     def execute(self, context):
+        """Blocking: scripts, `blender -b`, redo, and applying an interactive deformation."""
         obj = context.active_object
-        with reporting(self, f"Deform of '{obj.name}' failed"):
-            settings = obj.animanifold_deform
-            opt = {name: option(self, settings, name, _SETTING.get(name)) for name in _OPTIONS}
-            empty = empty_for(obj, self.empty if self.properties.is_property_set("empty") else "", settings)
-            check_target(obj, opt["regularise"])
+        with reporting(self, self._failure_text(obj)):
+            opt, empty = self._inputs(context, obj)
             state = session(obj)
             if state is not None:
                 apply_interactive(context, obj, state)
@@ -70,6 +79,29 @@ class ANIMANIFOLD_OT_deform(Operator):
                 return {"FINISHED"}
             return deform_object(context, obj, opt, empty, self.report)
         return {"CANCELLED"}
+
+    def invoke(self, context, event):
+        """From the interface: the solve runs in a worker thread (am.CoreJob, job_modal), the
+        progress bar follows its steps, Esc cancels and leaves the object as it was."""
+        obj = context.active_object
+        if bpy.app.background or context.window is None or session(obj) is not None:
+            return self.execute(context)
+        with reporting(self, self._failure_text(obj)):
+            opt, empty = self._inputs(context, obj)
+            self._plan, result = plan_deform(context, obj, opt, empty, self.report)
+            if self._plan is None:
+                return result
+            return self._start_job(context, am.CoreJob(self._plan.compute, name="animanifold deform"), obj)
+        return {"CANCELLED"}
+
+    def _finish(self, context, obj, deformed):
+        return finish_deform(context, obj, self._plan, deformed, self.report)
+
+    def _cancelled_text(self, obj) -> str:
+        return f"Deform of '{obj.name}' cancelled: it is as it was"
+
+    def _failure_text(self, obj) -> str:
+        return f"Deform of '{obj.name}' failed"
 
 
 class ANIMANIFOLD_OT_deform_store(Operator):

@@ -18,7 +18,8 @@ from ._lib import am
 from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
-from .progress import VIEW_EVENTS, CoreProgress
+from .job_modal import CoreJobModal
+from .progress import CoreProgress
 from .reporting import reporting
 
 SIDE_ITEMS = enum_items(am._core.SkeletonSide, {
@@ -33,7 +34,7 @@ WRAP_ITEMS = enum_items(am._core.WrapShape, {
 }, upper=True)
 
 
-class ANIMANIFOLD_OT_skeleton(Operator):
+class ANIMANIFOLD_OT_skeleton(CoreJobModal, Operator):
     """Add the Voronoi skeleton of the active mesh object as a new object"""
 
     bl_idname = "animanifold.skeleton"
@@ -82,46 +83,15 @@ class ANIMANIFOLD_OT_skeleton(Operator):
         obj = context.active_object
         with reporting(self, f"No skeleton for '{obj.name}'"):
             vertices, faces = closed_triangle_mesh(context, obj)
-            self._job = am.CoreJob(am.voronoi_skeleton, vertices, faces, name="animanifold skeleton",
-                                   **self._options())
-            self._source = obj
-            wm = context.window_manager
-            self._timer = wm.event_timer_add(0.1, window=context.window)
-            wm.progress_begin(0, 100)
-            wm.modal_handler_add(self)
-            return {"RUNNING_MODAL"}
+            job = am.CoreJob(am.voronoi_skeleton, vertices, faces, name="animanifold skeleton", **self._options())
+            return self._start_job(context, job, obj)
         return {"CANCELLED"}
 
-    def modal(self, context, event):
-        job = self._job
-        if event.type == "ESC" and event.value == "PRESS":
-            job.cancel()
-        if not job.done:
-            if event.type == "TIMER":
-                context.window_manager.progress_update(100.0 * min(max(job.fraction, 0.0), 1.0))
-            # only the view may change meanwhile: the source must still be there at the end
-            return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
-        self._stop_waiting(context)
-        obj = self._source
-        if job.cancelled:
-            self.report({"WARNING"}, f"Skeleton of '{obj.name}' cancelled: nothing was added")
-            return {"CANCELLED"}
-        with reporting(self, f"No skeleton for '{obj.name}'"):
-            if job.error is not None:
-                raise job.error
-            return self._finish(context, obj, job.result)
-        return {"CANCELLED"}
+    def _cancelled_text(self, obj) -> str:
+        return f"Skeleton of '{obj.name}' cancelled: nothing was added"
 
-    def _stop_waiting(self, context) -> None:
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-
-    def cancel(self, context):
-        """Blender ends the modal operator itself (a file is opened, the window closes): the job
-        is told to stop and left to end on its own (its thread touches no Blender data)."""
-        self._job.cancel()
-        self._stop_waiting(context)
+    def _failure_text(self, obj) -> str:
+        return f"No skeleton for '{obj.name}'"
 
     def _finish(self, context, obj, sk):
         """Adds the skeleton's object and reports what was made."""

@@ -4,8 +4,9 @@ cpp/include/animanifold/progress.hpp) onto it.
 
 A blocking operator (execute: scripts, `blender -b`) gets no events while the core runs, so
 there the core stops only on Ctrl-C in the terminal (its bindings check for it at every step).
-Run from the interface, Morph Selected and Add Voronoi Skeleton compute in a worker thread
-(am.MorphJob, am.CoreJob), the bar follows the job's fraction and Esc cancels it.
+Run from the interface, Morph Selected, Add Voronoi Skeleton and Laplacian Deform compute in a
+worker thread (am.MorphJob, am.CoreJob; job_modal), the bar follows the job's fraction and Esc
+cancels it.
 """
 
 from __future__ import annotations

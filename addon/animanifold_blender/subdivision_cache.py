@@ -7,6 +7,14 @@ beside the loaded manifold it came from; a new version of the file makes them st
 A subdivision that fails, or would not fit in half the free memory, is remembered
 as failed so that playback does not retry it on every frame; a settings change
 (prune) forgets the failures and frees what no object asks for any more.
+
+An operator that needs a subdivision (Bake Frames) passes a `progress(step, fraction)`
+that moves the window manager's bar through the core's levels. Playback cannot offer
+Esc: a subdivision asked for by a frame-change handler or a property update runs in the
+main thread, which handles no events until it returns, and a cancelled one would be
+asked for again on the next frame. There only Ctrl-C in the terminal stops it (the
+core's bindings check for it at every step); nothing is remembered then, so the next
+frame tries again.
 """
 
 from __future__ import annotations
@@ -52,10 +60,11 @@ class SubdivisionCache:
     def __init__(self):
         self._entries: dict[str, _Subdivided] = {}
 
-    def subdivided(self, path: str, base, levels: int, keep_keyframe_times: bool, name: str):
+    def subdivided(self, path: str, base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
         """`base` (the manifold loaded from `path`) subdivided `levels` times, computed once and
         kept; raises SmoothingError (and remembers it) when it fails or would not fit in memory.
-        `name` (the object's) words the errors."""
+        `name` (the object's) words the errors; `progress(step, fraction)` follows the core's
+        steps when it computes (a Cancelled it raises is passed on, not remembered)."""
         entry = self._entries.get(path)
         if entry is None or entry.base is not base:  # a new file version: older subdivisions are stale
             entry = self._entries[path] = _Subdivided(base, {}, {})
@@ -66,7 +75,7 @@ class SubdivisionCache:
         if key in entry.failed:
             raise SmoothingError(entry.failed[key])
         try:
-            manifold = _subdivide(base, levels, key[1], name)
+            manifold = _subdivide(base, levels, key[1], name, progress)
         except SmoothingError as e:
             entry.failed[key] = str(e)
             raise
@@ -98,7 +107,7 @@ class SubdivisionCache:
                 del self._entries[path]
 
 
-def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str):
+def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
     tets = am.subdivided_simplex_count(base, levels)
     available = available_memory()
     if available is not None and tets * BYTES_PER_TET > available // 2:
@@ -106,7 +115,8 @@ def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str):
             f"{levels} subdivision levels of '{name}' would make {tets:,} tets "
             f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
     try:
-        return am.subdivide(am.weld(base), levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times)
+        return am.subdivide(am.weld(base), levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times,
+                            progress=progress)
     except MemoryError:
         raise SmoothingError(f"out of memory subdividing '{name}' {levels} levels ({tets:,} tets): "
                              "use fewer levels") from None

@@ -145,30 +145,48 @@ static void bind_deformer(py::module_& m) {
             kInterrupterDoc)
                .c_str())
       .def("deform",
-           [](Deformer& d, const Eigen::MatrixXd& T, int steps) {
+           [](Deformer& d, const Eigen::MatrixXd& T, int steps, const py::object& progress,
+              const py::object& interrupted) {
+             const Interrupter interrupter = interrupter_from(progress, interrupted);
              py::gil_scoped_release release;
-             return d.deform(T, steps);
+             return d.deform(T, steps, interrupter);
            },
-           py::arg("transform"), py::arg("steps") = 1,
-           "Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions.")
+           py::arg("transform"), py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
+           py::arg("interrupted") = py::none(),
+           (std::string("Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` "
+                        "fractions, each a \"deforming\" step.") +
+            kInterrupterDoc)
+               .c_str())
       .def("deform_to",
-           [](Deformer& d, const PointMatrix& P, int steps) {
+           [](Deformer& d, const PointMatrix& P, int steps, const py::object& progress,
+              const py::object& interrupted) {
+             const Interrupter interrupter = interrupter_from(progress, interrupted);
              py::gil_scoped_release release;
-             return d.deform_to(P, steps);
+             return d.deform_to(P, steps, interrupter);
            },
-           py::arg("positions"), py::arg("steps") = 1,
-           "Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions.")
+           py::arg("positions"), py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
+           py::arg("interrupted") = py::none(),
+           (std::string("Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` "
+                        "fractions, each a \"deforming\" step.") +
+            kInterrupterDoc)
+               .c_str())
       .def("restore",
-           [](Deformer& d, int max_iterations, double tolerance) {
+           [](Deformer& d, int max_iterations, double tolerance, const py::object& progress,
+              const py::object& interrupted) {
+             const Interrupter interrupter = interrupter_from(progress, interrupted);
              RestoreStatus s;
              {
                py::gil_scoped_release release;
-               s = d.restore(max_iterations, tolerance);
+               s = d.restore(max_iterations, tolerance, interrupter);
              }
              return s;
            },
-           py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6,
-           "Iterates the rotation-restoring solve; returns a RestoreStatus.")
+           py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6, py::kw_only(),
+           py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),
+           (std::string("Iterates the rotation-restoring solve, each round a \"restoring\" step; returns a "
+                        "RestoreStatus.") +
+            kInterrupterDoc)
+               .c_str())
       .def_property_readonly("points", [](const Deformer& d) { return d.points(); }, "Current points (#V by D).")
       .def_property_readonly("anchors", [](const Deformer& d) { return d.anchors(); }, "Fixed vertex indices.")
       .def_property_readonly("handles", [](const Deformer& d) { return d.handles(); }, "Moved vertex indices.")

@@ -409,7 +409,7 @@ struct Deformer::Impl {
   void grow_constraints(const VertexAdjacency& adjacency);
   void factor_under_boundary_rule(const Interrupter& interrupter);
   PointMatrix solve() const;
-  RestoreStatus restore(int max_iterations, double tolerance);
+  RestoreStatus restore(int max_iterations, double tolerance, const Interrupter& interrupter = {});
 };
 
 Index Deformer::Impl::build_and_factor() {
@@ -739,23 +739,25 @@ Eigen::MatrixXd best_fit_rigid(const PointMatrix& rest, const PointMatrix& moved
 
 }  // namespace
 
-PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps) {
+PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps, const Interrupter& interrupter) {
   Impl& d = *impl_;
   const std::lock_guard lock(d.mutex);
   check_transform(transform, d.dim);
   if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
   if (d.system.method != LaplacianMethod::Dual) steps = 1;
   d.delta = d.system.delta;
+  const Interrupter poll_only{{}, interrupter.interrupted};
   for (int k = 1; k <= steps; ++k) {
+    interrupter.step("deforming", loop_fraction(0, 1, k - 1, steps));
     d.place_handles_by_transform(k == steps ? transform : affine_power(transform, double(k) / steps));
     d.V = d.solve();
     d.deformed = true;
-    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance, poll_only);
   }
   return d.V;
 }
 
-PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
+PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps, const Interrupter& interrupter) {
   Impl& d = *impl_;
   const std::lock_guard lock(d.mutex);
   const Index given = static_cast<Index>(d.given_handles.size());
@@ -781,21 +783,23 @@ PointMatrix Deformer::deform_to(const PointMatrix& positions, int steps) {
       use_fit = false;
     }
   }
+  const Interrupter poll_only{{}, interrupter.interrupted};
   for (int k = 1; k <= steps; ++k) {
+    interrupter.step("deforming", loop_fraction(0, 1, k - 1, steps));
     d.place_handles_at(positions, double(k) / steps, use_fit ? &fit : nullptr);
     d.V = d.solve();
     d.deformed = true;
-    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance);
+    if (k < steps) d.restore(d.options.step_restore_iterations, d.options.step_restore_tolerance, poll_only);
   }
   return d.V;
 }
 
-RestoreStatus Deformer::restore(int max_iterations, double tolerance) {
+RestoreStatus Deformer::restore(int max_iterations, double tolerance, const Interrupter& interrupter) {
   const std::lock_guard lock(impl_->mutex);
-  return impl_->restore(max_iterations, tolerance);
+  return impl_->restore(max_iterations, tolerance, interrupter);
 }
 
-RestoreStatus Deformer::Impl::restore(int max_iterations, double tolerance) {
+RestoreStatus Deformer::Impl::restore(int max_iterations, double tolerance, const Interrupter& interrupter) {
   Impl& d = *this;
   if (d.system.method != LaplacianMethod::Dual)
     fail<InputError>("restore applies to the dual Laplacian only (this Deformer uses '", to_string(d.system.method),
@@ -827,6 +831,7 @@ RestoreStatus Deformer::Impl::restore(int max_iterations, double tolerance) {
   PointMatrix X = d.V;
   double best = std::numeric_limits<double>::infinity();
   for (int it = 0; it < max_iterations; ++it) {
+    interrupter.step("restoring", loop_fraction(0, 1, it, max_iterations));
     const PointMatrix G = step(X);
     const Eigen::VectorXd g = Eigen::Map<const Eigen::VectorXd>(G.data(), size);
     const Eigen::VectorXd f = g - Eigen::Map<const Eigen::VectorXd>(X.data(), size);

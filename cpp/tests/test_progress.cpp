@@ -1,6 +1,7 @@
 // The interrupter of long calls (progress.hpp), and that each long call
 // stops at the step where its caller cancels.
 #include "animanifold/errors.hpp"
+#include "animanifold/laplacian.hpp"
 #include "animanifold/progress.hpp"
 #include "animanifold/stitch.hpp"
 #include "animanifold/subdivide.hpp"
@@ -87,4 +88,29 @@ TEST(Interrupter, SubdivisionReportsEachLevelAndStopsWhereCancelled) {
   cancelling.cancel_at = 4;
   EXPECT_THROW(subdivide_manifold(manifold, options, cancelling.interrupter()), Cancelled);
   EXPECT_EQ(cancelling.steps.size(), 4u);
+}
+
+TEST(Interrupter, DeformerReportsEachIncrementAndRestoreRoundAndStopsWhereCancelled) {
+  const Complex m = stitch(octahedron_animation());
+  IndexVector anchors(6), handles(6);
+  for (int i = 0; i < 6; ++i) anchors(i) = i, handles(i) = 12 + i;
+  Deformer d(m.V, m.S, anchors, handles);
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
+  T(2, 4) = 0.5;
+  Recorder increments;
+  d.deform(T, 3, increments.interrupter());
+  EXPECT_EQ(increments.steps, (std::vector<std::string>{"deforming", "deforming", "deforming"}));
+  expect_monotone_in_unit_interval(increments.fractions);
+  Recorder rounds;
+  const RestoreStatus status = d.restore(50, 1e-12, rounds.interrupter());
+  EXPECT_EQ(rounds.steps, std::vector<std::string>(static_cast<size_t>(status.iterations), "restoring"));
+  expect_monotone_in_unit_interval(rounds.fractions);
+  Recorder cancelling;
+  cancelling.cancel_at = 2;
+  EXPECT_THROW(d.deform(T, 3, cancelling.interrupter()), Cancelled);
+  EXPECT_EQ(cancelling.steps.size(), 2u);
+  Recorder cancelling_restore;
+  cancelling_restore.cancel_at = 1;
+  EXPECT_THROW(d.restore(50, 1e-12, cancelling_restore.interrupter()), Cancelled);
+  EXPECT_EQ(cancelling_restore.steps.size(), 1u);
 }

@@ -32,12 +32,12 @@ from .manifold import AnimationManifold, HoleSpaceWarning, axis_index
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
-from .refinement import Refinement, refine, refine_complex
+from .refinement import Refinement, RefineOptions, refine, refine_complex
 from .regularisation import Regularisation, RegularisationMaps, RegulariseOptions, regularise
 from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
 from .stitching import stitch
-from .subdivision import subdivide, subdivided_simplex_count
+from .subdivision import SubdivideOptions, subdivide, subdivided_simplex_count
 from .welding import weld
 from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
@@ -78,6 +78,7 @@ __all__ = [
     "refine",
     "refine_complex",
     "Refinement",
+    "RefineOptions",
     "Regularisation",
     "RegularisationMaps",
     "RegulariseOptions",
@@ -88,6 +89,7 @@ __all__ = [
     "solid_measure",
     "stitch",
     "subdivide",
+    "SubdivideOptions",
     "subdivided_simplex_count",
     "subdivide_frame",
     "subtract_solid",

@@ -1113,17 +1113,17 @@ class Deformer:
         """
         Builds and factors the Laplacian system of points (#V by D) and simplices with anchors and handles fixed; raises ValueError for an unknown method or boundary rule, MeshingError when CHOLMOD fails. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def deform(self, transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def deform(self, transform: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1, *, progress: typing.Any = None, interrupted: typing.Any = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions.
+        Points (#V by D) with the handles moved by the affine (D+1)x(D+1) transform, in `steps` fractions, each a "deforming" step. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def deform_to(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+    def deform_to(self, positions: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"], steps: typing.SupportsInt | typing.SupportsIndex = 1, *, progress: typing.Any = None, interrupted: typing.Any = None) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
-        Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions.
+        Points (#V by D) with the handles moved to `positions` (#handles by D), in `steps` fractions, each a "deforming" step. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
-    def restore(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 50, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06) -> RestoreStatus:
+    def restore(self, max_iterations: typing.SupportsInt | typing.SupportsIndex = 50, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06, *, progress: typing.Any = None, interrupted: typing.Any = None) -> RestoreStatus:
         """
-        Iterates the rotation-restoring solve; returns a RestoreStatus.
+        Iterates the rotation-restoring solve, each round a "restoring" step; returns a RestoreStatus. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
         """
     @property
     def anchors(self) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:

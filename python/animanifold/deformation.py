@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .interrupting import InterruptedCallback, ProgressCallback
 from .laplacian import LaplacianOptions, laplacian_deform
 from .manifold import AnimationManifold
 from .regularisation import RegulariseOptions, regularise
@@ -51,6 +52,8 @@ def deform(
     *,
     handle_positions: np.ndarray | None = None,
     options: DeformOptions = DeformOptions(),
+    progress: ProgressCallback | None = None,
+    interrupted: InterruptedCallback | None = None,
 ) -> AnimationManifold:
     """A new manifold: anchors stay, handles move by `transform` ((D+1)x(D+1)
     affine) or to `handle_positions` (H, D), solved as ``options`` say.
@@ -65,12 +68,18 @@ def deform(
     of the time range; a transform that keeps time leaves it unchanged in
     exact arithmetic for the primal methods) keeps its exact time, so slicing
     at a keyframe still returns the keyframe.
+
+    ``progress(step, fraction)`` and ``interrupted()`` are those of
+    :func:`~animanifold.laplacian_deform` or, with ``options.regularise``,
+    :func:`~animanifold.regularise`: False from the one or True from the other
+    raises :class:`animanifold.Cancelled`.
     """
     if options.regularise is not None:
         points, simplices, maps = regularise(
             manifold.points, manifold.simplices, anchors, handles, transform, handle_positions=handle_positions,
             laplacian=options.laplacian, options=options.regularise,
             vertex_attributes=manifold.vertex_attributes, simplex_attributes=manifold.simplex_attributes,
+            progress=progress, interrupted=interrupted,
         )
         points = np.array(points)
         points[: len(manifold.points)] = _keep_times(manifold.points, points[: len(manifold.points)])
@@ -79,7 +88,8 @@ def deform(
         return AnimationManifold.from_arrays(points, simplices, maps.vertex_attributes, maps.simplex_attributes,
                                              metadata)
     points = laplacian_deform(manifold.points, manifold.simplices, anchors, handles, transform,
-                              handle_positions=handle_positions, options=options.laplacian)
+                              handle_positions=handle_positions, options=options.laplacian, progress=progress,
+                              interrupted=interrupted)
     return AnimationManifold.from_arrays(_keep_times(manifold.points, points), manifold.simplices,
                                          dict(manifold.vertex_attributes), dict(manifold.simplex_attributes),
                                          manifold.metadata)

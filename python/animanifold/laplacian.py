@@ -40,6 +40,7 @@ import numpy as np
 from . import _core
 from .indices import as_indices
 from .choices import checked, names
+from .interrupting import InterruptedCallback, ProgressCallback, Span
 
 METHODS = names(_core.LaplacianMethod)
 BOUNDARY_RULES = names(_core.BoundaryRule)
@@ -292,6 +293,8 @@ class Deformer:
         *,
         handle_positions: np.ndarray | None = None,
         steps: int | str = 1,
+        progress: ProgressCallback | None = None,
+        interrupted: InterruptedCallback | None = None,
     ) -> np.ndarray:
         """Moves the handles — by a (D+1)x(D+1) affine matrix, or to explicit
         (H, D) positions in the order the handles were given — and returns the
@@ -302,7 +305,10 @@ class Deformer:
         dragging: large rotations (Figure 4.11's 3π/4) then restore without
         folding. ``steps="auto"`` uses one increment per π/4 of the handles'
         rotation (the transform's, or the best-fit one of the positions).
-        Call :meth:`restore` afterwards as usual."""
+        Call :meth:`restore` afterwards as usual. ``progress(step, fraction)``
+        is told "deforming" before each increment and ``interrupted()`` polled
+        with it (and in the intermediate restores); False from the one or True
+        from the other raises :class:`animanifold.Cancelled`."""
         if (handle_transform is None) == (handle_positions is None):
             raise ValueError("give exactly one of handle_transform ((D+1)x(D+1)) or handle_positions ((H, D))")
         self.status = None
@@ -313,22 +319,24 @@ class Deformer:
                 raise ValueError(f"handle_transform must be ({D + 1}, {D + 1}) for {D}D points, got {T.shape}")
             if steps == "auto":
                 steps = steps_for_rotation(rotation_angle(T[:D, :D])) if self.method == "dual" else 1
-            return self._core.deform(T, _check_steps(steps))
+            return self._core.deform(T, _check_steps(steps), progress=progress, interrupted=interrupted)
         P = np.ascontiguousarray(handle_positions, dtype=np.float64)
         if P.shape != (self._handle_count, D):
             raise ValueError(f"handle_positions must be ({self._handle_count}, {D}), one row per handle, got {P.shape}")
         if steps == "auto":
             rest = self._rest_handles
             steps = steps_for_rotation(rotation_angle(best_fit_linear(rest, P))) if self.method == "dual" else 1
-        return self._core.deform_to(P, _check_steps(steps))
+        return self._core.deform_to(P, _check_steps(steps), progress=progress, interrupted=interrupted)
 
-    def restore(self, max_iterations: int = 50, tolerance: float = 1e-6) -> np.ndarray:
+    def restore(self, max_iterations: int = 50, tolerance: float = 1e-6, *,
+                progress: ProgressCallback | None = None, interrupted: InterruptedCallback | None = None) -> np.ndarray:
         """Dual method: rotates the differential coordinates onto the deformed
         normals and re-solves until the largest vertex motion (relative to the
-        bounding-box diagonal) is below `tolerance`; sets :attr:`status`."""
+        bounding-box diagonal) is below `tolerance`; sets :attr:`status`.
+        ``progress`` is told "restoring" before each round, as for :meth:`deform`."""
         if self.method != "dual":
             raise ValueError(f"restore applies to method='dual' only, this Deformer uses {self.method!r}")
-        s = self._core.restore(int(max_iterations), float(tolerance))
+        s = self._core.restore(int(max_iterations), float(tolerance), progress=progress, interrupted=interrupted)
         self.status = RestoreStatus(int(s.iterations), float(s.motion), bool(s.converged))
         return self._core.points
 
@@ -363,20 +371,43 @@ def laplacian_deform(
     *,
     handle_positions: np.ndarray | None = None,
     options: LaplacianOptions = LaplacianOptions(),
+    progress: ProgressCallback | None = None,
+    interrupted: InterruptedCallback | None = None,
 ) -> np.ndarray:
     """One-off deformation: builds a :class:`Deformer` as `options` say, moves
     the handles (by `handle_transform` or to `handle_positions`) and, for the
     dual method with ``options.restore``, restores features. Returns (N, D)
-    points."""
-    d = Deformer.from_options(points, simplices, anchors, handles, options)
-    return solve(d, handle_transform, handle_positions, options)
+    points. ``progress(step, fraction)`` follows the factorisation's steps,
+    then each increment ("deforming"), each restore round ("restoring") and
+    "done", with fractions growing in [0, 1]; ``interrupted()`` is polled with
+    it; False from the one or True from the other raises
+    :class:`animanifold.Cancelled`."""
+    span = Span(progress, interrupted)
+    factorising = span.part(0.0, _FACTORISING)
+    d = Deformer.from_options(points, simplices, anchors, handles, options, progress=factorising.core_progress(),
+                              interrupted=interrupted)
+    out = solve(d, handle_transform, handle_positions, options, span.part(_FACTORISING, 1.0))
+    span.step("done", 1.0)
+    return out
 
 
-def solve(deformer: Deformer, handle_transform, handle_positions, options: LaplacianOptions) -> np.ndarray:
+# The share of a one-off solve's progress given to building and factoring the system:
+# it is what takes time, unless the restore runs many rounds.
+_FACTORISING = 0.6
+
+
+def solve(deformer: Deformer, handle_transform, handle_positions, options: LaplacianOptions,
+          span: Span = Span()) -> np.ndarray:
     """Moves `deformer`'s handles in ``options.steps`` increments and restores
     features when ``options.restore`` asks for it and the method has a restore
-    (dual only). Returns the deformer's new (N, D) points."""
-    out = deformer.deform(handle_transform, handle_positions=handle_positions, steps=options.steps)
-    if options.restore and deformer.method == "dual":
-        out = deformer.restore(options.restore_iterations, options.tolerance)
+    (dual only). Returns the deformer's new (N, D) points. The increments
+    ("deforming") fill the first part of `span`, the restore's rounds
+    ("restoring") the rest (Cancelled when its caller says stop)."""
+    restoring = options.restore and deformer.method == "dual"
+    deforming = span.part(0.0, 0.5 if restoring else 1.0)
+    out = deformer.deform(handle_transform, handle_positions=handle_positions, steps=options.steps,
+                          progress=deforming.core_progress(), interrupted=span.interrupted)
+    if restoring:
+        out = deformer.restore(options.restore_iterations, options.tolerance,
+                               progress=span.part(0.5, 1.0).core_progress(), interrupted=span.interrupted)
     return out

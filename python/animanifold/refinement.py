@@ -29,6 +29,7 @@ import numpy as np
 from . import _core
 from .choices import checked, names
 from .manifold import AnimationManifold
+from .option_keywords import options_from
 
 ORDERS = names(_core.RefineOrder)
 
@@ -67,22 +68,47 @@ class Refinement:
         return self.new_vertex_of_split < 0
 
 
+@dataclass(frozen=True)
+class RefineOptions:
+    """How :func:`refine` and :func:`refine_complex` apply their splits.
+
+    epsilon: the barycentric sliver tolerance in [0, 0.5) (default 1e-3):
+      coordinates below it are dropped, and a split within it of an
+      existing vertex is removed (§6.3).
+    order: "degeneracy" (default; least degenerate split first, §6.3) or
+      "given" (input order).
+    """
+
+    epsilon: float = 1e-3
+    order: str = "degeneracy"
+
+    def __post_init__(self):
+        # Frozen: the checked name replaces an enum member given for the order.
+        object.__setattr__(self, "order", checked(self.order, _core.RefineOrder, "order"))
+        if isinstance(self.epsilon, bool) or not isinstance(self.epsilon, (int, float, np.number)) \
+                or not 0.0 <= self.epsilon < 0.5:
+            raise ValueError(f"epsilon must be a number in [0, 0.5), got {self.epsilon!r}")
+
+
 def refine(
     manifold: AnimationManifold,
     splits,
     *,
-    epsilon: float = 1e-3,
-    order: str = "degeneracy",
+    options: RefineOptions | None = None,
+    epsilon: float | None = None,
+    order: str | None = None,
 ) -> tuple[AnimationManifold, Refinement]:
     """Barycentric refinement of an animation manifold (chapter 6).
 
-    splits, epsilon and order as in :func:`refine_complex`. Returns a new
+    splits as in :func:`refine_complex`; options a :class:`RefineOptions`,
+    or its epsilon and order as keywords (not both: ValueError). Returns a new
     manifold (vertex attributes interpolated, simplex attributes inherited,
     metadata and hole space kept: the shape does not change) and the
     :class:`Refinement` with new_vertex_of_split, parent_simplex and the
     other maps.
     """
-    r = refine_complex(manifold.points, manifold.simplices, splits, epsilon=epsilon, order=order,
+    r = refine_complex(manifold.points, manifold.simplices, splits,
+                       options=options_from(RefineOptions, options, epsilon=epsilon, order=order),
                        vertex_attributes=manifold.vertex_attributes,
                        simplex_attributes=manifold.simplex_attributes)
     refined = AnimationManifold.from_arrays(r.points, r.simplices, r.vertex_attributes, r.simplex_attributes,
@@ -95,8 +121,9 @@ def refine_complex(
     simplices: np.ndarray,
     splits,
     *,
-    epsilon: float = 1e-3,
-    order: str = "degeneracy",
+    options: RefineOptions | None = None,
+    epsilon: float | None = None,
+    order: str | None = None,
     vertex_attributes: Mapping[str, np.ndarray] | None = None,
     simplex_attributes: Mapping[str, np.ndarray] | None = None,
 ) -> Refinement:
@@ -107,14 +134,14 @@ def refine_complex(
     ``(vertex_ids, barycentric)`` pairs — ids of a face of the complex
     (1..k distinct vertices) and as many coordinates >= 0 summing to 1 — or,
     for large batches, a pair of (T, m) arrays ``(ids, barycentric)`` with
-    rows padded by -1 ids. epsilon: the barycentric sliver tolerance in
-    [0, 0.5). order: "degeneracy" (least degenerate split first, §6.3) or
-    "given" (input order). vertex_attributes: name -> (N,) or (N, c) floats,
+    rows padded by -1 ids. options: a :class:`RefineOptions` (the sliver
+    tolerance epsilon and the order), or its fields as keywords (not both:
+    ValueError). vertex_attributes: name -> (N,) or (N, c) floats,
     interpolated; simplex_attributes: name -> (M,) or (M, c) ints, inherited.
 
     Raises ValueError naming the split (and vertex) at fault.
     """
-    order = checked(order, _core.RefineOrder, "order")
+    options = options_from(RefineOptions, options, epsilon=epsilon, order=order)
     points = np.ascontiguousarray(points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] < 1:
         raise ValueError(f"points must be (N, D), got shape {points.shape}")
@@ -129,7 +156,7 @@ def refine_complex(
 
     squeeze_vertex, va = _tables(vertex_attributes, np.float64, "vertex attribute")
     squeeze_simplex, sa = _tables(simplex_attributes, np.int32, "simplex attribute")
-    out = _core.refine(points, simplices, va, sa, ids, coords, float(epsilon), order)
+    out = _core.refine(points, simplices, va, sa, ids, coords, float(options.epsilon), options.order)
 
     def restore(tables: Mapping[str, np.ndarray], squeezed: set[str]) -> dict[str, np.ndarray]:
         return {name: table[:, 0] if name in squeezed else table for name, table in tables.items()}

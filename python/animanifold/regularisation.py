@@ -35,6 +35,7 @@ from typing import Mapping, NamedTuple
 
 import numpy as np
 
+from .interrupting import InterruptedCallback, ProgressCallback, Span
 from .laplacian import Deformer, LaplacianOptions, _is_count, _vertex_list, solve
 from .refinement import refine_complex
 
@@ -168,6 +169,8 @@ def regularise(
     options: RegulariseOptions = RegulariseOptions(),
     vertex_attributes: Mapping[str, np.ndarray] | None = None,
     simplex_attributes: Mapping[str, np.ndarray] | None = None,
+    progress: ProgressCallback | None = None,
+    interrupted: InterruptedCallback | None = None,
 ) -> Regularisation:
     """Deforms (like :func:`animanifold.laplacian_deform`) and regularises the
     result by the offline scheme of §4.5.1; see the module docstring.
@@ -178,6 +181,11 @@ def regularise(
     round cap (:class:`RegulariseOptions`). vertex_attributes /
     simplex_attributes are carried through the refinement (interpolated /
     inherited) into ``maps``.
+
+    ``progress(step, fraction)`` follows each round's factorisation and solve
+    (round k of at most ``max_iterations + 1`` fills the k-th equal part of
+    [0, 1]; "done" at 1), ``interrupted()`` is polled with it; False from the
+    one or True from the other raises :class:`animanifold.Cancelled`.
     """
     rest, S = _checked_complex(points, simplices)
     if (transform is None) == (handle_positions is None):
@@ -192,18 +200,23 @@ def regularise(
     state = _ConstraintState.of(n, D, anchors, handles, handle_positions)
     epsilon = _threshold(rest, S, weights, options.epsilon)
 
+    span = Span(progress, interrupted)
+    rounds = options.max_iterations + 1
+
     def deformed_by_solve(rest_points, simplices_, zero):
+        part = span.part(len(splits) / rounds, (len(splits) + 1) / rounds)
         hs = np.flatnonzero(state.is_handle)
         d = Deformer.from_options(rest_points, simplices_, np.flatnonzero(state.is_anchor), hs, laplacian,
-                                  zero_detail_vertices=zero)
+                                  zero_detail_vertices=zero, progress=part.part(0.0, 0.6).core_progress(),
+                                  interrupted=interrupted)
         positions = None if state.targets is None else state.targets[hs]
-        return np.array(solve(d, transform if positions is None else None, positions, laplacian))
+        return np.array(solve(d, transform if positions is None else None, positions, laplacian, part.part(0.6, 1.0)))
 
     va = {k: np.asarray(v) for k, v in (vertex_attributes or {}).items()}
     sa = {k: np.asarray(v) for k, v in (simplex_attributes or {}).items()}
     parent = np.arange(len(S), dtype=np.int64)
-    deformed = deformed_by_solve(rest, S, np.zeros(0, dtype=np.int64))
     splits: list[int] = []
+    deformed = deformed_by_solve(rest, S, np.zeros(0, dtype=np.int64))
     converged = False
     while True:
         long = _stretched_edges(rest, deformed, S, weights, epsilon)
@@ -223,6 +236,7 @@ def regularise(
         splits.append(int(len(created)))
         deformed = deformed_by_solve(rest, S, np.arange(n, len(rest), dtype=np.int64))
 
+    span.step("done", 1.0)
     final = manhattan_lengths(deformed, edges_of(S, len(rest)), weights)
     maps = RegularisationMaps(
         rest_points=rest,

@@ -10,6 +10,7 @@ its time. Single frames are smoothed by :mod:`animanifold.frame_smoothing`.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
@@ -17,8 +18,39 @@ import numpy as np
 from . import _core
 from .choices import checked, names
 from .manifold import AnimationManifold
+from .option_keywords import options_from
 
 MANIFOLD_SCHEMES = names(_core.ManifoldScheme)
+
+
+@dataclass(frozen=True)
+class SubdivideOptions:
+    """How :func:`subdivide` subdivides.
+
+    scheme: "schaefer" (default; split and average: smooth) or "linear"
+      (split only).
+    keep_keyframe_times: keep every keyframe's points at its time (default
+      False: only the first and last keyframe stay on their hyperplanes).
+    keyframe_times: the times whose hyperplanes count as keyframes; None
+      (default) takes the manifold's metadata ``keyframe_times`` (set by
+      :func:`stitch`), else the core infers them from facets lying on time
+      hyperplanes.
+    """
+
+    scheme: str = "schaefer"
+    keep_keyframe_times: bool = False
+    keyframe_times: tuple[float, ...] | None = None
+
+    def __post_init__(self):
+        # Frozen: the checked name replaces an enum member, a tuple any sequence of times.
+        object.__setattr__(self, "scheme", checked(self.scheme, _core.ManifoldScheme, "scheme"))
+        if not isinstance(self.keep_keyframe_times, (bool, np.bool_)):
+            raise ValueError(f"keep_keyframe_times must be True or False, got {self.keep_keyframe_times!r}")
+        if self.keyframe_times is not None:
+            times = np.asarray(self.keyframe_times, dtype=np.float64).reshape(-1)
+            if not np.isfinite(times).all():
+                raise ValueError(f"keyframe_times must be finite numbers, got {self.keyframe_times!r}")
+            object.__setattr__(self, "keyframe_times", tuple(float(t) for t in times))
 
 
 def subdivided_simplex_count(manifold: AnimationManifold, levels: int) -> int:
@@ -31,8 +63,9 @@ def subdivide(
     manifold: AnimationManifold,
     levels: int = 1,
     *,
-    scheme: str = "schaefer",
-    keep_keyframe_times: bool = False,
+    options: SubdivideOptions | None = None,
+    scheme: str | None = None,
+    keep_keyframe_times: bool | None = None,
     keyframe_times: Sequence[float] | None = None,
     return_parents: bool = False,
     progress: Callable[[str, float], bool] | None = None,
@@ -40,10 +73,8 @@ def subdivide(
 ):
     """A new manifold: `levels` of subdivision of `manifold`.
 
-    scheme: "schaefer" (split and average: smooth) or "linear" (split only).
-    keyframe_times: the times whose hyperplanes count as keyframes; by default
-    the manifold's metadata ``keyframe_times`` (set by :func:`stitch`), else
-    inferred by the core from facets lying on time hyperplanes.
+    options: a :class:`SubdivideOptions` (scheme, keep_keyframe_times,
+    keyframe_times); or give those as keywords (not both: ValueError).
     The result's metadata records the subdivision (``subdivisions``) and the
     keyframe times used. With ``return_parents`` the result is
     ``(manifold, vertex_parents, simplex_parent)``: vertex_parents (V', 2)
@@ -54,9 +85,12 @@ def subdivide(
     (each level); False from the one or True from the other raises
     :class:`animanifold.Cancelled`.
     """
-    scheme = checked(scheme, _core.ManifoldScheme, "scheme")
+    options = options_from(SubdivideOptions, options, scheme=scheme, keep_keyframe_times=keep_keyframe_times,
+                           keyframe_times=keyframe_times)
+    scheme, keep_keyframe_times = options.scheme, options.keep_keyframe_times
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
         raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
+    keyframe_times = options.keyframe_times
     if keyframe_times is None:
         keyframe_times = manifold.metadata.get("keyframe_times") or []
     times = [float(t) for t in keyframe_times]

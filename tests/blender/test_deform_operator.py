@@ -397,6 +397,133 @@ def test_starting_interactive_deform_shows_the_factorisations_steps_on_the_progr
     obj.animanifold_deform.interactive = False
 
 
+def test_deform_shows_the_cores_steps_on_the_progress_bar(sphere, monkeypatch):
+    from animanifold_blender import deform_apply
+
+    steps, ended = [], []
+
+    class Recording(deform_apply.CoreProgress):
+        def __call__(self, step, fraction):
+            steps.append((step, fraction))
+            return super().__call__(step, fraction)
+
+        def end(self):
+            ended.append(True)
+            super().end()
+
+    monkeypatch.setattr(deform_apply, "CoreProgress", Recording)
+    obj, empty = sphere
+    assert bpy.ops.animanifold.deform() == {"FINISHED"}  # records the rest: nothing computed
+    assert steps == [] and ended == []
+    empty.location.z += 1.0
+    bpy.context.view_layer.update()
+    assert bpy.ops.animanifold.deform() == {"FINISHED"}
+    names = [s for s, _ in steps]
+    assert names[0] == "checks" and "factorising" in names and names[-1] == "done"
+    assert names.index("factorising") < names.index("deforming") < names.index("restoring")  # a round each
+    fractions = [f for _, f in steps]
+    assert fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] == 1.0 and ended == [True]
+
+
+class _FakeWindowManager:
+    """What the modal Deform asks of the window manager, recorded (bpy has no window to give one)."""
+
+    def __init__(self, calls):
+        self.calls = calls
+
+    def event_timer_remove(self, timer):
+        self.calls.append(("timer removed", timer))
+
+    def progress_update(self, value):
+        self.calls.append(("progress", value))
+
+    def progress_end(self):
+        self.calls.append(("progress end",))
+
+
+def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main_thread(sphere):
+    """modal() while the job runs (a stand-in operator: Blender operators cannot be made outside
+    an operator call, and modal() needs a window's events): view events pass, everything else
+    waits; Esc stops the core at its next step and the mesh and the Empty's rest are as they
+    were; a finished job's result is written by modal() in the main thread, as execute() does."""
+    import functools
+    import threading
+    import time
+    from types import SimpleNamespace
+
+    from animanifold_blender import deform_apply, ops_deform
+    from animanifold_blender._lib import am as addon_am
+
+    obj, empty = sphere
+    assert bpy.ops.animanifold.deform() == {"FINISHED"}  # records the rest
+    empty.location.z += 1.0
+    bpy.context.view_layer.update()
+    v0, rest0 = mesh_vertices(obj.data), custom(obj)
+    opt = {"anchor_group": "anchor", "handle_group": "handle", "method": "dual", "boundary": "grow",
+           "restore": True, "regularise": False, "time_weight": 1.0, "endpoints": "BOTH",
+           "use_selected_faces": False}
+    calls = []
+
+    class Context:  # bpy.context, with the window manager recorded
+        window_manager = _FakeWindowManager(calls)
+
+        def __getattr__(self, name):
+            return getattr(bpy.context, name)
+
+    def event(kind, value="NOTHING"):
+        return SimpleNamespace(type=kind, value=value)
+
+    def operator(call):
+        plan, result = deform_apply.plan_deform(bpy.context, obj, opt, empty, lambda *a: None)
+        assert plan is not None, result
+        cls = ops_deform.ANIMANIFOLD_OT_deform
+        op = SimpleNamespace(_job=addon_am.CoreJob(call, plan), _source=obj, _timer="the timer", _plan=plan,
+                             reports=[])
+        op.report = lambda kind, text: op.reports.append((set(kind), text))
+        for name in ("_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
+            setattr(op, name, functools.partial(getattr(cls, name), op))
+        return functools.partial(cls.modal, op), op
+
+    def until_done(modal):
+        for _ in range(1200):  # a bound on the waits, not an assertion on time
+            result = modal(Context(), event("TIMER"))
+            if result != {"RUNNING_MODAL"}:
+                return result
+            time.sleep(0.05)
+        return None
+
+    reached, esc = threading.Event(), threading.Event()
+
+    def held_at_deforming(plan, progress, interrupted):
+        def step(name, fraction):
+            if name == "deforming":  # past the factorisation: the solve waits here for Esc
+                reached.set()
+                esc.wait(30.0)
+            return progress(name, fraction)
+
+        return plan.compute(progress=step, interrupted=interrupted)
+
+    modal, op = operator(held_at_deforming)
+    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"}
+    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}
+    assert reached.wait(30.0)
+    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    esc.set()
+    assert until_done(modal) == {"CANCELLED"}
+    assert op._job.cancelled and op._job.stage == "deforming"
+    assert ("timer removed", "the timer") in calls and ("progress end",) in calls
+    assert any("cancelled" in text for _, text in op.reports)
+    np.testing.assert_array_equal(mesh_vertices(obj.data), v0)
+    assert custom(obj) == rest0
+
+    modal, op = operator(lambda plan, progress, interrupted: plan.compute(progress, interrupted))
+    assert until_done(modal) == {"FINISHED"}, op.reports
+    handles = np.flatnonzero(v0[:, 2] > 0.7)
+    np.testing.assert_allclose(mesh_vertices(obj.data)[handles], v0[handles] + [0, 0, 0.5], atol=1e-6)
+    assert custom(obj) != rest0  # the Empty's new rest is recorded
+
+
 def test_interactive_cannot_start_without_handles_and_says_why(sphere):
     from animanifold_blender import interactive_deform, live
 

@@ -133,7 +133,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
         op = SimpleNamespace(_job=job, _source=source, _timer="the timer", side="INTERNAL", max_iterations=4,
                              wrap="BOX", reports=[])
         op.report = lambda kind, text: op.reports.append((set(kind), text))
-        for name in ("_finish", "_stop_waiting", "cancel"):
+        for name in ("_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
             setattr(op, name, functools.partial(getattr(cls, name), op))
         return functools.partial(cls.modal, op), op
 
@@ -150,12 +150,13 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     vertices, faces = closed_triangle_mesh(bpy.context, torus)
     objects = len(bpy.data.objects)
 
-    esc = threading.Event()
+    reached, esc = threading.Event(), threading.Event()
 
     def held_at_separability(v, f, progress, interrupted, **options):
         def step(name, fraction):
-            if name == "separability":
-                esc.wait(30.0)  # the core waits here until the test has pressed Esc
+            if name == "separability":  # the core waits here until the test has pressed Esc
+                reached.set()
+                esc.wait(30.0)
             return progress(name, fraction)
 
         return am.voronoi_skeleton(v, f, progress=step, interrupted=interrupted, **options)
@@ -164,6 +165,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"} and calls[0][0] == "progress"
     assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
     assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
+    assert reached.wait(30.0)  # Esc before the core reached "separability" would stop it at "checks"
     assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     esc.set()
     assert until_done(modal) == {"CANCELLED"}

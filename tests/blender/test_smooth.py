@@ -252,6 +252,36 @@ def test_bake_with_smoothing_bakes_what_plays_live(demo, tmp_path):
         np.testing.assert_allclose(canonical(v[f]), canonical(live_corners[frame]), atol=1e-5)
 
 
+def test_bake_shows_the_subdivisions_steps_on_the_progress_bar(demo, tmp_path, monkeypatch):
+    from animanifold_blender import bake_object
+    from animanifold_blender.live_registry import registry
+
+    steps, ended = [], []
+
+    class Recording(bake_object.CoreProgress):
+        def __call__(self, step, fraction):
+            steps.append((step, fraction))
+            return super().__call__(step, fraction)
+
+        def end(self):
+            ended.append(True)
+            super().end()
+
+    monkeypatch.setattr(bake_object, "CoreProgress", Recording)
+    man = convert(demo)
+    man.animanifold.subdivision_levels = 1  # computed by the property update, without a bar
+    registry.subdivisions.clear()  # so that the bake computes it
+    assert bpy.ops.animanifold.bake(alembic=False, export="NONE", use_scene_range=False, frame_start=10,
+                                    frame_end=12, directory=str(tmp_path / "objs")) == {"FINISHED"}
+    fractions = [f for _, f in steps]
+    assert len(steps) >= 2 and fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] <= 1.0
+    assert ended == [True]
+    steps.clear()
+    assert bpy.ops.animanifold.bake(alembic=False, export="NONE", use_scene_range=False, frame_start=10,
+                                    frame_end=12, directory=str(tmp_path / "objs")) == {"FINISHED"}
+    assert steps == []  # kept: nothing to compute the second time
+
+
 def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
     from animanifold_blender import live, subdivision_cache
     from animanifold_blender.deform_constraints import slice_constraints

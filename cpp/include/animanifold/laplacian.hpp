@@ -218,9 +218,12 @@ Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
 //   options      Laplacian, boundary rule, constraint weight, restore settings
 //   interrupter  told of the constructor's steps "checks", "laplacian" and
 //                "factorising" (once per attempt at a full-rank system)
+//   deform(), deform_to() and restore() take an interrupter too: told of
+//   "deforming" before each increment and "restoring" before each round
+//   (the intermediate restores of steps > 1 poll it only)
 // Outputs: deform(), deform_to() and restore() give #V by D points
 // Throws: InputError (see below and on each method); Cancelled when the
-//   interrupter says so
+//   interrupter says so (points() is then the last finished increment or round)
 //
 // Laplacian editing with a kept factorisation.
 //
@@ -258,13 +261,13 @@ class Deformer {
   // T's fixed point (least-squares), plus s times the remaining translation;
   // a rotation by exactly π has no unique real power and is refused.
   // Primal schemes are linear, so they ignore `steps`.
-  PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1);
+  PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1, const Interrupter& interrupter = {});
   // Moves handle i (in the order given to the constructor) to row i of
   // `positions` (H by D) and solves. Grown handles follow the displacement of
   // the handle they grew from. steps > 1 as above: increments follow
   // fractions of the handles' best-fit rigid motion (Kabsch) plus the same
   // fraction of what it leaves, so a rotated cap is not shrunk on the way.
-  PointMatrix deform_to(const PointMatrix& positions, int steps = 1);
+  PointMatrix deform_to(const PointMatrix& positions, int steps = 1, const Interrupter& interrupter = {});
   // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
   // neighbours' deformed hyperplane (keeping its signed height) and re-solves
   // (Au et al.'s iteration), until the largest vertex motion of one such step
@@ -273,7 +276,7 @@ class Deformer {
   // (depth 5): plain, it oscillates with period two on large rotations.
   // Starts from the last deform; InputError for primal schemes or before any
   // deform. Returns the status; the points are `points()`.
-  RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6);
+  RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6, const Interrupter& interrupter = {});
 
   PointMatrix points() const;               // a copy of the latest result (the input before any deform)
   const PointMatrix& rest_points() const;   // the input
