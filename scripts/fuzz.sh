@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every fuzz target in tests/fuzz/ for a fixed budget (CI: FUZZ_SECONDS=60 each), on a copy
+# Runs the fuzz targets in tests/fuzz/ for a fixed budget (CI: FUZZ_SECONDS=60 each), on a copy
 # of its seed corpus so the repository is not changed. A finding (an input that raises anything
 # but the target's own error, runs out of memory or times out) fails the run; the input is left
 # in $FUZZ_OUT for copying into tests/fuzz/regressions/<target>/. See tests/fuzz/README.md.
@@ -7,9 +7,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_EACH="${FUZZ_SECONDS:-60}"
 OUT="${FUZZ_OUT:-$(mktemp -d)}"
-# mesh is left out of the default until the core's readers check header counts (its open finding:
-# tests/fuzz/regressions/mesh/README.md); FUZZ_TARGETS="cache mesh" runs both.
-for target in ${FUZZ_TARGETS:-cache}; do
+# Default: the cache reader and the array entry points (one round-robin target), 2 minutes in all.
+# mesh joins once its open finding is fixed in the core (oom-off-face-corners-glued-3.2e16 in
+# tests/fuzz/regressions/mesh/README.md: a 60 s run finds it about one time in two);
+# FUZZ_TARGETS="cache mesh arrays" runs all three.
+for target in ${FUZZ_TARGETS:-cache arrays}; do
   corpus="$OUT/corpus-$target"
   mkdir -p "$corpus"
   cp tests/fuzz/corpus/"$target"/* "$corpus"/

@@ -5,11 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from .indices import as_vertex_indices
+
 
 def surface_components(vertex_count: int, faces: np.ndarray) -> np.ndarray:
     """A component label per face: faces sharing a vertex are in one component (label
-    propagation with pointer jumping; numpy only)."""
-    faces = np.asarray(faces, dtype=np.int64)
+    propagation with pointer jumping; numpy only). Raises InputError for a face index that names
+    no vertex."""
+    faces = as_vertex_indices(faces, vertex_count, "the surface's faces").astype(np.int64)
     labels = np.arange(vertex_count, dtype=np.int64)
     if len(faces) == 0:
         return np.zeros(0, dtype=np.int64)
@@ -28,7 +31,7 @@ def shell_volumes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """The signed volume enclosed by each connected shell of a closed, outward 3D surface:
     positive for outer shells, negative for cavities (their faces point into the bubble)."""
     vertices = np.asarray(vertices, dtype=np.float64)
-    faces = np.asarray(faces, dtype=np.int64)
+    faces = as_vertex_indices(faces, len(vertices), "the surface's faces").astype(np.int64)
     if len(faces) == 0:
         return np.zeros(0)
     _, shell = np.unique(surface_components(len(vertices), faces), return_inverse=True)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from .indices import as_indices
+from .indices import as_indices, as_vertex_indices
 
 BooleanError = _core.BooleanError
 
@@ -94,8 +94,11 @@ def inside_solid(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) ->
 def winding_numbers(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) -> np.ndarray:
     """The winding number of the closed outward surface (triangles in R^3, edges in R^2) around each
     point: 1 inside, 0 outside, whatever holes or cavities it has (solid angles, Van Oosterom and
-    Strackee; turning angles in 2D). Exact enough away from the surface; O(points x faces)."""
-    points = np.asarray(points, float)
+    Strackee; turning angles in 2D). Exact enough away from the surface; O(points x faces). Raises
+    InputError for a face index that names no vertex."""
+    vertices, faces = _solid((vertices, faces), "the surface")
+    faces = as_vertex_indices(faces, len(vertices), "the surface's faces")
+    points = np.asarray(points, float).reshape(-1, vertices.shape[1])
     out = np.zeros(len(points))
     for start in range(0, len(points), 256):
         p = points[start:start + 256, None, :]
@@ -115,8 +118,9 @@ def winding_numbers(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray)
 
 def points_inside(vertices: np.ndarray, faces: np.ndarray, depth: float) -> np.ndarray:
     """A point just inside the solid behind each face: its centroid moved `depth` against the face's
-    outward normal."""
-    corners = vertices[faces]
+    outward normal. Raises InputError for a face index that names no vertex."""
+    vertices, faces = _solid((vertices, faces), "the solid")
+    corners = vertices[as_vertex_indices(faces, len(vertices), "the solid's faces")]
     centre = corners.mean(1)
     if faces.shape[1] == 3:
         normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])

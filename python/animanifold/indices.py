@@ -33,3 +33,19 @@ def as_indices(values, what: str) -> np.ndarray:
                 f"{what} holds {flat[outside[0]]} at {tuple(int(i) for i in entry)}, which does not fit a 32-bit index"
             )
     return np.ascontiguousarray(array, dtype=np.int32)
+
+
+def as_vertex_indices(values, vertex_count: int, what: str) -> np.ndarray:
+    """`as_indices(values, what)`, each entry also checked to name one of `vertex_count` vertices:
+    numpy indexing would silently wrap a negative index to the end of the array. Raises
+    _core.InputError naming `what`, the entry and its value."""
+    indices = as_indices(values, what)
+    flat = indices.reshape(-1)
+    outside = np.flatnonzero((flat < 0) | (flat >= vertex_count))
+    if outside.size:
+        entry = np.unravel_index(outside[0], indices.shape)
+        raise _core.InputError(
+            f"{what} holds {flat[outside[0]]} at {tuple(int(i) for i in entry)}, "
+            f"not an index of the {vertex_count} vertices"
+        )
+    return indices
