@@ -142,11 +142,12 @@ def test_a_pair_with_a_complete_report_is_skipped(pairs, tmp_path, capsys):
 
 def test_pair_lists_in_csv_and_their_errors(tmp_path, capsys):
     csv_path = tmp_path / "pairs.csv"
-    csv_path.write_text("source,target,frames,method\na.off,b.off,5,strip\n/abs/c.off,d.off,,\n")
+    elsewhere = tmp_path / "elsewhere" / "c.off"  # an absolute path stays as it is
+    csv_path.write_text(f"source,target,frames,method\na.off,b.off,5,strip\n{elsewhere},d.off,,\n")
     got = morph_batch.read_pairs(csv_path)
     assert got[0] == {"name": "001_a_to_b", "source": str(tmp_path / "a.off"), "target": str(tmp_path / "b.off"),
                       "frames": 5, "method": "strip"}
-    assert got[1]["source"] == "/abs/c.off" and got[1]["frames"] == 8
+    assert got[1]["source"] == str(elsewhere) and got[1]["frames"] == 8
     assert cli.main(["farm", "count", str(csv_path)]) == 0 and capsys.readouterr().out.strip() == "2"
     bad = tmp_path / "bad.json"
     for rows, message in (([{"source": "a.off"}], "pair 1: no target"),
