@@ -59,7 +59,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             mesh_writer.write_mesh(
                 mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                 material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
-                normals=am.display.frame_normals(s, smoothed),
+                normals=am.display.frame_normals(s, smoothed), extra=s.vertex_attributes,
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)
