@@ -154,6 +154,33 @@ def test_node_group_bake_keeps_both_maps_and_the_colours(painted):
     _check_frames(source, man, "baked")
 
 
+def _alembic_baked(painted, tmp_path):
+    source, man = painted
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "painted.blend"))
+    assert bpy.ops.animanifold.bake(alembic=True, use_mesh_cache=True) == {"FINISHED"}
+    assert man.modifiers["Animanifold Alembic"].show_viewport
+    return source, man
+
+
+@pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
+def test_alembic_bake_keeps_both_uv_maps(painted, tmp_path):
+    source, man = _alembic_baked(painted, tmp_path)
+    for frame in KEYS:
+        expected = _source_rows(source, frame, True)[:, :7]  # position, UVMap, Detail
+        bpy.context.scene.frame_set(frame)
+        got = _corner_rows(shown(man), True)[:, :7]
+        assert got.shape == expected.shape, f"alembic, frame {frame}"
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-6, err_msg=f"alembic, frame {frame}")
+
+
+@pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
+@pytest.mark.xfail(strict=True, reason="through Alembic + Mesh Sequence Cache (bpy 4.5) the colour attributes "
+                   "read back white (1, 1, 1, 1) after the first frame; the cause is not yet found")
+def test_alembic_bake_keeps_the_colours(painted, tmp_path):
+    source, man = _alembic_baked(painted, tmp_path)
+    _check_frames(source, man, "alembic")
+
+
 @pytest.mark.slow
 @pytest.mark.skipif(not os.path.exists(BLENDER), reason=NO_BLENDER_BINARY)
 def test_blender34_node_group_bake_has_real_uv_maps(tmp_path):
