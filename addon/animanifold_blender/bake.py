@@ -23,7 +23,7 @@ import os
 import bpy
 import numpy as np
 
-from . import live_nodes, mesh_writer
+from . import bake_switch, live_nodes, mesh_writer
 from ._lib import am
 from .object_manifold import frame_slice, shown_manifold
 from .reporting import ReportedError
@@ -59,7 +59,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             mesh_writer.write_mesh(
                 mesh, s.vertices, s.faces, uv=s.vertex_attributes.get("uv"), uv_name=settings.uv_name or "UVMap",
                 material_index=s.face_attributes.get("material_index"), smooth=s.face_attributes.get("smooth"),
-                normals=am.display.frame_normals(s, smoothed),
+                normals=am.display.frame_normals(s, smoothed), extra=s.vertex_attributes,
             )
             frame_obj = bpy.data.objects.new(name, mesh)
             collection.objects.link(frame_obj)
@@ -105,7 +105,9 @@ def _math(nodes, operation, location):
 def build_node_group(name: str, collection, first_frame: int, count: int) -> bpy.types.NodeTree:
     """Geometry nodes showing the instance of `collection` for the scene frame:
     child i is shown at frame first_frame + i (floor of the frame, so subframes
-    hold the frame); before and after the baked range the first and last frame hold."""
+    hold the frame); before and after the baked range the first and last frame hold.
+    Before Blender 3.5 the frame object's mesh is picked by bake_switch instead (Realize
+    Instances there turns UV maps into plain attributes)."""
     group = bpy.data.node_groups.new(name, "GeometryNodeTree")
     _new_socket(group, "Geometry", "INPUT")
     _new_socket(group, "Geometry", "OUTPUT")
@@ -135,6 +137,12 @@ def build_node_group(name: str, collection, first_frame: int, count: int) -> bpy
     held = _math(nodes, "MINIMUM", (-350, -150))
     links.new(low.outputs[0], held.inputs[0])
     held.inputs[1].default_value = float(count - 1)
+    if bake_switch.NEEDS_SWITCH:
+        # The order Collection Info gives the modern path: its children by name.
+        objects = sorted(collection.objects, key=lambda o: o.name)
+        bake_switch.link_frames(group, held.outputs[0], objects, group_out.inputs[0])
+        nodes.remove(info)
+        return group
     index = nodes.new("GeometryNodeInputIndex")
     index.location = (-500, -300)
     diff = _math(nodes, "SUBTRACT", (-300, -200))

@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
-from . import adaptive_sampling, live_nodes, messages, sampling
+from . import adaptive_sampling, extra_layers, live_nodes, messages, sampling
 from ._lib import am
 from .cache_paths import convert_cache_path
 from .live import scene_frame
@@ -95,6 +95,7 @@ def _metadata(obj, start, end, mode, step, keys, fidelity) -> dict:
         "frame_range": [float(start), float(end)],
         "sampling": f"EVERY_{step}" if mode == "EVERY_N" else mode,
         "uv_map": keys.uv_name,
+        **extra_layers.metadata(keys.extra),
         "object_motion_baked": bool(keys.moves),
         "blender": bpy.app.version_string,
     }

@@ -12,7 +12,7 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from . import live_cuts
+from . import extra_layers, live_cuts
 
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
 _NEEDS_AUTO_SMOOTH = bpy.app.version < (4, 1, 0)
@@ -27,14 +27,15 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
                smooth: np.ndarray | None = None, normals: np.ndarray | None = None,
                edges: tuple | None = None, vectors: dict | None = None,
-               corner_uv: np.ndarray | None = None) -> None:
+               corner_uv: np.ndarray | None = None, extra: dict | None = None) -> None:
     """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
     `normals` (P, 3): smooth normals set as custom normals (slices between
     keyframes have thin triangles that shade unevenly with computed normals).
     `edges`: (edge vertices (2E,), corner edges (3F,)) that Blender computed for
     these faces before (mesh_edges), set instead of computing them again.
     `vectors`: name -> (P, 3) float32 point attributes (float vectors) to add (4.0+).
-    `corner_uv` (2 * 3F,) float32: the UV map per corner, instead of `uv` per vertex."""
+    `corner_uv` (2 * 3F,) float32: the UV map per corner, instead of `uv` per vertex.
+    `extra`: a slice's vertex attributes, whose extra_layers (other UV maps, colours) are written."""
     P, F = len(vertices), len(faces)
     corner_vertex = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1)
     mesh.clear_geometry()
@@ -81,6 +82,8 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
             if layer is not None and F:
                 corner = np.ascontiguousarray(uv, dtype=np.float32)[corner_vertex]
                 layer.data.foreach_set("uv", corner.reshape(-1))
+    if extra and F:
+        extra_layers.write(mesh, extra, corner_vertex)
     # With edges given (4.0+), the mesh has them: only tag it.
     mesh.update(calc_edges=not (_ATTRIBUTES and edges is not None))
     if normals is not None and F:
@@ -119,9 +122,9 @@ def mesh_edges(mesh) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: np.ndarray | None = None,
-                    uv_name: str = "UVMap", normals: np.ndarray | None = None) -> None:
+                    uv_name: str = "UVMap", normals: np.ndarray | None = None, extra: dict | None = None) -> None:
     """Moves the vertices of a mesh that write_mesh filled (same vertices and
-    faces): positions, the UV map and custom normals only."""
+    faces): positions, the UV maps, colours (`extra`: see write_mesh) and custom normals only."""
     co = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1)
     if _ATTRIBUTES:
         mesh.attributes["position"].data.foreach_set("vector", co)
@@ -133,6 +136,8 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
             mesh.attributes[uv_name].data.foreach_set("vector", corner)
         elif uv_name in mesh.uv_layers:
             mesh.uv_layers[uv_name].data.foreach_set("uv", corner)
+    if extra and len(corner_vertex):
+        extra_layers.write(mesh, extra, corner_vertex, create=False)
     mesh.update()
     tag_positions_changed(mesh)  # bounds too
     if normals is not None and len(corner_vertex):

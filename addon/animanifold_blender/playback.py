@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from . import live_cuts, live_nodes, mesh_writer
+from . import extra_layers, live_cuts, live_nodes, mesh_writer
 from ._lib import am
 from .live_registry import registry
 from .object_manifold import frame_slice, shown_manifold, slice_value
@@ -111,7 +111,10 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     shown = registry.shown(obj)
     if shown is not None and (shown.key != key or shown.counts != _counts(mesh)):
         shown = None  # another mesh, manifold or setting, or the mesh was edited
-    if can_drive(obj, scene):
+    # The live modifier rebuilds the active UV map only: a manifold carrying more UV maps
+    # or colours (extra_layers) is played by the handler, which rewrites them all.
+    extra = extra_layers.carried(manifold.vertex_attributes)
+    if not extra and can_drive(obj, scene):
         _update_driven(obj, manifold, value, key, None if force else shown)
         return
 
@@ -121,14 +124,15 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     timed = settings.axis == "t" and _time_is_frame(scene)
     live_nodes.release(obj, _shown_range(manifold, value) if timed else None)
     interval = None if smoothed else manifold.topology_interval(value, settings.axis)
-    carried = ["uv"] + (["normal"] if normals_wanted else [])
+    carried = ["uv"] + extra + (["normal"] if normals_wanted else [])
     if (shown is not None and interval is not None and shown.interval == interval
             and shown.interval_frame is not None):
         s = shown.interval_frame.at(value, attributes=carried, normals=False)
         positions = am.display.display_vertices(manifold, s, settings.axis, settings.time_scale)
         mesh_writer.write_positions(mesh, positions, shown.corner_vertex, uv=s.vertex_attributes.get("uv"),
                                     uv_name=settings.uv_name or "UVMap",
-                                    normals=am.display.slice_normals(s) if normals_wanted else None)
+                                    normals=am.display.slice_normals(s) if normals_wanted else None,
+                                    extra=s.vertex_attributes if extra else None)
         shown.value = value
         return
 
@@ -148,6 +152,7 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
         material_index=s.face_attributes.get("material_index"),
         smooth=s.face_attributes.get("smooth"),
         normals=am.display.frame_normals(s, smoothed) if normals_wanted else None,
+        extra=s.vertex_attributes if extra else None,
     )
     registry.set_shown(obj, Shown(key, interval, moving, np.ascontiguousarray(faces, dtype=np.int32).reshape(-1),
                                   _counts(mesh), value))

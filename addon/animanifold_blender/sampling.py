@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import animation_sources, messages
+from . import animation_sources, extra_layers, messages
 from ._lib import am
 from .reporting import ReportedError
 
@@ -74,6 +74,7 @@ class MeshSample:
     tri_loops: np.ndarray | None = None  # (T, 3) int32
     material_index: np.ndarray | None = None  # (T,) int32
     smooth: np.ndarray | None = None  # (T,) int32 (0 flat, 1 smooth)
+    extra: dict = field(default_factory=dict)  # extra_layers: name -> (L, c) float32 per corner
 
 
 def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
@@ -95,7 +96,7 @@ def read_mesh(mesh, matrix_world, triangulate: bool) -> MeshSample:
         loop_uv = loop_uv.reshape(L, 2) + np.float32(0.0)  # + 0 turns -0.0 into 0.0
         uv_name = layer.name
     sample = MeshSample(co.reshape(n, 3).astype(np.float64), normals.reshape(n, 3), loop_vertex, poly_start, loop_uv, uv_name,
-                        np.array(matrix_world, dtype=np.float64))
+                        np.array(matrix_world, dtype=np.float64), extra=extra_layers.read_corner_layers(mesh, loop_vertex))
     if triangulate:
         mesh.calc_loop_triangles()
         tris = mesh.loop_triangles
@@ -133,15 +134,16 @@ class Keyframes:
     matrix_world: np.ndarray  # (4, 4) world matrix of the object at the first sample
     moves: bool = False  # object-level motion was baked into the positions
     notes: list = field(default_factory=list)
+    extra: dict = field(default_factory=dict)  # extra_layers: name -> (k, c) or (m, k, c)
 
 
 def weld_corners(tri_vertices: np.ndarray, corner_uvs: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Splits vertices at UV seams, consistently for every sample.
 
-    tri_vertices (T, 3); corner_uvs: per sample (T*3, 2) float32 arrays. Corners
-    are grouped by vertex, then refined by their UV at each sample, so two
-    corners share a new vertex only if they share the vertex and the UV at every
-    sample. Returns faces (T, 3) over the new vertices, new → source vertex
+    tri_vertices (T, 3); corner_uvs: per sample and layer (T*3, c) float32 arrays (UVs,
+    colours). Corners are grouped by vertex, then refined by their values in each
+    array, so two corners share a new vertex only if they share the vertex and the
+    value of every layer at every sample (a seam of any UV map splits). Returns faces (T, 3) over the new vertices, new → source vertex
     (k,), and the first corner of each new vertex (k,).
     """
     key = tri_vertices.reshape(-1).astype(np.int64)
@@ -151,7 +153,7 @@ def weld_corners(tri_vertices: np.ndarray, corner_uvs: list) -> tuple[np.ndarray
             continue
         previous = uv
         bits = np.ascontiguousarray(uv).view(np.uint32).astype(np.int64)
-        rows = np.column_stack([key, bits[:, 0], bits[:, 1]])
+        rows = np.column_stack([key, bits.reshape(len(key), -1)])
         _, key = np.unique(rows, axis=0, return_inverse=True)
         key = key.reshape(-1)
     _, first_corner, inverse = np.unique(key, return_index=True, return_inverse=True)
@@ -232,7 +234,9 @@ def keyframes_from(obj, samples: list[MeshSample], frames, check_motion: bool = 
     if ref.loop_uv is not None:
         uvs = [s.loop_uv[corners] if s.loop_uv is not None and s.loop_uv.shape == ref.loop_uv.shape
                else ref.loop_uv[corners] for s in samples]
-    faces, source_vertex, first_corner = weld_corners(ref.tri_vertices, uvs)
+    extra = {name: [s.extra[name][corners] if s.extra.get(name) is not None and s.extra[name].shape == layer.shape
+                    else layer[corners] for s in samples] for name, layer in ref.extra.items()}
+    faces, source_vertex, first_corner = weld_corners(ref.tri_vertices, uvs + [a for v in extra.values() for a in v])
 
     m0 = ref.matrix_world
     moves = any(not np.array_equal(s.matrix_world, m0) for s in samples)
@@ -250,14 +254,7 @@ def keyframes_from(obj, samples: list[MeshSample], frames, check_motion: bool = 
             f"'{obj.name}' does not move in frames {frames[0]:g}–{frames[-1]:g}: no animation in the range"
         )
 
-    uv = None
-    if uvs:
-        distinct = [u for j, u in enumerate(uvs) if j == 0 or not np.array_equal(u, uvs[0])]
-        if len(distinct) == 1:
-            uv = uvs[0][first_corner].astype(np.float64)
-        else:
-            uv = np.stack([u[first_corner] for u in uvs]).astype(np.float64)
-
+    uv = _per_vertex(uvs, first_corner) if uvs else None
     return Keyframes(
         times=np.asarray(frames, dtype=np.float64),
         positions=positions,
@@ -270,7 +267,16 @@ def keyframes_from(obj, samples: list[MeshSample], frames, check_motion: bool = 
         source_vertex=source_vertex,
         matrix_world=m0,
         moves=moves,
+        extra={name: _per_vertex(values, first_corner) for name, values in extra.items()},
     )
+
+
+def _per_vertex(corner_values: list, first_corner: np.ndarray) -> np.ndarray:
+    """A layer's per-sample corner values as per-vertex values: (k, c) if the same at every
+    sample, else (m, k, c)."""
+    if all(np.array_equal(u, corner_values[0]) for u in corner_values[1:]):
+        return corner_values[0][first_corner].astype(np.float64)
+    return np.stack([u[first_corner] for u in corner_values]).astype(np.float64)
 
 
 def stitch_keyframes(keys: Keyframes, progress=None):
@@ -282,6 +288,7 @@ def stitch_keyframes(keys: Keyframes, progress=None):
         vertex_attributes["normal"] = keys.normals
     if keys.uv is not None:
         vertex_attributes["uv"] = keys.uv
+    vertex_attributes.update(keys.extra)
     return am.stitch(
         keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
         face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
