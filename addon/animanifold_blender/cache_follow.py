@@ -19,6 +19,7 @@ Blender's in that menu) lists them, and Relink Cache points one at a file.
 
 from __future__ import annotations
 
+import contextlib
 import filecmp
 import os
 import shutil
@@ -31,6 +32,8 @@ from ._lib import am
 
 # Object name -> its stored path before a save changed it (restored after a Save Copy).
 _before: dict[str, str] = {}
+# Inside caches_stay_in_place(): saves copy no cache.
+_staying = False
 
 
 def _temporary_folder() -> str:
@@ -80,6 +83,8 @@ def before_save(blend: str) -> list[str]:
     copies; returns a note per cache that could not be copied (missing, unreadable)."""
     _before.clear()
     notes = []
+    if _staying:
+        return notes
     for obj in _manifold_objects():
         try:
             target = _target(obj, blend)
@@ -110,3 +115,26 @@ def after_save(blend: str) -> None:
             if obj is not None:
                 obj.animanifold["cache_path"] = stored
     _before.clear()
+
+
+@contextlib.contextmanager
+def caches_stay_in_place():
+    """Saves of copies that share the caches where they are (a render farm's chunk .blends,
+    written side by side by concurrent tasks into one output folder): no cache is copied,
+    and the copies name each cache by its absolute path, so they still find it."""
+    global _staying
+    stored = {}
+    for obj in _manifold_objects():
+        with contextlib.suppress(am.CacheError):
+            absolute = cache_paths.cache_abspath(obj)
+            stored[obj.name] = obj.animanifold.cache_path
+            obj.animanifold["cache_path"] = absolute  # set without the update: the file is the same
+    _staying = True
+    try:
+        yield
+    finally:
+        _staying = False
+        for name, path in stored.items():
+            obj = bpy.data.objects.get(name)
+            if obj is not None:
+                obj.animanifold["cache_path"] = path

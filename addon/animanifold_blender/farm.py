@@ -31,7 +31,7 @@ import sys
 
 import bpy
 
-from . import bake, farm_files
+from . import bake, cache_follow, farm_files
 from .object_manifold import manifold_for, shown_manifold
 from .reporting import ReportedError
 
@@ -154,7 +154,7 @@ def _save_baked(obj, folder: str, stem: str, first: int, last: int, outputs) -> 
         written.append(path)
     if "blend" in outputs:
         path = os.path.join(folder, stem + ".blend")
-        farm_files.write_with(path, lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True))
+        farm_files.write_with(path, _save_copy)
         written.append(path)
     return written
 
@@ -249,7 +249,7 @@ def assemble(directory: str = "//animanifold_farm/", object: str | None = None, 
             notes.append(f"'{obj.name}': {len(chunks)} chunks, frames {first}–{last}")
         if "blend" in wanted:
             path = os.path.join(folder, blend_name)
-            farm_files.write_with(path, lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True))
+            farm_files.write_with(path, _save_copy)
             notes.append(f"saved {path}")
     for note in notes:
         print(f"animanifold farm: {note}")
@@ -289,3 +289,9 @@ def main(argv: list[str] | None = None) -> None:
         bake_chunk(args.start, end, args.directory, args.object or None, args.outputs)
     else:
         assemble(args.directory, args.object or None, args.outputs, args.blend_name)
+
+
+def _save_copy(path: str) -> None:
+    """Saves a copy of the open file at `path`; the caches stay where the tasks share them."""
+    with cache_follow.caches_stay_in_place():
+        bpy.ops.wm.save_as_mainfile(filepath=path, copy=True)

@@ -41,7 +41,8 @@ def probe(blend, name, frames):
 
 def saved_live(demo, tmp_path, frame, **settings):
     bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "live.blend"))
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    # keyframes only: the demo's keys are far apart, so frame 17 lies inside a topology interval
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
     man = bpy.data.objects["Blob_manifold"]
     for key, value in settings.items():
         setattr(man.animanifold, key, value)
