@@ -1,5 +1,5 @@
 """The modal half of an operator whose long core call runs in a worker thread (am.CoreJob):
-Add Voronoi Skeleton and Laplacian Deform, invoked from the interface.
+Add Voronoi Skeleton, Laplacian Deform and Morph Selected, invoked from the interface.
 
 While the job runs, timer ticks move the progress bar, view events pass, everything else
 waits (so the operator's inputs are still there at the end) and Esc cancels the job at the
@@ -15,7 +15,8 @@ from .reporting import reporting
 
 class CoreJobModal:
     """Mixin for an Operator: `_start_job` from invoke(); the operator gives `_finish`,
-    `_cancelled_text(source)` (the report of a cancel) and `_failure_text(source)`."""
+    `_cancelled_text(source)` (the report of a cancel) and `_failure_text(source)`, or
+    overrides `_tick` (what a timer tick shows) and `_job_done` (what the end makes)."""
 
     def _start_job(self, context, job, source) -> set:
         self._job, self._source = job, source
@@ -31,10 +32,19 @@ class CoreJobModal:
             job.cancel()
         if not job.done:
             if event.type == "TIMER":
-                context.window_manager.progress_update(100.0 * min(max(job.fraction, 0.0), 1.0))
+                self._tick(context)
+            # only the view may change meanwhile: the inputs must still be there at the end
             return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
         self._stop_waiting(context)
-        source = self._source
+        return self._job_done(context)
+
+    def _tick(self, context) -> None:
+        """A timer tick while the job runs: the bar follows the core's steps."""
+        context.window_manager.progress_update(100.0 * min(max(self._job.fraction, 0.0), 1.0))
+
+    def _job_done(self, context) -> set:
+        """The job ended (finished, failed or cancelled): report it, or make its result."""
+        job, source = self._job, self._source
         if job.cancelled:
             self.report({"WARNING"}, self._cancelled_text(source))
             return {"CANCELLED"}

@@ -28,13 +28,14 @@ from bpy.types import Operator
 from ._lib import am
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
-from .progress import VIEW_EVENTS, MorphStages
+from .job_modal import CoreJobModal
+from .progress import MorphStages
 from .reporting import OperatorError, reporting
 
 MorphJob = am.MorphJob  # the morph in a worker thread that invoke() starts
 
 
-class ANIMANIFOLD_OT_morph_selected(Operator):
+class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
     """Morph from the selected mesh object to the active one over a frame range"""
 
     bl_idname = "animanifold.morph_selected"
@@ -139,18 +140,14 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         inputs = self._read_inputs(context)
         if inputs is None:
             return {"CANCELLED"}
-        self._running = inputs
         source, target, start, end, source_input, target_input = inputs
-        self._job = MorphJob(source_input.mesh, target_input.mesh,
-                             **self._options(start, end, source_input, target_input))
-        wm = context.window_manager
-        self._timer = wm.event_timer_add(0.1, window=context.window)
-        wm.progress_begin(0, 100)
-        wm.modal_handler_add(self)
-        self._status(context)
-        return {"RUNNING_MODAL"}
+        job = MorphJob(source_input.mesh, target_input.mesh, **self._options(start, end, source_input, target_input))
+        running = self._start_job(context, job, inputs)
+        self._tick(context)
+        return running
 
-    def _status(self, context) -> None:
+    def _tick(self, context) -> None:
+        """The status bar names the running stage; the bar follows its fraction."""
         job = self._job
         text = "cancelling…" if job.cancelling else f"{job.stage}, {job.fraction:.0%}"
         context.workspace.status_text_set(f"Morph Selected: {text} ({time.perf_counter() - job.started:.0f} s) — "
@@ -158,28 +155,12 @@ class ANIMANIFOLD_OT_morph_selected(Operator):
         context.window_manager.progress_update(5.0 + 80.0 * min(max(job.fraction, 0.0), 1.0))
 
     def _stop_waiting(self, context) -> None:
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
+        CoreJobModal._stop_waiting(self, context)
         context.workspace.status_text_set(None)
 
-    def cancel(self, context):
-        """Blender ends the modal operator itself (a file is opened, the window closes): the job is
-        told to stop and left to end on its own (its thread touches no Blender data)."""
-        self._job.cancel()
-        self._stop_waiting(context)
-
-    def modal(self, context, event):
+    def _job_done(self, context) -> set:
         job = self._job
-        if event.type == "ESC" and event.value == "PRESS":
-            job.cancel()
-        if not job.done:
-            if event.type == "TIMER":
-                self._status(context)
-            # only the view may change meanwhile: the inputs must still be there at the end
-            return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
-        self._stop_waiting(context)
-        source, target, start, end, source_input, target_input = self._running
+        source, target, start, end, source_input, target_input = self._source
         if job.cancelled:
             self.report({"WARNING"}, f"Morph cancelled after {time.perf_counter() - job.started:.1f} s: nothing was added")
             return {"CANCELLED"}

@@ -12,7 +12,8 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from helpers.blender_helpers import mesh_vertices, scene_state, shown, BLENDER, NO_BLENDER_BINARY, run_blender_binary_smoke  # noqa: E402
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, mesh_vertices, modal_stand_in,  # noqa: E402
+                                     run_blender_binary_smoke, scene_state, shown)
 
 pytestmark = pytest.mark.blender
 
@@ -446,7 +447,6 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     an operator call, and modal() needs a window's events): view events pass, everything else
     waits; Esc stops the core at its next step and the mesh and the Empty's rest are as they
     were; a finished job's result is written by modal() in the main thread, as execute() does."""
-    import functools
     import threading
     import time
     from types import SimpleNamespace
@@ -476,13 +476,8 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     def operator(call):
         plan, result = deform_apply.plan_deform(bpy.context, obj, opt, empty, lambda *a: None)
         assert plan is not None, result
-        cls = ops_deform.ANIMANIFOLD_OT_deform
-        op = SimpleNamespace(_job=addon_am.CoreJob(call, plan), _source=obj, _timer="the timer", _plan=plan,
-                             reports=[])
-        op.report = lambda kind, text: op.reports.append((set(kind), text))
-        for name in ("_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
-            setattr(op, name, functools.partial(getattr(cls, name), op))
-        return functools.partial(cls.modal, op), op
+        return modal_stand_in(ops_deform.ANIMANIFOLD_OT_deform, _job=addon_am.CoreJob(call, plan), _source=obj,
+                              _plan=plan)
 
     def until_done(modal):
         for _ in range(1200):  # a bound on the waits, not an assertion on time

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 import math
 import os
 import time
@@ -14,8 +13,8 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, RecordingProgressBar, mesh_corners,  # noqa: E402
-                             mesh_vertices, run_blender_binary_smoke, run_blender_in_window, scene_state, shown,
-                             triangle_looks)
+                             mesh_vertices, modal_stand_in, run_blender_binary_smoke, run_blender_in_window,
+                             scene_state, shown, triangle_looks)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -627,12 +626,9 @@ def _modal_operator(job, running):
     from animanifold_blender import ops_morph
 
     cls = ops_morph.ANIMANIFOLD_OT_morph_selected
-    op = SimpleNamespace(_job=job, _running=running, _timer="the timer", method="SKELETON", reports=[])
-    op.report = lambda kind, text: op.reports.append((set(kind), text))
-    for name in ("_status", "_finish", "_stop_waiting", "cancel"):
-        setattr(op, name, functools.partial(getattr(cls, name), op))
+    modal, op = modal_stand_in(cls, _job=job, _source=running, method="SKELETON")
     op._input_message = cls._input_message
-    return functools.partial(cls.modal, op), op
+    return modal, op
 
 
 def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_main_thread(empty_scene):

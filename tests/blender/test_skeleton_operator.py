@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import RecordingProgressBar, scene_state  # noqa: E402
+from helpers.blender_helpers import RecordingProgressBar, modal_stand_in, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -108,7 +108,6 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     an operator call, and modal() needs a window's events): timer ticks move the bar, view events
     pass, everything else waits; Esc stops the core at its next step and nothing is added; a
     finished job's object is made by modal() in the main thread, as execute() makes it."""
-    import functools
     import threading
     import time
     from types import SimpleNamespace
@@ -129,13 +128,8 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
         return SimpleNamespace(type=kind, value=value)
 
     def operator(job, source):
-        cls = ops_skeleton.ANIMANIFOLD_OT_skeleton
-        op = SimpleNamespace(_job=job, _source=source, _timer="the timer", side="INTERNAL", max_iterations=4,
-                             wrap="BOX", reports=[])
-        op.report = lambda kind, text: op.reports.append((set(kind), text))
-        for name in ("_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
-            setattr(op, name, functools.partial(getattr(cls, name), op))
-        return functools.partial(cls.modal, op), op
+        return modal_stand_in(ops_skeleton.ANIMANIFOLD_OT_skeleton, _job=job, _source=source, side="INTERNAL",
+                              max_iterations=4, wrap="BOX")
 
     def until_done(modal):
         for _ in range(1200):  # a bound on the waits, not an assertion on time

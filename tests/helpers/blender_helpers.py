@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import shutil
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import bpy
 import numpy as np
@@ -206,3 +208,16 @@ class RecordingProgressBar:
         """Begun at 0..100, ended, and updated with non-decreasing values inside it."""
         assert self.calls[0] == ("begin", 0, 100) and self.calls[-1] == ("end",)
         assert self.values == sorted(self.values) and 0 <= self.values[0] and self.values[-1] <= 100
+
+
+def modal_stand_in(cls, **state):
+    """(modal, op): a modal operator's state (what invoke() leaves on it, given as `state`)
+    on a stand-in with `cls`'s methods bound to it, since Blender operators cannot be made
+    outside an operator call and modal() needs a window's events. `op.reports` records
+    what the operator reports."""
+    op = SimpleNamespace(_timer="the timer", reports=[], **state)
+    op.report = lambda kind, text: op.reports.append((set(kind), text))
+    for name in ("_tick", "_job_done", "_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
+        if hasattr(cls, name):
+            setattr(op, name, functools.partial(getattr(cls, name), op))
+    return functools.partial(cls.modal, op), op
