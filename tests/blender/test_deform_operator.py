@@ -12,8 +12,8 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, mesh_vertices, modal_stand_in,  # noqa: E402
-                                     run_blender_binary_smoke, scene_state, shown)
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, ModalWindowManager, mesh_vertices, modal_stand_in,  # noqa: E402
+                                     record_core_progress, run_blender_binary_smoke, scene_state, shown)
 
 pytestmark = pytest.mark.blender
 
@@ -377,18 +377,7 @@ def test_interactive_deform_resolves_on_empty_moves_and_applies(sphere):
 def test_starting_interactive_deform_shows_the_factorisations_steps_on_the_progress_bar(sphere, monkeypatch):
     from animanifold_blender import interactive_deform
 
-    steps, ended = [], []
-
-    class Recording(interactive_deform.CoreProgress):
-        def __call__(self, step, fraction):
-            steps.append((step, fraction))
-            return super().__call__(step, fraction)
-
-        def end(self):
-            ended.append(True)
-            super().end()
-
-    monkeypatch.setattr(interactive_deform, "CoreProgress", Recording)
+    steps, ended = record_core_progress(interactive_deform, monkeypatch)
     obj, _ = sphere
     obj.animanifold_deform.method = "graph"
     obj.animanifold_deform.interactive = True
@@ -426,21 +415,6 @@ def test_deform_shows_the_cores_steps_on_the_progress_bar(sphere, monkeypatch):
     assert fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] == 1.0 and ended == [True]
 
 
-class _FakeWindowManager:
-    """What the modal Deform asks of the window manager, recorded (bpy has no window to give one)."""
-
-    def __init__(self, calls):
-        self.calls = calls
-
-    def event_timer_remove(self, timer):
-        self.calls.append(("timer removed", timer))
-
-    def progress_update(self, value):
-        self.calls.append(("progress", value))
-
-    def progress_end(self):
-        self.calls.append(("progress end",))
-
 
 def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main_thread(sphere):
     """modal() while the job runs (a stand-in operator: Blender operators cannot be made outside
@@ -465,7 +439,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     calls = []
 
     class Context:  # bpy.context, with the window manager recorded
-        window_manager = _FakeWindowManager(calls)
+        window_manager = ModalWindowManager(calls)
 
         def __getattr__(self, name):
             return getattr(bpy.context, name)

@@ -12,9 +12,9 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, RecordingProgressBar, mesh_corners,  # noqa: E402
-                             mesh_vertices, modal_stand_in, run_blender_binary_smoke, run_blender_in_window,
-                             scene_state, shown, triangle_looks)
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, ModalWindowManager,  # noqa: E402
+                             RecordingProgressBar, mesh_corners, mesh_vertices, modal_stand_in, run_blender_binary_smoke,
+                             run_blender_in_window, scene_state, shown, triangle_looks)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -604,21 +604,6 @@ def test_morph_selected_invoked_without_a_window_runs_at_once(empty_scene):
     assert bpy.context.active_object.animanifold.is_manifold
 
 
-class _FakeWindowManager:
-    """What the modal morph asks of the window manager, recorded (bpy has no window to give one)."""
-
-    def __init__(self, calls):
-        self.calls = calls
-
-    def event_timer_remove(self, timer):
-        self.calls.append(("timer removed", timer))
-
-    def progress_update(self, value):
-        self.calls.append(("progress", value))
-
-    def progress_end(self):
-        self.calls.append(("progress end",))
-
 
 def _modal_operator(job, running):
     """Morph Selected's modal state (what invoke() leaves on the operator) on a stand-in: Blender
@@ -643,7 +628,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     calls = []
 
     class Context:  # bpy.context, with the window manager and workspace recorded
-        window_manager = _FakeWindowManager(calls)
+        window_manager = ModalWindowManager(calls)
         workspace = SimpleNamespace(status_text_set=lambda text: calls.append(("status", text)))
 
         def __getattr__(self, name):

@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import RecordingProgressBar, modal_stand_in, scene_state  # noqa: E402
+from helpers.blender_helpers import ModalWindowManager, RecordingProgressBar, modal_stand_in, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -87,21 +87,6 @@ def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
     assert steps[:3] == ["checks", "separability", "voronoi"] and "bisectors" in steps
 
 
-class _FakeWindowManager:
-    """What the modal skeleton asks of the window manager, recorded (bpy has no window to give one)."""
-
-    def __init__(self, calls):
-        self.calls = calls
-
-    def event_timer_remove(self, timer):
-        self.calls.append(("timer removed", timer))
-
-    def progress_update(self, value):
-        self.calls.append(("progress", value))
-
-    def progress_end(self):
-        self.calls.append(("progress end",))
-
 
 def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_main_thread(empty_scene):
     """modal() while the job runs (a stand-in operator: Blender operators cannot be made outside
@@ -119,7 +104,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     calls = []
 
     class Context:  # bpy.context, with the window manager recorded
-        window_manager = _FakeWindowManager(calls)
+        window_manager = ModalWindowManager(calls)
 
         def __getattr__(self, name):
             return getattr(bpy.context, name)

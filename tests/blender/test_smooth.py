@@ -11,7 +11,8 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from helpers.blender_helpers import canonical, eval_corners, mesh_corners, mesh_vertices, scene_state, shown  # noqa: E402
+from helpers.blender_helpers import (canonical, eval_corners, mesh_corners, mesh_vertices, record_core_progress,  # noqa: E402
+                                     scene_state, shown)
 
 pytestmark = pytest.mark.blender
 
@@ -256,18 +257,7 @@ def test_bake_shows_the_subdivisions_steps_on_the_progress_bar(demo, tmp_path, m
     from animanifold_blender import bake_object
     from animanifold_blender.live_registry import registry
 
-    steps, ended = [], []
-
-    class Recording(bake_object.CoreProgress):
-        def __call__(self, step, fraction):
-            steps.append((step, fraction))
-            return super().__call__(step, fraction)
-
-        def end(self):
-            ended.append(True)
-            super().end()
-
-    monkeypatch.setattr(bake_object, "CoreProgress", Recording)
+    steps, ended = record_core_progress(bake_object, monkeypatch)
     man = convert(demo)
     man.animanifold.subdivision_levels = 1  # computed by the property update, without a bar
     registry.subdivisions.clear()  # so that the bake computes it

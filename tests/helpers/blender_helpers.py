@@ -221,3 +221,38 @@ def modal_stand_in(cls, **state):
         if hasattr(cls, name):
             setattr(op, name, functools.partial(getattr(cls, name), op))
     return functools.partial(cls.modal, op), op
+
+
+class ModalWindowManager:
+    """What a modal operator asks of the window manager once its job runs, recorded in
+    `calls` (bpy has no window to give one)."""
+
+    def __init__(self, calls):
+        self.calls = calls
+
+    def event_timer_remove(self, timer):
+        self.calls.append(("timer removed", timer))
+
+    def progress_update(self, value):
+        self.calls.append(("progress", value))
+
+    def progress_end(self):
+        self.calls.append(("progress end",))
+
+
+def record_core_progress(module, monkeypatch) -> tuple[list, list]:
+    """(steps, ended): `module`'s CoreProgress replaced by one that records each (step,
+    fraction) the core reports and each end() of the bar."""
+    steps, ended = [], []
+
+    class Recording(module.CoreProgress):
+        def __call__(self, step, fraction):
+            steps.append((step, fraction))
+            return super().__call__(step, fraction)
+
+        def end(self):
+            ended.append(True)
+            super().end()
+
+    monkeypatch.setattr(module, "CoreProgress", Recording)
+    return steps, ended
