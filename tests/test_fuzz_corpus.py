@@ -43,9 +43,7 @@ def test_the_valid_seeds_load_so_the_fuzzer_starts_past_the_checks(tmp_path):
 MESH_SEEDS = sorted((FUZZ / "corpus" / "mesh").iterdir())
 MESH_REGRESSIONS = sorted(p for p in (FUZZ / "regressions" / "mesh").iterdir() if not p.name.endswith(".md"))
 # Findings whose fix is not in this tree yet; strict, so a fix makes the mark fail until it is removed.
-OPEN = {"oom-off-face-corners-glued-3.2e16": "the core's OFF check skips a face's corner count glued to a "
-        "non-digit ('32222222222222222x'), which CGAL still reads and allocates: std::bad_alloc escapes as "
-        "MemoryError (when fixed, add mesh to scripts/fuzz.sh's default targets)"}
+OPEN: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("entry", MESH_SEEDS, ids=[p.name for p in MESH_SEEDS])

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -23,10 +24,14 @@ constexpr std::uint64_t kCornerBytes = 2;
 // PLY headers are a few hundred lines at most; this bounds reading a hostile one.
 constexpr int kMaxHeaderLines = 10000;
 
+// The count a token starts with, read as a C++ stream (and so CGAL's reader) reads it:
+// the leading digits, whatever follows them ("32x" is 32); a number too large for 64 bits
+// is the largest count, so that it is refused; nullopt without a leading digit.
 std::optional<std::uint64_t> parse_count(const std::string& token) {
   std::uint64_t value = 0;
   const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (error != std::errc() || end != token.data() + token.size()) return std::nullopt;
+  if (error == std::errc::result_out_of_range) return std::numeric_limits<std::uint64_t>::max();
+  if (error != std::errc()) return std::nullopt;
   return value;
 }
 
