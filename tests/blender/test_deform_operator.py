@@ -12,7 +12,7 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 import animanifold as am  # noqa: E402
-from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, ModalWindowManager, mesh_vertices, modal_stand_in,  # noqa: E402
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, ModalContext, mesh_vertices, modal_event, modal_stand_in,  # noqa: E402
                                      record_core_progress, run_blender_binary_smoke, scene_state, shown)
 
 pytestmark = pytest.mark.blender
@@ -390,18 +390,7 @@ def test_starting_interactive_deform_shows_the_factorisations_steps_on_the_progr
 def test_deform_shows_the_cores_steps_on_the_progress_bar(sphere, monkeypatch):
     from animanifold_blender import deform_apply
 
-    steps, ended = [], []
-
-    class Recording(deform_apply.CoreProgress):
-        def __call__(self, step, fraction):
-            steps.append((step, fraction))
-            return super().__call__(step, fraction)
-
-        def end(self):
-            ended.append(True)
-            super().end()
-
-    monkeypatch.setattr(deform_apply, "CoreProgress", Recording)
+    steps, ended = record_core_progress(deform_apply, monkeypatch)
     obj, empty = sphere
     assert bpy.ops.animanifold.deform() == {"FINISHED"}  # records the rest: nothing computed
     assert steps == [] and ended == []
@@ -423,7 +412,6 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     were; a finished job's result is written by modal() in the main thread, as execute() does."""
     import threading
     import time
-    from types import SimpleNamespace
 
     from animanifold_blender import deform_apply, ops_deform
     from animanifold_blender._lib import am as addon_am
@@ -438,14 +426,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
            "use_selected_faces": False}
     calls = []
 
-    class Context:  # bpy.context, with the window manager recorded
-        window_manager = ModalWindowManager(calls)
-
-        def __getattr__(self, name):
-            return getattr(bpy.context, name)
-
-    def event(kind, value="NOTHING"):
-        return SimpleNamespace(type=kind, value=value)
+    event = modal_event
 
     def operator(call):
         plan, result = deform_apply.plan_deform(bpy.context, obj, opt, empty, lambda *a: None)
@@ -455,7 +436,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
 
     def until_done(modal):
         for _ in range(1200):  # a bound on the waits, not an assertion on time
-            result = modal(Context(), event("TIMER"))
+            result = modal(ModalContext(calls), event("TIMER"))
             if result != {"RUNNING_MODAL"}:
                 return result
             time.sleep(0.05)
@@ -473,11 +454,11 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
         return plan.compute(progress=step, interrupted=interrupted)
 
     modal, op = operator(held_at_deforming)
-    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"}
-    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
-    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("TIMER")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(ModalContext(calls), event("X", "PRESS")) == {"RUNNING_MODAL"}
     assert reached.wait(30.0)
-    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     esc.set()
     assert until_done(modal) == {"CANCELLED"}
     assert op._job.cancelled and op._job.stage == "deforming"

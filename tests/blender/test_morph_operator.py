@@ -5,16 +5,15 @@ from __future__ import annotations
 import math
 import os
 import time
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, ModalWindowManager,  # noqa: E402
-                             RecordingProgressBar, mesh_corners, mesh_vertices, modal_stand_in, run_blender_binary_smoke,
-                             run_blender_in_window, scene_state, shown, triangle_looks)
+from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, ModalContext,  # noqa: E402
+                             RecordingProgressBar, mesh_corners, mesh_vertices, modal_event, modal_stand_in,
+                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -627,20 +626,12 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
 
     calls = []
 
-    class Context:  # bpy.context, with the window manager and workspace recorded
-        window_manager = ModalWindowManager(calls)
-        workspace = SimpleNamespace(status_text_set=lambda text: calls.append(("status", text)))
-
-        def __getattr__(self, name):
-            return getattr(bpy.context, name)
-
-    def event(kind, value="NOTHING"):
-        return SimpleNamespace(type=kind, value=value)
+    event = modal_event
 
     def until_done(modal, seconds):
         began = time.perf_counter()
         while time.perf_counter() - began < seconds:
-            result = modal(Context(), event("TIMER"))
+            result = modal(ModalContext(calls), event("TIMER"))
             if result != {"RUNNING_MODAL"}:
                 return result
             time.sleep(0.05)
@@ -655,11 +646,11 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     slow = (icosphere(1), torus())  # held 30 s at its conforming stage (the core's test hold)
     hold = ("conforming", 30.0)
     modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
-    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("TIMER")) == {"RUNNING_MODAL"}
     assert any(c[0] == "status" and "Esc to cancel" in c[1] for c in calls), calls
-    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
-    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
-    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(ModalContext(calls), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
+    assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     assert until_done(modal, 2.0) == {"CANCELLED"}
     assert ("timer removed", "the timer") in calls and ("status", None) in calls and ("progress end",) in calls
     assert any("cancelled" in text for _, text in op.reports) and len(bpy.data.objects) == objects
@@ -667,7 +658,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     # Blender ending the operator itself (File > Open meanwhile) stops the job too
     calls.clear()
     modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
-    op.cancel(Context())
+    op.cancel(ModalContext(calls))
     assert op._job.wait(2.0) and op._job.cancelled and ("timer removed", "the timer") in calls
 
     inputs = (ops_morph.morph_input(bpy.context, source), ops_morph.morph_input(bpy.context, target))

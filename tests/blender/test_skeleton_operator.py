@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import ModalWindowManager, RecordingProgressBar, modal_stand_in, scene_state  # noqa: E402
+from helpers.blender_helpers import ModalContext, RecordingProgressBar, modal_event, modal_stand_in, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -95,7 +95,6 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     finished job's object is made by modal() in the main thread, as execute() makes it."""
     import threading
     import time
-    from types import SimpleNamespace
 
     from animanifold_blender import ops_skeleton
     from animanifold_blender._lib import am
@@ -103,14 +102,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
 
     calls = []
 
-    class Context:  # bpy.context, with the window manager recorded
-        window_manager = ModalWindowManager(calls)
-
-        def __getattr__(self, name):
-            return getattr(bpy.context, name)
-
-    def event(kind, value="NOTHING"):
-        return SimpleNamespace(type=kind, value=value)
+    event = modal_event
 
     def operator(job, source):
         return modal_stand_in(ops_skeleton.ANIMANIFOLD_OT_skeleton, _job=job, _source=source, side="INTERNAL",
@@ -118,7 +110,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
 
     def until_done(modal):
         for _ in range(1200):  # a bound on the waits, not an assertion on time
-            result = modal(Context(), event("TIMER"))
+            result = modal(ModalContext(calls), event("TIMER"))
             if result != {"RUNNING_MODAL"}:
                 return result
             time.sleep(0.05)
@@ -141,11 +133,11 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
         return am.voronoi_skeleton(v, f, progress=step, interrupted=interrupted, **options)
 
     modal, op = operator(am.CoreJob(held_at_separability, vertices, faces, side="internal", warn=False), torus)
-    assert modal(Context(), event("TIMER")) == {"RUNNING_MODAL"} and calls[0][0] == "progress"
-    assert modal(Context(), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
-    assert modal(Context(), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
+    assert modal(ModalContext(calls), event("TIMER")) == {"RUNNING_MODAL"} and calls[0][0] == "progress"
+    assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
+    assert modal(ModalContext(calls), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
     assert reached.wait(30.0)  # Esc before the core reached "separability" would stop it at "checks"
-    assert modal(Context(), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
+    assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     esc.set()
     assert until_done(modal) == {"CANCELLED"}
     assert op._job.cancelled and op._job.stage == "separability"

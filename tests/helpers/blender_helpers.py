@@ -256,3 +256,20 @@ def record_core_progress(module, monkeypatch) -> tuple[list, list]:
 
     monkeypatch.setattr(module, "CoreProgress", Recording)
     return steps, ended
+
+
+class ModalContext:
+    """bpy.context for a modal stand-in: its window manager and the workspace's status line
+    recorded in `calls`, everything else Blender's."""
+
+    def __init__(self, calls):
+        self.window_manager = ModalWindowManager(calls)
+        self.workspace = SimpleNamespace(status_text_set=lambda text: calls.append(("status", text)))
+
+    def __getattr__(self, name):
+        return getattr(bpy.context, name)
+
+
+def modal_event(kind: str, value: str = "NOTHING") -> SimpleNamespace:
+    """An event as modal() reads it: its type and value."""
+    return SimpleNamespace(type=kind, value=value)
