@@ -196,6 +196,33 @@ def test_honest_off_files_still_read(tmp_path):
         assert vertices.shape == (4, 3) and faces.shape == (4, 3)
 
 
+TRIANGLE = "0 0 0{c}\n1 0 0{c}\n0 1 0{c}\n"
+
+
+@pytest.mark.parametrize("colour", ["", " 255 0 0", " 1 0 0 0.5", " 7"])
+def test_coloured_off_files_read_with_colours_of_0_1_3_or_4_numbers(tmp_path, colour):
+    path = write(tmp_path, "colour.off", "COFF\n3 1 0\n" + TRIANGLE.format(c=colour) + f"3 0 1 2{colour}\n")
+    vertices, faces, _ = _core.read_mesh(str(path))
+    assert vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]] and faces.tolist() == [[0, 1, 2]]
+
+
+@pytest.mark.parametrize("header, body, message", [
+    # CGAL 5.5 reads a third colour entry that is not there (the mesh fuzzer's crash)
+    ("COFF\n3 1 0", TRIANGLE.format(c=" 1 1") + "3 0 1 2\n", "vertex 0 has 5 numbers, which leaves 2 for its colour"),
+    ("COFF\n3 1 0", TRIANGLE.format(c=" 700") + "3 0 1 2\n", "vertex 0 names colour-map entry 700, not one of 0..148"),
+    ("COFF\n3 1 0", "0 0 0 1 1 1\n1 0 0\n0 1 0 1 1 1\n3 0 1 2\n", "vertex 1 has a colour of 0 numbers where the first had 3"),
+    ("COFF\n3 1 0", "0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "vertex 0 has 2 numbers"),
+    ("COFF\n3 1 0", TRIANGLE.format(c="") + "3 0 1 2 5 5\n", "face 0 has 6 numbers, which leaves 2 for its colour"),
+    ("COFF\n3 1 0", TRIANGLE.format(c="") + "3 0 1 2 -4\n", "face 0 names colour-map entry -4"),
+    ("STOFF\n3 1 0", TRIANGLE.format(c=" 0 0") + "3 0 1 2\n", "'STOFF' files are not supported"),
+    ("COFF\n3 1", TRIANGLE.format(c="") + "3 0 1 2\n", "the counts line of a 'COFF' file must hold the vertex, face and edge counts"),
+])
+def test_off_lines_that_cgal_would_read_out_of_bounds_are_refused(tmp_path, header, body, message):
+    path = write(tmp_path, "bad.off", header + "\n" + body)
+    with pytest.raises(_core.FileError, match=re.escape(f"bad.off': {message}")):
+        _core.read_mesh(str(path))
+
+
 def test_mesh_paths_that_are_not_regular_files_are_refused(tmp_path):
     fifo = tmp_path / "pipe.off"
     os.mkfifo(fifo)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -59,11 +60,119 @@ void check_counts_fit(const std::string& path, std::uint64_t size, std::uint64_t
                   size, " bytes can hold");
 }
 
+// What an OFF keyword ([ST][C][N][4][n]OFF) says each vertex line carries.
+struct OffLayout {
+  bool textures = false, colours = false, normals = false, homogeneous = false, dimensional = false;
+  // A vertex line's coordinates and normal come first, then its colour, then its texture coordinates.
+  std::size_t colour_at() const {
+    const std::size_t h = homogeneous ? 1 : 0;
+    return (3 + h) + (normals ? 3 + h : 0);
+  }
+  std::size_t vertex_entries() const { return colour_at() + (textures ? 2 + (homogeneous ? 1 : 0) : 0); }
+};
+
+std::optional<OffLayout> off_layout(const std::string& keyword) {
+  if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0) return std::nullopt;
+  OffLayout layout;
+  std::size_t i = 0;
+  const auto take = [&](const char* prefix) {
+    const std::size_t n = std::char_traits<char>::length(prefix);
+    if (keyword.compare(i, n, prefix) != 0 || i + n > keyword.size() - 3) return false;
+    i += n;
+    return true;
+  };
+  layout.textures = take("ST");
+  layout.colours = take("C");
+  layout.normals = take("N");
+  layout.homogeneous = take("4");
+  layout.dimensional = take("n");
+  return layout;
+}
+
+// The numbers a line starts with, as CGAL's OFF scanner reads them: up to a '#' comment,
+// stopping at the first token that does not start with a number.
+std::vector<double> leading_numbers(const std::vector<std::string>& line) {
+  std::string text;
+  for (const std::string& t : line) text += t + " ";
+  text = text.substr(0, text.find('#'));
+  std::istringstream in(text);
+  std::vector<double> out;
+  for (double d; in >> d;) out.push_back(d);
+  return out;
+}
+
+// CGAL 5.5's ASCII OFF scanner indexes a line's entries by what the keyword promises without
+// checking the line holds them: a colour of 2 entries, a colour-map index outside its 149
+// entries, or a line shorter than its coordinates reads out of bounds (a crash, found by
+// fuzzing). So a colour must be 0, 3 or 4 numbers, or 1 whole number that names a map
+// entry, the same count on every line (the scanner keeps the first line's decision).
+//   fixed      how many numbers the line holds besides its colour
+//   colour_at  where its colour starts
+void check_off_colour(const std::string& path, const char* what, std::uint64_t row, const std::vector<double>& entries,
+                      std::size_t fixed, std::size_t colour_at, std::optional<std::size_t>& count) {
+  constexpr double kColourMapEntries = 149;
+  const std::size_t first = fixed;
+  const std::size_t colour = entries.size() - first;
+  if (entries.size() < first || (colour != 0 && colour != 1 && colour != 3 && colour != 4))
+    fail<IOError>("mesh file '", path, "': ", what, " ", row, " has ", entries.size(), " numbers, which leaves ",
+                  entries.size() < first ? 0 : colour, " for its colour (expected 0, 1, 3 or 4 after ", first, ")");
+  const double index = colour == 1 ? entries[colour_at] : 0;
+  if (!(index >= 0 && index < kColourMapEntries && index == std::floor(index)))
+    fail<IOError>("mesh file '", path, "': ", what, " ", row, " names colour-map entry ", index,
+                  ", not one of 0..148");
+  if (count && *count != colour)
+    fail<IOError>("mesh file '", path, "': ", what, " ", row, " has a colour of ", colour, " numbers where the first had ",
+                  *count);
+  count = colour;
+}
+
+void check_off_vertices(std::istream& in, const std::string& path, const OffLayout& layout, std::uint64_t vertices) {
+  std::optional<std::size_t> colour;
+  for (std::uint64_t v = 0; v < vertices; ++v) {
+    const auto line = next_content_line(in);
+    if (!line) return;
+    if (!layout.colours) continue;  // CGAL checks the lengths it reads
+    const auto entries = leading_numbers(*line);
+    if (layout.colours) {
+      check_off_colour(path, "vertex", v, entries, layout.vertex_entries(), layout.colour_at(), colour);
+    }
+  }
+}
+
+void check_off_faces(std::istream& in, const std::string& path, const OffLayout& layout, std::uint64_t faces,
+                     std::uint64_t size) {
+  std::optional<std::size_t> colour;
+  for (std::uint64_t f = 0; f < faces; ++f) {
+    const auto face = next_content_line(in);
+    if (!face) return;
+    const auto corners = parse_count((*face)[0]);
+    if (corners && *corners > size / kCornerBytes)
+      fail<IOError>("mesh file '", path, "': face ", f, " declares ", *corners, " corners, more than its ", size,
+                    " bytes can hold");
+    if (!layout.colours) continue;
+    const auto entries = leading_numbers(*face);
+    if (entries.empty() || !(entries[0] >= 0 && entries[0] <= static_cast<double>(size)))
+      fail<IOError>("mesh file '", path, "': face ", f, " does not start with a corner count");
+    const auto fixed = static_cast<std::size_t>(entries[0]) + 1;
+    check_off_colour(path, "face", f, entries, fixed, fixed, colour);
+  }
+}
+
 void check_off(const std::string& path, std::uint64_t size) {
   std::ifstream in(path, std::ios::binary);
   auto header = next_content_line(in);
-  if (!header || (*header)[0].size() < 3 || (*header)[0].compare((*header)[0].size() - 3, 3, "OFF") != 0) return;
+  if (!header) return;
+  // CGAL's keyword is the line's first character and the letters and digits after it.
+  const std::string& first = (*header)[0];
+  const auto keyword_end = std::find_if(first.begin() + 1, first.end(), [](unsigned char c) { return !std::isalnum(c); });
+  const auto layout = off_layout(std::string(first.begin(), keyword_end));
+  if (!layout) return;
   if (std::find(header->begin(), header->end(), "BINARY") != header->end()) return;  // no ASCII counts to check
+  // CGAL 5.5 finds a vertex's texture coordinates behind its colour, reading uninitialised
+  // positions when the file has none; n-dimensional lines are not laid out as checked here.
+  if ((layout->textures && !layout->colours) || (layout->dimensional && layout->colours))
+    fail<IOError>("mesh file '", path, "': '", (*header)[0],
+                  "' files are not supported (texture coordinates without colours, or n-dimensional with colours)");
   // The counts follow the keyword on its line, or on the next one.
   std::vector<std::string> counts(header->begin() + 1, header->end());
   if (counts.empty()) counts = next_content_line(in).value_or(std::vector<std::string>{});
@@ -71,16 +180,11 @@ void check_off(const std::string& path, std::uint64_t size) {
   const auto vertices = parse_count(counts[0]), faces = parse_count(counts[1]);
   if (!vertices || !faces) return;
   check_counts_fit(path, size, *vertices, *faces);
-  for (std::uint64_t v = 0; v < *vertices; ++v)
-    if (!next_content_line(in)) return;
-  for (std::uint64_t f = 0; f < *faces; ++f) {
-    const auto face = next_content_line(in);
-    if (!face) return;
-    const auto corners = parse_count((*face)[0]);
-    if (corners && *corners > size / kCornerBytes)
-      fail<IOError>("mesh file '", path, "': face ", f, " declares ", *corners, " corners, more than its ", size,
-                    " bytes can hold");
-  }
+  if (layout->colours && counts.size() < 3)
+    fail<IOError>("mesh file '", path, "': the counts line of a '", (*header)[0],
+                  "' file must hold the vertex, face and edge counts");
+  check_off_vertices(in, path, *layout, *vertices);
+  check_off_faces(in, path, *layout, *faces, size);
 }
 
 // What a PLY header declares: enough to walk the body and find every list's length.
