@@ -6,6 +6,9 @@ set -euo pipefail
 APT_PACKAGES=(
   build-essential cmake ninja-build
   pybind11-dev libeigen3-dev libsuitesparse-dev libcgal-dev
+  # CHOLMOD's supernodal factorisation on optimised BLAS; the OpenMP build shares the core's
+  # OpenMP runtime, so one thread setting governs both (no oversubscription).
+  libopenblas0-openmp
   libtet1.5-dev libqhull-dev libosd-dev libgtest-dev
   blender python3-numpy
   xvfb  # a virtual screen for the test that runs Morph Selected in a real Blender window
