@@ -43,9 +43,9 @@ def _args():
     parser.add_argument("--frames", default=",".join(map(str, CONTACT_FRAMES)), help="frames of the contact sheet")
     parser.add_argument("--resolution", default="320x240", help="per frame of the contact sheet")
     parser.add_argument("--samples", type=int, default=8)
-    parser.add_argument("--sampling", choices=("ADAPTIVE", "KEYFRAMES", "EVERY_N"), default="EVERY_N",
-                        help="Convert's sampling: within the default tolerance of the source, the action's keyframes, "
-                             "or every --step frames (smoother in-betweens)")
+    parser.add_argument("--sampling", choices=("ADAPTIVE", "KEYFRAMES", "EVERY_N"), default="ADAPTIVE",
+                        help="Convert's sampling: within the default tolerance of the source (the add-on's default), "
+                             "the action's keyframes, or every --step frames")
     parser.add_argument("--step", type=int, default=3)
     parser.add_argument("--segments", type=int, default=48, help="density of the demo sphere")
     parser.add_argument("--no-morph", dest="morph", action="store_false", help="leave out the sphere → torus morph")
@@ -167,7 +167,11 @@ def main() -> int:
         manifold = animanifold_blender.object_manifold.manifold_for(man)
         report["convert"] = {"seconds": round(time.perf_counter() - t, 3), "cache": man.animanifold.cache_path,
                              "tets": int(len(manifold.simplices)),
-                             "keyframe_times": manifold.metadata["keyframe_times"]}
+                             "keyframe_times": manifold.metadata["keyframe_times"], "sampling": args.sampling}
+        if man.animanifold.max_deviation >= 0:  # measured by the Within Tolerance sampling
+            diagonal = man.animanifold.source_size
+            report["convert"]["deviation_percent"] = round(100 * man.animanifold.max_deviation / diagonal, 4)
+            report["convert"]["deviation_frame"] = man.animanifold.deviation_frame
 
         t = time.perf_counter()
         scene = bpy.context.scene

@@ -138,6 +138,8 @@ def test_the_readme_main_job_runs_end_to_end(tmp_path):
     assert done.returncode == 0, done.stderr[-3000:]
     report = json.loads((tmp_path / "main_job.json").read_text())
     assert report["convert"]["tets"] > 0 and report["bake"]["frames"] == [1, 48]
+    # the add-on's default sampling: every frame within 0.2 % of the source, the figure reported
+    assert report["convert"]["sampling"] == "ADAPTIVE" and 0 <= report["convert"]["deviation_percent"] <= 0.2
     morph = report["morph"]
     assert morph["ends_reproduced"] and morph["oriented_manifold"] and morph["inverted_simplices"] == 0
     assert (tmp_path / "contact_sheet.png").stat().st_size > 0 and (tmp_path / "animanifold_demo.blend").is_file()
