@@ -170,7 +170,11 @@ class _Refinement:
         times = np.array(sorted(self.samples))
         self.keys = sampling.keyframes_from(self.obj, [self.samples[t] for t in times], times, check_motion=False)
         self.manifold = sampling.stitch_keyframes(self.keys)
-        dirty = np.flatnonzero(self.dirty)
+        # A slice at a sample's time is that sample exactly (the slicer reproduces keyframes):
+        # nothing to measure there.
+        sampled = np.isin(self.candidates, times)
+        self.deviation[sampled] = 0.0
+        dirty = np.flatnonzero(self.dirty & ~sampled)
 
         def measure(i):
             return frame_deviation(self.manifold, self.candidates[i], self.surfaces[i], self.matrix0)
