@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
-# Runs the fuzz targets in tests/fuzz/ for a fixed budget (CI: FUZZ_SECONDS=60 each), on a copy
+# Runs the fuzz targets in tests/fuzz/ for a fixed budget (CI: FUZZ_SECONDS=30 each), on a copy
 # of its seed corpus so the repository is not changed. A finding (an input that raises anything
 # but the target's own error, runs out of memory or times out) fails the run; the input is left
 # in $FUZZ_OUT for copying into tests/fuzz/regressions/<target>/. See tests/fuzz/README.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SECONDS_EACH="${FUZZ_SECONDS:-60}"
+SECONDS_EACH="${FUZZ_SECONDS:-30}"
 # A fixed seed makes CI explore the same inputs every run, so a red CI means a change broke
 # something, not that this run was luckier; FUZZ_SEED=0 lets libFuzzer pick one (exploration).
 SEED="${FUZZ_SEED:-1}"
 OUT="${FUZZ_OUT:-$(mktemp -d)}"
 # Default: the cache reader, the mesh reader and the array entry points (one round-robin
-# target), 3 minutes in all; FUZZ_TARGETS="cache" runs one.
+# target), 90 s in all; FUZZ_TARGETS="cache" runs one.
 for target in ${FUZZ_TARGETS:-cache mesh arrays}; do
   corpus="$OUT/corpus-$target"
   mkdir -p "$corpus"
