@@ -118,26 +118,21 @@ PointMatrix drop_component(const PointMatrix& normals, int axis) {
 namespace {
 
 // Each face's normal, twice its area (3D) or its length (2D), summed onto
-// its corners' rows of N in face order. The face normals are independent
-// and computed on OpenMP's threads; the sums run in face order, so N is the
-// same for any thread count.
+// its corners' rows of N in face order. Fixed-size: this runs for every
+// frame a slice writes.
 template <int d>
 void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix& N) {
-  using Row = Eigen::Matrix<double, 1, d>;
-  std::vector<Row> normal(F.rows());
-  const Index count = F.rows();
-#pragma omp parallel for schedule(static) if (count > 16384)
-  for (Index f = 0; f < count; ++f) {
+  for (Index f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix<double, 1, d> n;
     if constexpr (d == 3) {
       const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      normal[f] = (b - a).cross(c - a).transpose();
+      n = (b - a).cross(c - a).transpose();
     } else {
       const Eigen::Vector2d e = V.row(F(f, 1)) - V.row(F(f, 0));
-      normal[f] << e.y(), -e.x();
+      n << e.y(), -e.x();
     }
+    for (int c = 0; c < d; ++c) N.row(F(f, c)) += n;
   }
-  for (Index f = 0; f < count; ++f)
-    for (int c = 0; c < d; ++c) N.row(F(f, c)) += normal[f];
 }
 
 }  // namespace
@@ -147,10 +142,15 @@ PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   if (F.cols() != d) fail<InputError>("frame faces must have ", d, " corners in R^", d, ", got ", F.cols());
   check_indices(F, V.rows(), "face");
   if (F.rows() && d != 2 && d != 3) fail<InputError>("frames are 2D or 3D, got ", d, "D");
-  const PointMatrix scaled = scaled_for_products(V);
+  // The products of tiny or huge coordinates need scaling (scaled_for_products); others are used as they are.
+  const double largest = V.size() ? V.cwiseAbs().maxCoeff() : 0.0;
+  const bool as_is = !std::isfinite(largest) || largest == 0 || (largest > 1e-32 && largest < 1e32);
+  PointMatrix scaled;
+  if (!as_is) scaled = scaled_for_products(V);
+  const PointMatrix& points = as_is ? V : scaled;
   PointMatrix N = PointMatrix::Zero(V.rows(), d);
-  if (d == 3) add_face_normals<3>(scaled, F, N);
-  else if (d == 2) add_face_normals<2>(scaled, F, N);
+  if (d == 3) add_face_normals<3>(points, F, N);
+  else if (d == 2) add_face_normals<2>(points, F, N);
   const Index count = N.rows();
 #pragma omp parallel for schedule(static) if (count > 16384)
   for (Index v = 0; v < count; ++v) {
