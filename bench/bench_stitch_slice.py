@@ -1,16 +1,21 @@
-"""Benchmark: stitch a ~50k-face mesh over 100 keyframes, then slice frames with and without the index.
+"""Benchmark: stitch a mesh over many keyframes, then slice frames with and without the index.
 
-    python3 bench/bench_stitch_slice.py [--keyframes 100] [--frames 20] [--bandwidth-gib 1]
+    python3 bench/bench_stitch_slice.py [--case meshes|character] [--keyframes N] [--frames 20] [--bandwidth-gib 1]
 
-Input: bunny.off + 3holes.off from <repo>/../shared/data/meshes, each
-midpoint-subdivided once (≈ 56.7k faces together), animated by a smooth
-travelling-wave deformation (animanifold.procedural.wobble). Without the
-data folder it falls back to three procedural icospheres (61,440 faces) and
-says so.
+Cases:
+  meshes     (default, 100 keyframes: 16.8 M tets) bunny.off + 3holes.off from
+             <repo>/../shared/data/meshes, each midpoint-subdivided once (≈ 56.7k
+             faces together). Without the data folder it falls back to three
+             procedural icospheres (61,440 faces) and says so.
+  character  (default 20 keyframes: 4.97 M tets) a 43.6k-vertex, 87k-face geodesic
+             sphere with a UV map (vertex attribute "uv"), the size of a game character.
+Both are animated by a smooth travelling-wave deformation (animanifold.procedural.wobble).
 
-Prints: stitch time and tets/s; the interval index's build time and size;
+Prints: stitch time and tets/s; the interval index's build time and size (bytes a tet);
 the first slice (cold caches); per-frame slice time with the index and without it (every
-tet tested); and the bytes a slice touches per second against this machine's
+tet tested), through the package, and its normals' share; a sequence of frames (a bake:
+several per keyframe gap) sliced one by one and through AnimationManifold.slices, which
+reuses each topology interval's cut; the OpenMP thread count; and the bytes a slice touches per second against this machine's
 memory bandwidth (a numpy copy of a large array, measured in the same run).
 
 Bytes touched per slice, a lower bound: for each cut tet its 4 int32 indices
@@ -21,6 +26,7 @@ the index nodes visited and the welding hash table.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -32,7 +38,7 @@ sys.path.insert(0, str(REPO / "python"))
 
 import animanifold as am  # noqa: E402
 from animanifold import _core  # noqa: E402
-from animanifold.procedural import icosphere, subdivide_midpoint, wobble  # noqa: E402
+from animanifold.procedural import geodesic_sphere, icosphere, subdivide_midpoint, wobble  # noqa: E402
 
 DATA = REPO.parent / "shared" / "data" / "meshes"
 TIME_AXIS = 3
@@ -63,6 +69,14 @@ def benchmark_mesh() -> tuple[np.ndarray, np.ndarray, str]:
     return (*combine([sphere, sphere, sphere]), "3 icospheres (subdivision 5)")
 
 
+def character_mesh() -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+    """A 43.6k-vertex sphere of 87k faces and its UV map (longitude, latitude)."""
+    vertices, faces = geodesic_sphere(66)
+    uv = np.stack([np.arctan2(vertices[:, 1], vertices[:, 0]) / (2 * np.pi) + 0.5,
+                   np.arccos(np.clip(vertices[:, 2], -1.0, 1.0)) / np.pi], axis=1)
+    return vertices, faces, uv, "geodesic sphere (frequency 66) with a UV map"
+
+
 def memory_bandwidth(gib: float, repeats: int = 3) -> float:
     """Best GB/s of a numpy copy of `gib` GiB, counting bytes read plus bytes written (STREAM 'copy')."""
     source = np.ones(int(gib * 2**30) // 8)
@@ -89,18 +103,31 @@ def timed(function, *args):
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--keyframes", type=int, default=100)
+    parser.add_argument("--case", choices=("meshes", "character"), default="meshes")
+    parser.add_argument("--keyframes", type=int, help="default: 100 (meshes), 20 (character)")
     parser.add_argument("--frames", type=int, default=20)
+    parser.add_argument("--frames-per-gap", type=int, default=6, help="frames per keyframe gap in the sequence")
+    parser.add_argument("--sequence-gaps", type=int, default=10, help="keyframe gaps the sequence covers")
     parser.add_argument("--bandwidth-gib", type=float, default=1.0, help="size of the array copied to measure bandwidth")
     args = parser.parse_args()
 
-    rest, faces, source = benchmark_mesh()
+    attributes = None
+    if args.case == "character":
+        rest, faces, uv, source = character_mesh()
+        attributes = {"uv": uv}
+        args.keyframes = args.keyframes or 20
+    else:
+        rest, faces, source = benchmark_mesh()
+        args.keyframes = args.keyframes or 100
     phases = np.linspace(0.0, 2.0 * np.pi, args.keyframes)
     keyframes = np.stack([wobble(rest, phase, 0.03) for phase in phases])
     times = np.linspace(0.0, 1.0, args.keyframes)
     print(f"mesh        {source}: {len(rest):,} vertices, {len(faces):,} faces; {args.keyframes} keyframes")
+    threads = _core._testing.set_omp_threads(1)  # reads the count (and puts it back below)
+    _core._testing.set_omp_threads(threads)
+    print(f"machine     {os.cpu_count()} cores; slicing on {threads} OpenMP threads")
 
-    manifold, seconds = timed(am.stitch, keyframes, faces, times)
+    manifold, seconds = timed(am.stitch, keyframes, faces, times, attributes)
     tets = len(manifold.simplices)
     assert tets == 3 * len(faces) * (args.keyframes - 1)
     print(f"stitch      {tets:,} tets, {len(manifold.points):,} points in {seconds:.3f} s = {tets / seconds / 1e6:.1f} M tets/s")
@@ -109,12 +136,14 @@ def main() -> int:
     # one-off cost of the index is timed apart from per-frame cost.
     slicer = _core.Slicer(manifold.core_complex)
     index_bytes, seconds = timed(slicer.index_memory_bytes, TIME_AXIS)
-    print(f"index       built in {seconds:.3f} s, {index_bytes / 2**20:.0f} MiB ({tets / seconds / 1e6:.1f} M tets/s)")
+    print(f"index       built in {seconds:.3f} s, {index_bytes / 2**20:.0f} MiB = {index_bytes / 1e6:.0f} MB, "
+          f"{index_bytes / tets:.1f} B a tet ({tets / seconds / 1e6:.1f} M tets/s)")
     first_t = 0.5 * (times[0] + times[1])
     _, seconds = timed(slicer.slice, TIME_AXIS, first_t, True)
     print(f"first slice {seconds:.3f} s (cold caches)")
 
-    frame_times = np.linspace(times[0], times[-1], args.frames)
+    # Midpoints of `frames` equal steps: never a keyframe time (those are copies, not cuts).
+    frame_times = times[0] + (np.arange(args.frames) + 0.5) / args.frames * (times[-1] - times[0])
     with_index, without_index, touched, faces_out = [], [], [], []
     for t in frame_times:
         s, seconds = timed(slicer.slice, TIME_AXIS, t, True)
@@ -133,6 +162,31 @@ def main() -> int:
         f"mean {without_index.mean() * 1e3:7.2f} ms  (every tet tested; "
         f"{np.median(without_index) / np.median(with_index):.0f}x slower)"
     )
+    manifold.slice(first_t)  # builds the package's own Slicer index, untimed
+    package = np.array([timed(manifold.slice, float(t))[1] for t in frame_times])
+    print(f"            package     median {np.median(package) * 1e3:7.2f} ms "
+          f"(am.AnimationManifold.slice: the core slice wrapped as the package's Slice; "
+          f"{1 / np.median(package):.0f} frames/s)")
+    normals = np.array([timed(_core.frame_vertex_normals, s.vertices, s.faces)[1] for _ in range(5)])
+    print(f"            normals     median {np.median(normals) * 1e3:7.2f} ms of it (frame_vertex_normals of the last frame)")
+
+    # A bake or playback: --frames-per-gap frames in each of the first --sequence-gaps keyframe gaps.
+    gaps = min(args.sequence_gaps, args.keyframes - 1)
+    steps = (np.arange(args.frames_per_gap) + 0.5) / args.frames_per_gap
+    sequence = np.concatenate([times[g] + steps * (times[g + 1] - times[g]) for g in range(gaps)])
+    start = time.perf_counter()
+    for t in sequence:
+        manifold.slice(float(t))
+    fresh = time.perf_counter() - start
+    start = time.perf_counter()
+    for _ in manifold.slices(sequence):
+        pass
+    reused = time.perf_counter() - start
+    print(f"sequence    {len(sequence)} frames, {args.frames_per_gap} per keyframe gap: one by one "
+          f"{fresh / len(sequence) * 1e3:7.2f} ms a frame ({len(sequence) / fresh:.0f} frames/s); "
+          f"am.AnimationManifold.slices {reused / len(sequence) * 1e3:7.2f} ms a frame "
+          f"({len(sequence) / reused:.0f} frames/s: each interval's first frame cut, the others a gather + lerp)")
+
     _, seconds = timed(_core._testing.slice, manifold.core_complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
     print(f"            brute force {seconds:.3f} s (_core._testing.slice: no index)")
 

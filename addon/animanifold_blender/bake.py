@@ -25,7 +25,7 @@ import numpy as np
 
 from . import bake_switch, live_nodes, mesh_writer
 from ._lib import am
-from .object_manifold import frame_slice, shown_manifold
+from .object_manifold import frame_slice, frame_slices, shown_manifold
 from .reporting import ReportedError
 
 MODIFIER_NAME = "Animanifold Bake"
@@ -50,8 +50,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
     collection = bpy.data.collections.new(collection_name)
     mesh = None
     try:
-        for i, frame in enumerate(frames):
-            s = frame_slice(obj, manifold, float(frame), "t")
+        for i, (frame, s) in enumerate(zip(frames, frame_slices(obj, manifold, [float(f) for f in frames], "t"))):
             name = frame_object_name(obj.name, frame)
             mesh = bpy.data.meshes.new(name)
             for mat in materials:

@@ -75,6 +75,17 @@ def frame_slice(obj, manifold, value: float, axis: str = "t"):
     return am.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
 
 
+def frame_slices(obj, manifold, values, axis: str = "t"):
+    """frame_slice at each of `values`, one at a time and the same frames, bit for bit: the
+    slices come from manifold.slices, which reuses each topology interval's cut (bakes)."""
+    settings = obj.animanifold
+    for s in manifold.slices(values, axis):
+        if settings.smooth_levels <= 0:
+            yield s
+        else:
+            yield am.smooth_slice(s, int(settings.smooth_levels), math.degrees(settings.crease_angle))
+
+
 def slice_value(obj, manifold, frame: float) -> float:
     """What scene frame `frame` slices the object's `manifold` at (display.slice_value)."""
     settings = obj.animanifold

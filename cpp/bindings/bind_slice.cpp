@@ -1,5 +1,11 @@
+#include "animanifold/errors.hpp"
 #include "animanifold/slice.hpp"
 #include "bindings.hpp"
+
+// OpenMP's own entry points (libgomp, linked through the core), declared
+// here so this file needs no OpenMP compile flags: for the tests' thread hook.
+extern "C" void omp_set_num_threads(int);
+extern "C" int omp_get_max_threads(void);
 
 namespace animanifold::bindings {
 
@@ -47,6 +53,15 @@ void bind_slice(py::module_& m, py::module_& testing) {
            py::arg("axis"), py::arg("value"),
            "The frame at `value` with its topology interval and rates; ValueError where it has none "
            "(a vertex coordinate, outside the manifold).")
+      .def("slice_in_interval",
+           [](Slicer& s, const IntervalFrame& frame, double value) {
+             py::gil_scoped_release release;
+             return std::make_shared<Slice>(s.slice_in_interval(frame, value));
+           },
+           py::arg("frame"), py::arg("value"),
+           "The Slice at `value` from `frame` (an IntervalFrame of this slicer): its faces with the points "
+           "computed at `value`, identical to slice(frame.axis, value) at the cost of a gather and a lerp. "
+           "ValueError when `value` is outside the frame's topology interval.")
       .def("topology_interval",
            [](Slicer& s, int axis, double value) {
              py::gil_scoped_release release;
@@ -57,6 +72,17 @@ void bind_slice(py::module_& m, py::module_& testing) {
            "the same faces), or None where the faces change (a vertex coordinate, outside the manifold).")
       .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"),
            "Bytes held by the interval index of `axis` (built if needed).");
+
+  testing.def(
+      "set_omp_threads",
+      [](int threads) {
+        if (threads < 1) fail<InputError>("OpenMP threads must be at least 1, got ", threads);
+        const int previous = omp_get_max_threads();
+        omp_set_num_threads(threads);
+        return previous;
+      },
+      py::arg("threads"),
+      "Sets the OpenMP threads of the calling thread's parallel loops (slicing); returns the previous count.");
 
   testing.def("slice",
         [](const Complex& c, int axis, double value) {

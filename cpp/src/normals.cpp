@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <vector>
 
 namespace animanifold {
 
@@ -114,26 +115,45 @@ PointMatrix drop_component(const PointMatrix& normals, int axis) {
   return out;
 }
 
+namespace {
+
+// Each face's normal, twice its area (3D) or its length (2D), summed onto
+// its corners' rows of N in face order. Fixed-size: this runs for every
+// frame a slice writes.
+template <int d>
+void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix& N) {
+  for (Index f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix<double, 1, d> n;
+    if constexpr (d == 3) {
+      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+      n = (b - a).cross(c - a).transpose();
+    } else {
+      const Eigen::Vector2d e = V.row(F(f, 1)) - V.row(F(f, 0));
+      n << e.y(), -e.x();
+    }
+    for (int c = 0; c < d; ++c) N.row(F(f, c)) += n;
+  }
+}
+
+}  // namespace
+
 PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   const int d = static_cast<int>(V.cols());
   if (F.cols() != d) fail<InputError>("frame faces must have ", d, " corners in R^", d, ", got ", F.cols());
   check_indices(F, V.rows(), "face");
-  const PointMatrix scaled = scaled_for_products(V);
+  if (F.rows() && d != 2 && d != 3) fail<InputError>("frames are 2D or 3D, got ", d, "D");
+  // The products of tiny or huge coordinates need scaling (scaled_for_products); others are used as they are.
+  const double largest = V.size() ? V.cwiseAbs().maxCoeff() : 0.0;
+  const bool as_is = !std::isfinite(largest) || largest == 0 || (largest > 1e-32 && largest < 1e32);
+  PointMatrix scaled;
+  if (!as_is) scaled = scaled_for_products(V);
+  const PointMatrix& points = as_is ? V : scaled;
   PointMatrix N = PointMatrix::Zero(V.rows(), d);
-  for (Index f = 0; f < F.rows(); ++f) {
-    Eigen::RowVectorXd n(d);
-    if (d == 3) {
-      const Eigen::Vector3d a = scaled.row(F(f, 0)), b = scaled.row(F(f, 1)), c = scaled.row(F(f, 2));
-      n = (b - a).cross(c - a).transpose();  // twice the area
-    } else if (d == 2) {
-      const Eigen::Vector2d e = scaled.row(F(f, 1)) - scaled.row(F(f, 0));
-      n << e.y(), -e.x();  // the segment's length
-    } else {
-      fail<InputError>("frames are 2D or 3D, got ", d, "D");
-    }
-    for (int c = 0; c < d; ++c) N.row(F(f, c)) += n;
-  }
-  for (Index v = 0; v < N.rows(); ++v) {
+  if (d == 3) add_face_normals<3>(points, F, N);
+  else if (d == 2) add_face_normals<2>(points, F, N);
+  const Index count = N.rows();
+#pragma omp parallel for schedule(static) if (count > 16384)
+  for (Index v = 0; v < count; ++v) {
     const double length = N.row(v).norm();
     if (length > 0) N.row(v) /= length;
   }

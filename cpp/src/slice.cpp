@@ -2,6 +2,8 @@
 
 #include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
+#include "slice_cut.hpp"
+#include "slice_points.hpp"
 
 #include <algorithm>
 #include <array>
@@ -12,304 +14,9 @@ namespace animanifold {
 
 namespace {
 
-// Values this share of the manifold's extent along the axis away from a
-// vertex's coordinate slice at the vertex's (see slice()).
-constexpr double kSnapToVertices = 1e-12;
-
-// How close to a vertex coordinate a value is taken as it: kSnapToVertices of
-// the manifold's extent along the axis. Scaled before subtracting, so that a
-// manifold from -1e308 to 1e308 has a finite tolerance, not an infinite one.
-double snap_tolerance(double lowest, double highest) {
-  return kSnapToVertices * highest - kSnapToVertices * lowest;
-}
-
-}  // namespace
-
-// ---------------------------------------------------------------- interval index
-
-IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis) : axis_(axis) {
-  if (axis < 0 || axis >= V.cols()) fail<InputError>("axis ", axis, " is outside 0..", V.cols() - 1);
-  nodes_.resize(S.rows());
-  lowest_ = std::numeric_limits<double>::infinity();
-  highest_ = -lowest_;
-  for (Index s = 0; s < S.rows(); ++s) {
-    double low = V(S(s, 0), axis), high = low;
-    for (int c = 1; c < S.cols(); ++c) {
-      const double x = V(S(s, c), axis);
-      low = std::min(low, x);
-      high = std::max(high, x);
-    }
-    nodes_[s] = {low, high, high, s};
-    lowest_ = std::min(lowest_, low);
-    highest_ = std::max(highest_, high);
-  }
-  std::sort(nodes_.begin(), nodes_.end(), [](const Node& a, const Node& b) {
-    return a.low < b.low || (a.low == b.low && a.simplex < b.simplex);
-  });
-  // The tree is implicit: the root of a range [lo, hi) is its midpoint.
-  // subtree_high of a root is the largest `high` in its range.
-  struct Builder {
-    std::vector<Node>& nodes;
-    double build(size_t lo, size_t hi) {
-      if (lo >= hi) return -std::numeric_limits<double>::infinity();
-      const size_t mid = lo + (hi - lo) / 2;
-      const double h = std::max({nodes[mid].high, build(lo, mid), build(mid + 1, hi)});
-      nodes[mid].subtree_high = h;
-      return h;
-    }
-  };
-  Builder{nodes_}.build(0, nodes_.size());
-  vertex_values_.assign(V.col(axis).begin(), V.col(axis).end());
-  std::sort(vertex_values_.begin(), vertex_values_.end());
-  vertex_values_.erase(std::unique(vertex_values_.begin(), vertex_values_.end()), vertex_values_.end());
-}
-
-std::optional<std::pair<double, double>> IntervalIndex::topology_interval(double value) const {
-  // The same snap as slice(): a value it would move onto a vertex has that vertex's faces.
-  const double snap = snap_tolerance(lowest_, highest_);
-  const auto above = std::upper_bound(vertex_values_.begin(), vertex_values_.end(), value);
-  if (above == vertex_values_.begin() || above == vertex_values_.end()) return std::nullopt;
-  const double lo = *(above - 1), hi = *above;
-  if (value - lo <= snap || hi - value <= snap) return std::nullopt;
-  return std::make_pair(lo, hi);
-}
-
-void IntervalIndex::stab(double value, std::vector<Index>& out) const {
-  // Explicit stack of ranges: depth is log2(#S) + 1.
-  std::pair<size_t, size_t> stack[64];
-  int top = 0;
-  stack[top++] = {0, nodes_.size()};
-  while (top > 0) {
-    const auto [lo, hi] = stack[--top];
-    if (lo >= hi) continue;
-    const size_t mid = lo + (hi - lo) / 2;
-    const Node& node = nodes_[mid];
-    if (node.subtree_high < value) continue;  // nothing in this range reaches the value
-    stack[top++] = {lo, mid};
-    if (node.low <= value) {  // ranges right of mid start at or after node.low
-      if (node.high >= value) out.push_back(node.simplex);
-      stack[top++] = {mid + 1, hi};
-    }
-  }
-}
-
-size_t IntervalIndex::memory_bytes() const {
-  return nodes_.size() * sizeof(Node) + vertex_values_.size() * sizeof(double);
-}
-
-// ---------------------------------------------------------------- slicing
-
-namespace {
-
-// Welds cut points: one slice vertex per manifold vertex or edge. The
-// table is open addressing with linear probing over a power-of-two array:
-// a slice makes one lookup per cut edge per simplex, so this is the inner
-// loop of live playback.
-class CutPoints {
- public:
-  CutPoints(const Complex& m, int axis, double value, size_t expected) : m_(m), axis_(axis), value_(value) {
-    size_t capacity = 16;
-    while (capacity < 2 * expected + 16) capacity <<= 1;
-    keys_.assign(capacity, kEmpty);
-    ids_.resize(capacity);
-    mask_ = capacity - 1;
-    edges_.reserve(expected);
-  }
-
-  // The slice vertex where the hyperplane crosses edge (a, b); a == b for a
-  // manifold vertex on the plane. Edges are keyed by (min, max) so both
-  // simplices sharing an edge get the same vertex and the same coordinates.
-  Index on_edge(Index a, Index b) {
-    if (a > b) std::swap(a, b);
-    double s = 0.0;
-    if (a != b) {
-      const double xa = m_.V(a, axis_), xb = m_.V(b, axis_);
-      s = (value_ - xa) / (xb - xa);
-      if (s <= 0.0) s = 0.0, b = a;          // the plane passes through a
-      else if (s >= 1.0) s = 0.0, a = b;     // ... or through b
-    }
-    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-                              static_cast<std::uint32_t>(b);
-    size_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
-    while (keys_[slot] != kEmpty) {
-      if (keys_[slot] == key) return ids_[slot];
-      slot = (slot + 1) & mask_;
-    }
-    if (edges_.size() * 2 + 2 > keys_.size()) grow();
-    return insert(key, {a, b, s});
-  }
-
-  struct Cut {
-    Index a, b;
-    double s;
-  };
-  const std::vector<Cut>& cuts() const { return edges_; }
-
- private:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-
-  Index insert(std::uint64_t key, const Cut& cut) {
-    size_t slot = (key * 0x9E3779B97F4A7C15ull) >> 20 & mask_;
-    while (keys_[slot] != kEmpty) slot = (slot + 1) & mask_;
-    keys_[slot] = key;
-    ids_[slot] = static_cast<Index>(edges_.size());
-    edges_.push_back(cut);
-    return ids_[slot];
-  }
-
-  void grow() {
-    std::vector<Cut> cuts = std::move(edges_);
-    edges_.clear();
-    keys_.assign(keys_.size() * 2, kEmpty);
-    ids_.resize(keys_.size());
-    mask_ = keys_.size() - 1;
-    edges_.reserve(cuts.size() * 2);
-    for (const Cut& c : cuts)
-      insert((static_cast<std::uint64_t>(static_cast<std::uint32_t>(c.a)) << 32) | static_cast<std::uint32_t>(c.b), c);
-  }
-
-  const Complex& m_;
-  int axis_;
-  double value_;
-  std::vector<std::uint64_t> keys_;
-  std::vector<Index> ids_;
-  size_t mask_ = 0;
-  std::vector<Cut> edges_;
-};
-
-struct FaceSink {
-  std::vector<Index> corners;  // n per face
-  std::vector<Index> simplex;
-  int n;
-  void add(const Index* ids, Index source) {
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b)
-        if (ids[a] == ids[b]) return;  // collapsed: zero area
-    corners.insert(corners.end(), ids, ids + n);
-    simplex.push_back(source);
-  }
-};
-
-// A face and its exact reverse on the same vertices bound nothing: they are
-// the two sides of a zero-width slit (where a manifold that opens a hole or a
-// split right after this time is cut at that time). Cancel such pairs so the
-// slice is the limit surface, not the slit.
-void cancel_opposite_pairs(FaceSink& faces, const CutPoints& cuts) {
-  const int n = faces.n;
-  const size_t count = faces.simplex.size();
-  // A slit closes up only where the plane passes through manifold vertices
-  // (a keyframe, the end of a morph); elsewhere its two sides are apart.
-  // Only faces whose corners are all manifold vertices can cancel.
-  const auto& cut = cuts.cuts();
-  auto on_vertices = [&](size_t f) {
-    for (int c = 0; c < n; ++c) {
-      const auto& p = cut[faces.corners[f * n + c]];
-      if (p.a != p.b) return false;
-    }
-    return true;
-  };
-  size_t eligible = 0;
-  for (size_t f = 0; f < count; ++f) eligible += on_vertices(f);
-  if (eligible < 2) return;
-  // Each face's sorted vertex set goes into an open-addressing table; a face
-  // meeting a live face with the same set and the opposite orientation
-  // cancels with it. One probe per face.
-  std::vector<std::array<Index, 3>> sorted(count);
-  std::vector<signed char> parity(count);
-  size_t capacity = 16;
-  while (capacity < 2 * eligible + 16) capacity <<= 1;
-  std::vector<std::int64_t> table(capacity, -1);
-  std::vector<bool> drop(count, false);
-  bool any = false;
-  for (size_t f = 0; f < count; ++f) {
-    if (!on_vertices(f)) continue;
-    std::array<Index, 3>& key = sorted[f];
-    key = {-1, -1, -1};
-    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
-    parity[f] = static_cast<signed char>(n == 2 ? (key[0] < key[1] ? 1 : -1) : permutation_parity(key.data(), n));
-    std::sort(key.begin(), key.begin() + n);
-    std::uint64_t h = 1469598103934665603ull;
-    for (int c = 0; c < n; ++c) h = (h ^ static_cast<std::uint32_t>(key[c])) * 1099511628211ull;
-    size_t slot = h & (capacity - 1);
-    bool cancelled = false;
-    for (; table[slot] >= 0; slot = (slot + 1) & (capacity - 1)) {
-      const size_t other = static_cast<size_t>(table[slot]);
-      if (!drop[other] && sorted[other] == key && parity[other] != parity[f]) {
-        drop[other] = drop[f] = any = cancelled = true;
-        break;
-      }
-    }
-    if (!cancelled) table[slot] = static_cast<std::int64_t>(f);
-  }
-  if (!any) return;
-  size_t kept = 0;
-  for (size_t f = 0; f < count; ++f) {
-    if (drop[f]) continue;
-    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, faces.corners.begin() + kept * n);
-    faces.simplex[kept++] = faces.simplex[f];
-  }
-  faces.corners.resize(kept * n);
-  faces.simplex.resize(kept);
-}
-
-// The cut points that `corners` use, in order, with `corners` renumbered
-// onto them (all of 0..count-1, untouched, when every point is used).
-std::vector<Index> used_points(std::vector<Index>& corners, Index count) {
-  std::vector<Index> renumbered(count, -1);
-  for (const Index c : corners) renumbered[c] = 0;
-  std::vector<Index> kept;
-  kept.reserve(count);
-  for (Index p = 0; p < count; ++p)
-    if (renumbered[p] == 0) renumbered[p] = static_cast<Index>(kept.size()), kept.push_back(p);
-  if (static_cast<Index>(kept.size()) != count)
-    for (Index& c : corners) c = renumbered[c];
-  return kept;
-}
-
-// Tets in R^4 → triangles in R^3 (Figure 2.6).
-void cut_tet(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts, FaceSink& faces) {
-  Index f[3];
-  if (above_count == 1 || above_count == 3) {
-    // The lone vertex and the opposite facet in its outward orientation.
-    int apex = 0;
-    while (above[apex] != (above_count == 1)) ++apex;
-    facet(t, 4, apex, f);
-    Index tri[3] = {cuts.on_edge(t[apex], f[0]), cuts.on_edge(t[apex], f[1]), cuts.on_edge(t[apex], f[2])};
-    if (above_count == 3) std::swap(tri[0], tri[1]);  // the part above lies away from the apex
-    faces.add(tri, source);
-    return;
-  }
-  // Two above (i, j), two below (k, l), with [i, j, k, l] an even permutation
-  // of the tet: the quad (ik, il, jl, jk), split along its shorter diagonal.
-  Index up[2], down[2];
-  int position[4];
-  for (int c = 0, u = 0, d = 0; c < 4; ++c) {
-    if (above[c]) position[u] = c, up[u++] = t[c];
-    else position[2 + d] = c, down[d++] = t[c];
-  }
-  if (permutation_parity(position, 4) < 0) std::swap(down[0], down[1]);
-  const Index ik = cuts.on_edge(up[0], down[0]), il = cuts.on_edge(up[0], down[1]);
-  const Index jl = cuts.on_edge(up[1], down[1]), jk = cuts.on_edge(up[1], down[0]);
-  Index a[3] = {ik, il, jl}, b[3] = {ik, jl, jk};
-  faces.add(a, source);
-  faces.add(b, source);
-}
-
-// Triangles in R^3 → segments in R^2.
-void cut_triangle(const Index* t, const bool* above, int above_count, Index source, CutPoints& cuts,
-                  FaceSink& faces) {
-  int apex = 0;
-  while (above[apex] != (above_count == 1)) ++apex;
-  Index f[2];
-  facet(t, 3, apex, f);
-  Index seg[2] = {cuts.on_edge(t[apex], f[0]), cuts.on_edge(t[apex], f[1])};
-  if (above_count == 2) std::swap(seg[0], seg[1]);
-  faces.add(seg, source);
-}
-
-}  // namespace
-
-namespace {
+// Items (points, faces) from which a loop over them runs on OpenMP's threads;
+// each item writes only its own output, so threads do not change results.
+constexpr Index kParallelItems = 16384;
 
 void check_slice_request(const Complex& m, int axis, double value, const IntervalIndex* index) {
   const int D = m.ambient_dimension();
@@ -334,11 +41,13 @@ class Stabber {
     }
   }
 
-  // The simplices whose extent along the axis holds `at`, into `candidates`.
+  // The simplices whose extent along the axis holds `at`, into `candidates`,
+  // in the index's order; through the index, with some that miss it by a
+  // float's rounding (exact() removes them; cutting skips them).
   void stab(double at, std::vector<Index>& candidates) const {
     candidates.clear();
     if (index_) {
-      index_->stab(at, candidates);
+      index_->stab_candidates(at, candidates);
       return;
     }
     const int k = m_.vertices_per_simplex();
@@ -351,6 +60,25 @@ class Stabber {
       }
       if (low <= at && at <= high) candidates.push_back(s);
     }
+  }
+
+  // Removes the candidates whose extent does not hold `at`.
+  void exact(double at, std::vector<Index>& candidates) const {
+    if (!index_) return;  // the scan is exact
+    const int k = m_.vertices_per_simplex();
+    std::erase_if(candidates, [&](Index s) {
+      double low = m_.V(m_.S(s, 0), axis_), high = low;
+      for (int c = 1; c < k; ++c) {
+        const double x = m_.V(m_.S(s, c), axis_);
+        low = std::min(low, x), high = std::max(high, x);
+      }
+      return !(low <= at && at <= high);
+    });
+  }
+
+  // Whether a vertex may lie within `tolerance` of `at` (false only when none does).
+  bool may_snap(double at, double tolerance) const {
+    return !index_ || index_->has_vertex_value_near(at, tolerance);
   }
 
   double lowest, highest;
@@ -370,10 +98,12 @@ class Stabber {
 double snapped_value(const Complex& m, int axis, double value, const Stabber& stabber,
                      std::vector<Index>& candidates) {
   const int k = m.vertices_per_simplex();
-  const double snap = snap_tolerance(stabber.lowest, stabber.highest);
+  const double snap = slice_points::snap_tolerance(stabber.lowest, stabber.highest);
   if (value < stabber.lowest && stabber.lowest - value <= snap) value = stabber.lowest;
   if (value > stabber.highest && value - stabber.highest <= snap) value = stabber.highest;
   stabber.stab(value, candidates);
+  if (!stabber.may_snap(value, snap)) return value;  // the scan below would find nothing
+  stabber.exact(value, candidates);
   double nearest = value, distance = std::numeric_limits<double>::infinity();
   for (const Index s : candidates)
     for (int c = 0; c < k; ++c) {
@@ -384,69 +114,35 @@ double snapped_value(const Complex& m, int axis, double value, const Stabber& st
   return value;
 }
 
-// Each candidate cut by the hyperplane: its faces into `faces`, their
-// corners welded in `cuts`. On-plane vertices count as below, except at the
-// very top of the manifold.
-void cut_candidates(const Complex& m, int axis, double value, bool on_plane_is_above,
-                    const std::vector<Index>& candidates, CutPoints& cuts, FaceSink& faces) {
-  const int k = m.vertices_per_simplex();
-  bool above[4];
-  for (const Index s : candidates) {
-    const Index* t = m.S.row(s).data();
-    int above_count = 0;
-    for (int c = 0; c < k; ++c) {
-      const double x = m.V(t[c], axis);
-      above[c] = on_plane_is_above ? x >= value : x > value;
-      above_count += above[c];
-    }
-    if (above_count == 0 || above_count == k) continue;
-    if (k == 4) cut_tet(t, above, above_count, s, cuts, faces);
-    else cut_triangle(t, above, above_count, s, cuts, faces);
-  }
-}
-
-// The frame from its welded cut points and faces: coordinates other than
-// `axis`, attributes interpolated along the cut edges (inherited by faces).
-Slice frame_of_cuts(const Complex& m, int axis, const CutPoints& cuts, FaceSink& faces) {
-  const int D = m.ambient_dimension();
-  const int k = m.vertices_per_simplex();
+// Inputs: m, axis; cut, the welded faces of a slice
+// Outputs: the Slice without normals: the points the faces use, their edges,
+//   coordinates and interpolated attributes; the faces and their simplices'
+//   attributes
+Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
   // Only the cut points that corners of the frame use: on a vertex plane,
   // a simplex whose faces there are degenerate (or cancelled) registers its
   // corners too, and where the manifold holds copies of a vertex (split at a
   // UV seam) those copies would be left loose in the frame.
-  const auto& all_cuts = cuts.cuts();
-  std::vector<Index> kept = used_points(faces.corners, static_cast<Index>(all_cuts.size()));
-  const Index P = static_cast<Index>(kept.size());
-  auto cut_at = [&](Index p) -> const auto& { return all_cuts[kept[p]]; };
-
+  std::vector<Index> kept;
+  if (cut.on_vertices) kept = slice_cut::used_points(cut.corners, static_cast<Index>(cut.points.size()));
+  const Index P = static_cast<Index>(cut.on_vertices ? kept.size() : cut.points.size());
   Slice out;
-  out.vertices.resize(P, D - 1);
   out.vertex_edges.resize(P, 2);
   out.edge_parameter.resize(P);
+#pragma omp parallel for schedule(static) if (P > kParallelItems)
   for (Index p = 0; p < P; ++p) {
-    const auto& c = cut_at(p);
+    const slice_cut::Point& c = cut.points[cut.on_vertices ? kept[p] : p];
     out.vertex_edges(p, 0) = c.a, out.vertex_edges(p, 1) = c.b;
     out.edge_parameter(p) = c.s;
-    for (int d = 0, o = 0; d < D; ++d) {
-      if (d == axis) continue;
-      // A vertex on the plane is copied, never interpolated: keyframes come back exactly.
-      out.vertices(p, o++) = c.a == c.b ? m.V(c.a, d) : (1.0 - c.s) * m.V(c.a, d) + c.s * m.V(c.b, d);
-    }
   }
-  const Index F = static_cast<Index>(faces.simplex.size());
-  out.faces = Eigen::Map<const SimplexMatrix>(faces.corners.data(), F, k - 1);
-  out.face_simplex = Eigen::Map<const IndexVector>(faces.simplex.data(), F);
+  slice_points::interpolate_points(m, axis, out);
 
-  for (const auto& [name, table] : m.vertex_attributes) {
-    PointMatrix values(P, table.cols());
-    for (Index p = 0; p < P; ++p) {
-      const auto& c = cut_at(p);
-      values.row(p) = c.a == c.b ? table.row(c.a) : ((1.0 - c.s) * table.row(c.a) + c.s * table.row(c.b)).eval();
-    }
-    out.vertex_attributes[name] = std::move(values);
-  }
+  const Index F = static_cast<Index>(cut.simplex.size());
+  out.faces = Eigen::Map<const SimplexMatrix>(cut.corners.data(), F, cut.n);
+  out.face_simplex = Eigen::Map<const IndexVector>(cut.simplex.data(), F);
   for (const auto& [name, table] : m.simplex_attributes) {
     SimplexMatrix values(F, table.cols());
+#pragma omp parallel for schedule(static) if (F > kParallelItems)
     for (Index f = 0; f < F; ++f) values.row(f) = table.row(out.face_simplex(f));
     out.face_attributes[name] = std::move(values);
   }
@@ -455,20 +151,45 @@ Slice frame_of_cuts(const Complex& m, int axis, const CutPoints& cuts, FaceSink&
 
 }  // namespace
 
+namespace slice_points {
+
+void interpolate_points(const Complex& m, int axis, Slice& out) {
+  const int D = m.ambient_dimension();
+  const Index P = out.vertex_edges.rows();
+  const auto& edges = out.vertex_edges;
+  const auto& s = out.edge_parameter;
+  out.vertices.resize(P, D - 1);
+#pragma omp parallel for schedule(static) if (P > kParallelItems)
+  for (Index p = 0; p < P; ++p) {
+    const Index a = edges(p, 0), b = edges(p, 1);
+    for (int d = 0, o = 0; d < D; ++d) {
+      if (d == axis) continue;
+      // A vertex on the plane is copied, never interpolated: keyframes come back exactly.
+      out.vertices(p, o++) = a == b ? m.V(a, d) : (1.0 - s(p)) * m.V(a, d) + s(p) * m.V(b, d);
+    }
+  }
+  for (const auto& [name, table] : m.vertex_attributes) {
+    PointMatrix values(P, table.cols());
+#pragma omp parallel for schedule(static) if (P > kParallelItems)
+    for (Index p = 0; p < P; ++p) {
+      const Index a = edges(p, 0), b = edges(p, 1);
+      values.row(p) = a == b ? table.row(a) : ((1.0 - s(p)) * table.row(a) + s(p) * table.row(b)).eval();
+    }
+    out.vertex_attributes[name] = std::move(values);
+  }
+}
+
+}  // namespace slice_points
+
 Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
   check_slice_request(m, axis, value, index);
   const int D = m.ambient_dimension();
-  const int k = m.vertices_per_simplex();
   const Stabber stabber(m, axis, index);
   std::vector<Index> candidates;
   value = snapped_value(m, axis, value, stabber, candidates);
-
-  CutPoints cuts(m, axis, value, candidates.size() * 2);
-  FaceSink faces{{}, {}, k - 1};
-  faces.corners.reserve(candidates.size() * 2 * (k - 1));
-  cut_candidates(m, axis, value, value >= stabber.highest, candidates, cuts, faces);
-  cancel_opposite_pairs(faces, cuts);
-  Slice out = frame_of_cuts(m, axis, cuts, faces);
+  slice_cut::CutFaces cut = slice_cut::cut_and_weld(m, axis, value, value >= stabber.highest, candidates);
+  slice_cut::cancel_opposite_pairs(cut);
+  Slice out = frame_of_cuts(m, axis, cut);
 
   // Dropping coordinate `axis` instead of the last one permutes the remaining
   // coordinates' orientation by (-1)^(D-1-axis): the table's faces would then

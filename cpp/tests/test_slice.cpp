@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
@@ -64,9 +65,12 @@ TEST(Slice, IntervalIndexFindsExactlyTheStabbedSimplices) {
     for (int c = 0; c < 4; ++c) S(s, c) = 4 * s + c;
   for (int axis = 0; axis < 4; ++axis) {
     IntervalIndex index(V, S, axis);
-    for (double value : {-6.0, -2.5, 0.0, 1.0, 4.9, 6.0, V(17, axis)}) {
+    // A vertex's coordinate and the doubles either side of it: the index keeps
+    // float bounds, so only the exact recheck tells these apart.
+    const double x = V(17, axis), below = std::nextafter(x, -1e300), above = std::nextafter(x, 1e300);
+    for (double value : {-6.0, -2.5, 0.0, 1.0, 4.9, 6.0, x, below, above}) {
       std::vector<Index> hits;
-      index.stab(value, hits);
+      index.stab(V, S, value, hits);
       std::sort(hits.begin(), hits.end());
       std::vector<Index> expected;
       for (Index s = 0; s < S.rows(); ++s) {
@@ -214,4 +218,20 @@ TEST(Slice, TheSnapToleranceOfAnExtremeManifoldIsFinite) {
   ASSERT_TRUE(interval.has_value());
   EXPECT_EQ(interval->first, 0.4);
   EXPECT_EQ(interval->second, 1e308);
+}
+
+TEST(IntervalIndex, TakesTwelveBytesASimplexAndEightADistinctVertexCoordinate) {
+  const Complex m = stitch(octahedron_animation());
+  const IntervalIndex index(m.V, m.S, 3);
+  std::set<double> times(m.V.col(3).begin(), m.V.col(3).end());
+  EXPECT_EQ(index.memory_bytes(), 12 * static_cast<size_t>(m.S.rows()) + 8 * times.size());
+}
+
+TEST(IntervalIndex, RefusesToStabAnotherManifold) {
+  const Complex m = stitch(octahedron_animation());
+  const IntervalIndex index(m.V, m.S, 3);
+  std::vector<Index> hits;
+  const SimplexMatrix fewer = m.S.topRows(m.S.rows() - 1);
+  EXPECT_THROW(index.stab(m.V, fewer, 0.5, hits), InputError);
+  EXPECT_TRUE(hits.empty());
 }

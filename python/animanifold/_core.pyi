@@ -190,6 +190,10 @@ class Slicer:
         """
         The Slice of the manifold at coordinate `value` along `axis` (3 is time); `use_index` False tests every simplex instead. Raises InputError for an axis out of range.
         """
+    def slice_in_interval(self, frame: IntervalFrame, value: typing.SupportsFloat | typing.SupportsIndex) -> Slice:
+        """
+        The Slice at `value` from `frame` (an IntervalFrame of this slicer): its faces with the points computed at `value`, identical to slice(frame.axis, value) at the cost of a gather and a lerp. ValueError when `value` is outside the frame's topology interval.
+        """
     def topology_interval(self, axis: typing.SupportsInt | typing.SupportsIndex, value: typing.SupportsFloat | typing.SupportsIndex) -> tuple[float, float] | None:
         """
         The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has the same faces), or None where the faces change (a vertex coordinate, outside the manifold).
@@ -1387,6 +1391,11 @@ class _testing:
     def raise_error(type: str, message: str) -> None:
         """
         Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled) with `message`, through the module's translator: what a core call raises in that case.
+        """
+    @staticmethod
+    def set_omp_threads(threads: typing.SupportsInt | typing.SupportsIndex) -> int:
+        """
+        Sets the OpenMP threads of the calling thread's parallel loops (slicing); returns the previous count.
         """
     @staticmethod
     def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:

@@ -204,8 +204,7 @@ def run_frames(args: argparse.Namespace) -> int:
         raise UserError(f"output {folder} exists and is not a folder")
     folder.mkdir(parents=True, exist_ok=True)
     times = np.linspace(*manifold.time_range, args.count)
-    for number, t in enumerate(times):
-        frame = manifold.slice(t)
+    for number, (t, frame) in enumerate(zip(times, manifold.slices(times))):
         path = frame_path(folder, number, args.count, args.format)
         write_mesh(path, frame.vertices, frame.faces)
         if not args.quiet:
@@ -446,8 +445,7 @@ def run_morph(args: argparse.Namespace) -> int:
     if args.frames:
         frames = folder / "frames"
         frames.mkdir(exist_ok=True)
-        for i, t in enumerate(np.linspace(args.t0, args.t1, args.frames)):
-            s = manifold.slice(float(t))
+        for i, s in enumerate(manifold.slices(np.linspace(args.t0, args.t1, args.frames))):
             write_mesh(frame_path(frames, i, args.frames, args.format), s.vertices, s.faces)
     return 0
 

@@ -65,10 +65,10 @@ def run_frames(args: argparse.Namespace) -> int:
         raise FrameRangeError(f"frames {args.first}–{args.last} are outside {args.manifold}'s frames {t0:g}–{t1:g}")
     folder = Path(args.output)
     folder.mkdir(parents=True, exist_ok=True)
-    for frame in range(first, last + 1):
-        path = folder / f"{Path(args.manifold).stem}_{frame:06d}.{args.format}"
-        if not path.exists():  # written atomically: there means complete
-            write_atomic(path, frame_bytes(manifold.slice(float(frame)), args.format))
+    paths = {frame: folder / f"{Path(args.manifold).stem}_{frame:06d}.{args.format}" for frame in range(first, last + 1)}
+    missing = [frame for frame, path in paths.items() if not path.exists()]  # written atomically: there means complete
+    for frame, s in zip(missing, manifold.slices(missing)):
+        write_atomic(paths[frame], frame_bytes(s, args.format))
     print(f"farm frames: {last - first + 1} frames {first}–{last} in {folder}")
     return 0
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from typing import Mapping
+from typing import Iterable, Iterator, Mapping
 
 import numpy as np
 
@@ -230,6 +230,29 @@ class AnimationManifold:
             smooth = Slice._from_core(a, float(value), s)
             return dataclasses.replace(smooth, vertex_edges=None, edge_parameter=None)
         return s if isinstance(s, Slice) else Slice._from_core(a, float(value), s)
+
+    def slices(self, values: Iterable[float], axis: str | int = "t") -> Iterator[Slice]:
+        """The frames at `values` along `axis`, one at a time: each is exactly
+        ``slice(value, axis)`` (bit for bit), but a frame in the same topology
+        interval as the frame before it reuses that frame's cut, so writing it
+        is a gather and a lerp per vertex instead of a slice. Bakes and exports,
+        which slice increasing times, several in each interval, use this.
+        Frames the hole space cuts are sliced one by one."""
+        a = axis_index(axis, self.dimension)
+        slicer = self._core_slicer()
+        cut = None  # the core IntervalFrame of the last frame's interval
+        for value in values:
+            v = float(value)
+            interval = None if self._honours_holes(a, v) else slicer.topology_interval(a, v)
+            if interval is None:
+                cut = None
+                yield self.slice(v, a)
+                continue
+            if cut is not None and cut.interval == interval:
+                yield Slice._from_core(a, v, slicer.slice_in_interval(cut, v))
+                continue
+            cut = slicer.interval_frame(a, v)
+            yield Slice._from_core(a, v, cut.slice)
 
     def topology_interval(self, value: float, axis: str | int = "t") -> tuple[float, float] | None:
         """The open interval (lo, hi) around `value` in which every slice has the

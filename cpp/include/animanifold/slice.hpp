@@ -49,17 +49,27 @@ struct Slice {
 //   V     #V by D points
 //   S     #S by k simplices
 //   axis  0..D-1
-// Outputs: stab(value) appends the simplices whose extent holds value
-// Throws: InputError when axis is out of range
+// Outputs: stab(V, S, value) appends the simplices whose extent holds value
+// Throws: InputError when axis is out of range; stab() when given other
+//   points or simplices than the index was built on (by count)
 //
 // An interval index over the simplices' extents along one axis: a sorted
 // array of [min, max] intervals augmented with subtree maxima (an implicit
 // interval tree), so a stabbing query costs O(log #S + hits), not O(#S).
+// Memory: 12 bytes a simplex plus 8 a distinct vertex coordinate. The
+// tree keeps its bounds in single precision, rounded outward, and the
+// simplex's own points decide each hit exactly, so hits are exact.
 class IntervalIndex {
  public:
   IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis);
-  // Appends the simplices whose extent along the axis contains `value`.
-  void stab(double value, std::vector<Index>& out) const;
+  // Appends the simplices of S (over V: those the index was built on) whose
+  // extent along the axis contains `value`, in an order that depends only
+  // on the index and the set of hits.
+  void stab(const PointMatrix& V, const SimplexMatrix& S, double value, std::vector<Index>& out) const;
+  // Appends, in the order stab() would, its hits and possibly simplices whose
+  // extent misses `value` by less than a float's rounding: for callers that
+  // read the simplices' points anyway (slicing skips simplices on one side).
+  void stab_candidates(double value, std::vector<Index>& out) const;
   // The topology interval around `value`: the open interval (lo, hi) between
   // the nearest vertex coordinates below and above it along the axis. No
   // vertex lies inside, so every slice there cuts the same edges into the same
@@ -67,6 +77,8 @@ class IntervalIndex {
   // rounding slice() snaps to one) or outside (lowest, highest): the faces
   // change there.
   std::optional<std::pair<double, double>> topology_interval(double value) const;
+  // Whether some vertex's coordinate along the axis lies within `tolerance` of `value`.
+  bool has_vertex_value_near(double value, double tolerance) const;
   int axis() const { return axis_; }
   double lowest() const { return lowest_; }
   double highest() const { return highest_; }
@@ -74,12 +86,13 @@ class IntervalIndex {
 
  private:
   struct Node {
-    double low, high, subtree_high;
+    float low;           // the simplex's lowest coordinate, rounded down
+    float subtree_high;  // the highest coordinate in the node's subtree, rounded up
     Index simplex;
   };
-  std::vector<Node> nodes_;  // sorted by low; implicit tree over indices
+  std::vector<Node> nodes_;  // sorted by exact low, then simplex; implicit tree over indices
   std::vector<double> vertex_values_;  // the distinct vertex coordinates along the axis, sorted
-  int levels_ = 0;
+  Index vertex_count_;
   int axis_;
   double lowest_, highest_;
 };
@@ -98,6 +111,10 @@ class IntervalIndex {
 // Slices `manifold` at `value` along `axis` (0..D-1; D-1 is time).
 // `index`, when given, must have been built on the same manifold and axis;
 // without it every simplex is tested.
+//
+// Threads: the cut runs on OpenMP's threads in chunks of a fixed size, and
+// the chunks' cut points are welded in chunk order, so the output (its order
+// included) is the same for any thread count.
 //
 // Normals: each frame face lies in the hyperplane of the simplex it was cut
 // from, so the simplex's wedge normal with the axis dropped (§2.3.2) is the
@@ -145,6 +162,14 @@ class Slicer {
   // (it lies on a vertex coordinate or outside the manifold: the faces change
   // there) and for what slice() rejects.
   IntervalFrame interval_frame(int axis, double value);
+  // The slice at `value` from `frame`, an interval frame of this slicer:
+  // frame.slice's faces, vertex edges and face data with the points, edge
+  // parameters, vertex attributes and normals computed at `value`, identical
+  // bit for bit to slice(frame.axis, value) at the cost of a gather and a lerp
+  // per vertex (frames of a bake or export that share a topology interval).
+  // Throws InputError when `value` is not finite or lies outside frame's
+  // topology interval (topology_interval(value) is another one, or none).
+  Slice slice_in_interval(const IntervalFrame& frame, double value);
   const IntervalIndex& index(int axis);
   const Complex& manifold() const { return *manifold_; }
 

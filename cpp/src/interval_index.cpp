@@ -1,0 +1,131 @@
+// The interval index (slice.hpp): an implicit interval tree over the
+// simplices' extents along one axis, 12 bytes a simplex.
+#include "animanifold/errors.hpp"
+#include "animanifold/slice.hpp"
+#include "slice_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace animanifold {
+
+namespace {
+
+// The simplex's exact extent [low, high] along the axis.
+std::pair<double, double> extent(const PointMatrix& V, const SimplexMatrix& S, Index s, int axis) {
+  double low = V(S(s, 0), axis), high = low;
+  for (int c = 1; c < S.cols(); ++c) {
+    const double x = V(S(s, c), axis);
+    low = std::min(low, x);
+    high = std::max(high, x);
+  }
+  return {low, high};
+}
+
+// The nearest float at or below (above) x: the tree's bounds hold the exact ones.
+float float_below(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float float_above(double x) {
+  const float f = static_cast<float>(x);
+  return static_cast<double>(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+}  // namespace
+
+IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis)
+    : vertex_count_(V.rows()), axis_(axis) {
+  if (axis < 0 || axis >= V.cols()) fail<InputError>("axis ", axis, " is outside 0..", V.cols() - 1);
+  // Sorted by exact low (then simplex), as the tree's order decides the
+  // order stab() reports hits in, and with it the order of a slice's output.
+  std::vector<std::pair<double, Index>> by_low(S.rows());
+  std::vector<float> high(S.rows());
+  lowest_ = std::numeric_limits<double>::infinity();
+  highest_ = -lowest_;
+  for (Index s = 0; s < S.rows(); ++s) {
+    const auto [low, hi] = extent(V, S, s, axis);
+    by_low[s] = {low, s};
+    high[s] = float_above(hi);
+    lowest_ = std::min(lowest_, low);
+    highest_ = std::max(highest_, hi);
+  }
+  if (!std::is_sorted(by_low.begin(), by_low.end())) std::sort(by_low.begin(), by_low.end());
+  nodes_.resize(S.rows());
+  for (size_t i = 0; i < by_low.size(); ++i) nodes_[i] = {float_below(by_low[i].first), high[by_low[i].second],
+                                                          by_low[i].second};
+  std::vector<std::pair<double, Index>>().swap(by_low);
+  // The tree is implicit: the root of a range [lo, hi) is its midpoint.
+  // subtree_high of a root is the largest (rounded-up) high in its range.
+  struct Builder {
+    std::vector<Node>& nodes;
+    float build(size_t lo, size_t hi) {
+      if (lo >= hi) return -std::numeric_limits<float>::infinity();
+      const size_t mid = lo + (hi - lo) / 2;
+      const float h = std::max({nodes[mid].subtree_high, build(lo, mid), build(mid + 1, hi)});
+      nodes[mid].subtree_high = h;
+      return h;
+    }
+  };
+  Builder{nodes_}.build(0, nodes_.size());
+  vertex_values_.assign(V.col(axis).begin(), V.col(axis).end());
+  std::sort(vertex_values_.begin(), vertex_values_.end());
+  vertex_values_.erase(std::unique(vertex_values_.begin(), vertex_values_.end()), vertex_values_.end());
+  vertex_values_.shrink_to_fit();
+}
+
+std::optional<std::pair<double, double>> IntervalIndex::topology_interval(double value) const {
+  // The same snap as slice(): a value it would move onto a vertex has that vertex's faces.
+  const double snap = slice_points::snap_tolerance(lowest_, highest_);
+  const auto above = std::upper_bound(vertex_values_.begin(), vertex_values_.end(), value);
+  if (above == vertex_values_.begin() || above == vertex_values_.end()) return std::nullopt;
+  const double lo = *(above - 1), hi = *above;
+  if (value - lo <= snap || hi - value <= snap) return std::nullopt;
+  return std::make_pair(lo, hi);
+}
+
+bool IntervalIndex::has_vertex_value_near(double value, double tolerance) const {
+  const auto above = std::lower_bound(vertex_values_.begin(), vertex_values_.end(), value);
+  if (above != vertex_values_.end() && *above - value <= tolerance) return true;
+  return above != vertex_values_.begin() && value - *(above - 1) <= tolerance;
+}
+
+void IntervalIndex::stab_candidates(double value, std::vector<Index>& out) const {
+  // Explicit stack of ranges: depth is log2(#S) + 1.
+  std::pair<size_t, size_t> stack[64];
+  int top = 0;
+  stack[top++] = {0, nodes_.size()};
+  while (top > 0) {
+    const auto [lo, hi] = stack[--top];
+    if (lo >= hi) continue;
+    const size_t mid = lo + (hi - lo) / 2;
+    const Node& node = nodes_[mid];
+    if (node.subtree_high < value) continue;  // nothing in this range reaches the value
+    stack[top++] = {lo, mid};
+    if (node.low <= value) {  // ranges right of mid start at or after node.low
+      out.push_back(node.simplex);
+      stack[top++] = {mid + 1, hi};
+    }
+  }
+}
+
+void IntervalIndex::stab(const PointMatrix& V, const SimplexMatrix& S, double value, std::vector<Index>& out) const {
+  if (V.rows() != vertex_count_ || S.rows() != static_cast<Index>(nodes_.size()) || V.cols() <= axis_)
+    fail<InputError>("the interval index was built on ", vertex_count_, " points and ", nodes_.size(),
+                     " simplices, not on these ", V.rows(), " points and ", S.rows(), " simplices");
+  const size_t first = out.size();
+  stab_candidates(value, out);
+  // The float bounds hold the exact extent; the points decide.
+  const auto exact_end = std::remove_if(out.begin() + first, out.end(), [&](Index s) {
+    const auto [low, high] = extent(V, S, s, axis_);
+    return !(low <= value && value <= high);
+  });
+  out.erase(exact_end, out.end());
+}
+
+size_t IntervalIndex::memory_bytes() const {
+  return nodes_.capacity() * sizeof(Node) + vertex_values_.capacity() * sizeof(double);
+}
+
+}  // namespace animanifold

@@ -1,0 +1,265 @@
+#include "slice_cut.hpp"
+
+#include "slice_points.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+
+namespace animanifold::slice_cut {
+
+namespace {
+
+// Candidates a chunk cuts: fixed, so chunks (and the output) do not depend on the threads.
+constexpr size_t kChunk = 4096;
+
+std::uint64_t pack(Index a, Index b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// One chunk's cut: the points in the order it meets them, as keys (a, b),
+// a <= b, and each kept face's corners as positions among them.
+struct Chunk {
+  std::vector<std::uint64_t> keys;
+  std::vector<Index> corners;
+  std::vector<Index> simplex;
+  std::vector<Index> ids;  // per key: its welded point (weld())
+};
+
+// Cuts simplices into a Chunk: the table of Figure 2.6.
+class ChunkCutter {
+ public:
+  ChunkCutter(const Complex& m, int axis, double value, Chunk& out) : m_(m), axis_(axis), value_(value), out_(out) {}
+
+  // Tets in R^4 -> triangles in R^3.
+  void cut_tet(const Index* t, const bool* above, int above_count, Index source) {
+    Index f[3];
+    if (above_count == 1 || above_count == 3) {
+      // The lone vertex and the opposite facet in its outward orientation.
+      int apex = 0;
+      while (above[apex] != (above_count == 1)) ++apex;
+      facet(t, 4, apex, f);
+      Index tri[3] = {point(t[apex], f[0]), point(t[apex], f[1]), point(t[apex], f[2])};
+      if (above_count == 3) std::swap(tri[0], tri[1]);  // the part above lies away from the apex
+      face(tri, 3, source);
+      return;
+    }
+    // Two above (i, j), two below (k, l), with [i, j, k, l] an even permutation
+    // of the tet: the quad (ik, il, jl, jk), split along its shorter diagonal.
+    Index up[2], down[2];
+    int position[4];
+    for (int c = 0, u = 0, d = 0; c < 4; ++c) {
+      if (above[c]) position[u] = c, up[u++] = t[c];
+      else position[2 + d] = c, down[d++] = t[c];
+    }
+    if (permutation_parity(position, 4) < 0) std::swap(down[0], down[1]);
+    const Index ik = point(up[0], down[0]), il = point(up[0], down[1]);
+    const Index jl = point(up[1], down[1]), jk = point(up[1], down[0]);
+    Index a[3] = {ik, il, jl}, b[3] = {ik, jl, jk};
+    face(a, 3, source);
+    face(b, 3, source);
+  }
+
+  // Triangles in R^3 -> segments in R^2.
+  void cut_triangle(const Index* t, const bool* above, int above_count, Index source) {
+    int apex = 0;
+    while (above[apex] != (above_count == 1)) ++apex;
+    Index f[2];
+    facet(t, 3, apex, f);
+    Index seg[2] = {point(t[apex], f[0]), point(t[apex], f[1])};
+    if (above_count == 2) std::swap(seg[0], seg[1]);
+    face(seg, 2, source);
+  }
+
+ private:
+  // The point where the plane crosses edge (a, b), keyed (min, max), or
+  // (v, v) where it passes through vertex v: both simplices sharing an edge
+  // give the same key. Returns its position in the chunk's keys.
+  Index point(Index a, Index b) {
+    if (a > b) std::swap(a, b);
+    if (a != b) {
+      const double s = slice_points::edge_parameter(m_.V, axis_, value_, a, b);
+      if (s <= 0.0) b = a;          // the plane passes through a
+      else if (s >= 1.0) a = b;     // ... or through b
+    }
+    out_.keys.push_back(pack(a, b));
+    return static_cast<Index>(out_.keys.size() - 1);
+  }
+
+  void face(const Index* p, int n, Index source) {
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (out_.keys[p[i]] == out_.keys[p[j]]) return;  // collapsed: zero area
+    out_.corners.insert(out_.corners.end(), p, p + n);
+    out_.simplex.push_back(source);
+  }
+
+  const Complex& m_;
+  int axis_;
+  double value_;
+  Chunk& out_;
+};
+
+// The candidates [begin, end) cut into `out`. On-plane vertices count as
+// below, except when `on_plane_is_above` (the very top of the manifold).
+void cut_chunk(const Complex& m, int axis, double value, bool on_plane_is_above, const Index* begin,
+               const Index* end, Chunk& out) {
+  const int k = m.vertices_per_simplex();
+  out.keys.reserve(4 * (end - begin));
+  out.corners.reserve(2 * (k - 1) * (end - begin));
+  out.simplex.reserve(2 * (end - begin));
+  ChunkCutter cutter(m, axis, value, out);
+  bool above[4];
+  for (const Index* s = begin; s != end; ++s) {
+    const Index* t = m.S.row(*s).data();
+    int above_count = 0;
+    for (int c = 0; c < k; ++c) {
+      const double x = m.V(t[c], axis);
+      above[c] = on_plane_is_above ? x >= value : x > value;
+      above_count += above[c];
+    }
+    if (above_count == 0 || above_count == k) continue;
+    if (k == 4) cutter.cut_tet(t, above, above_count, *s);
+    else cutter.cut_triangle(t, above, above_count, *s);
+  }
+}
+
+// Numbers the chunks' keys in order, each new key a new point: keys are
+// found through the list of points keyed by their lower vertex `a`
+// (`head`: one entry per manifold vertex, -1 where none, as it is left).
+void weld(const Complex& m, int axis, double value, std::vector<Chunk>& chunks, std::vector<Index>& head,
+          std::vector<Point>& points) {
+  struct Link {
+    Index b, next;  // the point's b, and the previous point with the same a (-1: none)
+  };
+  std::vector<Link> links;
+  try {
+    for (Chunk& chunk : chunks) {
+      chunk.ids.resize(chunk.keys.size());
+      for (size_t i = 0; i < chunk.keys.size(); ++i) {
+        const Index a = static_cast<Index>(chunk.keys[i] >> 32), b = static_cast<Index>(chunk.keys[i] & 0xffffffffu);
+        Index id = head[a];
+        while (id >= 0 && links[id].b != b) id = links[id].next;
+        if (id < 0) {
+          id = static_cast<Index>(points.size());
+          points.push_back({a, b, a == b ? 0.0 : slice_points::edge_parameter(m.V, axis, value, a, b)});
+          links.push_back({b, head[a]});
+          head[a] = id;
+        }
+        chunk.ids[i] = id;
+      }
+    }
+  } catch (...) {
+    for (const Point& p : points) head[p.a] = -1;
+    throw;
+  }
+  for (const Point& p : points) head[p.a] = -1;
+}
+
+}  // namespace
+
+CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is_above,
+                      const std::vector<Index>& candidates) {
+  const int k = m.vertices_per_simplex();
+  std::vector<Chunk> chunks((candidates.size() + kChunk - 1) / kChunk);
+  const std::ptrdiff_t chunk_count = static_cast<std::ptrdiff_t>(chunks.size());
+#pragma omp parallel for schedule(dynamic, 1) if (chunk_count > 1)
+  for (std::ptrdiff_t c = 0; c < chunk_count; ++c) {
+    const Index* begin = candidates.data() + c * kChunk;
+    cut_chunk(m, axis, value, on_plane_is_above, begin, std::min(begin + kChunk, candidates.data() + candidates.size()),
+              chunks[c]);
+  }
+  // Per thread and kept between slices, at -1 but while weld() runs: slices
+  // on other threads at once each have their own.
+  thread_local std::vector<Index> head;
+  if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
+  CutFaces out;
+  out.n = k - 1;
+  weld(m, axis, value, chunks, head, out.points);
+  out.on_vertices = std::any_of(out.points.begin(), out.points.end(), [](const Point& p) { return p.a == p.b; });
+
+  std::vector<size_t> first_face(chunks.size() + 1, 0);
+  for (size_t c = 0; c < chunks.size(); ++c) first_face[c + 1] = first_face[c] + chunks[c].simplex.size();
+  out.corners.resize(first_face.back() * out.n);
+  out.simplex.resize(first_face.back());
+#pragma omp parallel for schedule(static) if (chunk_count > 1)
+  for (std::ptrdiff_t c = 0; c < chunk_count; ++c) {
+    const Chunk& chunk = chunks[c];
+    std::copy(chunk.simplex.begin(), chunk.simplex.end(), out.simplex.begin() + first_face[c]);
+    Index* corner = out.corners.data() + first_face[c] * out.n;
+    for (const Index position : chunk.corners) *corner++ = chunk.ids[position];
+  }
+  return out;
+}
+
+void cancel_opposite_pairs(CutFaces& faces) {
+  const int n = faces.n;
+  const size_t count = faces.simplex.size();
+  // A slit closes up only where the plane passes through manifold vertices
+  // (a keyframe, the end of a morph); elsewhere its two sides are apart.
+  // Only faces whose corners are all manifold vertices can cancel.
+  const auto& cut = faces.points;
+  auto on_vertices = [&](size_t f) {
+    for (int c = 0; c < n; ++c) {
+      const auto& p = cut[faces.corners[f * n + c]];
+      if (p.a != p.b) return false;
+    }
+    return true;
+  };
+  size_t eligible = 0;
+  for (size_t f = 0; f < count; ++f) eligible += on_vertices(f);
+  if (eligible < 2) return;
+  // Each face's sorted vertex set goes into an open-addressing table; a face
+  // meeting a live face with the same set and the opposite orientation
+  // cancels with it. One probe per face.
+  std::vector<std::array<Index, 3>> sorted(count);
+  std::vector<signed char> parity(count);
+  size_t capacity = 16;
+  while (capacity < 2 * eligible + 16) capacity <<= 1;
+  std::vector<std::int64_t> table(capacity, -1);
+  std::vector<bool> drop(count, false);
+  bool any = false;
+  for (size_t f = 0; f < count; ++f) {
+    if (!on_vertices(f)) continue;
+    std::array<Index, 3>& key = sorted[f];
+    key = {-1, -1, -1};
+    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, key.begin());
+    parity[f] = static_cast<signed char>(n == 2 ? (key[0] < key[1] ? 1 : -1) : permutation_parity(key.data(), n));
+    std::sort(key.begin(), key.begin() + n);
+    std::uint64_t h = 1469598103934665603ull;
+    for (int c = 0; c < n; ++c) h = (h ^ static_cast<std::uint32_t>(key[c])) * 1099511628211ull;
+    size_t slot = h & (capacity - 1);
+    bool cancelled = false;
+    for (; table[slot] >= 0; slot = (slot + 1) & (capacity - 1)) {
+      const size_t other = static_cast<size_t>(table[slot]);
+      if (!drop[other] && sorted[other] == key && parity[other] != parity[f]) {
+        drop[other] = drop[f] = any = cancelled = true;
+        break;
+      }
+    }
+    if (!cancelled) table[slot] = static_cast<std::int64_t>(f);
+  }
+  if (!any) return;
+  size_t kept = 0;
+  for (size_t f = 0; f < count; ++f) {
+    if (drop[f]) continue;
+    std::copy(faces.corners.begin() + f * n, faces.corners.begin() + (f + 1) * n, faces.corners.begin() + kept * n);
+    faces.simplex[kept++] = faces.simplex[f];
+  }
+  faces.corners.resize(kept * n);
+  faces.simplex.resize(kept);
+}
+
+std::vector<Index> used_points(std::vector<Index>& corners, Index count) {
+  std::vector<Index> renumbered(count, -1);
+  for (const Index c : corners) renumbered[c] = 0;
+  std::vector<Index> kept;
+  kept.reserve(count);
+  for (Index p = 0; p < count; ++p)
+    if (renumbered[p] == 0) renumbered[p] = static_cast<Index>(kept.size()), kept.push_back(p);
+  if (static_cast<Index>(kept.size()) != count)
+    for (Index& c : corners) c = renumbered[c];
+  return kept;
+}
+
+}  // namespace animanifold::slice_cut
