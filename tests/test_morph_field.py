@@ -9,7 +9,7 @@ import pytest
 
 import animanifold as am
 from animanifold import _core
-from animanifold.frame_quality import measure_frames
+from animanifold.frame_quality import euler_characteristic, measure_frames, pieces
 from animanifold.holes import winding_numbers
 from animanifold.meshio import read_mesh
 from animanifold.cavities import shell_volumes
@@ -94,8 +94,9 @@ SHARED_PAIRS = [
                  marks=pytest.mark.xfail(strict=False, reason=_NEAR_THE_BUNNY)),
     pytest.param("spot.obj", "3holes.off", id="spot-3holes (0 to 3)"),
     pytest.param("torus-800.off", "spot.obj", id="torus800-spot (1 to 0)",
-                 marks=pytest.mark.xfail(strict=False, reason="pops: the largest step between frames is 3.98x "
-                                         "the mean (bar: 3x), where the torus's hole closes")),
+                 marks=pytest.mark.xfail(strict=False, reason="pops: the largest step between frames (3.95x the "
+                                         "mean, bar: 3x) is the one across the fill slab, where the frame "
+                                         "splits in two and joins again (see the test below)")),
     pytest.param("3holes.off", "bunny.off", id="3holes-bunny (3 to 0)",
                  marks=pytest.mark.xfail(strict=False, reason=_NEAR_THE_BUNNY + "; and one frame crosses itself")),
 ]
@@ -107,6 +108,29 @@ SHARED_PAIRS = [
 def test_the_field_morph_meets_the_bar_on_shared_models(shared_data, source, target):
     meshes = shared_data / "meshes"
     assert_the_bar(normalised(meshes / source), normalised(meshes / target))
+
+
+# The slab joining the halves (morph_field.cpp's kFillSlab: half a layer of the 17, about the middle).
+FILL_SLAB = (0.5 - 0.25 / 17, 0.5 + 0.25 / 17)
+
+
+@pytest.mark.slow
+@pytest.mark.data
+@pytest.mark.xfail(strict=True, reason="transient topology in the fill slab: the middle shape is two lobes "
+                   "joined thinly, and each half keeps them joined where its own end does (preserve_topology): the "
+                   "source's half by a hair-thin thread left of the torus's ring (t = 0.40-0.485), the target's by a "
+                   "neck at the spot's middle (t >= 0.515). The fill slab between them has neither, so there the "
+                   "frame is two pieces (Euler 4, 0.09-0.13 apart). The 24 spread frames step over the slab, so "
+                   "the bar sees only the pop (3.95x) it makes")
+def test_the_frames_inside_the_fill_slab_keep_the_ends_topology(shared_data):
+    """torus-800 -> spot: frames inside the middle slab (which no spread frame of the bar lands in)
+    have no more pieces than the ends, and an Euler characteristic between theirs."""
+    meshes = shared_data / "meshes"
+    manifold = am.morph(normalised(meshes / "torus-800.off"), normalised(meshes / "spot.obj"), method="field")
+    for t in np.linspace(*FILL_SLAB, 5)[1:-1]:
+        frame = manifold.slice(float(t))
+        v, f = np.asarray(frame.vertices), np.asarray(frame.faces)
+        assert pieces(v, f) == 1 and 0 <= euler_characteristic(v, f) <= 2, f"the frame at {t:.4f}"
 
 
 @pytest.mark.slow
