@@ -1,14 +1,21 @@
 """Benchmark: stitch a ~50k-face mesh over 100 keyframes, then slice frames with and without the index.
 
     python3 bench/bench_stitch_slice.py [--keyframes 100] [--frames 20] [--bandwidth-gib 1]
+                                        [--mesh default|production] [--repeat 3] [--json PATH]
 
 Input: bunny.off + 3holes.off from <repo>/../shared/data/meshes, each
 midpoint-subdivided once (≈ 56.7k faces together), animated by a smooth
 travelling-wave deformation (animanifold.procedural.wobble). Without the
 data folder it falls back to three procedural icospheres (61,440 faces) and
-says so.
+says so. --mesh production is issue 24's case, run with --keyframes 20:
+homer.obj + 3holes.off + torus-800.off + torus.obj, each midpoint-subdivided
+once (42,750 vertices, 85,504 faces: 4.87 M tets over 20 keyframes; the
+fallback is icosphere(6), 40,962 vertices).
 
-Prints: stitch time and tets/s; the interval index's build time and size;
+Prints: stitch time and tets/s end to end (am.stitch: the first call, then the
+best of --repeat) and the C++ stitch alone (_core.stitch with the seam order
+given), the stitch's peak memory (the process's resident high-water mark,
+reset before the call) against the output's size; the interval index's build time and size;
 the first slice (cold caches); per-frame slice time with the index and without it (every
 tet tested); and the bytes a slice touches per second against this machine's
 memory bandwidth (a numpy copy of a large array, measured in the same run).
@@ -31,8 +38,9 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "python"))
 
 import animanifold as am  # noqa: E402
-from animanifold import _core  # noqa: E402
+from animanifold import _core, stitching  # noqa: E402
 from animanifold.procedural import icosphere, subdivide_midpoint, wobble  # noqa: E402
+from figures import add_json_option, write_json  # noqa: E402
 
 DATA = REPO.parent / "shared" / "data" / "meshes"
 TIME_AXIS = 3
@@ -53,14 +61,38 @@ def combine(meshes: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np
     return vertices, faces
 
 
-def benchmark_mesh() -> tuple[np.ndarray, np.ndarray, str]:
-    names = ("bunny.off", "3holes.off")
+MESHES = {"default": ("bunny.off", "3holes.off"),
+          "production": ("homer.obj", "3holes.off", "torus-800.off", "torus.obj")}
+
+
+def benchmark_mesh(which: str = "default") -> tuple[np.ndarray, np.ndarray, str]:
+    names = MESHES[which]
     if all((DATA / n).is_file() for n in names):
         meshes = [subdivide_midpoint(*am.read_mesh(DATA / n)) for n in names]
         return (*combine(meshes), " + ".join(names) + ", each midpoint-subdivided once")
+    if which == "production":
+        print(f"note: {DATA} not found; using icosphere(6) instead of {' + '.join(names)}")
+        return (*combine([icosphere(6)]), "icosphere (subdivision 6)")
     print(f"note: {DATA} not found; using three procedural icospheres instead of bunny + 3holes")
     sphere = icosphere(5)
     return (*combine([sphere, sphere, sphere]), "3 icospheres (subdivision 5)")
+
+
+def resident_kib(field: str) -> int:
+    """A /proc/self/status memory field (VmRSS, VmHWM) in KiB."""
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1])
+    raise KeyError(field)
+
+
+def peak_bytes_of(function, *args):
+    """(result, bytes): `function(*args)` and how far the process's resident set rose
+    above its size before the call (the high-water mark is reset first: Linux's clear_refs)."""
+    Path("/proc/self/clear_refs").write_text("5")
+    before = resident_kib("VmRSS")
+    result = function(*args)
+    return result, (resident_kib("VmHWM") - before) * 1024
 
 
 def memory_bandwidth(gib: float, repeats: int = 3) -> float:
@@ -87,34 +119,48 @@ def timed(function, *args):
     return result, time.perf_counter() - start
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--keyframes", type=int, default=100)
-    parser.add_argument("--frames", type=int, default=20)
-    parser.add_argument("--bandwidth-gib", type=float, default=1.0, help="size of the array copied to measure bandwidth")
-    args = parser.parse_args()
+def stitch_figures(keyframes: np.ndarray, faces: np.ndarray, times: np.ndarray, repeat: int):
+    """(manifold, figures): am.stitch timed end to end (first call, best of `repeat`), its
+    peak memory against the output's size, and the C++ stitch alone on the same input."""
+    (manifold, first), peak = peak_bytes_of(timed, am.stitch, keyframes, faces, times)
+    tets, points = len(manifold.simplices), len(manifold.points)
+    assert tets == 3 * len(faces) * (len(keyframes) - 1)
+    output = tets * 4 * 4 + points * 4 * 8  # int32 tets + (x, y, z, t) doubles
+    best = first
+    for _ in range(repeat - 1):
+        del manifold
+        manifold, seconds = timed(am.stitch, keyframes, faces, times)
+        best = min(best, seconds)
+    m, k, d = keyframes.shape
+    flat = np.ascontiguousarray(keyframes.reshape(m * k, d))
+    order = stitching._seam_order(keyframes, keyframes)
+    indices = faces.astype(np.int32)
+    core = min(timed(_core.stitch, flat, indices, times, {}, {}, order)[1] for _ in range(repeat))
+    print(f"stitch      {tets:,} tets, {points:,} points: end to end first call {first:.3f} s "
+          f"= {tets / first / 1e6:.1f} M tets/s, best of {repeat} {best:.3f} s = {tets / best / 1e6:.1f} M tets/s; "
+          f"C++ stitch alone {core:.3f} s = {tets / core / 1e6:.1f} M tets/s")
+    print(f"            peak memory {peak / 2**20:.0f} MiB for an output of {output / 2**20:.0f} MiB "
+          f"({peak / output:.2f}x)")
+    figures = {"tets": tets, "points": points, "stitch_first_s": first, "stitch_best_s": best, "stitch_core_s": core,
+               "stitch_mtets_per_s": tets / best / 1e6, "stitch_first_mtets_per_s": tets / first / 1e6,
+               "stitch_core_mtets_per_s": tets / core / 1e6, "stitch_peak_bytes": peak, "output_bytes": output,
+               "stitch_peak_over_output": peak / output}
+    return manifold, figures
 
-    rest, faces, source = benchmark_mesh()
-    phases = np.linspace(0.0, 2.0 * np.pi, args.keyframes)
-    keyframes = np.stack([wobble(rest, phase, 0.03) for phase in phases])
-    times = np.linspace(0.0, 1.0, args.keyframes)
-    print(f"mesh        {source}: {len(rest):,} vertices, {len(faces):,} faces; {args.keyframes} keyframes")
 
-    manifold, seconds = timed(am.stitch, keyframes, faces, times)
+def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
+    """The interval index's build, the first slice, and per-frame slices with and without the index."""
     tets = len(manifold.simplices)
-    assert tets == 3 * len(faces) * (args.keyframes - 1)
-    print(f"stitch      {tets:,} tets, {len(manifold.points):,} points in {seconds:.3f} s = {tets / seconds / 1e6:.1f} M tets/s")
-
     # The core Slicer that AnimationManifold.slice uses, driven directly so the
     # one-off cost of the index is timed apart from per-frame cost.
     slicer = _core.Slicer(manifold.core_complex)
-    index_bytes, seconds = timed(slicer.index_memory_bytes, TIME_AXIS)
-    print(f"index       built in {seconds:.3f} s, {index_bytes / 2**20:.0f} MiB ({tets / seconds / 1e6:.1f} M tets/s)")
+    index_bytes, index_s = timed(slicer.index_memory_bytes, TIME_AXIS)
+    print(f"index       built in {index_s:.3f} s, {index_bytes / 2**20:.0f} MiB ({tets / index_s / 1e6:.1f} M tets/s)")
     first_t = 0.5 * (times[0] + times[1])
-    _, seconds = timed(slicer.slice, TIME_AXIS, first_t, True)
-    print(f"first slice {seconds:.3f} s (cold caches)")
+    _, first_s = timed(slicer.slice, TIME_AXIS, first_t, True)
+    print(f"first slice {first_s:.3f} s (cold caches)")
 
-    frame_times = np.linspace(times[0], times[-1], args.frames)
+    frame_times = np.linspace(times[0], times[-1], frames)
     with_index, without_index, touched, faces_out = [], [], [], []
     for t in frame_times:
         s, seconds = timed(slicer.slice, TIME_AXIS, t, True)
@@ -126,27 +172,55 @@ def main() -> int:
     with_index, without_index, touched = map(np.array, (with_index, without_index, touched))
     print(
         f"per frame   with index    median {np.median(with_index) * 1e3:7.2f} ms, "
-        f"mean {with_index.mean() * 1e3:7.2f} ms  ({args.frames} frames, median {int(np.median(faces_out)):,} faces)"
+        f"mean {with_index.mean() * 1e3:7.2f} ms  ({frames} frames, median {int(np.median(faces_out)):,} faces)"
     )
     print(
         f"            without index median {np.median(without_index) * 1e3:7.2f} ms, "
         f"mean {without_index.mean() * 1e3:7.2f} ms  (every tet tested; "
         f"{np.median(without_index) / np.median(with_index):.0f}x slower)"
     )
-    _, seconds = timed(_core._testing.slice, manifold.core_complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
-    print(f"            brute force {seconds:.3f} s (_core._testing.slice: no index)")
-
+    _, brute_s = timed(_core._testing.slice, manifold.core_complex, TIME_AXIS, float(frame_times[len(frame_times) // 2]))
+    print(f"            brute force {brute_s:.3f} s (_core._testing.slice: no index)")
     rate = touched / with_index / 1e9
     print(
         f"touched     {np.median(touched) / 2**20:.1f} MiB per frame (cut tets x {BYTES_PER_CUT_TET} B + outputs): "
         f"median {np.median(rate):.2f} GB/s"
     )
-    del manifold, slicer  # free ~1 GB before allocating the bandwidth arrays
+    return {"index_s": index_s, "index_bytes": index_bytes, "first_slice_s": first_s,
+            "slice_ms_per_frame": float(np.median(with_index)) * 1e3,
+            "slice_frames_per_s": 1.0 / float(np.median(with_index)),
+            "slice_without_index_ms": float(np.median(without_index)) * 1e3, "brute_force_slice_s": brute_s,
+            "faces_per_frame": int(np.median(faces_out)), "touched_gb_per_s": float(np.median(rate))}
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--keyframes", type=int, default=100)
+    parser.add_argument("--frames", type=int, default=20)
+    parser.add_argument("--bandwidth-gib", type=float, default=1.0, help="size of the array copied to measure bandwidth")
+    parser.add_argument("--mesh", choices=sorted(MESHES), default="default",
+                        help="production: issue 24's 42,750-vertex case (with --keyframes 20: 4.87 M tets)")
+    parser.add_argument("--repeat", type=int, default=3, help="stitch calls timed (the first is reported apart)")
+    add_json_option(parser)
+    args = parser.parse_args()
+
+    rest, faces, source = benchmark_mesh(args.mesh)
+    phases = np.linspace(0.0, 2.0 * np.pi, args.keyframes)
+    keyframes = np.stack([wobble(rest, phase, 0.03) for phase in phases])
+    times = np.linspace(0.0, 1.0, args.keyframes)
+    print(f"mesh        {source}: {len(rest):,} vertices, {len(faces):,} faces; {args.keyframes} keyframes")
+
+    manifold, figures = stitch_figures(keyframes, faces, times, max(args.repeat, 1))
+    figures.update(slice_figures(manifold, times, args.frames))
+    figures.update(mesh=source, vertices=len(rest), faces=len(faces), keyframes=args.keyframes)
+    del manifold  # free ~1 GB before allocating the bandwidth arrays
     bandwidth = memory_bandwidth(args.bandwidth_gib)
     print(
         f"bandwidth   numpy copy of {args.bandwidth_gib:g} GiB: {bandwidth:.1f} GB/s (read + write); "
-        f"slice reaches {np.median(rate) / bandwidth * 100:.1f}% of it"
+        f"slice reaches {figures['touched_gb_per_s'] / bandwidth * 100:.1f}% of it"
     )
+    figures["bandwidth_gb_per_s"] = bandwidth
+    write_json(args.json, figures)
     return 0
 
 
