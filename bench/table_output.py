@@ -67,9 +67,16 @@ def write_chart(path: Path, rows: list[Row], machine: dict) -> None:
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.axvline(1.0, color="black", linewidth=0.8)
+    low, high = min(ratios + [1.0]), max(ratios + [1.0])
+    ax.set_xlim(low / 3, high * 300)  # room on the right for each bar's figures
     for i, row in enumerate(plotted):
         ax.text(row.ratio, i, f" {row.ratio:.3g}x  (ours {number(row.ours)}, {row.peer_name}: {number(row.peer)})",
                 va="center", fontsize=7)
+        if row.target.startswith("ratio >= "):  # the target for the ratio itself
+            ax.plot([float(row.target.split()[-1])], [i], marker="|", markersize=14, color="black")
+    handles = [plt.Rectangle((0, 0), 1, 1, color=c) for c in ("#4a4", "#d44", "#888")]
+    ax.legend(handles + [plt.Line2D([], [], marker="|", linestyle="", color="black", markersize=10)],
+              ["target met", "target missed", "no target", "target ratio"], fontsize=7, loc="lower right")
     ax.set_xlabel("ratio: times better than the peer measured in the same run (log scale; > 1: ours better)")
     ax.set_title("\n".join(textwrap.wrap("animanifold benchmark table. " + machine_line(machine), 150)), fontsize=8)
     if left_out:
