@@ -2,7 +2,7 @@
 table: our figure, the peer's figure measured in the same run, their ratio and issue 24's
 target where it names one.
 
-    python3 bench/run_all.py [--only stitch,laplacian,...] [--full] [--threads N] [--out out/bench]
+    python3 bench/run_all.py [--only stitch,laplacian,...] [--full] [--threads N] [--out out/bench] [--redraw]
 
 Each script runs in its own process with --json PATH (bench/figures.py) and its output goes
 to OUT/logs/NAME.log; a script that fails, times out or has no peer (OpenVDB's bench not
@@ -121,6 +121,17 @@ def run_job(job: Job, out: Path, env: dict, full: bool) -> tuple[list[Row], dict
         return table_rows.unavailable(job.measures, f"{job.script}'s figures lack {error!r}"), run
 
 
+def redraw(out: Path) -> int:
+    """The table and the chart again from `out`/table.json (after a change to their layout)."""
+    saved = json.loads((out / "table.json").read_text())
+    rows = [Row(**{k: v for k, v in row.items() if k != "ratio"}) for row in saved["rows"]]
+    table = format_table(rows, saved["machine"])
+    print(table)
+    (out / "table.txt").write_text(table + "\n")
+    write_chart(out / "table.png", rows, saved["machine"])
+    return 0
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -129,7 +140,10 @@ def main() -> int:
     parser.add_argument("--full", action="store_true", help="the Laplacian on the ~100k manifold in R^4 too")
     parser.add_argument("--threads", type=int, default=None, help="OMP_NUM_THREADS / OPENBLAS_NUM_THREADS")
     parser.add_argument("--out", type=Path, default=ROOT / "out" / "bench")
+    parser.add_argument("--redraw", action="store_true", help="no runs: the table and chart again from OUT/table.json")
     args = parser.parse_args()
+    if args.redraw:
+        return redraw(args.out)
     chosen = jobs()
     if args.only:
         names = {name.strip() for name in args.only.split(",")}

@@ -78,7 +78,7 @@ def write_chart(path: Path, rows: list[Row], machine: dict) -> None:
     ax.legend(handles + [plt.Line2D([], [], marker="|", linestyle="", color="black", markersize=10)],
               ["target met", "target missed", "no target", "target ratio"], fontsize=7, loc="lower right")
     ax.set_xlabel("ratio: times better than the peer measured in the same run (log scale; > 1: ours better)")
-    ax.set_title("\n".join(textwrap.wrap("animanifold benchmark table. " + machine_line(machine), 150)), fontsize=8)
+    fig.suptitle("\n".join(textwrap.wrap("animanifold benchmark table. " + machine_line(machine), 170)), fontsize=8)
     if left_out:
         fig.text(0.01, 0.005, "\n".join(textwrap.wrap("No peer figure (see the table): " + "; ".join(left_out), 190)),
                  fontsize=6, va="bottom")
