@@ -28,14 +28,20 @@ def split_seam(vertices: np.ndarray, faces: np.ndarray, seam: np.ndarray) -> tup
     return np.concatenate([vertices, vertices[seam]]), faces
 
 
+def refusing_unique_over_tracks(unique):
+    """np.unique that refuses rows (axis=...): the comparison of whole tracks the hashes should spare."""
+    def refuse(values, *args, **kwargs):
+        if kwargs.get("axis") is not None:
+            raise AssertionError("np.unique over tracks called though the hashes settle the order")
+        return unique(values, *args, **kwargs)
+    return refuse
+
+
 def test_seamless_mesh_keeps_index_order_without_comparing_tracks(monkeypatch):
     v, f = icosphere(3)
     frames = wobble(v, TIMES)
 
-    def refuse(*args, **kwargs):
-        raise AssertionError("np.unique over tracks called for a mesh without seams")
-
-    monkeypatch.setattr(stitching.np, "unique", refuse)
+    monkeypatch.setattr(stitching.np, "unique", refusing_unique_over_tracks(np.unique))
     assert np.array_equal(stitching._seam_order(frames), np.arange(len(v)))
 
 
@@ -50,6 +56,17 @@ def test_seam_copies_follow_their_first_copy_as_np_unique_orders_them():
     position[order] = np.arange(len(order))
     copies = len(v) - len(seam) + np.arange(len(seam))
     assert np.array_equal(position[copies], position[seam] + 1)
+
+
+def test_seam_copies_are_grouped_by_whole_track_hashes_without_np_unique(monkeypatch):
+    """Copies whose whole-track hashes group them exactly need no np.unique over tracks."""
+    v, f = icosphere(3)
+    v, f = split_seam(v, f, np.flatnonzero(np.abs(v[:, 2]) < 0.5))
+    frames = wobble(v, TIMES)
+    expected = stitching._seam_order_by_unique(frames)
+
+    monkeypatch.setattr(stitching.np, "unique", refusing_unique_over_tracks(np.unique))
+    assert np.array_equal(stitching._seam_order(frames), expected)
 
 
 def test_stitched_seam_welds_shut():
@@ -71,7 +88,7 @@ def test_order_is_exact_when_every_hash_collides(monkeypatch):
     frames = rng.integers(0, 3, size=(5, 200, 3)).astype(np.float64)
     frames[[0, 2, 4]] = 0.0  # first, middle and last keyframes alike for every vertex
     frames[:, 150:] = frames[:, :50]  # fifty exact copies
-    monkeypatch.setattr(stitching, "_track_hashes", lambda flat: np.zeros(flat.shape[1], dtype=np.uint64))
+    monkeypatch.setattr(stitching, "_track_hashes", lambda flat, *keyframes: np.zeros(flat.shape[1], dtype=np.uint64))
     assert np.array_equal(stitching._seam_order(frames), stitching._seam_order_by_unique(frames))
 
 

@@ -30,20 +30,41 @@ def _mixed(words: np.ndarray) -> np.ndarray:
     return words ^ (words >> np.uint64(31))
 
 
-def _track_hashes(flat: np.ndarray) -> np.ndarray:
-    """(k,) uint64: a hash of each vertex's positions in the first, middle and
-    last keyframes of `flat` (m, k, d) float64. Equal tracks hash alike (−0.0
-    counts as 0.0, as it compares equal); vertices apart in any of those three
-    keyframes rarely do. Three keyframes, not all: enough to tell a seamless
-    mesh's vertices apart, at a fraction of the cost."""
+def _track_hashes(flat: np.ndarray, keyframes: Sequence[int] | None = None) -> np.ndarray:
+    """(k,) uint64: a hash of each vertex's positions in `keyframes` of `flat`
+    (m, k, d) float64 (default: the first, middle and last, enough to tell a
+    seamless mesh's vertices apart at a fraction of the cost of all). Equal
+    tracks hash alike (−0.0 counts as 0.0, as it compares equal); vertices
+    apart in any of the keyframes rarely do."""
     m, k, d = flat.shape
+    if keyframes is None:
+        keyframes = sorted({0, m // 2, m - 1}) if m else []
     hashes = np.zeros(k, dtype=np.uint64)
     with np.errstate(over="ignore"):
-        for i in sorted({0, m // 2, m - 1} if m else set()):
+        for i in keyframes:
             words = _mixed((flat[i] + 0.0).view(np.uint64) + _GOLDEN * np.uint64(i * d + 1))
             for c in range(d):
                 hashes = (hashes ^ words[:, c]) * _GOLDEN + np.uint64(c + 1)
     return hashes
+
+
+def _first_copies(stacked: np.ndarray, flat: np.ndarray, candidates: np.ndarray) -> np.ndarray:
+    """For each of `candidates` (ascending vertex indices), the first vertex whose
+    track equals its own, as np.unique over their tracks would group them. Groups
+    by a hash of whole tracks and checks each member equals its group's first
+    (== in the input's dtype); on any mismatch (a collision, or NaN, which
+    equals nothing) it asks np.unique."""
+    m, _, d = stacked.shape
+    hashes = _track_hashes(flat[:, candidates], range(m))
+    by_hash = np.argsort(hashes, kind="stable")
+    starts = np.r_[True, hashes[by_hash][1:] != hashes[by_hash][:-1]]
+    first = np.empty(len(candidates), dtype=np.int64)
+    first[by_hash] = by_hash[np.flatnonzero(starts)[np.cumsum(starts) - 1]]
+    if np.array_equal(stacked[:, candidates], stacked[:, candidates[first]]):
+        return candidates[first]
+    tracks = np.ascontiguousarray(stacked[:, candidates, :].transpose(1, 0, 2).reshape(len(candidates), m * d))
+    _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)
+    return candidates[first[np.asarray(group).reshape(-1)]]
 
 
 def _seam_order(stacked: np.ndarray, flat: np.ndarray | None = None) -> np.ndarray:
@@ -53,10 +74,9 @@ def _seam_order(stacked: np.ndarray, flat: np.ndarray | None = None) -> np.ndarr
     seam alike, so animanifold.weld() closes the seam completely.
 
     stacked: (m, k, d) keyframes; flat: the same as float64 (m, k, d), when the
-    caller already has it. Copies are found by np.unique over the tracks (rows of
-    m·d numbers), but only among the vertices whose hash is shared: equal tracks
-    hash alike, so every group of copies lies in that set, and a mesh without
-    seams is settled by the hashes alone."""
+    caller already has it. Copies are looked for only among the vertices whose
+    hash is shared: equal tracks hash alike, so every group of copies lies in
+    that set, and a mesh without seams is settled by the hashes alone."""
     m, k, d = stacked.shape
     if flat is None:
         flat = np.asarray(stacked, dtype=np.float64)
@@ -66,10 +86,8 @@ def _seam_order(stacked: np.ndarray, flat: np.ndarray | None = None) -> np.ndarr
     if shared.size == 0:
         return np.arange(k, dtype=np.int32)
     candidates = np.flatnonzero(np.isin(hashes, shared))
-    tracks = np.ascontiguousarray(stacked[:, candidates, :].transpose(1, 0, 2).reshape(len(candidates), m * d))
-    _, first, group = np.unique(tracks, axis=0, return_index=True, return_inverse=True)
     first_copy = np.arange(k)
-    first_copy[candidates] = candidates[first[np.asarray(group).reshape(-1)]]
+    first_copy[candidates] = _first_copies(stacked, flat, candidates)
     return np.argsort(first_copy, kind="stable").astype(np.int32)
 
 
