@@ -3,6 +3,7 @@
     python3 bench/bench_laplacian.py            # everything (the 100k tet manifold takes minutes)
     python3 bench/bench_laplacian.py --quick    # the 2.5k block only
     python3 bench/bench_laplacian.py --no-tets --no-blender
+    python3 bench/bench_laplacian.py --json out.json   # the figures also as JSON (bench/run_all.py)
 
 Cases:
   block      the Figure 4.11 block (2,450 vertices, triangles in R^3): bottom cap
@@ -34,6 +35,9 @@ import animanifold as am  # noqa: E402
 from animanifold import _core  # noqa: E402
 from helpers.laplacian_shapes import block, face_normals, folded_edges  # noqa: E402
 from helpers.shapes import icosphere  # noqa: E402
+
+sys.path.insert(0, str(ROOT / "bench"))
+from figures import add_json_option, write_json  # noqa: E402
 
 SEED_TABLE = {  # Figure 4.12 (the dissertation's block, ~2500 vertices, 2008 hardware)
     "uniform": ("0.11 s", "0.01 s", "---"),
@@ -82,6 +86,14 @@ def time_method(V, F, anchors, handles, method, transforms, solves=10, restore_c
     return init, float(np.mean(deform_times)), restore, statuses, outs, d
 
 
+def method_figures(init, deform, restore, statuses) -> dict:
+    figures = {"initialise_s": init, "deform_s": deform, "solves_per_s": 1 / deform, "restore_s": restore}
+    if statuses:
+        figures["restore_iterations"] = statuses[0].iterations
+        figures["restore_converged"] = bool(statuses[0].converged)
+    return figures
+
+
 def bench_block():
     V, F = block()
     bottom, top = caps(V)
@@ -96,8 +108,10 @@ def bench_block():
           f"= {qp / len(V) * 1e6:.1f} µs/vertex (seed: 55.41 s for the whole initialise, CGAL QP)")
     print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} "
           f"{'restore its':>12s} {'inverted π/4,π/2,3π/4':>22s} | seed (Fig 4.12): init, deform, restore")
+    figures = {"vertices": len(V)}
     for method in ("uniform", "cotangent", "graph", "dual"):
         init, deform, restore, statuses, outs, _ = time_method(V, F, bottom, top, method, transforms, solves=20)
+        figures[method] = method_figures(init, deform, restore, statuses)
         inv = ",".join(str(inverted_faces(V, F, o, a)) for o, a in zip(outs, angles))
         its = ",".join(f"{s.iterations}{'' if s.converged else '!'}" for s in statuses) or "---"
         seed = SEED_TABLE[method]
@@ -114,22 +128,26 @@ def bench_block():
         row.append(f"{inverted_faces(V, F, out, a)} inverted/{folded_edges(V, out, F)} folded ({d.status.iterations} its)")
     print(f"dual, deform(steps = angle/(π/4)) + restore: {'; '.join(row)}; total {time.perf_counter() - t0:.3f}s")
     print("('!' after an iteration count: restore hit its cap before motion < 1e-6)")
+    return figures
 
 
-def bench_surface():
+def bench_surface(methods=("uniform", "cotangent", "graph", "dual")):
     V, F = block(70, 70, 300, (1.0, 1.0, 4.3))
     bottom, top = caps(V)
     T = twist(V, np.pi / 2)
     print(f"\n== ~100k surface: the block refined, {len(V)} vertices, {len(F)} triangles; top cap rotated π/2 ==")
     print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
-    for method in ("uniform", "cotangent", "graph", "dual"):
+    figures = {"vertices": len(V)}
+    for method in methods:
         init, deform, restore, statuses, _, d = time_method(V, F, bottom, top, method, [T], solves=5)
+        figures[method] = method_figures(init, deform, restore, statuses)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} "
               f"{(f'{restore:.2f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}")
+    return figures
 
 
-def bench_tets():
+def bench_tets(methods=("uniform", "graph", "dual")):
     v, f = icosphere(4)
     m = 40
     times = np.linspace(0, 4, m)
@@ -147,26 +165,28 @@ def bench_tets():
     _core._testing.primal_weights(P, S, "graph")
     print(f"graph-Laplacian weights alone: {time.perf_counter() - t0:.2f} s")
     print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
-    for method in ("uniform", "graph", "dual"):
+    figures = {"vertices": len(P), "tets": len(S)}
+    for method in methods:
         init, deform, restore, statuses, _, d = time_method(P, S, anchors, handles, method, [T], solves=2, restore_cap=30)
+        figures[method] = method_figures(init, deform, restore, statuses)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.0f}ms {1 / deform:9.2f} "
               f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}",
               flush=True)
+    return figures
 
 
 def bench_blender(cases):
     try:
-        import bpy  # noqa: F401
+        import bpy
     except ImportError:
         print("\n== Blender peer: bpy is not importable here; skipped ==")
-        return
-    import bpy
-    from mathutils import Matrix
+        return {"skipped": "bpy is not importable"}
 
     print(f"\n== Blender {bpy.app.version_string} Laplacian Deform modifier (peer): Hook(handles → Empty) + "
           f"LaplacianDeform(anchors ∪ handles), same mesh and motion ==")
     print(f"{'mesh':10s} {'vertices':>9s} {'bind':>9s} {'per frame':>10s} {'frames/s':>9s} {'inverted 3π/4':>14s}")
+    figures = {"blender": bpy.app.version_string}
     for name, (V, F) in cases.items():
         bpy.ops.wm.read_factory_settings(use_empty=True)
         bottom, top = caps(V)
@@ -215,6 +235,8 @@ def bench_blender(cases):
         per_frame = (time.perf_counter() - t0) / frames
         inv = inverted_faces(V, F, out, 3 * np.pi / 4) if out.shape == V.shape else -1
         print(f"{name:10s} {len(V):9d} {bind:8.3f}s {per_frame * 1e3:8.1f}ms {1 / per_frame:9.1f} {inv:14d}")
+        figures[name] = {"vertices": len(V), "bind_s": bind, "frame_s": per_frame, "solves_per_s": 1 / per_frame}
+    return figures
 
 
 def main():
@@ -223,18 +245,24 @@ def main():
     parser.add_argument("--no-surface", action="store_true")
     parser.add_argument("--no-tets", action="store_true")
     parser.add_argument("--no-blender", action="store_true")
+    parser.add_argument("--surface-methods", default="uniform,cotangent,graph,dual",
+                        help="comma-separated methods timed on the ~100k surface")
+    parser.add_argument("--tets-methods", default="uniform,graph,dual",
+                        help="comma-separated methods timed on the ~100k animation manifold")
+    add_json_option(parser)
     args = parser.parse_args()
     print(f"animanifold Laplacian benchmark; numpy {np.__version__}")
-    bench_block()
+    figures = {"block": bench_block()}
     if not args.quick and not args.no_surface:
-        bench_surface()
+        figures["surface"] = bench_surface(args.surface_methods.split(","))
     if not args.no_blender:
         cases = {"block": block()}
         if not args.quick and not args.no_surface:
             cases["surface"] = block(70, 70, 300, (1.0, 1.0, 4.3))
-        bench_blender(cases)
+        figures["blender_modifier"] = bench_blender(cases)
     if not args.quick and not args.no_tets:
-        bench_tets()
+        figures["tets"] = bench_tets(args.tets_methods.split(","))
+    write_json(args.json, figures)
 
 
 if __name__ == "__main__":

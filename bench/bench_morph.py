@@ -64,6 +64,7 @@ seed report takes about five minutes on two cores, most of it in the peer at
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import shutil
@@ -85,6 +86,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 import animanifold as am  # noqa: E402
 import morph_bar  # noqa: E402  (the --bar mode)
+from figures import write_json  # noqa: E402
 from animanifold.morph_pipeline import METHODS  # noqa: E402
 from animanifold.procedural import icosphere, smooth_genus3  # noqa: E402
 
@@ -429,6 +431,8 @@ def build_parser() -> argparse.ArgumentParser:
                       help="voxels per bbox diagonal of the target, comma separated (peer cost ~ N^3)")
     parser.add_argument("--no-peer", action="store_true", help="skip the OpenVDB peer")
     parser.add_argument("--build", type=Path, default=ROOT / "build")
+    parser.add_argument("--json", type=Path, default=None, metavar="PATH",
+                        help="--bar: also write every pair's rows as JSON to PATH (bench/run_all.py reads it)")
     return parser
 
 
@@ -444,10 +448,12 @@ def bar_mode(args) -> int:
         exe, why = vdb_executable(args.build)
     work = Path(tempfile.mkdtemp(prefix="bench_morph_bar_"))
     try:
-        morph_bar.run_bar(pairs, methods, args.frames, work, exe, why,
-                          None if args.no_peer else args.vdb_resolution)
+        results = morph_bar.run_bar(pairs, methods, args.frames, work, exe, why,
+                                    None if args.no_peer else args.vdb_resolution)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+    write_json(args.json, {"frames": args.frames, "peer_unavailable": why,
+                           "pairs": {pair.name: [dataclasses.asdict(row) for row in rows] for pair, rows in results}})
     return 0
 
 

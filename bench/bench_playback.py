@@ -21,7 +21,7 @@ rewrites positions and UVs on every frame, computing them).
 The machine's load matters: the modifier's work is multi-threaded, so figures
 from a busy machine are lower and noisier than from an idle one.
 
-    python3 bench/bench_playback.py [--segments 180] [--rings 140] [--loops 3]
+    python3 bench/bench_playback.py [--segments 180] [--rings 140] [--loops 3] [--json PATH]
 """
 
 from __future__ import annotations
@@ -41,6 +41,7 @@ for p in (str(ROOT / "python"), str(ROOT / "addon"), str(ROOT / "blender_scenes"
 import bpy  # noqa: E402
 
 from build_demo_scene import build_demo_scene  # noqa: E402
+from figures import add_json_option, write_json  # noqa: E402
 
 
 def playback_fps(scene, frames, loops, probe=None, per_frame=None, started=None) -> list[float]:
@@ -93,6 +94,7 @@ def main() -> int:
     parser.add_argument("--rings", type=int, default=140)
     parser.add_argument("--loops", type=int, default=3)
     parser.add_argument("--no-handler-path", action="store_true", help="skip the handler-writes-every-frame path")
+    add_json_option(parser)
     args = parser.parse_args()
     import animanifold_blender
 
@@ -212,6 +214,7 @@ def main() -> int:
             result["fps"]["b_live_handler_writes"] = round(fps_handler, 1)
             result["ratios"]["live/handler_writes"] = float(f"{fps_live / fps_handler:.3g}")
         print(json.dumps(result, indent=2))
+        write_json(args.json, result)
     finally:
         animanifold_blender.unregister()  # bpy as a module hangs at exit with classes registered
     return 0

@@ -1,7 +1,7 @@
 """Benchmark of barycentric refinement (issue 4): 100k random splits on a ~1M-tet
 animation manifold. Prints splits per second and peak memory.
 
-    PYTHONPATH=python python3 bench/bench_refine.py [--order degeneracy|given] [--check]
+    PYTHONPATH=python python3 bench/bench_refine.py [--order degeneracy|given] [--check] [--json PATH]
 
 The manifold is a torus of 2·u·v triangles (u=100, v=50: 10k faces) stitched
 over 35 keyframes of a travelling wave: 3·10000·34 = 1,020,000 tets in R^4.
@@ -19,6 +19,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold import _core
+from figures import add_json_option, write_json
 
 
 def torus(u: int, v: int) -> tuple[np.ndarray, np.ndarray]:
@@ -45,6 +46,7 @@ def main() -> None:
     parser.add_argument("--v", type=int, default=50)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--check", action="store_true", help="also verify the result is an oriented manifold")
+    add_json_option(parser)
     args = parser.parse_args()
 
     V, F = torus(args.u, args.v)
@@ -78,6 +80,8 @@ def main() -> None:
           f"{elapsed:.2f} s = {n / elapsed:,.0f} splits/s")
     print(f"result: {len(r.points):,} vertices, {len(r.simplices):,} tets; "
           f"peak memory (ru_maxrss) {peak_mib():.0f} MiB")
+    write_json(args.json, {"tets": len(simplices), "splits": n, "applied": applied, "seconds": elapsed,
+                           "splits_per_s": n / elapsed, "peak_mib": peak_mib(), "order": args.order})
     if args.check:
         report = _core.check_manifold(r.simplices)
         volume = (_core._testing.simplex_volumes(r.points, r.simplices).sum(), _core._testing.simplex_volumes(points, simplices).sum())

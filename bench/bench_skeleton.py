@@ -26,6 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
 import animanifold as am  # noqa: E402
+from figures import add_json_option, write_json  # noqa: E402
 
 SEED_SEPARABILITY_S = 80.5
 SEED_TOTAL_S = 240.0
@@ -81,7 +82,11 @@ def run_mcf(exe: Path, mesh_path: Path):
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--build", type=Path, default=ROOT / "build")
+    parser.add_argument("--build", type=Path, default=ROOT / "build",
+                        help="the CMake build holding bench_mcf_skeleton (the CGAL peer)")
+    parser.add_argument("--cases", default=None,
+                        help="comma-separated file names of the cases to run (3holes.off, bunny.off, torus-5000.off)")
+    add_json_option(parser)
     args = parser.parse_args()
 
     data = ROOT.parent / "shared" / "data" / "meshes"
@@ -96,6 +101,10 @@ def main() -> int:
     torus_path = tmp / "torus-5000.off"
     am.write_mesh(torus_path, tv, tf)
     cases.append(("irregular torus, 5000 vertices (genus 1)", torus_path, None))
+    if args.cases:
+        wanted = {name.strip() for name in args.cases.split(",")}
+        cases = [case for case in cases if case[1].name in wanted]
+    figures = {}
 
     print(f"Voronoi skeleton benchmark (median of {args.repeat}); dissertation's seed on its 5000-vertex "
           f"fertility model: separability {SEED_SEPARABILITY_S} s (2 rounds), total {SEED_TOTAL_S:.0f} s; "
@@ -114,9 +123,13 @@ def main() -> int:
               f"separability vs seed's {SEED_SEPARABILITY_S} s: {SEED_SEPARABILITY_S / max(sep, 1e-9):,.0f}x)")
         if mcf is None:
             print(f"  CGAL MCF     :      n/a  ({why})")
+            figures[path.name] = {"vertices": len(v), "ours_s": total, "separability_s": sep, "mcf_unavailable": why}
         else:
             print(f"  CGAL MCF     : {mcf['mcf_seconds']:8.3f} s  (Mean_curvature_flow_skeletonization: "
                   f"{mcf['skeleton_vertices']} curve vertices, {mcf['skeleton_edges']} edges)")
+            figures[path.name] = {"vertices": len(v), "ours_s": total, "separability_s": sep,
+                                  "mcf_s": mcf["mcf_seconds"]}
+    write_json(args.json, figures)
     return 0
 
 

@@ -4,14 +4,18 @@
    peak resident memory (the process's high-water mark before and after).
 2. OpenSubdiv Loop refinement of a ~50k-face frame to level 2 (limit
    positions, creases by dihedral angle): time per frame, topology built anew
-   each frame as live playback must (slices change topology).
+   each frame as live playback must (slices change topology). Catmull-Clark on
+   the same frame's quads, next to Blender's Subdivision Surface modifier
+   (bpy, level 2, limit surface) on the same quads when bpy imports: the mesh
+   tagged changed and the evaluated mesh read every time.
 3. Live playback path: slice + smooth_levels=2 per frame on the 1M-tet manifold.
 
-Run:  PYTHONPATH=python:tests python3 bench/bench_subdivide.py
+Run:  PYTHONPATH=python:tests python3 bench/bench_subdivide.py [--json PATH]
 """
 
 from __future__ import annotations
 
+import argparse
 import resource
 import sys
 import time
@@ -24,6 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import animanifold as am  # noqa: E402
 from helpers.shapes import icosphere  # noqa: E402
+from figures import add_json_option, write_json  # noqa: E402
 
 
 def peak_mb() -> float:
@@ -42,7 +47,41 @@ def torus(n: int, m: int, R: float = 1.0, r: float = 0.35) -> tuple[np.ndarray, 
     return pts, faces.astype(np.int32)
 
 
+def blender_subsurf_ms(vertices: np.ndarray, quads: np.ndarray, levels: int = 2, runs: int = 5) -> dict:
+    """Median ms of Blender's Subdivision Surface modifier re-evaluating `quads` at `levels`
+    (the mesh tagged changed each time, so the topology is refined anew, and the evaluated mesh
+    read); {"blender_unavailable": why} without bpy."""
+    try:
+        import bpy
+    except ImportError as error:
+        return {"blender_unavailable": f"bpy is not importable ({error})"}
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    mesh = bpy.data.meshes.new("frame")
+    mesh.from_pydata(vertices.tolist(), [], quads.tolist())
+    mesh.update()
+    obj = bpy.data.objects.new("frame", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    modifier = obj.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels = modifier.render_levels = levels
+    seconds, faces = [], 0
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        mesh.update()
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        depsgraph.update()
+        evaluated = obj.evaluated_get(depsgraph)
+        faces = len(evaluated.to_mesh().polygons)
+        evaluated.to_mesh_clear()
+        seconds.append(time.perf_counter() - t0)
+    return {"blender_ms": 1000 * float(np.median(seconds)), "blender_faces": faces,
+            "blender_peer": f"Blender {bpy.app.version_string} Subdivision Surface modifier"}
+
+
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    add_json_option(parser)
+    args = parser.parse_args()
+    figures = {}
     # --- 1. manifold subdivision
     v, f = icosphere(5)  # 10242 vertices, 20480 faces
     keyframes = 17
@@ -61,6 +100,9 @@ def main() -> None:
             f"subdivide 1 level (keep_keyframe_times={keep}): {dt:.2f} s -> {len(m1.points):,} points, "
             f"{len(m1.simplices):,} tets ({out_mb:.0f} MB of arrays); peak RSS {before:.0f} -> {after:.0f} MB"
         )
+        figures[f"manifold_keep_keyframe_times_{keep}"] = {"input_tets": len(m.simplices), "seconds": dt,
+                                                          "output_tets": len(m1.simplices),
+                                                          "input_mtets_per_s": len(m.simplices) / dt / 1e6}
     t0 = time.perf_counter()
     report = m1.check()
     print(f"check_manifold of the result: {time.perf_counter() - t0:.2f} s, oriented={report.is_oriented_manifold}")
@@ -77,6 +119,7 @@ def main() -> None:
         f"Loop level 2 + limit: {1000 * np.median(runs):.0f} ms per frame (median of 5) -> "
         f"{len(r.vertices):,} vertices, {len(r.faces):,} triangles"
     )
+    figures["loop_frame"] = {"triangles": len(tf), "ms_per_frame": 1000 * float(np.median(runs))}
     quads = np.concatenate([tf[: len(tf) // 2], tf[len(tf) // 2 :, 2:3]], 1)  # (a, b, c, d) per grid cell
     runs = []
     for _ in range(5):
@@ -87,6 +130,13 @@ def main() -> None:
         f"Catmull-Clark level 2 + limit on {len(quads):,} quads: {1000 * np.median(runs):.0f} ms per frame -> "
         f"{len(r.faces):,} quads"
     )
+    figures["catmull_clark_frame"] = {"quads": len(quads), "ms_per_frame": 1000 * float(np.median(runs)),
+                                      **blender_subsurf_ms(tv, quads)}
+    peer = figures["catmull_clark_frame"]
+    if "blender_ms" in peer:
+        print(f"{peer['blender_peer']}, level 2: {peer['blender_ms']:.0f} ms per frame -> {peer['blender_faces']:,} quads")
+    else:
+        print(f"Blender peer: {peer['blender_unavailable']}")
 
     # --- 3. live path: slice the 1M-tet manifold and smooth the frame
     m.slice(0.1)  # build the interval index once
@@ -103,6 +153,8 @@ def main() -> None:
         f"slice + smooth_levels=2: {1000 * np.median(runs):.0f} ms ({len(s2.faces):,} faces) per frame"
     )
     print(f"peak RSS of the whole run: {peak_mb():.0f} MB")
+    figures["live_slice_smooth"] = {"slice_ms": 1000 * float(np.median(plain)), "slice_smooth2_ms": 1000 * float(np.median(runs))}
+    write_json(args.json, figures)
 
 
 if __name__ == "__main__":
