@@ -15,7 +15,7 @@ namespace {
 // factor on the output: measured by bench/bench_memory_estimates.py, rounded up.
 constexpr double kStitchPeak = 2.0;
 constexpr double kManifoldSubdivisionPeak = 3.0;
-constexpr double kFrameSubdivisionPeak = 4.0;
+constexpr double kFrameSubdivisionPeak = 5.0;
 constexpr double kRefinementPeak = 4.0;
 
 template <class Tables>

@@ -327,6 +327,7 @@ std::optional<PlyHeader> read_ply_header(std::ifstream& in, const std::string& p
                       " bytes can hold");
       header.elements.push_back({t[1], *declared, {}});
     } else if (t[0] == "property" && !header.elements.empty()) {
+      if (t.size() < 3) return std::nullopt;  // no type and name: CGAL judges it
       const bool list = t.size() >= 5 && t[1] == "list";
       const PlyProperty p{list, list ? ply_type_bytes(t[2]) : 0, ply_type_bytes(list ? t[3] : t[1])};
       if (p.value_bytes == 0 || (list && p.count_bytes == 0)) return std::nullopt;
