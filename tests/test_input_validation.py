@@ -223,6 +223,68 @@ def test_off_lines_that_cgal_would_read_out_of_bounds_are_refused(tmp_path, head
         _core.read_mesh(str(path))
 
 
+TETRA_POINTS = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+TETRA_FACES = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+
+
+def binary_off(tmp_path, header: bytes = b"OFF BINARY\n", counts=(4, 4), corners=None, name="binary.off"):
+    """A binary OFF tetrahedron: big-endian int32 counts, float32 points, int32 faces; `counts`
+    and face 0's `corners` as declared (the data stays the tetrahedron's)."""
+    body = np.array([*counts, 0], ">i4").tobytes() + np.array(TETRA_POINTS, ">f4").tobytes()
+    for i, face in enumerate(TETRA_FACES):
+        body += np.array([len(face) if i or corners is None else corners, *face], ">i4").tobytes()
+    path = tmp_path / name
+    path.write_bytes(header + body)
+    return path
+
+
+@pytest.mark.parametrize("header", [b"OFF BINARY\n", b"OFF\n# made by hand\nBINARY\n", b"OFF BINARY  trailing words\n"])
+def test_honest_binary_off_files_still_read(tmp_path, header):
+    vertices, faces, _ = _core.read_mesh(str(binary_off(tmp_path, header)))
+    assert vertices.tolist() == TETRA_POINTS and faces.tolist() == TETRA_FACES
+
+
+@pytest.mark.parametrize("counts, corners, message", [
+    ((100_000_000, 4), None, "declares 100000000 vertices and 4 faces, more than its 135 bytes can hold"),
+    ((4, 100_000_000), None, "declares 4 vertices and 100000000 faces, more than its 135 bytes can hold"),
+    ((-1, 4), None, "declares -1 vertices and 4 faces"),
+    ((4, 4), 400_000_000, "face 0 declares 400000000 corners, more than its 135 bytes can hold"),
+    ((4, 4), -3, "face 0 declares -3 corners"),
+])
+def test_binary_off_counts_the_file_cannot_hold_are_refused_before_reading(tmp_path, counts, corners, message):
+    path = binary_off(tmp_path, counts=counts, corners=corners, name="hostile.off")
+    assert path.stat().st_size == 135
+    with pytest.raises(_core.FileError, match=re.escape("hostile.off' (binary OFF)") + ".*" + re.escape(message)):
+        _core.read_mesh(str(path))
+
+
+def binary_stl(tmp_path, declared: int, header: bytes = b"made by hand", name="binary.stl"):
+    """A binary STL of one triangle (normal, three corners, attribute bytes) declaring `declared`."""
+    triangle = np.array([0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0], "<f4").tobytes() + b"\0\0"
+    path = tmp_path / name
+    path.write_bytes(header.ljust(80, b" ") + np.array([declared], "<u4").tobytes() + triangle)
+    return path
+
+
+def test_a_binary_stl_claiming_more_triangles_than_it_holds_is_refused(tmp_path):
+    path = binary_stl(tmp_path, 4_000_000_000, name="hostile.stl")
+    with pytest.raises(_core.FileError, match=re.escape(
+            "hostile.stl' (binary STL: it does not start with 'solid') declares 4000000000 triangles, "
+            "more than its 134 bytes can hold")):
+        _core.read_mesh(str(path))
+
+
+def test_honest_binary_and_ascii_stl_files_still_read(tmp_path):
+    vertices, faces, _ = _core.read_mesh(str(binary_stl(tmp_path, 1)))
+    assert vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]] and faces.tolist() == [[0, 1, 2]]
+    # ASCII: its bytes 80..83 (here "vert", 1.9e9 as a count) are no triangle count.
+    text = ("solid made_by_hand\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 0\n"
+            "      vertex 0 1 0\n    endloop\n  endfacet\nendsolid made_by_hand\n")
+    assert int.from_bytes(text.encode()[80:84], "little") > 10**9
+    vertices, faces, _ = _core.read_mesh(str(write(tmp_path, "ascii.stl", text)))
+    assert vertices.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]] and faces.tolist() == [[0, 1, 2]]
+
+
 def test_mesh_paths_that_are_not_regular_files_are_refused(tmp_path):
     fifo = tmp_path / "pipe.off"
     os.mkfifo(fifo)

@@ -1,4 +1,5 @@
 #include "animanifold/errors.hpp"
+#include "animanifold/memory_limit.hpp"
 #include "bindings.hpp"
 
 namespace animanifold::bindings {
@@ -40,6 +41,11 @@ void bind_errors(py::module_& m) {
                                             "message says on what, with the library's text at the end.").release();
   static py::handle cancelled = derived("Cancelled", nullptr,
                                         "The caller's progress or interrupt callback stopped a long call.").release();
+  static py::handle memory_limit_error =
+      derived("MemoryLimitError", PyExc_MemoryError,
+              "A call's estimated memory exceeds the limit (animanifold.set_memory_limit); the message names "
+              "the call, the estimate and the limit.")
+          .release();
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -53,6 +59,8 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(meshing_error.ptr(), e.what());
     } catch (const Cancelled& e) {
       PyErr_SetString(cancelled.ptr(), e.what());
+    } catch (const MemoryLimitError& e) {
+      PyErr_SetString(memory_limit_error.ptr(), e.what());
     }
   });
 }
@@ -66,10 +74,12 @@ void bind_errors_testing(py::module_& testing) {
         if (type == "BooleanError") fail<BooleanError>(message);
         if (type == "MeshingError") fail<MeshingError>(message);
         if (type == "Cancelled") throw Cancelled();
+        if (type == "MemoryLimitError") fail<MemoryLimitError>(message);
         throw std::invalid_argument("unknown core error type '" + type + "'");
       },
       py::arg("type"), py::arg("message"),
-      "Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled) "
+      "Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled, "
+      "MemoryLimitError) "
       "with `message`, through the module's translator: what a core call raises in that case.");
 }
 

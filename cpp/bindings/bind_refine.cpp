@@ -1,3 +1,4 @@
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/refine.hpp"
 #include "bindings.hpp"
 #include "named_enum.hpp"
@@ -34,6 +35,7 @@ void bind_refine(py::module_& m, py::module_& testing) {
           Complex input{V, S, std::move(vertex_attributes), std::move(simplex_attributes)};
           const SimplexMatrix ids = split_vertices;
           const PointMatrix coords = split_barycentric;
+          check_memory(refinement_memory(input, ids));
           Refinement r;
           {
             py::gil_scoped_release release;
@@ -46,7 +48,7 @@ void bind_refine(py::module_& m, py::module_& testing) {
         py::arg("order") = RefineOrder::Degeneracy,
         "Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) "
         "are the split tuples; returns a Refinement. "
-        "Raises InputError naming a bad split tuple.");
+        "Raises InputError naming a bad split tuple, MemoryLimitError when the result would not fit the memory limit.");
   testing.def("edge_length_degeneracy", [](PointsRef V, SimplicesRef S) { return edge_length_degeneracy(V, S); },
         py::arg("points"), py::arg("simplices"),
         "Variance of each simplex's edge lengths over their squared mean (§6.3). #S vector.");

@@ -1,3 +1,4 @@
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/stitch.hpp"
 #include "bindings.hpp"
 #include "interrupter.hpp"
@@ -11,6 +12,7 @@ void bind_stitch(py::module_& m) {
            const py::object& interrupted) {
           StitchInput in{frames, faces, times, std::move(vertex_attributes), std::move(face_attributes),
                          IndexVector(vertex_order)};
+          check_memory(stitch_memory(in));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           py::gil_scoped_release release;
           return std::make_shared<Complex>(stitch(in, interrupter));
@@ -19,7 +21,8 @@ void bind_stitch(py::module_& m) {
         py::arg("face_attributes") = SimplexAttributes{}, py::arg("vertex_order") = IndexVector{},
         py::kw_only(), py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),
         (std::string("Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); "
-                     "raises InputError naming the keyframe, vertex or face that is wrong.") +
+                     "raises InputError naming the keyframe, vertex or face that is wrong, MemoryLimitError when the "
+                     "manifold would not fit the memory limit.") +
          kInterrupterDoc)
             .c_str());
 }

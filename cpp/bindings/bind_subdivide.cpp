@@ -1,3 +1,4 @@
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/subdivide.hpp"
 #include "bindings.hpp"
 #include "interrupter.hpp"
@@ -24,6 +25,12 @@ FrameSubdivisionOptions frame_options(int levels, double crease_angle, bool limi
   options.crease_angle_degrees = crease_angle;
   options.limit = limit;
   return options;
+}
+
+Eigen::Index attribute_columns(const VertexAttributes& attributes) {
+  Eigen::Index columns = 0;
+  for (const auto& [name, table] : attributes) columns += table.cols();
+  return columns;
 }
 
 void bind_frame_subdivision(py::module_& m) {
@@ -68,6 +75,7 @@ void bind_subdivide(py::module_& m) {
           options.scheme = scheme;
           options.keep_keyframe_times = keep_keyframe_times;
           options.keyframe_times = std::move(keyframe_times);
+          check_memory(manifold_subdivision_memory(c, levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           ManifoldSubdivision result;
           {
@@ -82,7 +90,8 @@ void bind_subdivide(py::module_& m) {
         py::arg("keep_keyframe_times") = false, py::arg("keyframe_times") = std::vector<double>{}, py::kw_only(),
         py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),
         (std::string("Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises "
-                     "InputError for an unknown scheme or bad levels.") +
+                     "InputError for an unknown scheme or bad levels, MemoryLimitError when the result would not fit the "
+                     "memory limit.") +
          kInterrupterDoc)
             .c_str());
 
@@ -92,6 +101,8 @@ void bind_subdivide(py::module_& m) {
            SimplexAttributes face_attributes) {
           FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, scheme);
           if (crease_edges) options.crease_edges = std::move(*crease_edges);
+          check_memory(frame_subdivision_memory(V.rows(), F.rows(), static_cast<int>(F.cols()),
+                                                attribute_columns(vertex_attributes), levels));
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
@@ -103,12 +114,13 @@ void bind_subdivide(py::module_& m) {
         py::arg("crease_angle") = 30.0, py::arg("crease_edges") = py::none(), py::arg("limit") = true,
         py::arg("vertex_attributes") = VertexAttributes{}, py::arg("face_attributes") = SimplexAttributes{},
         "OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; raises "
-        "InputError for a bad mesh or scheme.");
+        "InputError for a bad mesh or scheme, MemoryLimitError when the result would not fit the memory limit.");
 
   m.def("subdivide_polyline",
         [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,
            SimplexAttributes segment_attributes) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::BSpline);
+          check_memory(frame_subdivision_memory(V.rows(), E.rows(), 2, attribute_columns(vertex_attributes), levels));
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
@@ -125,6 +137,8 @@ void bind_subdivide(py::module_& m) {
   m.def("smooth_slice",
         [](const Slice& s, int levels, double crease_angle, bool limit) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::Loop);
+          check_memory(frame_subdivision_memory(s.vertices.rows(), s.faces.rows(), static_cast<int>(s.faces.cols()),
+                                                attribute_columns(s.vertex_attributes), levels));
           py::gil_scoped_release release;
           return std::make_shared<Slice>(smooth_slice(s, options));
         },

@@ -24,6 +24,8 @@ constexpr std::uint64_t kVertexBytes = 6, kFaceBytes = 8;
 constexpr std::uint64_t kCornerBytes = 2;
 // PLY headers are a few hundred lines at most; this bounds reading a hostile one.
 constexpr int kMaxHeaderLines = 10000;
+// The bytes searched for a binary OFF file's BINARY line (blank lines and comments included).
+constexpr std::uint64_t kMaxBinaryOffHeader = 4096;
 
 // The count a token starts with, read as a C++ stream (and so CGAL's reader) reads it:
 // the leading digits, whatever follows them ("32x" is 32); a number too large for 64 bits
@@ -158,6 +160,86 @@ void check_off_faces(std::istream& in, const std::string& path, const OffLayout&
   }
 }
 
+// Where an OFF file's binary body starts, found as CGAL 5.5's header reader finds it: blanks
+// and '#' comment lines, the keyword (and the character that ends it), blanks and comments
+// again, then the word BINARY and the rest of its line. nullopt for an ASCII file, or when
+// `head` (the file's first bytes) ends first.
+std::optional<std::uint64_t> off_binary_body(const std::string& head) {
+  std::size_t p = 0;
+  const auto skip_blanks_and_comments = [&] {
+    while (p < head.size()) {
+      if (std::isspace(static_cast<unsigned char>(head[p]))) ++p;
+      else if (head[p] == '#') p = std::min(head.find('\n', p), head.size());
+      else return true;
+    }
+    return false;
+  };
+  // A word: its first character and the letters and digits after it; the character that
+  // ends it is read too. Returns that character (or '\0' at the end of `head`).
+  const auto word = [&](std::string& out) {
+    out.assign(1, head[p++]);
+    while (p < head.size() && std::isalnum(static_cast<unsigned char>(head[p]))) out += head[p++];
+    return p < head.size() ? head[p++] : '\0';
+  };
+  std::string keyword, binary;
+  if (!skip_blanks_and_comments()) return std::nullopt;
+  word(keyword);
+  if (!skip_blanks_and_comments()) return std::nullopt;
+  const char end = word(binary);
+  if (binary != "BINARY") return std::nullopt;
+  if (end != '\n') {
+    p = head.find('\n', p);
+    if (p == std::string::npos) return std::nullopt;
+    ++p;
+  }
+  return p;
+}
+
+std::int64_t read_int32_big_endian(std::istream& in) {
+  unsigned char raw[4] = {};
+  in.read(reinterpret_cast<char*>(raw), 4);
+  const std::uint32_t bits = std::uint32_t{raw[0]} << 24 | std::uint32_t{raw[1]} << 16 | std::uint32_t{raw[2]} << 8 | raw[3];
+  return static_cast<std::int32_t>(bits);
+}
+
+// Binary OFF: big-endian int32 counts ([dimension,] vertices, faces, edges), then each
+// vertex's float32 coordinates (and normal, texture coordinates), then each face as an int32
+// corner count and as many int32 indices (CGAL reads no colours in binary files). Counts
+// are refused when the bytes left cannot hold them; a negative count CGAL would take as a
+// size_t near 2^64.
+void check_off_binary(std::istream& in, const std::string& path, const OffLayout& layout, std::uint64_t body,
+                      std::uint64_t size) {
+  const std::uint64_t header = layout.dimensional ? 16 : 12;
+  if (body + header > size) return;  // CGAL fails to read the counts
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(body));
+  if (layout.dimensional) read_int32_big_endian(in);
+  const std::int64_t vertices = read_int32_big_endian(in), faces = read_int32_big_endian(in);
+  read_int32_big_endian(in);  // edges
+  const std::uint64_t left = size - body - header;
+  // A vertex's floats: coordinates, normal, texture coordinates (each one more when
+  // homogeneous); n-dimensional vertices take at least one.
+  const std::uint64_t h = layout.homogeneous ? 1 : 0;
+  const std::uint64_t vertex_bytes =
+      layout.dimensional ? 4 : 4 * ((3 + h) + (layout.normals ? 3 + h : 0) + (layout.textures ? 2 + h : 0));
+  constexpr std::uint64_t kBinaryFaceBytes = 4;  // its corner count
+  if (vertices < 0 || faces < 0 || static_cast<std::uint64_t>(vertices) > left / vertex_bytes ||
+      static_cast<std::uint64_t>(vertices) * vertex_bytes + static_cast<std::uint64_t>(faces) * kBinaryFaceBytes > left)
+    fail<IOError>("mesh file '", path, "' (binary OFF) declares ", vertices, " vertices and ", faces,
+                  " faces, more than its ", size, " bytes can hold");
+  if (layout.dimensional) return;  // their vertices' size is not known here
+  in.seekg(static_cast<std::streamoff>(vertices) * static_cast<std::streamoff>(vertex_bytes), std::ios::cur);
+  for (std::int64_t f = 0; f < faces; ++f) {
+    const std::int64_t corners = read_int32_big_endian(in);
+    if (!in) return;
+    const std::uint64_t after = size - std::min<std::uint64_t>(size, static_cast<std::uint64_t>(in.tellg()));
+    if (corners < 0 || static_cast<std::uint64_t>(corners) > after / 4)
+      fail<IOError>("mesh file '", path, "' (binary OFF): face ", f, " declares ", corners, " corners, more than its ",
+                    size, " bytes can hold");
+    in.seekg(static_cast<std::streamoff>(corners) * 4, std::ios::cur);
+  }
+}
+
 void check_off(const std::string& path, std::uint64_t size) {
   std::ifstream in(path, std::ios::binary);
   auto header = next_content_line(in);
@@ -167,7 +249,15 @@ void check_off(const std::string& path, std::uint64_t size) {
   const auto keyword_end = std::find_if(first.begin() + 1, first.end(), [](unsigned char c) { return !std::isalnum(c); });
   const auto layout = off_layout(std::string(first.begin(), keyword_end));
   if (!layout) return;
-  if (std::find(header->begin(), header->end(), "BINARY") != header->end()) return;  // no ASCII counts to check
+  std::string head(static_cast<std::size_t>(std::min<std::uint64_t>(size, kMaxBinaryOffHeader)), '\0');
+  in.clear();
+  in.seekg(0);
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  if (const auto body = off_binary_body(head)) return check_off_binary(in, path, *layout, *body, size);
+  in.clear();
+  in.seekg(0);
+  next_content_line(in);  // the keyword's line again
+  if (std::find(header->begin(), header->end(), "BINARY") != header->end()) return;  // beyond `head`: CGAL judges it
   // CGAL 5.5 finds a vertex's texture coordinates behind its colour, reading uninitialised
   // positions when the file has none; n-dimensional lines are not laid out as checked here.
   if ((layout->textures && !layout->colours) || (layout->dimensional && layout->colours))
@@ -237,6 +327,7 @@ std::optional<PlyHeader> read_ply_header(std::ifstream& in, const std::string& p
                       " bytes can hold");
       header.elements.push_back({t[1], *declared, {}});
     } else if (t[0] == "property" && !header.elements.empty()) {
+      if (t.size() < 3) return std::nullopt;  // no type and name: CGAL judges it
       const bool list = t.size() >= 5 && t[1] == "list";
       const PlyProperty p{list, list ? ply_type_bytes(t[2]) : 0, ply_type_bytes(list ? t[3] : t[1])};
       if (p.value_bytes == 0 || (list && p.count_bytes == 0)) return std::nullopt;
@@ -307,6 +398,27 @@ void check_ply(const std::string& path, std::uint64_t size) {
     check_ply_binary_lists(in, *header, path, size);
 }
 
+// Binary STL: an 80-byte header, a little-endian uint32 triangle count, 50 bytes per
+// triangle. CGAL 5.5 reads a file that starts (after blanks) with "solid" and a blank as
+// ASCII, any other as binary; its binary reader reads triangle by triangle, so a count beyond
+// the file fails late with CGAL's words: refused here with the count.
+void check_stl(const std::string& path, std::uint64_t size) {
+  constexpr std::uint64_t kHeader = 84, kTriangle = 50;
+  std::ifstream in(path, std::ios::binary);
+  std::string head(static_cast<std::size_t>(std::min<std::uint64_t>(size, kMaxBinaryOffHeader)), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  const std::size_t first = head.find_first_not_of(" \t\n\v\f\r");
+  if (first == std::string::npos) return;  // blank (as far as read): nothing to count
+  const bool ascii = head.compare(first, 5, "solid") == 0 && first + 5 < head.size() &&
+                     (head[first + 5] == ' ' || head[first + 5] == '\n' || head[first + 5] == '\r');
+  if (ascii || size < kHeader) return;
+  std::uint64_t triangles = 0;
+  for (int i = 3; i >= 0; --i) triangles = triangles << 8 | static_cast<unsigned char>(head[80 + i]);
+  if (kHeader + triangles * kTriangle > size)
+    fail<IOError>("mesh file '", path, "' (binary STL: it does not start with 'solid') declares ", triangles,
+                  " triangles, more than its ", size, " bytes can hold (84 + 50 per triangle)");
+}
+
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -326,6 +438,7 @@ void check_mesh_file(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext == ".off") check_off(path, size);
   else if (ext == ".ply") check_ply(path, size);
+  else if (ext == ".stl") check_stl(path, size);
 }
 
 }  // namespace animanifold

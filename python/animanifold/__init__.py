@@ -18,6 +18,7 @@ topology. ::
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
     m = am.morph((VS, FS), (VT, FT))          # chapters 5, 8; m.slice(t) honours shared holes
     H = am.hole_space(vertices, faces)        # CH(C) \\ C (§8.6.5), with intersect_/subtract_solid
+    am.set_memory_limit(2**30)                # calls that would need more raise am.MemoryLimitError
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
@@ -29,6 +30,7 @@ from .holes import BooleanError, hole_space, intersect_solids, solid_measure, su
 from .interval_frame import IntervalFrame
 from .laplacian import Deformer, LaplacianOptions, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
 from .manifold import AnimationManifold, HoleSpaceWarning, axis_index
+from .memory_limits import MemoryLimitError, memory_limit, set_memory_limit
 from .meshio import read_mesh, write_mesh
 from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
@@ -73,6 +75,8 @@ __all__ = [
     "LaplacianOptions",
     "laplacian_deform",
     "load",
+    "memory_limit",
+    "MemoryLimitError",
     "morph",
     "read_mesh",
     "refine",
@@ -85,6 +89,7 @@ __all__ = [
     "regularise",
     "rotation_matrix",
     "save",
+    "set_memory_limit",
     "smooth_slice",
     "solid_measure",
     "stitch",

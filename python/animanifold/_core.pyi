@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldReport', 'ManifoldScheme', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -32,6 +32,10 @@ class MeshingError(Error, RuntimeError):
 class Cancelled(Error):
     """
     The caller's progress or interrupt callback stopped a long call.
+    """
+class MemoryLimitError(Error, MemoryError):
+    """
+    A call's estimated memory exceeds the limit (animanifold.set_memory_limit); the message names the call, the estimate and the limit.
     """
 class Complex:
     """
@@ -1159,6 +1163,10 @@ class Deformer:
         """
         Current points (#V by D).
         """
+def available_memory() -> int:
+    """
+    The memory the system can give without swapping, in bytes.
+    """
 def boundary_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
     """
     Facets (#B by k) that belong to one simplex only, oriented outward.
@@ -1207,6 +1215,14 @@ def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy
     """
     Splits encroached faces until the mesh is Voronoi-separable (§7.2): a SeparabilityResult.
     """
+def memory_limit() -> int:
+    """
+    The memory limit in force, in bytes: the one set, else half of the available memory now.
+    """
+def memory_limit_setting() -> int | None:
+    """
+    The memory limit set, or None when the default applies.
+    """
 def morph(source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], options: typing.Any = None, progress: typing.Any = None, interrupted: typing.Any = None, **kwargs) -> tuple[Complex, MorphReport]:
     """
     Morph between two closed shapes: (manifold Complex, MorphReport). `options` (a MorphOptions; fields may also be given by keyword, enums by name: method='field'). `progress(stage, fraction)` is called between stages and `interrupted()` about every 0.1 s while a mesher runs; False from the one, True from the other, cancels (raises Cancelled). Raises InputError naming a bad input, MeshingError when a mesher fails.
@@ -1221,11 +1237,15 @@ def read_mesh(path: str) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.fl
     """
 def refine(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]], simplex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]], split_vertices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], split_barycentric: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], epsilon: typing.SupportsFloat | typing.SupportsIndex = 0.001, order: RefineOrder = ...) -> Refinement:
     """
-    Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) are the split tuples; returns a Refinement. Raises InputError naming a bad split tuple.
+    Barycentric refinement (chapter 6). split_vertices (T by m, -1 padded) and split_barycentric (T by m) are the split tuples; returns a Refinement. Raises InputError naming a bad split tuple, MemoryLimitError when the result would not fit the memory limit.
     """
 def self_intersections(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_pairs: typing.SupportsInt | typing.SupportsIndex = 1, tolerance: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> list[tuple[int, int]]:
     """
     Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all. tolerance > 0: only pairs that pass through each other by more than that (rounding left out).
+    """
+def set_memory_limit(bytes: typing.SupportsInt | typing.SupportsIndex | None) -> None:
+    """
+    Sets the most memory one core call may estimate it needs (stitch, subdivide, refine, frame subdivision); None returns to the default, half of the available memory. Raises InputError for 0.
     """
 def smooth_slice(slice: Slice, levels: typing.SupportsInt | typing.SupportsIndex, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True) -> Slice:
     """
@@ -1237,15 +1257,15 @@ def solid_measure(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64]
     """
 def stitch(frames: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], times: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}, vertex_order: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"] = ..., *, progress: typing.Any = None, interrupted: typing.Any = None) -> Complex:
     """
-    Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises InputError naming the keyframe, vertex or face that is wrong. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
+    Keyframes ((m*k) by d, keyframe-major) with shared faces → animation manifold (a Complex); raises InputError naming the keyframe, vertex or face that is wrong, MemoryLimitError when the manifold would not fit the memory limit. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
     """
 def subdivide_frame(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: FrameScheme = ..., crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, crease_edges: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"] | None = None, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, face_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> FrameSubdivision:
     """
-    OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; raises InputError for a bad mesh or scheme.
+    OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; raises InputError for a bad mesh or scheme, MemoryLimitError when the result would not fit the memory limit.
     """
 def subdivide_manifold(manifold: Complex, levels: typing.SupportsInt | typing.SupportsIndex = 1, scheme: ManifoldScheme = ..., keep_keyframe_times: bool = False, keyframe_times: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex] = [], *, progress: typing.Any = None, interrupted: typing.Any = None) -> SubdividedManifold:
     """
-    Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
+    Schaefer et al. 2004 subdivision of a tet (or triangle) manifold: a SubdividedManifold; raises InputError for an unknown scheme or bad levels, MemoryLimitError when the result would not fit the memory limit. `progress(step, fraction)` is called as each step starts and through long loops, with fractions growing in [0, 1]; `interrupted()` is polled with it; False from the one or True from the other raises Cancelled (so does Ctrl-C).
     """
 def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], segments: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], levels: typing.SupportsInt | typing.SupportsIndex = 1, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True, vertex_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]] = {}, segment_attributes: collections.abc.Mapping[str, typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]"]] = {}) -> FrameSubdivision:
     """
@@ -1390,7 +1410,7 @@ class _testing:
     @staticmethod
     def raise_error(type: str, message: str) -> None:
         """
-        Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled) with `message`, through the module's translator: what a core call raises in that case.
+        Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled, MemoryLimitError) with `message`, through the module's translator: what a core call raises in that case.
         """
     @staticmethod
     def set_omp_threads(threads: typing.SupportsInt | typing.SupportsIndex) -> int:

@@ -29,7 +29,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ._core import Error
+from ._core import Error, MemoryLimitError
 from . import cli_farm, cli_skeleton
 from .cache import load, save
 from .demo import run_demo as build_demo
@@ -485,6 +485,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     # ValueError covers the core's input errors and CacheError; OSError covers
     # missing, unreadable or malformed files (the core's IO errors) and unwritable outputs.
     except (UserError, ValueError, OSError) as error:
+        return report(error, EXIT_USER_ERROR)
+    except MemoryLimitError as error:  # refused before allocating: the message names the estimate and the limit
         return report(error, EXIT_USER_ERROR)
     except MemoryError:
         return report("not enough memory for this input", EXIT_USER_ERROR)

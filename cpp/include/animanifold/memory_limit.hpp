@@ -1,0 +1,65 @@
+// How much memory one core call may ask for. Calls whose output size follows from their
+// input (stitch, manifold and frame subdivision, refine: memory_estimates.hpp) estimate
+// what they will allocate before they allocate it and refuse beyond the limit, so that a
+// hostile or mistaken input (twelve levels of subdivision, a million keyframes) fails at
+// once with a message instead of the machine swapping or the kernel killing the process.
+//
+// The limit is process-wide. By default it is half of the memory available when the call
+// starts (/proc/meminfo's MemAvailable, else the free physical pages), read afresh on
+// every check; set_memory_limit() fixes it (Python: animanifold.set_memory_limit).
+#pragma once
+
+#include <cstdint>
+#include <new>
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace animanifold {
+
+// A call's estimated memory exceeds the limit; nothing was allocated. The message names the
+// call, the estimate and the limit. A std::bad_alloc, so that translating_library_failures
+// (errors.hpp) and every handler of running out of memory pass it on; Python sees
+// _core.MemoryLimitError(Error, MemoryError) (cpp/bindings/bind_errors.cpp).
+class MemoryLimitError : public std::bad_alloc {
+ public:
+  explicit MemoryLimitError(std::string message) : message_(std::move(message)) {}
+  const char* what() const noexcept override { return message_.c_str(); }
+
+ private:
+  std::string message_;
+};
+
+// Inputs:
+//   bytes  the limit to apply from now on; nullopt returns to the default (half of
+//          the available memory)
+// Throws: InputError when bytes is 0
+void set_memory_limit(std::optional<std::uint64_t> bytes);
+
+// Outputs: the limit set by set_memory_limit(), nullopt when the default applies
+std::optional<std::uint64_t> memory_limit_setting();
+
+// Outputs: the memory the system can give without swapping, in bytes
+//   (MemAvailable; the free physical pages where /proc/meminfo is missing)
+std::uint64_t available_memory();
+
+// Outputs: the limit in force now: the one set, else half of available_memory()
+std::uint64_t memory_limit();
+
+// What a call is about to do and how much memory it will take at its peak.
+struct MemoryEstimate {
+  std::string doing;  // with its sizes, for the message: "stitching 10 keyframes of ..."
+  double bytes = 0;   // a double: estimates of hostile inputs overflow 64 bits
+};
+
+// Inputs:
+//   doing  what the call is about to do, with its sizes ("stitching 10 keyframes of 5000
+//          vertices and 9996 faces"), for the message
+//   bytes  the call's estimated peak allocation (memory_estimates.hpp)
+// Throws:
+//   MemoryLimitError naming `doing`, the estimate and the limit, when bytes exceeds
+//   memory_limit()
+void check_memory(const std::string& doing, double bytes);
+inline void check_memory(const MemoryEstimate& estimate) { check_memory(estimate.doing, estimate.bytes); }
+
+}  // namespace animanifold

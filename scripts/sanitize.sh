@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# Builds the core, the Python module and the C++ tests with AddressSanitizer and
+# UndefinedBehaviorSanitizer in build-asan/ (never build/), runs ctest there, then a Python
+# smoke with the sanitized module (libasan preloaded into python3, leak checks off: CPython
+# keeps its arenas for ever), and reports what the sanitizers found. Exit status 1 when they
+# found anything. Not part of CI's 30 minutes: the first build takes ~15 min on two cores
+# (ccache makes later ones incremental); see tests/fuzz/README.md for when to run it.
+#
+#   bash scripts/sanitize.sh                  # build, ctest, Python smoke
+#   SANITIZE=thread bash scripts/sanitize.sh  # ThreadSanitizer instead, in build-tsan/
+#   SANITIZE_TESTS="tests/test_threads.py" bash scripts/sanitize.sh   # another Python subset
+#   GTEST_FILTER='Stitch*' bash scripts/sanitize.sh                   # a ctest subset
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+SANITIZE="${SANITIZE:-address,undefined}"
+if [ "$SANITIZE" = thread ]; then build="$root/build-tsan"; else build="$root/build-asan"; fi
+logs="$build/logs"
+mkdir -p "$logs"
+
+# -O1 keeps the stacks readable and the build short; NDEBUG as in release builds, so the
+# sanitizers judge the code users run (Eigen's assertions would abort first).
+echo "sanitize: building $build (-fsanitize=$SANITIZE; log $logs/build.log)"
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DANIMANIFOLD_SANITIZE="$SANITIZE" \
+  -DANIMANIFOLD_BENCH=OFF -DANIMANIFOLD_MODULE_DIR="$build/python/animanifold" > "$logs/build.log" 2>&1 \
+  || { tail -40 "$logs/build.log"; exit 1; }
+cmake --build "$build" -j"${JOBS:-2}" >> "$logs/build.log" 2>&1 || { tail -60 "$logs/build.log"; exit 1; }
+
+# The package's Python sources beside the sanitized module, so that imports find that one.
+find "$build/python/animanifold" -maxdepth 1 -name '*.py' -delete
+cp python/animanifold/*.py "$build/python/animanifold/"
+
+# Reports go to files (log_path), one per process, so that findings in the C++ tests, in
+# python3 and in the CLI subprocesses the tests start are all counted. UBSan's checks go on
+# after a report (it is compiled to recover), so one run lists every kind of finding.
+rm -f "$logs"/asan.* "$logs"/ubsan.* "$logs"/tsan.*
+export ASAN_OPTIONS="log_path=$logs/asan:detect_leaks=${DETECT_LEAKS:-0}:strict_string_checks=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="log_path=$logs/ubsan:print_stacktrace=1"
+export TSAN_OPTIONS="log_path=$logs/tsan:second_deadlock_stack=1"
+
+status=0
+echo "sanitize: ctest (log $logs/ctest.log)"
+ctest_args=(--test-dir "$build" --output-on-failure -j1 --timeout 900)
+[ -n "${GTEST_FILTER:-}" ] && ctest_args+=(-R "$GTEST_FILTER")
+ctest "${ctest_args[@]}" > "$logs/ctest.log" 2>&1 || status=1
+tail -3 "$logs/ctest.log"
+
+if [ "$SANITIZE" = thread ]; then runtime=$(gcc -print-file-name=libtsan.so); else runtime=$(gcc -print-file-name=libasan.so); fi
+tests=${SANITIZE_TESTS:-"tests/test_input_validation.py tests/test_fuzz_corpus.py tests/test_stitch.py \
+  tests/test_slice.py tests/test_refine.py tests/test_subdivide.py tests/test_cache.py tests/test_memory_limit.py"}
+echo "sanitize: pytest with the sanitized module (log $logs/pytest.log): $tests"
+# pytest puts its `pythonpath` (python/) first; -o points it at the sanitized tree instead.
+# shellcheck disable=SC2086
+LD_PRELOAD="$runtime" python3 -m pytest -q -p no:cacheprovider -o pythonpath="$build/python" \
+  $tests > "$logs/pytest.log" 2>&1 || status=1
+tail -3 "$logs/pytest.log"
+LD_PRELOAD="$runtime" PYTHONPATH="$build/python" python3 -c \
+  "import animanifold._core as c, sys; sys.exit(0 if c.__file__.startswith('$build') else 1)" \
+  || { echo "sanitize: python3 did not load the sanitized module" >&2; status=1; }
+
+reports=$(find "$logs" -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' | sort)
+if [ -n "$reports" ]; then
+  status=1
+  echo "sanitize: findings ($(echo "$reports" | wc -l) report files in $logs):"
+  # One line per distinct finding: the sanitizer's summary line.
+  cat $reports | grep -hE "^SUMMARY:|runtime error:" | sed -E 's/^[^:]*\/(cpp|python)\//\1\//' | sort | uniq -c | sort -rn
+fi
+[ "$status" = 0 ] && echo "sanitize: no findings, every test passed"
+exit "$status"
