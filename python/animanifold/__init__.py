@@ -39,7 +39,7 @@ from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
 from .stitching import stitch
 from .subdivision import SubdivideOptions, subdivide, subdivided_simplex_count
-from .threads import set_threads, threads
+from .thread_count import set_threads, threads
 from .welding import weld
 from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
