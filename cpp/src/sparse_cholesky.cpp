@@ -11,10 +11,10 @@ namespace animanifold {
 namespace {
 
 // OpenBLAS's threaded kernels split some sums by the thread count (its
-// dpotrf blocks by it), so a factorisation on 2 threads differs in the last
-// bits from one on 1. CHOLMOD's calls run BLAS on the calling thread alone
-// (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()), so
-// the Laplacian gives the same bits for any thread count (threads.hpp).
+// dpotrf blocks by it; a supernodal solve on 2 threads also differs from one
+// on 1 in the last bits), so CHOLMOD's calls run BLAS on the calling thread
+// alone (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()),
+// and the Laplacian gives the same bits for any thread count (threads.hpp).
 struct SerialBlas {
   int before = omp_get_max_threads();
   SerialBlas() { omp_set_num_threads(1); }
