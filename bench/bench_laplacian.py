@@ -217,14 +217,25 @@ def bench_blender(cases):
         print(f"{name:10s} {len(V):9d} {bind:8.3f}s {per_frame * 1e3:8.1f}ms {1 / per_frame:9.1f} {inv:14d}")
 
 
+def machine() -> str:
+    """Cores, BLAS and the thread count the core runs on."""
+    import os
+
+    blas = _core._testing.openblas_threads()
+    blas_text = f"OpenBLAS on {blas} threads" if blas else "BLAS: not OpenBLAS (reference?)"
+    return f"{os.cpu_count()} cores, {am.threads()} threads (am.threads()), {blas_text}"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="the 2.5k block only")
     parser.add_argument("--no-surface", action="store_true")
     parser.add_argument("--no-tets", action="store_true")
     parser.add_argument("--no-blender", action="store_true")
+    parser.add_argument("--threads", type=int, default=0, help="the core's threads (am.set_threads; 0: every core)")
     args = parser.parse_args()
-    print(f"animanifold Laplacian benchmark; numpy {np.__version__}")
+    am.set_threads(args.threads)
+    print(f"animanifold Laplacian benchmark; numpy {np.__version__}; {machine()}")
     bench_block()
     if not args.quick and not args.no_surface:
         bench_surface()
