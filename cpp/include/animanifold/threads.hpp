@@ -50,9 +50,11 @@ int set_thread_count(int count);
 // OpenMP's default (OMP_NUM_THREADS, else every core).
 int thread_count();
 
-// Makes the calling thread's OpenMP setting (and so OpenBLAS's) the core's
-// count: long calls that reach BLAS call it first, since OpenMP keeps that
-// setting per thread and the caller may be any thread.
+// Makes the calling thread's OpenMP setting (and so the team size of a BLAS
+// call it makes) the core's count. OpenMP keeps that setting per thread and
+// the caller may be any thread, so code that calls BLAS for a parallel
+// result calls this first (the Laplacian's CHOLMOD calls deliberately run
+// BLAS on one thread instead: see above).
 void apply_thread_count();
 
 // For the tests: the team size a core loop gets, as omp_get_num_threads()
