@@ -239,6 +239,15 @@ def bench_blender(cases):
     return figures
 
 
+def machine() -> str:
+    """Cores, BLAS and the thread count the core runs on."""
+    import os
+
+    blas = _core._testing.openblas_threads()
+    blas_text = f"OpenBLAS on {blas} threads" if blas else "BLAS: not OpenBLAS (reference?)"
+    return f"{os.cpu_count()} cores, {am.threads()} threads (am.threads()), {blas_text}"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="the 2.5k block only")
@@ -249,9 +258,11 @@ def main():
                         help="comma-separated methods timed on the ~100k surface")
     parser.add_argument("--tets-methods", default="uniform,graph,dual",
                         help="comma-separated methods timed on the ~100k animation manifold")
+    parser.add_argument("--threads", type=int, default=0, help="the core's threads (am.set_threads; 0: every core)")
     add_json_option(parser)
     args = parser.parse_args()
-    print(f"animanifold Laplacian benchmark; numpy {np.__version__}")
+    am.set_threads(args.threads)
+    print(f"animanifold Laplacian benchmark; numpy {np.__version__}; {machine()}")
     figures = {"block": bench_block()}
     if not args.quick and not args.no_surface:
         figures["surface"] = bench_surface(args.surface_methods.split(","))

@@ -4,7 +4,7 @@ baked into data that plays and renders without the add-on.
 
 Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
 
-* registration: this file; properties (every setting); handlers (every
+* registration: this file; preferences (threads, frame cache budget); properties (every setting); handlers (every
   application handler, in order); ui, ui_tools (panels);
 * operators, thin (properties, poll, execute/invoke): operators (Convert, Bake,
   Back to Live), ops_morph (Morph Selected; modal, the core in am.MorphJob's
@@ -39,10 +39,11 @@ from . import module_alias  # noqa: E402
 
 module_alias.install(__name__)  # `import animanifold_blender` also when Blender named us bl_ext.<repo>.…
 
-from . import handlers, operators, ops_cache, ops_deform, ops_morph, ops_skeleton, properties, ui, ui_tools  # noqa: E402
+from . import (handlers, operators, ops_cache, ops_deform, ops_morph, ops_skeleton, preferences, properties,  # noqa: E402
+               ui, ui_tools)
 
 # Parent panels before their sub-panels.
-classes = (properties.classes + operators.classes + ops_cache.classes + ops_skeleton.classes + ops_deform.classes
+classes = (preferences.classes + properties.classes + operators.classes + ops_cache.classes + ops_skeleton.classes + ops_deform.classes
            + ops_morph.classes
            + ui.classes
            + ui_tools.classes)
@@ -52,6 +53,7 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_properties()
+    preferences.register_preferences()
     handlers.register_handlers()
     ops_cache.register_menu()
 

@@ -11,7 +11,8 @@ the edges Blender computed the first time the cut was written (edge vertices,
 corner edges): later writes set them directly (the edge hash of a 200k-face
 frame is most of the cost of writing it).
 
-Kept least recently used first out, within BUDGET_BYTES, per loaded manifold
+Kept least recently used first out, within a budget (the add-on's Frame Cache Budget
+preference; BUDGET_BYTES by default), per loaded manifold
 (a reloaded or subdivided manifold is another object and gets its own cuts).
 
 Beside an interval's cut, each of its integer frames (interval_frame: the
@@ -20,7 +21,8 @@ would move every vertex and rebuild the UV map on every corner (600k corners for
 a 50k-triangle source) on every frame, where copying a kept frame into the mesh
 is two copies (bench_playback.py, a frame inside an interval: ~1.2 ms this way,
 the median of 5 runs on a shared 2-core machine; ~4-5 ms by the modifier). Computed
-on a frame's first visit and kept within FRAME_BUDGET_BYTES; when that is full,
+on a frame's first visit and kept within a budget of their own (the same preference;
+FRAME_BUDGET_BYTES by default); when that is full,
 no more are kept (a loop longer than the budget would otherwise evict every frame
 before it comes back) and the modifier moves the others. They go with their cut.
 """
@@ -30,10 +32,11 @@ from __future__ import annotations
 import weakref
 from collections import OrderedDict
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
-# ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
+# Defaults (preferences.DEFAULT_BUDGET_MB in the add-on). ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
 # keyframes fit, and scrubbing back and forth over them slices nothing.
 BUDGET_BYTES = 256 * 2**20
 # ~44 integer frames of that frame (100k positions, 600k corners: 6 MB each): the 40
@@ -164,13 +167,25 @@ def _padded(a) -> np.ndarray:
 
 
 class CutCache:
-    def __init__(self, budget: int = BUDGET_BYTES, frame_budget: int = FRAME_BUDGET_BYTES):
-        self.budget = budget
-        self.frame_budget = frame_budget
+    """Each budget is a byte count, or a function giving it that is asked each time the
+    cache decides what to keep (the add-on's Frame Cache Budget preference)."""
+
+    def __init__(self, budget: int | Callable[[], int] = BUDGET_BYTES,
+                 frame_budget: int | Callable[[], int] = FRAME_BUDGET_BYTES):
+        self._budget = budget
+        self._frame_budget = frame_budget
         self._entries: OrderedDict = OrderedDict()  # (id(manifold), key) -> (weakref, Cut, nbytes)
         self._bytes = 0
         self._frames: dict = {}  # (id(manifold), key) -> {frame value: Frame}, for kept cuts only
         self._frame_bytes = 0
+
+    @property
+    def budget(self) -> int:
+        return self._budget() if callable(self._budget) else self._budget
+
+    @property
+    def frame_budget(self) -> int:
+        return self._frame_budget() if callable(self._frame_budget) else self._frame_budget
 
     def get(self, manifold, key) -> Cut | None:
         entry = self._entries.get((id(manifold), key))
@@ -201,7 +216,8 @@ class CutCache:
             self._shrink()
 
     def _shrink(self) -> None:
-        while self._bytes > self.budget and len(self._entries) > 1:
+        budget = self.budget
+        while self._bytes > budget and len(self._entries) > 1:
             self._drop(next(iter(self._entries)))
         for k in [k for k, (ref, _, _) in self._entries.items() if ref() is None]:
             self._drop(k)

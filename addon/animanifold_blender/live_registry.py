@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import os
 
-from . import live_cuts
+from . import live_cuts, preferences
 from ._lib import am
 from .subdivision_cache import SubdivisionCache
 
@@ -38,7 +38,8 @@ class LiveRegistry:
         self._checked: dict[str, tuple] = {}
         self._skipped: set[str] = set()
         self.subdivisions = SubdivisionCache()
-        self.cuts = live_cuts.CutCache()
+        budget = preferences.frame_cache_budget_bytes
+        self.cuts = live_cuts.CutCache(budget=budget, frame_budget=budget)
 
     def clear(self) -> None:
         self._manifolds.clear()

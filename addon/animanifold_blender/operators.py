@@ -10,7 +10,7 @@ from __future__ import annotations
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy.types import Operator
 
-from . import bake
+from . import bake, preferences
 from .bake_object import bake_object
 from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
 from .convert import convert_object
@@ -52,6 +52,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
         return True
 
     def execute(self, context):
+        preferences.apply_threads(context)
         with reporting(self, "Convert failed"):
             scene = context.scene
             settings = scene.animanifold
@@ -101,6 +102,7 @@ class ANIMANIFOLD_OT_bake(Operator):
         return True
 
     def execute(self, context):
+        preferences.apply_threads(context)
         with reporting(self, "Bake failed"):
             settings = context.scene.animanifold
             report = bake_object(

@@ -11,6 +11,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy.types import Operator
 
+from . import preferences
 from ._lib import am
 from .deform_apply import apply_interactive, check_target, deform_object, finish_deform, plan_deform
 from .deform_constraints import (ANCHORS_KEY, HANDLES_KEY, is_manifold_object, resolve, slice_constraints, store,
@@ -69,6 +70,7 @@ class ANIMANIFOLD_OT_deform(CoreJobModal, Operator):
 
     def execute(self, context):
         """Blocking: scripts, `blender -b`, redo, and applying an interactive deformation."""
+        preferences.apply_threads(context)
         obj = context.active_object
         with reporting(self, self._failure_text(obj)):
             opt, empty = self._inputs(context, obj)
@@ -83,6 +85,7 @@ class ANIMANIFOLD_OT_deform(CoreJobModal, Operator):
     def invoke(self, context, event):
         """From the interface: the solve runs in a worker thread (am.CoreJob, job_modal), the
         progress bar follows its steps, Esc cancels and leaves the object as it was."""
+        preferences.apply_threads(context)
         obj = context.active_object
         if bpy.app.background or context.window is None or session(obj) is not None:
             return self.execute(context)

@@ -25,6 +25,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from bpy.types import Operator
 
+from . import preferences
 from ._lib import am
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
@@ -100,6 +101,7 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
 
     def execute(self, context):
         """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
+        preferences.apply_threads(context)
         inputs = self._read_inputs(context)
         if inputs is None:
             return {"CANCELLED"}
@@ -135,6 +137,7 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
     def invoke(self, context, event):
         """From the interface: the morph runs in a worker thread (am.MorphJob), the status bar shows its
         stage, Esc cancels; the interface keeps drawing and the view can be turned meanwhile."""
+        preferences.apply_threads(context)
         if bpy.app.background or context.window is None:
             return self.execute(context)
         inputs = self._read_inputs(context)

@@ -14,6 +14,7 @@ import numpy as np
 from bpy.props import EnumProperty, IntProperty
 from bpy.types import Operator
 
+from . import preferences
 from ._lib import am
 from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
@@ -62,6 +63,7 @@ class ANIMANIFOLD_OT_skeleton(CoreJobModal, Operator):
 
     def execute(self, context):
         """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
+        preferences.apply_threads(context)
         obj = context.active_object
         progress = CoreProgress(context.window_manager, 10.0, 90.0, where="reading the mesh")
         with reporting(self, f"No skeleton for '{obj.name}'"):
@@ -78,6 +80,7 @@ class ANIMANIFOLD_OT_skeleton(CoreJobModal, Operator):
     def invoke(self, context, event):
         """From the interface: the skeleton is computed in a worker thread (am.CoreJob), the
         progress bar follows its steps, Esc cancels; the view can be turned meanwhile."""
+        preferences.apply_threads(context)
         if bpy.app.background or context.window is None:
             return self.execute(context)
         obj = context.active_object

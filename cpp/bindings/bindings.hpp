@@ -50,5 +50,6 @@ void bind_skeleton(py::module_& m);
 void bind_laplacian(py::module_& m, py::module_& testing);
 void bind_hole_space(py::module_& m);
 void bind_memory(py::module_& m);
+void bind_threads(py::module_& m, py::module_& testing);
 
 }  // namespace animanifold::bindings

@@ -20,6 +20,7 @@ PYBIND11_MODULE(_core, m) {
   bind_laplacian(m, testing);
   bind_hole_space(m);
   bind_memory(m);
+  bind_threads(m, testing);
 }
 
 }  // namespace animanifold::bindings

@@ -1,6 +1,7 @@
 #include "animanifold/complex.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
@@ -179,10 +180,15 @@ Eigen::VectorXd signed_volumes(const PointMatrix& V, const SimplexMatrix& S) {
   double factorial = 1;
   for (int i = 2; i <= D; ++i) factorial *= i;
   Eigen::VectorXd volumes(S.rows());
-  Eigen::MatrixXd edges(D, D);
-  for (Index s = 0; s < S.rows(); ++s) {
-    for (int i = 0; i < D; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
-    volumes(s) = edges.determinant() / factorial;
+  // Each simplex writes its own entry: the same volumes for any thread count.
+#pragma omp parallel num_threads(thread_count())
+  {
+    Eigen::MatrixXd edges(D, D);
+#pragma omp for schedule(static)
+    for (Index s = 0; s < S.rows(); ++s) {
+      for (int i = 0; i < D; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
+      volumes(s) = edges.determinant() / factorial;
+    }
   }
   return volumes;
 }

@@ -2,6 +2,7 @@
 // sharp edges. See subdivide.hpp.
 #include "animanifold/errors.hpp"
 #include "animanifold/subdivide.hpp"
+#include "animanifold/threads.hpp"
 #include "subdivision_shared.hpp"
 
 #include <opensubdiv/far/error.h>
@@ -53,6 +54,17 @@ struct Scalar {
   void Clear() { v = 0; }
   void AddWithWeight(const Scalar& s, double w) { v += w * s.v; }
 };
+
+Eigen::Vector3d face_normal(const PointMatrix& V, const Index* f, int n);
+
+// Every face's Newell normal, each into its own entry (the same for any thread count).
+std::vector<Eigen::Vector3d> face_normals(const PointMatrix& vertices, const SimplexMatrix& faces) {
+  const int n = static_cast<int>(faces.cols());
+  std::vector<Eigen::Vector3d> normals(faces.rows());
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+  for (Index f = 0; f < faces.rows(); ++f) normals[f] = face_normal(vertices, faces.row(f).data(), n);
+  return normals;
+}
 
 Eigen::Vector3d face_normal(const PointMatrix& V, const Index* f, int n) {
   // Newell's normal: exact for planar polygons, a fair average otherwise.
@@ -113,10 +125,8 @@ std::vector<EdgeRecord> sorted_edges(const SimplexMatrix& faces) {
 // Edges between two faces whose normals turn by more than the crease angle.
 void add_angle_creases(const PointMatrix& vertices, const SimplexMatrix& faces, const std::vector<EdgeRecord>& records,
                        double crease_angle_degrees, std::vector<std::array<Index, 2>>& creases) {
-  const int n = static_cast<int>(faces.cols());
   const double cos_limit = crease_cosine(crease_angle_degrees);
-  std::vector<Eigen::Vector3d> normals(faces.rows());
-  for (Index f = 0; f < faces.rows(); ++f) normals[f] = face_normal(vertices, faces.row(f).data(), n);
+  const std::vector<Eigen::Vector3d> normals = face_normals(vertices, faces);
   for (size_t begin = 0; begin < records.size();) {
     size_t end = begin + 1;
     while (end < records.size() && records[end].key == records[begin].key) ++end;
@@ -246,9 +256,12 @@ SimplexMatrix refined_faces(const Far::TopologyRefiner& refiner, FrameScheme sch
   const int outF = last.GetNumFaces();
   const int outN = scheme == FrameScheme::Loop ? 3 : 4;
   SimplexMatrix faces(outF, outN);
+  for (int f = 0; f < outF; ++f)
+    if (last.GetFaceVertices(f).size() != outN)
+      fail<InputError>("OpenSubdiv produced face ", f, " of ", last.GetFaceVertices(f).size(), " vertices");
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (int f = 0; f < outF; ++f) {
     const Far::ConstIndexArray fv = last.GetFaceVertices(f);
-    if (fv.size() != outN) fail<InputError>("OpenSubdiv produced a face of ", fv.size(), " vertices");
     for (int i = 0; i < outN; ++i) faces(f, i) = fv[i];
   }
   return faces;
@@ -270,10 +283,10 @@ IndexVector refined_face_parents(const Far::TopologyRefiner& refiner, const Far:
 PointMatrix vertex_normals(const PointMatrix& vertices, const SimplexMatrix& faces) {
   PointMatrix normals = PointMatrix::Zero(vertices.rows(), 3);
   const int n = static_cast<int>(faces.cols());
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::Vector3d normal = face_normal(vertices, faces.row(f).data(), n);
-    for (int i = 0; i < n; ++i) normals.row(faces(f, i)) += normal.transpose();
-  }
+  // Face normals on all threads; their sums at the vertices in face order, so the bits never depend on the threads.
+  const std::vector<Eigen::Vector3d> by_face = face_normals(vertices, faces);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int i = 0; i < n; ++i) normals.row(faces(f, i)) += by_face[f].transpose();
   normalize_rows(normals);
   return normals;
 }

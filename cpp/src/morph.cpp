@@ -12,6 +12,7 @@
 #include "animanifold/shelling.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/surface_distance.hpp"
+#include "animanifold/threads.hpp"
 #include "morph_field.hpp"
 #include "morph_stages.hpp"
 #include "animanifold/morph_validity.hpp"
@@ -75,6 +76,15 @@ double longest_edge(const PointMatrix& P, const Index* corners, int count) {
   double longest = 0;
   for (int a = 0; a < count; ++a)
     for (int b = a + 1; b < count; ++b) longest = std::max(longest, (P.row(corners[a]) - P.row(corners[b])).norm());
+  return longest;
+}
+
+// longest_edge of every simplex of S, each into its own entry (the same for any thread count).
+Eigen::VectorXd longest_edges(const PointMatrix& P, const SimplexMatrix& S) {
+  Eigen::VectorXd longest(S.rows());
+  const int count = static_cast<int>(S.cols());
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+  for (Index s = 0; s < S.rows(); ++s) longest(s) = longest_edge(P, S.row(s).data(), count);
   return longest;
 }
 
@@ -176,8 +186,9 @@ void zero_set_validity(const Complex& manifold, MorphReport& report) {
   const Eigen::VectorXd volume = simplex_normals(manifold.V, manifold.S).rowwise().norm() / 6.0;
   report.min_relative_volume = volume.size() ? std::numeric_limits<double>::infinity() : 0.0;
   report.min_volume = volume.size() ? volume.minCoeff() : 0.0;
+  const Eigen::VectorXd longest_edge = longest_edges(manifold.V, manifold.S);
   for (Index s = 0; s < manifold.S.rows(); ++s) {
-    const double longest = longest_edge(manifold.V, manifold.S.row(s).data(), 4);
+    const double longest = longest_edge(s);
     const double relative = longest > 0 ? volume(s) / (longest * longest * longest) : 0.0;
     report.min_relative_volume = std::min(report.min_relative_volume, relative);
     if (relative <= 1e-14) ++report.degenerate_simplices;
@@ -539,8 +550,9 @@ void count_flat_and_inverted(SeedMorph& m) {
   report.min_relative_volume = volumes.size() ? std::numeric_limits<double>::infinity() : 0.0;
   double factorial = 1;
   for (int i = 2; i <= d + 1; ++i) factorial *= i;
+  const Eigen::VectorXd longest_edge = longest_edges(m.P, m.A);
   for (Index s = 0; s < volumes.size(); ++s) {
-    const double longest = longest_edge(m.P, m.A.row(s).data(), d + 2);
+    const double longest = longest_edge(s);
     const double determinant = volumes(s) * factorial;  // the sign convention of signed_volumes
     report.min_relative_volume = std::min(report.min_relative_volume, determinant / std::pow(longest, d + 1));
     if (determinant < -restore_bound(longest, d + 1, moved)) ++report.inverted_simplices;

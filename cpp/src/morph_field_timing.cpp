@@ -1,6 +1,7 @@
 // The blend's schedule in time (morph_field_internal.hpp): even motion.
 #include "animanifold/errors.hpp"
 #include "animanifold/surface_distance.hpp"
+#include "animanifold/threads.hpp"
 #include "morph_field_internal.hpp"
 #include "zero_set.hpp"
 
@@ -100,10 +101,10 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
   auto measure = [&] {
     // Independent samples and intervals: each writes its own slot, so the
     // result does not depend on the threads.
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 0; i < static_cast<long>(w.size()); ++i)
       if (surfaces[i].F.rows() == 0 && step[i] < 0) surfaces[i] = surface_at(w[i]);
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 1; i < static_cast<long>(w.size()); ++i)
       if (step[i] < 0) step[i] = two_sided(surfaces[i - 1], surfaces[i]);
   };

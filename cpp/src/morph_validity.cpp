@@ -2,6 +2,7 @@
 
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/slice.hpp"
+#include "animanifold/threads.hpp"
 
 #include <Eigen/Geometry>
 
@@ -122,7 +123,7 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
   // the budget is skipped.
   auto check_all = [&](const std::vector<double>& times, bool within_budget) {
     std::vector<Frame> frames(times.size());
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 0; i < static_cast<long>(times.size()); ++i)
       if (!within_budget || elapsed() <= budget_seconds) frames[i] = examine(times[i]);
     for (size_t i = 0; i < times.size(); ++i)

@@ -1,6 +1,7 @@
 #include "animanifold/normals.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
@@ -29,8 +30,10 @@ Eigen::Matrix<double, D, 1> wedge_fixed(const Eigen::Matrix<double, D - 1, D>& r
 
 template <int D>
 void simplex_normals_fixed(const PointMatrix& V, const SimplexMatrix& S, PointMatrix& N) {
-  Eigen::Matrix<double, D - 1, D> edges;
+  // Each simplex writes its own row: the same normals for any thread count.
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (Index s = 0; s < S.rows(); ++s) {
+    Eigen::Matrix<double, D - 1, D> edges;
     for (int i = 0; i < D - 1; ++i) edges.row(i) = V.row(S(s, i + 1)) - V.row(S(s, 0));
     N.row(s) = wedge_fixed<D>(edges).transpose();
   }

@@ -1,6 +1,7 @@
 #include "signed_distance.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "cgal_failures.hpp"
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -130,7 +131,7 @@ SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
   const Tree& t = *tree_;
   const Index n = static_cast<Index>(points.rows());
   SurfaceProjection out = sized(n);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
   for (Index p = 0; p < n; ++p) {
     const Kernel::Point_3 q(points(p, 0), points(p, 1), points(p, 2));
     double distance = 0;
@@ -150,7 +151,7 @@ ClosestPoints SignedDistance::closest(const PointMatrix& points) const {
   // tree's paths stay in cache.
   const std::vector<Index> order = morton_order(points);
   constexpr Index kChunk = 1024;
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
   for (Index chunk = 0; chunk < (n + kChunk - 1) / kChunk; ++chunk) {
     std::optional<std::pair<Kernel::Point_3, AabbTree::Primitive_id>> hint;
     for (Index k = chunk * kChunk; k < std::min(n, (chunk + 1) * kChunk); ++k) {
@@ -181,7 +182,7 @@ Eigen::VectorXd SignedDistance::distances(const PointMatrix& points) const { ret
 Eigen::Array<bool, Eigen::Dynamic, 1> SignedDistance::inside(const PointMatrix& points) const {
   const Tree& t = *tree_;
   Eigen::Array<bool, Eigen::Dynamic, 1> out(points.rows());
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
   for (Index p = 0; p < static_cast<Index>(points.rows()); ++p)
     out(p) = (*t.side)(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))) != CGAL::ON_UNBOUNDED_SIDE;
   return out;

@@ -1,7 +1,8 @@
 // Private: a thin RAII wrapper over CHOLMOD's supernodal Cholesky, used by the
 // Deformer (factor LᵀL once, solve all coordinates as one multi-column
-// right-hand side). Kept out of the public headers so that nothing outside
-// cpp/src needs cholmod.h.
+// right-hand side, one cholmod_solve for x, y, z and t), its BLAS on the
+// calling thread alone (same bits for any thread count: threads.hpp). Kept
+// out of the public headers so that nothing outside cpp/src needs cholmod.h.
 #pragma once
 
 #include <Eigen/Core>

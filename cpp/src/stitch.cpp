@@ -1,6 +1,7 @@
 #include "animanifold/stitch.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
@@ -208,6 +209,8 @@ Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   out.S.resize(prism_count * n, d + 1);
   for (Index i = 0; i + 1 < m; ++i) {
     interrupter.step("prisms", loop_fraction(0.1, 0.9, i, m - 1));
+    // Each prism writes its own rows (stitched_simplex), so any thread count gives the same simplices.
+#pragma omp parallel for schedule(static) num_threads(thread_count())
     for (Index f = 0; f < l; ++f) {
       Index* dst = out.S.row(stitched_simplex(i, f, l, n)).data();
       if (n == 3) split_prism<3>(in.faces.row(f).data(), i * k, (i + 1) * k, rank, dst);
@@ -227,6 +230,7 @@ Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   }
   for (const auto& [name, table] : in.face_attributes) {
     SimplexMatrix carried(out.S.rows(), table.cols());
+#pragma omp parallel for schedule(static) num_threads(thread_count())
     for (Eigen::Index p = 0; p < prism_count; ++p)
       for (int r = 0; r < n; ++r) carried.row(p * n + r) = table.row(p % l);
     out.simplex_attributes[name] = std::move(carried);

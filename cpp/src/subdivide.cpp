@@ -3,6 +3,7 @@
 #include "animanifold/subdivide.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "subdivision_shared.hpp"
 
 #include <Eigen/Dense>
@@ -194,9 +195,12 @@ class EdgeTable {
     return static_cast<Index>(it - others_.begin());  // (a, b) is always present
   }
 
+  // Visits (id, a, b) for every edge, on all threads: `visit` may write only to slots of its edge id.
   template <class Visit>
   void for_each(Visit visit) const {
-    for (size_t v = 0; v + 1 < offsets_.size(); ++v)
+    const std::int64_t vertex_count = static_cast<std::int64_t>(offsets_.size()) - 1;
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+    for (std::int64_t v = 0; v < vertex_count; ++v)
       for (std::int64_t i = offsets_[v]; i < offsets_[v + 1]; ++i) visit(static_cast<Index>(i), static_cast<Index>(v), others_[i]);
   }
 
@@ -249,6 +253,7 @@ void refine_points(const Level& L, const EdgeTable& edges, Level& N) {
     N.keyframe[m] = L.keyframe[a] == L.keyframe[b] ? L.keyframe[a] : -1;
     N.parents.row(m) << a, b;
   });
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (size_t o = 0; o < O; ++o) {
     const Index m = static_cast<Index>(V + E + static_cast<std::int64_t>(o));
     const auto& c = L.octs[o];
@@ -273,44 +278,46 @@ struct Midpoints {
 
 // Tetrahedra split into four corner tetrahedra and an octahedron,
 // octahedra into six corner octahedra and eight tetrahedra around the centre.
+// Children are laid out by their parent's index (tetrahedra's children
+// first), so every parent writes its own rows and the result is the same for
+// any thread count.
 void refine_tetrahedral_cells(const Level& L, const Midpoints& mid, Level& N) {
   const Tables& T = tables();
   const size_t S = L.simplices.size() / 4;
   const size_t O = L.octs.size();
   const std::int64_t E = mid.edges.size();
-  N.simplices.reserve((4 * S + 8 * O) * 4);
-  N.simplex_root.reserve(4 * S + 8 * O);
-  N.octs.reserve(S + 6 * O);
-  N.oct_root.reserve(S + 6 * O);
+  N.simplices.resize((4 * S + 8 * O) * 4);
+  N.simplex_root.resize(4 * S + 8 * O);
+  N.octs.resize(S + 6 * O);
+  N.oct_root.resize(S + 6 * O);
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (size_t s = 0; s < S; ++s) {
     const Index* c = &L.simplices[s * 4];
     Index slot[10];
     for (int i = 0; i < 4; ++i) slot[i] = c[i];
     for (int e = 0; e < 6; ++e) slot[4 + e] = mid(c[kTetEdges[e][0]], c[kTetEdges[e][1]]);
-    for (const auto& child : T.tet_corner) {
-      for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
-      N.simplex_root.push_back(L.simplex_root[s]);
+    for (size_t j = 0; j < 4; ++j) {
+      for (int i = 0; i < 4; ++i) N.simplices[(4 * s + j) * 4 + i] = slot[T.tet_corner[j][i]];
+      N.simplex_root[4 * s + j] = L.simplex_root[s];
     }
-    std::array<Index, 6> oct;
-    for (int i = 0; i < 6; ++i) oct[i] = slot[T.tet_oct[i]];
-    N.octs.push_back(oct);
-    N.oct_root.push_back(L.simplex_root[s]);
+    for (int i = 0; i < 6; ++i) N.octs[s][i] = slot[T.tet_oct[i]];
+    N.oct_root[s] = L.simplex_root[s];
   }
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (size_t o = 0; o < O; ++o) {
     const auto& c = L.octs[o];
     Index slot[19];
     for (int i = 0; i < 6; ++i) slot[i] = c[i];
     for (int e = 0; e < 12; ++e) slot[6 + e] = mid(c[T.oct_edges[e][0]], c[T.oct_edges[e][1]]);
     slot[18] = static_cast<Index>(mid.V + E + static_cast<std::int64_t>(o));
-    for (const auto& child : T.oct_corner) {
-      std::array<Index, 6> oct;
-      for (int i = 0; i < 6; ++i) oct[i] = slot[child[i]];
-      N.octs.push_back(oct);
-      N.oct_root.push_back(L.oct_root[o]);
+    for (size_t j = 0; j < 6; ++j) {
+      for (int i = 0; i < 6; ++i) N.octs[S + 6 * o + j][i] = slot[T.oct_corner[j][i]];
+      N.oct_root[S + 6 * o + j] = L.oct_root[o];
     }
-    for (const auto& child : T.oct_tet) {
-      for (int i = 0; i < 4; ++i) N.simplices.push_back(slot[child[i]]);
-      N.simplex_root.push_back(L.oct_root[o]);
+    for (size_t j = 0; j < 8; ++j) {
+      const size_t row = 4 * S + 8 * o + j;
+      for (int i = 0; i < 4; ++i) N.simplices[row * 4 + i] = slot[T.oct_tet[j][i]];
+      N.simplex_root[row] = L.oct_root[o];
     }
   }
 }
@@ -319,14 +326,15 @@ void refine_tetrahedral_cells(const Level& L, const Midpoints& mid, Level& N) {
 void refine_triangle_cells(const Level& L, const Midpoints& mid, Level& N) {
   const Tables& T = tables();
   const size_t S = L.simplices.size() / 3;
-  N.simplices.reserve(4 * S * 3);
-  N.simplex_root.reserve(4 * S);
+  N.simplices.resize(4 * S * 3);
+  N.simplex_root.resize(4 * S);
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (size_t s = 0; s < S; ++s) {
     const Index* c = &L.simplices[s * 3];
     const Index slot[6] = {c[0], c[1], c[2], mid(c[0], c[1]), mid(c[0], c[2]), mid(c[1], c[2])};
-    for (const auto& child : T.tri_children) {
-      for (int i = 0; i < 3; ++i) N.simplices.push_back(slot[child[i]]);
-      N.simplex_root.push_back(L.simplex_root[s]);
+    for (size_t j = 0; j < 4; ++j) {
+      for (int i = 0; i < 3; ++i) N.simplices[(4 * s + j) * 3 + i] = slot[T.tri_children[j][i]];
+      N.simplex_root[4 * s + j] = L.simplex_root[s];
     }
   }
 }
@@ -491,6 +499,7 @@ void average(Level& L, int D, const std::vector<double>& times, bool keep_keyfra
   const bool slide = keep_keyframe_times && D == k;
   if (slide) normals = hypersurface_normals(L, D);
 
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (Index v = 0; v < V; ++v)
     if (count[v] > 0) L.X.row(v) = sum.row(v) / count[v];
 
@@ -697,9 +706,12 @@ void cut_octahedra(const Level& L, int D, ManifoldSubdivision& out) {
   out.simplex_parent.resize(static_cast<Eigen::Index>(outS));
   std::copy(L.simplices.begin(), L.simplices.end(), out.manifold.S.data());
   std::copy(L.simplex_root.begin(), L.simplex_root.end(), out.simplex_parent.data());
-  Eigen::Index row = static_cast<Eigen::Index>(L.simplices.size() / k);
+  const Eigen::Index first = static_cast<Eigen::Index>(L.simplices.size() / k);
+  // Octahedron o's four tetrahedra are rows first + 4o..: its own, whatever the thread count.
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (size_t o = 0; o < L.octs.size(); ++o) {
     const auto& c = L.octs[o];
+    Eigen::Index row = first + 4 * static_cast<Eigen::Index>(o);
     for (const auto& child : T.oct_cut[shortest_diagonal(L, c, D)]) {
       for (int i = 0; i < 4; ++i) out.manifold.S(row, i) = c[child[i]];
       out.simplex_parent(row) = L.oct_root[o];

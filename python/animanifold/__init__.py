@@ -15,6 +15,7 @@ topology. ::
     m4, r = am.refine(m, splits)              # barycentric refinement (chapter 6)
     m5 = am.weld(m)                           # seams (split copies of points) closed
     am.save(m, "walk.amf"); m2 = am.load("walk.amf")
+    am.set_threads(2)                         # the core's threads (0: every core); am.threads()
     sk = am.voronoi_skeleton(vertices, faces, side="external")  # chapter 7
     m = am.morph((VS, FS), (VT, FT))          # chapters 5, 8; m.slice(t) honours shared holes
     H = am.hole_space(vertices, faces)        # CH(C) \\ C (§8.6.5), with intersect_/subtract_solid
@@ -40,6 +41,7 @@ from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
 from .stitching import stitch
 from .subdivision import SubdivideOptions, subdivide, subdivided_simplex_count
+from .thread_count import set_threads, threads
 from .welding import weld
 from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
@@ -90,6 +92,7 @@ __all__ = [
     "rotation_matrix",
     "save",
     "set_memory_limit",
+    "set_threads",
     "smooth_slice",
     "solid_measure",
     "stitch",
@@ -98,6 +101,7 @@ __all__ = [
     "subdivided_simplex_count",
     "subdivide_frame",
     "subtract_solid",
+    "threads",
     "voronoi_skeleton",
     "weld",
     "write_mesh",
