@@ -273,8 +273,7 @@ def main() -> int:
     times = np.linspace(0.0, 1.0, args.keyframes)
     print(f"mesh        {source}: {len(rest):,} vertices, {len(faces):,} faces; {args.keyframes} keyframes")
 
-    threads = _core._testing.set_omp_threads(1)  # reads the count (and puts it back below)
-    _core._testing.set_omp_threads(threads)
+    threads = am.threads()
     print(f"machine     {os.cpu_count()} cores; slicing on {threads} OpenMP threads")
 
     manifold, figures = stitch_figures(keyframes, faces, times, max(args.repeat, 1), attributes)

@@ -77,10 +77,10 @@ def manifold() -> am.AnimationManifold:
 
 @pytest.fixture
 def threads():
-    """Sets OpenMP's thread count for the test, then restores it."""
-    previous = _core._testing.set_omp_threads(1)
-    yield lambda n: _core._testing.set_omp_threads(n)
-    _core._testing.set_omp_threads(previous)
+    """Sets the core's thread count for the test, then restores it."""
+    previous = am.threads()
+    yield am.set_threads
+    am.set_threads(previous)
 
 
 @pytest.mark.parametrize("axis, value", SLICES)
@@ -97,11 +97,6 @@ def test_one_and_two_threads_give_identical_slices(manifold, threads, axis, valu
     two = slicer.slice(axis, value)
     assert_identical(two, one)
     assert len(one.faces) > 4096  # several chunks of the parallel cut
-
-
-def test_the_thread_hook_refuses_zero_threads():
-    with pytest.raises(ValueError, match="at least 1"):
-        _core._testing.set_omp_threads(0)
 
 
 class CountingSlicer:

@@ -2,11 +2,6 @@
 #include "animanifold/slice.hpp"
 #include "bindings.hpp"
 
-// OpenMP's own entry points (libgomp, linked through the core), declared
-// here so this file needs no OpenMP compile flags: for the tests' thread hook.
-extern "C" void omp_set_num_threads(int);
-extern "C" int omp_get_max_threads(void);
-
 namespace animanifold::bindings {
 
 void bind_slice(py::module_& m, py::module_& testing) {
@@ -72,17 +67,6 @@ void bind_slice(py::module_& m, py::module_& testing) {
            "the same faces), or None where the faces change (a vertex coordinate, outside the manifold).")
       .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"),
            "Bytes held by the interval index of `axis` (built if needed).");
-
-  testing.def(
-      "set_omp_threads",
-      [](int threads) {
-        if (threads < 1) fail<InputError>("OpenMP threads must be at least 1, got ", threads);
-        const int previous = omp_get_max_threads();
-        omp_set_num_threads(threads);
-        return previous;
-      },
-      py::arg("threads"),
-      "Sets the OpenMP threads of the calling thread's parallel loops (slicing); returns the previous count.");
 
   testing.def("slice",
         [](const Complex& c, int axis, double value) {

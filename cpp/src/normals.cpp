@@ -155,7 +155,7 @@ PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   if (d == 3) add_face_normals<3>(points, F, N);
   else if (d == 2) add_face_normals<2>(points, F, N);
   const Index count = N.rows();
-#pragma omp parallel for schedule(static) if (count > 16384)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (count > 16384)
   for (Index v = 0; v < count; ++v) {
     const double length = N.row(v).norm();
     if (length > 0) N.row(v) /= length;

@@ -2,6 +2,7 @@
 
 #include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
+#include "animanifold/threads.hpp"
 #include "slice_cut.hpp"
 #include "slice_points.hpp"
 
@@ -129,7 +130,7 @@ Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
   Slice out;
   out.vertex_edges.resize(P, 2);
   out.edge_parameter.resize(P);
-#pragma omp parallel for schedule(static) if (P > kParallelItems)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (P > kParallelItems)
   for (Index p = 0; p < P; ++p) {
     const slice_cut::Point& c = cut.points[cut.on_vertices ? kept[p] : p];
     out.vertex_edges(p, 0) = c.a, out.vertex_edges(p, 1) = c.b;
@@ -142,7 +143,7 @@ Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
   out.face_simplex = Eigen::Map<const IndexVector>(cut.simplex.data(), F);
   for (const auto& [name, table] : m.simplex_attributes) {
     SimplexMatrix values(F, table.cols());
-#pragma omp parallel for schedule(static) if (F > kParallelItems)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (F > kParallelItems)
     for (Index f = 0; f < F; ++f) values.row(f) = table.row(out.face_simplex(f));
     out.face_attributes[name] = std::move(values);
   }
@@ -159,7 +160,7 @@ void interpolate_points(const Complex& m, int axis, Slice& out) {
   const auto& edges = out.vertex_edges;
   const auto& s = out.edge_parameter;
   out.vertices.resize(P, D - 1);
-#pragma omp parallel for schedule(static) if (P > kParallelItems)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (P > kParallelItems)
   for (Index p = 0; p < P; ++p) {
     const Index a = edges(p, 0), b = edges(p, 1);
     for (int d = 0, o = 0; d < D; ++d) {
@@ -170,7 +171,7 @@ void interpolate_points(const Complex& m, int axis, Slice& out) {
   }
   for (const auto& [name, table] : m.vertex_attributes) {
     PointMatrix values(P, table.cols());
-#pragma omp parallel for schedule(static) if (P > kParallelItems)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (P > kParallelItems)
     for (Index p = 0; p < P; ++p) {
       const Index a = edges(p, 0), b = edges(p, 1);
       values.row(p) = a == b ? table.row(a) : ((1.0 - s(p)) * table.row(a) + s(p) * table.row(b)).eval();

@@ -1,5 +1,6 @@
 #include "slice_cut.hpp"
 
+#include "animanifold/threads.hpp"
 #include "slice_points.hpp"
 
 #include <algorithm>
@@ -163,7 +164,7 @@ CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is
   const int k = m.vertices_per_simplex();
   std::vector<Chunk> chunks((candidates.size() + kChunk - 1) / kChunk);
   const std::ptrdiff_t chunk_count = static_cast<std::ptrdiff_t>(chunks.size());
-#pragma omp parallel for schedule(dynamic, 1) if (chunk_count > 1)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count()) if (chunk_count > 1)
   for (std::ptrdiff_t c = 0; c < chunk_count; ++c) {
     const Index* begin = candidates.data() + c * kChunk;
     cut_chunk(m, axis, value, on_plane_is_above, begin, std::min(begin + kChunk, candidates.data() + candidates.size()),
@@ -182,7 +183,7 @@ CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is
   for (size_t c = 0; c < chunks.size(); ++c) first_face[c + 1] = first_face[c] + chunks[c].simplex.size();
   out.corners.resize(first_face.back() * out.n);
   out.simplex.resize(first_face.back());
-#pragma omp parallel for schedule(static) if (chunk_count > 1)
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (chunk_count > 1)
   for (std::ptrdiff_t c = 0; c < chunk_count; ++c) {
     const Chunk& chunk = chunks[c];
     std::copy(chunk.simplex.begin(), chunk.simplex.end(), out.simplex.begin() + first_face[c]);

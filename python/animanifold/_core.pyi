@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'MAX_THREADS', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'set_threads', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'threads', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -1247,6 +1247,10 @@ def set_memory_limit(bytes: typing.SupportsInt | typing.SupportsIndex | None) ->
     """
     Sets the most memory one core call may estimate it needs (stitch, subdivide, refine, frame subdivision); None returns to the default, half of the available memory. Raises InputError for 0.
     """
+def set_threads(count: typing.SupportsInt | typing.SupportsIndex) -> int:
+    """
+    Threads for the core's parallel work (its loops, OpenBLAS under CHOLMOD): >= 1, or 0 for every core. Returns the count now in use; raises InputError for a negative count.
+    """
 def smooth_slice(slice: Slice, levels: typing.SupportsInt | typing.SupportsIndex, crease_angle: typing.SupportsFloat | typing.SupportsIndex = 30.0, limit: bool = True) -> Slice:
     """
     A frame refined with Loop subdivision (OpenSubdiv), or B-spline curves for 2D animations; face_simplex inherited.
@@ -1275,6 +1279,10 @@ def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64
     """
     (vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame (the arrays are then a copy of the frame's). Raises BooleanError.
     """
+def threads() -> int:
+    """
+    Threads the core's parallel work uses.
+    """
 def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """
     Volume-weighted unit normals (#V by n+1) of a manifold of n-simplices in R^(n+1).
@@ -1291,6 +1299,7 @@ def write_mesh(path: str, vertices: typing.Annotated[numpy.typing.NDArray[numpy.
     """
     Writes vertices (#V by 3) and triangles (#F by 3) to an OFF/OBJ/PLY/STL file (by extension); raises FileError naming the file when it cannot be written.
     """
+MAX_THREADS: int = 1024
 class _testing:
     """Entry points used only by the tests and benchmarks. (the submodule _core._testing)"""
     class ConformingDelaunay:
@@ -1403,6 +1412,16 @@ class _testing:
         Rows of faces that are not faces of any simplex (Theorem 5.2.1).
         """
     @staticmethod
+    def openblas_threads() -> int:
+        """
+        OpenBLAS's thread count after the core's setting is applied on the calling thread (0: BLAS is not OpenBLAS).
+        """
+    @staticmethod
+    def parallel_team_size() -> int:
+        """
+        Threads an OpenMP region of the core runs on, as omp_get_num_threads() reports inside it.
+        """
+    @staticmethod
     def primal_weights(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], method: LaplacianMethod, lam: typing.SupportsFloat | typing.SupportsIndex = 0.1, xi: typing.SupportsFloat | typing.SupportsIndex = 0.001, ridge: typing.SupportsFloat | typing.SupportsIndex = 1e-08) -> tuple:
         """
         Primal weights W (#V by #V) as CSR (indptr, indices, data, shape); raises ValueError for an unknown method.
@@ -1411,11 +1430,6 @@ class _testing:
     def raise_error(type: str, message: str) -> None:
         """
         Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled, MemoryLimitError) with `message`, through the module's translator: what a core call raises in that case.
-        """
-    @staticmethod
-    def set_omp_threads(threads: typing.SupportsInt | typing.SupportsIndex) -> int:
-        """
-        Sets the OpenMP threads of the calling thread's parallel loops (slicing); returns the previous count.
         """
     @staticmethod
     def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
