@@ -41,6 +41,7 @@ for f in frames:
     uv_names = [a.name for a in me.attributes if a.data_type == "FLOAT2" and a.domain == "CORNER"]
     out[f] = {"corners": co.reshape(-1, 3)[tv.reshape(-1, 3)].tolist(), "materials": sorted(set(mi.tolist())),
               "slots": [s.material.name if s.material else None for s in obj.material_slots],
+              "triangle_materials": mi.tolist(), "material_names": [m.name if m else None for m in me.materials],
               "uv": uv_names, "modifiers": [m.type for m in obj.modifiers if m.show_render and m.name != "Animanifold Live"]}
 bpy.ops.wm.read_factory_settings(use_empty=True)
 print("PROBE" + json.dumps(out))
@@ -108,11 +109,20 @@ def test_alembic_mesh_sequence_cache_bake(converted):
     assert not man.modifiers["Animanifold Bake"].show_render
     bpy.ops.wm.save_mainfile()
     result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
+    names = ["BlobSkin", "BlobCap"]
     for f in FRAMES:
-        assert result[f]["modifiers"] == ["MESH_SEQUENCE_CACHE"]
+        # The cache reads the archive's first part (one per material); the join adds the others.
+        assert result[f]["modifiers"] == ["MESH_SEQUENCE_CACHE", "NODES"]
         got = np.array(result[f]["corners"])
         np.testing.assert_allclose(canonical(got, 5), canonical(expected_corners(cache, f), 5), atol=2e-5,
                                    err_msg=f"frame {f}")
+        # Each triangle's material (by name), whatever the order of triangles and slots.
+        s = cache.slice(f)
+        want = sorted(zip(np.round(s.vertices[s.faces].mean(axis=1), 4).tolist(),
+                          [names[i] for i in s.face_attributes["material_index"]]))
+        got_mat = sorted(zip(np.round(got.mean(axis=1), 4).tolist(),
+                             [result[f]["material_names"][i] for i in result[f]["triangle_materials"]]))
+        assert [m for _, m in got_mat] == [m for _, m in want], f"frame {f}: materials differ"
 
 
 def test_obj_and_ply_sequences_and_farm_chunks(converted):
