@@ -14,7 +14,9 @@ Our frames change topology, so:
   `<name>_rg` and `<name>_ba` (UV maps are written and read back per frame at full float
   precision), besides the byte colour `<name>` an import without the add-on shows.
 * **the .blend joins them back.** With a Mesh Sequence Cache the manifold object reads the
-  first part; a geometry-nodes modifier (PARTS_MODIFIER_NAME) joins the other parts (helper
+  first part (on an empty mesh, INPUT_MODIFIER_NAME: a frame whose topology differs from the
+  mesh below the cache is built on that mesh's attribute layout, so the object's own custom
+  normals and colours would come back at their defaults: zero normals render black); a geometry-nodes modifier (PARTS_MODIFIER_NAME) joins the other parts (helper
   objects outside the scene, each reading its part through its own Mesh Sequence Cache),
   sets each part's material and rebuilds every colour attribute, exactly, in its domain.
   It is plain Blender data: the .blend plays and renders without the add-on.
@@ -28,6 +30,7 @@ import numpy as np
 from . import extra_layers
 
 PARTS_MODIFIER_NAME = "Animanifold Alembic Parts"
+INPUT_MODIFIER_NAME = "Animanifold Alembic Input"
 RG, BA = "_rg", "_ba"
 # Blender's Alembic reader reads at most 8 UV maps per object (MAX_MTFACE); colours beyond
 # those travel as byte colours only.
@@ -264,6 +267,18 @@ def _part_geometry(chain: _Chain, obj, material):
     chain.links.new(socket, node.inputs["Geometry"])
     node.inputs["Material"].default_value = material
     return node.outputs[0]
+
+
+def empty_input(obj, made: list):
+    """The modifier (INPUT_MODIFIER_NAME) that gives the cache below it an empty mesh to read
+    into, at the end of the stack (move it above the cache). Its node group goes to `made`."""
+    group = _new_group(f"{obj.name}_alembic_input")
+    made.append(group)
+    group.nodes.new("NodeGroupInput")
+    group.nodes.new("NodeGroupOutput")  # nothing linked: no geometry
+    modifier = obj.modifiers.new(INPUT_MODIFIER_NAME, "NODES")
+    modifier.node_group = group
+    return modifier
 
 
 def join_parts(obj, cache, parts: list[tuple[str, object]], colours, made: list):

@@ -30,8 +30,10 @@ from .reporting import ReportedError
 
 MODIFIER_NAME = "Animanifold Bake"
 CACHE_MODIFIER_NAME = "Animanifold Alembic"
-# The Alembic bake's modifiers (the cache, then alembic_parts' join); the node-group bake's first.
-BAKE_MODIFIERS = (MODIFIER_NAME, CACHE_MODIFIER_NAME, alembic_parts.PARTS_MODIFIER_NAME)
+# The node-group bake's modifier, then the Alembic bake's (alembic_parts: the cache's empty input,
+# the cache, the join).
+BAKE_MODIFIERS = (MODIFIER_NAME, alembic_parts.INPUT_MODIFIER_NAME, CACHE_MODIFIER_NAME,
+                  alembic_parts.PARTS_MODIFIER_NAME)
 
 
 class BakeError(ReportedError):
@@ -318,10 +320,11 @@ def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list,
         raise BakeError(f"cannot open the Alembic cache {filepath}")
     cache = new[0]
     cache.filepath = stored_path
-    for name in (CACHE_MODIFIER_NAME, alembic_parts.PARTS_MODIFIER_NAME):
+    for name in BAKE_MODIFIERS[1:]:
         old = obj.modifiers.get(name)
         if old is not None:
             obj.modifiers.remove(old)
+    alembic_parts.empty_input(obj, made)
     modifier = obj.modifiers.new(CACHE_MODIFIER_NAME, "MESH_SEQUENCE_CACHE")
     modifier.cache_file = cache
     # The archive's object paths are read when the modifier is first evaluated.

@@ -107,12 +107,20 @@ def test_alembic_mesh_sequence_cache_bake(converted):
     mod = man.modifiers["Animanifold Alembic"]
     assert mod.type == "MESH_SEQUENCE_CACHE" and mod.cache_file.filepath == "//animanifold_bake/Blob_manifold.abc"
     assert not man.modifiers["Animanifold Bake"].show_render
+    for f in FRAMES:  # the cache's frames carry none of the object's own (live) layers at defaults
+        bpy.context.scene.frame_set(f)
+        me = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        normals = np.empty(3 * len(me.loops), np.float32)
+        me.corner_normals.foreach_get("vector", normals)
+        np.testing.assert_allclose(np.linalg.norm(normals.reshape(-1, 3), axis=1), 1.0, atol=1e-4,
+                                   err_msg=f"frame {f}: zero normals (they render black)")
     bpy.ops.wm.save_mainfile()
     result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
     names = ["BlobSkin", "BlobCap"]
     for f in FRAMES:
-        # The cache reads the archive's first part (one per material); the join adds the others.
-        assert result[f]["modifiers"] == ["MESH_SEQUENCE_CACHE", "NODES"]
+        # The cache reads the archive's first part (one per material) into an empty mesh; the
+        # join adds the others.
+        assert result[f]["modifiers"] == ["NODES", "MESH_SEQUENCE_CACHE", "NODES"]
         got = np.array(result[f]["corners"])
         np.testing.assert_allclose(canonical(got, 5), canonical(expected_corners(cache, f), 5), atol=2e-5,
                                    err_msg=f"frame {f}")
