@@ -23,13 +23,17 @@ import os
 import bpy
 import numpy as np
 
-from . import bake_switch, live_nodes, mesh_writer
+from . import alembic_parts, bake_switch, live_nodes, mesh_writer
 from ._lib import am
 from .object_manifold import frame_slice, frame_slices, shown_manifold
 from .reporting import ReportedError
 
 MODIFIER_NAME = "Animanifold Bake"
 CACHE_MODIFIER_NAME = "Animanifold Alembic"
+# The node-group bake's modifier, then the Alembic bake's (alembic_parts: the cache's empty input,
+# the cache, the join).
+BAKE_MODIFIERS = (MODIFIER_NAME, alembic_parts.INPUT_MODIFIER_NAME, CACHE_MODIFIER_NAME,
+                  alembic_parts.PARTS_MODIFIER_NAME)
 
 
 class BakeError(ReportedError):
@@ -178,11 +182,12 @@ class NodeGroupBake:
         self.old_collection = settings.bake_collection
         self.old_modifiers = [(m.name, m.type, getattr(m, "node_group", None), getattr(m, "cache_file", None),
                                getattr(m, "object_path", None), m.show_viewport, m.show_render)
-                              for m in obj.modifiers if m.name in (MODIFIER_NAME, CACHE_MODIFIER_NAME)]
+                              for m in obj.modifiers if m.name in BAKE_MODIFIERS]
         self.old_order = [m.name for m in obj.modifiers]
         self.collection = None
         self.group = None
         self.new_cache_files = []
+        self.new_ids = []  # the Alembic parts' helper objects, meshes and node group
 
     def apply(self, frames: list[int], progress=None, collection=None):
         """`collection`: frame objects made elsewhere (a farm's chunks), one per frame in order."""
@@ -190,7 +195,7 @@ class NodeGroupBake:
         base = f"{obj.name}_bake"
         self.collection = collection or build_frames(obj, frames, base + ".new", progress)
         self.group = build_node_group(base + ".new", self.collection, frames[0], len(frames))
-        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+        for name in BAKE_MODIFIERS:
             mod = obj.modifiers.get(name)
             if mod is not None:
                 obj.modifiers.remove(mod)
@@ -207,7 +212,7 @@ class NodeGroupBake:
         base = f"{obj.name}_bake"
         for _, _, group, cache, _, _, _ in self.old_modifiers:
             if group is not None and group.users == 0:
-                bpy.data.node_groups.remove(group)
+                alembic_parts.remove_ids([group] + alembic_parts.helpers_of(group))
             if cache is not None and cache.users == 0:
                 bpy.data.batch_remove([cache])
         if self.old_collection is not None and self.old_collection != self.collection:
@@ -217,10 +222,11 @@ class NodeGroupBake:
 
     def rollback(self):
         obj = self.obj
-        for name in (MODIFIER_NAME, CACHE_MODIFIER_NAME):
+        for name in BAKE_MODIFIERS:
             mod = obj.modifiers.get(name)
             if mod is not None:
                 obj.modifiers.remove(mod)
+        alembic_parts.remove_ids(self.new_ids)
         for cache in self.new_cache_files:
             if cache.users == 0:
                 bpy.data.batch_remove([cache])
@@ -250,37 +256,61 @@ def alembic_supported() -> bool:
     return bool(getattr(bpy.app, "alembic", None) and bpy.app.alembic.supported)
 
 
-def export_alembic(context, obj, filepath: str, frame_start: int, frame_end: int) -> None:
-    """Exports the (baked, evaluated) object alone over the range with Blender's
-    exporter. Selection and active object are restored."""
+def export_alembic(context, obj, filepath: str, frame_start: int, frame_end: int) -> list[tuple[str, object]]:
+    """Exports the (baked, evaluated) object over the range with Blender's exporter, as one
+    archive object per material with its colours as UV map pairs (alembic_parts). Returns the
+    parts as (archive object name, material), in the order use_mesh_sequence_cache takes.
+    Selection and active object are restored; the parts made for the export are removed."""
     if not alembic_supported():
         raise BakeError("this Blender was built without Alembic support")
     view_layer = context.view_layer
     selected = [o for o in view_layer.objects if o.select_get()]
     active = view_layer.objects.active
+    staging = bpy.data.collections.new(f"{obj.name}_alembic_export")
+    made = [staging]
     try:
+        context.scene.collection.children.link(staging)
+        made += alembic_parts.make_export_parts(obj, shown_manifold(obj), staging)
+        parts = alembic_parts.part_objects(made)
         for o in selected:
             o.select_set(False)
-        obj.select_set(True)
-        view_layer.objects.active = obj
+        for part in parts:
+            part.select_set(True)
+        view_layer.objects.active = parts[0]
         os.makedirs(os.path.dirname(filepath), exist_ok=True)
         result = bpy.ops.wm.alembic_export(
             filepath=filepath, start=frame_start, end=frame_end, selected=True, uvs=True, normals=True,
-            face_sets=True, as_background_job=False, evaluation_mode="RENDER", export_custom_properties=False,
+            face_sets=True, vcolors=True, as_background_job=False, evaluation_mode="RENDER",
+            export_custom_properties=False,
         )
+        described = [(part.name, part.data.materials[0] if len(part.data.materials) == 1 else None)
+                     for part in parts]
     finally:
-        obj.select_set(False)
+        alembic_parts.remove_ids(made)
         for o in selected:
             o.select_set(True)
         view_layer.objects.active = active
     if "FINISHED" not in result or not os.path.isfile(filepath):
         raise BakeError(f"Blender's Alembic exporter did not write {filepath}")
+    return described
 
 
-def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list) -> None:
-    """Shows the Alembic file through a Mesh Sequence Cache modifier; the node-group
-    bake modifier stays on the object, disabled, to switch back. `stored_path` is the
-    path kept in the .blend (relative where possible); new cache files go to `created`."""
+def _archive_path(paths: list[str], name: str) -> str | None:
+    """The mesh path of object `name` among an archive's paths (the exporter writes
+    /<object>/<mesh>, with the object's name cleaned)."""
+    for p in paths:
+        if p.count("/") >= 2 and p.split("/")[1] in (name, bpy.path.clean_name(name)):
+            return p
+    return None
+
+
+def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list,
+                            parts: list[tuple[str, object]], made: list) -> None:
+    """Shows the Alembic file through a Mesh Sequence Cache modifier reading the first of
+    `parts` (export_alembic's), then alembic_parts' join of the others and of the colours; the
+    node-group bake modifier stays on the object, disabled, to switch back. `stored_path` is the
+    path kept in the .blend (relative where possible); new cache files go to `created`, the
+    join's helper objects and node group to `made`."""
     existing = set(bpy.data.cache_files)
     result = bpy.ops.cachefile.open(filepath=filepath)
     new = [c for c in bpy.data.cache_files if c not in existing]
@@ -289,20 +319,23 @@ def use_mesh_sequence_cache(obj, filepath: str, stored_path: str, created: list)
         raise BakeError(f"cannot open the Alembic cache {filepath}")
     cache = new[0]
     cache.filepath = stored_path
-    old = obj.modifiers.get(CACHE_MODIFIER_NAME)
-    if old is not None:
-        obj.modifiers.remove(old)
+    for name in BAKE_MODIFIERS[1:]:
+        old = obj.modifiers.get(name)
+        if old is not None:
+            obj.modifiers.remove(old)
+    alembic_parts.empty_input(obj, made)
     modifier = obj.modifiers.new(CACHE_MODIFIER_NAME, "MESH_SEQUENCE_CACHE")
     modifier.cache_file = cache
     # The archive's object paths are read when the modifier is first evaluated.
     bpy.context.evaluated_depsgraph_get().update()
     paths = [p.path for p in cache.object_paths]
-    name = obj.name
-    # The exporter writes /<object>/<mesh>; pick our object's mesh.
-    candidates = [p for p in paths if p.count("/") >= 2 and p.split("/")[1] in (name, bpy.path.clean_name(name))]
-    if not candidates:
-        raise BakeError(f"the Alembic cache {filepath} holds no mesh of '{name}' (paths: {paths})")
-    modifier.object_path = candidates[0]
+    found = [(_archive_path(paths, name), material) for name, material in parts]
+    missing = [name for (path, _), (name, _) in zip(found, parts) if path is None]
+    if missing or not found:
+        raise BakeError(f"the Alembic cache {filepath} holds no mesh of '{obj.name}' "
+                        f"(looked for {missing or [obj.name]}; paths: {paths})")
+    modifier.object_path = found[0][0]
+    alembic_parts.join_parts(obj, cache, found, alembic_parts.exact_colours(shown_manifold(obj)), made)
     nodes_modifier = obj.modifiers.get(MODIFIER_NAME)
     if nodes_modifier is not None:
         nodes_modifier.show_viewport = False

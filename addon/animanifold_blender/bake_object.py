@@ -57,13 +57,14 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
         if alembic:
             path = os.path.join(folder, f"{stem}{chunk}.abc")
             existed = os.path.exists(path)
-            bake.export_alembic(context, obj, path, first, last)
+            parts = bake.export_alembic(context, obj, path, first, last)
             if not existed:
                 written.append(path)
             stored = bpy.path.relpath(path) if bpy.data.filepath and is_blend_relative(directory) else path
             notes.append(f"Alembic {stored}")
             if use_cache:
-                bake.use_mesh_sequence_cache(obj, path, stored, transaction.new_cache_files)
+                bake.use_mesh_sequence_cache(obj, path, stored, transaction.new_cache_files, parts,
+                                             transaction.new_ids)
                 notes.append("shown by a Mesh Sequence Cache modifier")
         progress(len(frames) + 1)
         if export != "NONE":

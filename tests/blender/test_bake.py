@@ -41,6 +41,7 @@ for f in frames:
     uv_names = [a.name for a in me.attributes if a.data_type == "FLOAT2" and a.domain == "CORNER"]
     out[f] = {"corners": co.reshape(-1, 3)[tv.reshape(-1, 3)].tolist(), "materials": sorted(set(mi.tolist())),
               "slots": [s.material.name if s.material else None for s in obj.material_slots],
+              "triangle_materials": mi.tolist(), "material_names": [m.name if m else None for m in me.materials],
               "uv": uv_names, "modifiers": [m.type for m in obj.modifiers if m.show_render and m.name != "Animanifold Live"]}
 bpy.ops.wm.read_factory_settings(use_empty=True)
 print("PROBE" + json.dumps(out))
@@ -106,13 +107,30 @@ def test_alembic_mesh_sequence_cache_bake(converted):
     mod = man.modifiers["Animanifold Alembic"]
     assert mod.type == "MESH_SEQUENCE_CACHE" and mod.cache_file.filepath == "//animanifold_bake/Blob_manifold.abc"
     assert not man.modifiers["Animanifold Bake"].show_render
+    for f in FRAMES:  # the cache's frames carry none of the object's own (live) layers at defaults
+        bpy.context.scene.frame_set(f)
+        me = man.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+        normals = np.empty(3 * len(me.loops), np.float32)
+        me.corner_normals.foreach_get("vector", normals)
+        np.testing.assert_allclose(np.linalg.norm(normals.reshape(-1, 3), axis=1), 1.0, atol=1e-4,
+                                   err_msg=f"frame {f}: zero normals (they render black)")
     bpy.ops.wm.save_mainfile()
     result = probe(tmp / "bake.blend", "Blob_manifold", FRAMES)
+    names = ["BlobSkin", "BlobCap"]
     for f in FRAMES:
-        assert result[f]["modifiers"] == ["MESH_SEQUENCE_CACHE"]
+        # The cache reads the archive's first part (one per material) into an empty mesh; the
+        # join adds the others.
+        assert result[f]["modifiers"] == ["NODES", "MESH_SEQUENCE_CACHE", "NODES"]
         got = np.array(result[f]["corners"])
         np.testing.assert_allclose(canonical(got, 5), canonical(expected_corners(cache, f), 5), atol=2e-5,
                                    err_msg=f"frame {f}")
+        # Each triangle's material (by name), whatever the order of triangles and slots.
+        s = cache.slice(f)
+        want = sorted(zip(np.round(s.vertices[s.faces].mean(axis=1), 4).tolist(),
+                          [names[i] for i in s.face_attributes["material_index"]]))
+        got_mat = sorted(zip(np.round(got.mean(axis=1), 4).tolist(),
+                             [result[f]["material_names"][i] for i in result[f]["triangle_materials"]]))
+        assert [m for _, m in got_mat] == [m for _, m in want], f"frame {f}: materials differ"
 
 
 def test_obj_and_ply_sequences_and_farm_chunks(converted):

@@ -174,8 +174,6 @@ def test_alembic_bake_keeps_both_uv_maps(painted, tmp_path):
 
 
 @pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
-@pytest.mark.xfail(strict=True, reason="through Alembic + Mesh Sequence Cache (bpy 4.5) the colour attributes "
-                   "read back white (1, 1, 1, 1) after the first frame; the cause is not yet found")
 def test_alembic_bake_keeps_the_colours(painted, tmp_path):
     source, man = _alembic_baked(painted, tmp_path)
     _check_frames(source, man, "alembic")
