@@ -256,7 +256,7 @@ def test_frames_beyond_the_frame_budget_are_moved_by_the_modifier(demo, frame_wo
     man, cache = convert(demo)
     goto(25)  # enters (24, 36), whose middle is 30: frame 25 computed and kept
     assert frame_work["computed"] == [25.0] and registry.cuts.frame_nbytes > 0
-    monkeypatch.setattr(registry.cuts, "frame_budget", registry.cuts.frame_nbytes)  # no room for another
+    monkeypatch.setattr(registry.cuts, "_frame_budget", registry.cuts.frame_nbytes)  # no room for another (the budget preference, stood in)
     for frame in (26, 27, 25, 30, 26, 31):
         goto(frame)
         assert_shows(man, cache, frame)
