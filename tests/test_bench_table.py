@@ -18,7 +18,7 @@ import table_output  # noqa: E402
 import table_rows  # noqa: E402
 from table_rows import Row  # noqa: E402
 
-MACHINE = {"cores": 2, "blas": "/usr/lib/x86_64-linux-gnu/openblas-openmp/libblas.so.3", "threads": 2,
+MACHINE = {"cores": 2, "blas": "openblas-openmp/libblas.so.3", "threads": 2,
            "threads_from": "os.cpu_count()", "python": "3.11", "numpy": "1.26", "bpy": "4.5",
            "load_average": [0.5, 0.5, 0.5]}
 
