@@ -113,6 +113,9 @@ def run_fresh_blender(script: str, *args: str, timeout: int = 240) -> str:
     """Runs `script` in a fresh python3 process with bpy, WITHOUT the add-on or the
     animanifold package on sys.path; returns its stdout."""
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH",)}
+    # bpy can hang at interpreter exit after reading Alembic (its delayed file-close thread):
+    # a script that got to its end leaves at once, its output flushed; a failure raised before.
+    script += "\nimport os as _os, sys as _sys\n_sys.stdout.flush(); _sys.stderr.flush(); _os._exit(0)\n"
     proc = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, env=env,
                           timeout=timeout, cwd="/")
     if proc.returncode != 0:
