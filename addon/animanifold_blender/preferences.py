@@ -3,8 +3,9 @@ count and the memory playback keeps frames in.
 
 * Threads: 0 follows Blender's own setting (Render Properties > Performance >
   Threads: `scene.render.threads`, read when it is applied), so the core's OpenMP
-  loops and the OpenBLAS under CHOLMOD use the cores Blender was given and no more
-  (`cpp/include/animanifold/threads.hpp`). Applied when the add-on registers, when
+  loops use the cores Blender was given and no more; OpenBLAS follows the same count
+  (the Laplacian's factorisation runs it on one thread, for results that do not depend
+  on the count: `cpp/include/animanifold/threads.hpp`). Applied when the add-on registers, when
   the preference changes, and by `apply_threads` before long work (convert, bake,
   morph, deform, skeleton).
 * Frame Cache Budget: the memory, in MB, for each of playback's two caches (the
@@ -69,8 +70,9 @@ class AnimanifoldPreferences(AddonPreferences):
 
     threads: IntProperty(
         name="Threads", default=0, min=0, max=1024, update=_threads_changed,
-        description="Threads for the core's parallel work (stitching, subdivision, morphs, the Laplacian's "
-                    "solver); 0 uses Blender's own setting (Render Properties > Performance > Threads)")
+        description="Threads for the core's parallel work (slicing, stitching, subdivision, morphs; the Laplacian's "
+                    "solver stays on one so results never depend on it); 0 uses Blender's own setting "
+                    "(Render Properties > Performance > Threads)")
     frame_cache_budget: IntProperty(
         name="Frame Cache Budget", default=DEFAULT_BUDGET_MB, min=16, max=65536, subtype="NONE",
         description="Memory in MB for each of playback's caches: the cut of every topology interval "
