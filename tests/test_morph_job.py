@@ -9,6 +9,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold.morph_job import MorphJob
+from helpers.held_morph import BEFORE_THE_HOLD, HOLD
 from helpers.shapes import icosphere, torus
 
 
@@ -25,6 +26,7 @@ def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled():
     job.cancel()
     assert job.wait(120.0)  # a bound against a hang, far beyond the 30 s hold
     assert job.cancelled and job.cancelling and job.manifold is None and job.error is None
+    assert job.stage in BEFORE_THE_HOLD, job.stage
 
     # a job left to finish gives what the blocking call gives
     source, target = icosphere(1), torus()
