@@ -1,8 +1,9 @@
-"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo|morph|skeleton|farm``.
+"""The command line: ``python3 -m animanifold stitch|slice|frames|info|demo|morph|subdivide|deform|skeleton|farm``.
 
 stitch, slice, frames, info and demo read and write animation manifolds; morph makes one
-between two closed meshes; skeleton (cli_skeleton.py) writes a mesh's Voronoi skeleton; farm
-(cli_farm.py) runs the render-farm steps that need no Blender.
+between two closed meshes; subdivide (cli_subdivide.py) and deform (cli_deform.py) reshape
+one, printing the core's steps on stderr; skeleton (cli_skeleton.py) writes a mesh's Voronoi
+skeleton; farm (cli_farm.py) runs the render-farm steps that need no Blender.
 
 Each sub-command is a small function from parsed arguments to an exit code.
 Anything the user can get wrong — a missing or unreadable file, a damaged
@@ -30,7 +31,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ._core import Error, MemoryLimitError
-from . import cli_farm, cli_skeleton
+from . import cli_deform, cli_farm, cli_skeleton, cli_subdivide
+from .cli_common import MAX_FRAMES, PROG, UserError, add_command, check_count
 from .cache import load, save
 from .demo import run_demo as build_demo
 from .manifold import AXES, AnimationManifold, axis_index
@@ -38,21 +40,10 @@ from .meshio import read_mesh, write_mesh
 from .morph_pipeline import METHODS, cut_frame_warnings, morph
 from .stitching import stitch
 
-PROG = "animanifold"
 EXIT_USER_ERROR = 2
 EXIT_GEOMETRY_ERROR = 3
 MESH_FORMATS = ("obj", "ply", "off", "stl")  # what the core's CGAL IO writes, by extension
 FRAME_FORMATS = ("obj", "ply", "off")
-MAX_FRAMES = 100_000  # frames -n, morph --frames, demo --frames: one file each
-
-
-class UserError(Error):
-    """A problem with the user's input that the command line detects itself."""
-
-
-def check_count(option: str, value: int, low: int, high: int = MAX_FRAMES) -> None:
-    if not low <= value <= high:
-        raise UserError(f"{option} must be from {low} to {high:,}, got {value:,}")
 
 
 def refuse_stl(path: str) -> None:
@@ -312,9 +303,7 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def command(name: str, run: Callable[[argparse.Namespace], int], help: str, description: str):
-        sub = commands.add_parser(name, help=help, description=description)
-        sub.set_defaults(run=run)
-        return sub
+        return add_command(commands, name, run, help, description)
 
     p = command(
         "stitch",
@@ -400,6 +389,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="skeleton method: how far into the morph holes close and open, as a fraction of t1 - t0 "
                         "(default 0.45)")
 
+    cli_subdivide.add_parser(commands)
+    cli_deform.add_parser(commands)
     sub = cli_skeleton.add_parser(commands)
     sub.set_defaults(run=cli_skeleton.run)
     cli_farm.add_parser(commands)

@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 
+from .cli_common import StepPrinter
 from .holes import solid_measure
 from .meshio import read_mesh, write_mesh
 from .skeleton import SIDES, WRAP_SHAPES, voronoi_skeleton
@@ -26,7 +27,8 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
         help="internal/external Voronoi skeleton of a closed mesh (chapter 7)",
         description="Makes a closed, oriented triangle mesh Voronoi separable and writes its Voronoi "
                     "skeleton: the bisectors of the Voronoi diagram of its vertices that do not "
-                    "intersect it, internal and/or external (clipped to the convex hull).")
+                    "intersect it, internal and/or external (clipped to the convex hull). The core's steps "
+                    "go to stderr; Ctrl-C stops it, writing nothing.")
     p.add_argument("input", help="closed triangle mesh (.obj, .off, .ply, .stl)")
     p.add_argument("-o", "--output", required=True, help="skeleton triangles (format from the extension)")
     p.add_argument("--side", choices=SIDES, default="both",
@@ -45,6 +47,7 @@ def add_parser(subparsers) -> argparse.ArgumentParser:
     p.add_argument("--literal-rule", action="store_true",
                    help="the dissertation's literal encroachment rule (one-ring edges skipped only); "
                         "may cascade on obtuse triangles")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
     p.set_defaults(func=run)
     return p
 
@@ -97,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
             wrap=args.wrap, wrap_density=args.wrap_density,
             dihedral_limit=math.radians(args.dihedral_limit), attach=args.attach,
             neighbourhood=1 if args.literal_rule else 2, in_plane_angle=0.0 if args.literal_rule else 0.3,
-            warn=False)
+            warn=False, progress=StepPrinter(args.quiet))
         if len(sk.faces) == 0:
             return _error(empty_skeleton_message(args.input, args.side, vertices, faces))
         if args.attach:

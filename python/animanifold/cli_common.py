@@ -1,0 +1,66 @@
+"""What every sub-command of the command line shares: the user's-mistake error, bounded
+counts, and the progress lines a long call prints on stderr.
+
+Long calls (subdivide, deform) report their steps through the core's one interrupter
+(cpp/include/animanifold/progress.hpp); :class:`StepPrinter` turns those reports into a
+few lines on stderr. Ctrl-C stops such a call at its next step: the core polls Python's
+signals there, so the command ends with "interrupted" and exit code 130, having written
+nothing.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Callable, TextIO
+
+from ._core import Error
+
+PROG = "animanifold"
+MAX_FRAMES = 100_000  # frames -n, morph --frames, demo --frames: one file each
+
+
+class UserError(Error):
+    """A problem with the user's input that the command line detects itself."""
+
+
+def check_count(option: str, value: int, low: int, high: int = MAX_FRAMES) -> None:
+    if not low <= value <= high:
+        raise UserError(f"{option} must be from {low} to {high:,}, got {value:,}")
+
+
+def add_command(commands, name: str, run: Callable[[argparse.Namespace], int], help: str,
+                description: str) -> argparse.ArgumentParser:
+    """A sub-command's parser, dispatching to `run(args)` (its exit code)."""
+    sub = commands.add_parser(name, help=help, description=description)
+    sub.set_defaults(run=run)
+    return sub
+
+
+def add_manifold_command(commands, name: str, run: Callable[[argparse.Namespace], int], help: str,
+                         description: str) -> argparse.ArgumentParser:
+    """A long call from one cache file to another: MANIFOLD -o OUTPUT, its steps on stderr unless -q."""
+    sub = add_command(commands, name, run, help, description)
+    sub.add_argument("manifold", help="cache file (.amf)")
+    sub.add_argument("-o", "--output", required=True, help="the cache file to write (.amf)")
+    sub.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+    return sub
+
+
+class StepPrinter:
+    """A ``progress(step, fraction)`` callback that prints ``  <step> (<percent>)`` on
+    `stream` when the step changes or the call is another tenth further, so a long loop
+    reporting thousands of chunks prints a few lines. Never cancels (Ctrl-C does)."""
+
+    def __init__(self, quiet: bool = False, stream: TextIO | None = None):
+        self.quiet = quiet
+        self.stream = stream
+        self.printed: list[tuple[str, float]] = []
+
+    def __call__(self, step: str, fraction: float) -> bool:
+        tenth = int(fraction * 10)
+        if not self.printed or self.printed[-1][0] != step or tenth > int(self.printed[-1][1] * 10):
+            self.printed.append((step, fraction))
+            if not self.quiet:
+                print(f"  {step} ({fraction:.0%})", file=self.stream or sys.stderr)
+        return True
