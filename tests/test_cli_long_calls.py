@@ -1,5 +1,5 @@
-"""The command line's long calls, `python3 -m animanifold subdivide`, `deform` and `skeleton`:
-the package's calls with the core's steps on stderr and Ctrl-C stopping them at a step.
+"""The command line's long calls, `python3 -m animanifold subdivide`, `deform`, `skeleton` and
+`morph`: the package's calls with the core's steps on stderr and Ctrl-C stopping them at a step.
 
 Every expectation is exact: the files hold what the Python API makes, bit for bit; anchors stay
 exactly; Ctrl-C is raised from inside the call (a signal sent at a named step), so nothing
@@ -138,6 +138,20 @@ def test_deform_refuses_bad_choices_naming_the_option(capsys, stitched, tmp_path
     code, _, err = run(capsys, "deform", stitched[0], "-o", out, *extra)
     assert code == 2 and culprit in err and len(err.strip().splitlines()) == 1, err
     assert not out.exists()
+
+
+def test_morph_prints_each_stage_as_it_ends(capsys, tmp_path):
+    v, f = icosphere(1)
+    am.write_mesh(tmp_path / "s.obj", v, f)
+    am.write_mesh(tmp_path / "t.obj", v * [1.5, 1.0, 0.7], f)
+    code, _, err = run(capsys, "morph", tmp_path / "s.obj", tmp_path / "t.obj", "-o", tmp_path / "m")
+    assert code == 0, err
+    stages = []
+    am.morph((v, f), (v * [1.5, 1.0, 0.7], f), progress=lambda stage, fraction: stages.append(stage) or True)
+    assert [name.removesuffix(" done") for name in step_names(err)] == list(dict.fromkeys(stages)), err
+    assert all(name.endswith(" done") for name in step_names(err))
+    code, _, err = run(capsys, "morph", tmp_path / "s.obj", tmp_path / "t.obj", "-o", tmp_path / "q", "-q")
+    assert code == 0 and step_names(err) == []
 
 
 class CtrlCAt(StepPrinter):

@@ -32,7 +32,7 @@ import numpy as np
 
 from ._core import Error, MemoryLimitError
 from . import cli_deform, cli_farm, cli_skeleton, cli_subdivide
-from .cli_common import MAX_FRAMES, PROG, UserError, add_command, check_count
+from .cli_common import MAX_FRAMES, PROG, StepPrinter, UserError, add_command, check_count
 from .cache import load, save
 from .demo import run_demo as build_demo
 from .manifold import AXES, AnimationManifold, axis_index
@@ -385,6 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--t1", type=float, default=1.0, help="time of the target (default 1)")
     p.add_argument("--format", choices=FRAME_FORMATS, default="obj", help="frame format (default obj)")
     p.add_argument("--method", choices=METHODS, default=METHODS[0], help=f"morph method (default {METHODS[0]})")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
     p.add_argument("--max-push", type=float, default=0.45,
                    help="skeleton method: how far into the morph holes close and open, as a fraction of t1 - t0 "
                         "(default 0.45)")
@@ -403,7 +404,7 @@ def run_morph(args: argparse.Namespace) -> int:
     if not 0 < args.max_push < 0.5:
         raise UserError(f"--max-push must lie between 0 and 0.5, got {args.max_push}")
     manifold = morph(source, target, t0=args.t0, t1=args.t1, method=args.method, max_push=args.max_push,
-                     progress=lambda stage, fraction: print(f"  {stage} done ({fraction:.0%})", file=sys.stderr) or True)
+                     progress=StepPrinter(args.quiet, ended=True))
     folder = Path(args.output)
     folder.mkdir(parents=True, exist_ok=True)
     save(manifold, folder / "morph.amf")

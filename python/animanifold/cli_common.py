@@ -50,11 +50,15 @@ def add_manifold_command(commands, name: str, run: Callable[[argparse.Namespace]
 class StepPrinter:
     """A ``progress(step, fraction)`` callback that prints ``  <step> (<percent>)`` on
     `stream` when the step changes or the call is another tenth further, so a long loop
-    reporting thousands of chunks prints a few lines. Never cancels (Ctrl-C does)."""
+    reporting thousands of chunks prints a few lines. Never cancels (Ctrl-C does).
 
-    def __init__(self, quiet: bool = False, stream: TextIO | None = None):
+    The core's calls report a step as it starts; the morph reports each stage as it ends,
+    which ``ended=True`` says: ``  <stage> done (<percent>)``."""
+
+    def __init__(self, quiet: bool = False, stream: TextIO | None = None, ended: bool = False):
         self.quiet = quiet
         self.stream = stream
+        self.suffix = " done" if ended else ""
         self.printed: list[tuple[str, float]] = []
 
     def __call__(self, step: str, fraction: float) -> bool:
@@ -62,5 +66,5 @@ class StepPrinter:
         if not self.printed or self.printed[-1][0] != step or tenth > int(self.printed[-1][1] * 10):
             self.printed.append((step, fraction))
             if not self.quiet:
-                print(f"  {step} ({fraction:.0%})", file=self.stream or sys.stderr)
+                print(f"  {step}{self.suffix} ({fraction:.0%})", file=self.stream or sys.stderr)
         return True
