@@ -2,6 +2,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -45,13 +46,11 @@ ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const Simpl
       fail<InputError>("point ", v, " coincides with point ", handles[v]->info());
     handles[v]->info() = v;
   }
-  translating_library_failures("CGAL", "conforming " + std::to_string(edges.rows()) + " constraint segments on " +
-                                          std::to_string(n) + " points",
-                               [&] {
-                                 for (Index e = 0; e < edges.rows(); ++e)
-                                   cdt.insert_constraint(handles[edges(e, 0)], handles[edges(e, 1)]);
-                                 CGAL::make_conforming_Delaunay_2(cdt);
-                               });
+  translating_cgal_failures(
+      "conforming " + std::to_string(edges.rows()) + " constraint segments on " + std::to_string(n) + " points", [&] {
+        for (Index e = 0; e < edges.rows(); ++e) cdt.insert_constraint(handles[edges(e, 0)], handles[edges(e, 1)]);
+        CGAL::make_conforming_Delaunay_2(cdt);
+      });
 
   // Number the Steiner points after the input points.
   std::set<Cdt::Vertex_handle> inputs(handles.begin(), handles.end());

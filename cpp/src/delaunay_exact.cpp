@@ -2,6 +2,7 @@
 // package (exact predicates, symbolic perturbation): see delaunay.hpp.
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "cgal_failures.hpp"
 
 #include <CGAL/Delaunay_triangulation.h>
 #include <CGAL/Epick_d.h>
@@ -109,9 +110,8 @@ DelaunayTriangulation delaunay_exact(const PointMatrix& points) {
   for (Index r = 0; r < n; ++r)
     for (int c = 0; c < d; ++c)
       if (!std::isfinite(points(r, c))) fail<InputError>("point ", r, " has a non-finite coordinate");
-  return translating_library_failures(
-      "CGAL", "triangulating " + std::to_string(n) + " points in R^" + std::to_string(d),
-      [&] { return d == 3 ? triangulate<3>(points) : triangulate<4>(points); });
+  return translating_cgal_failures("triangulating " + std::to_string(n) + " points in R^" + std::to_string(d),
+                                   [&] { return d == 3 ? triangulate<3>(points) : triangulate<4>(points); });
 }
 
 }  // namespace animanifold
