@@ -4,8 +4,8 @@ once and kept, within a memory budget.
 The shown manifold of an object with Manifold Levels > 0 is its cache's manifold
 subdivided (Schaefer et al.) that many times, keyed by (levels, keep_keyframe_times)
 beside the loaded manifold it came from; a new version of the file makes them stale.
-A subdivision that fails, or would not fit in half the free memory, is remembered
-as failed so that playback does not retry it on every frame; a settings change
+A subdivision that fails, or would not fit in the package's memory limit (by default
+half the free memory: am.set_memory_limit), is remembered as failed so that playback does not retry it on every frame; a settings change
 (prune) forgets the failures and frees what no object asks for any more.
 
 An operator that needs a subdivision (Bake Frames) passes a `progress(step, fraction)`
@@ -19,15 +19,11 @@ frame tries again.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 from ._lib import am
 from .reporting import ReportedError
 
-# Peak memory of one subdivision, per output tet (measured ~45 bytes: points, tets,
-# attributes, the intermediate level); with room for the slicer's index built later.
-BYTES_PER_TET = 100
 # The panel warns from this many shown tets on (slower slicing, more memory).
 LARGE_TETS = 2_000_000
 
@@ -45,13 +41,6 @@ class _Subdivided:
     base: object
     manifolds: dict
     failed: dict
-
-
-def available_memory() -> int | None:
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):  # not Linux: no check
-        return None
 
 
 class SubdivisionCache:
@@ -109,14 +98,11 @@ class SubdivisionCache:
 
 def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
     tets = am.subdivided_simplex_count(base, levels)
-    available = available_memory()
-    if available is not None and tets * BYTES_PER_TET > available // 2:
-        raise SmoothingError(
-            f"{levels} subdivision levels of '{name}' would make {tets:,} tets "
-            f"(~{tets * BYTES_PER_TET / 2**30:.1f} GiB; {available / 2**30:.1f} GiB free): use fewer levels")
     try:
         return am.subdivide(am.weld(base), levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times,
                             progress=progress)
+    except am.MemoryLimitError as e:  # the package's limit (am.set_memory_limit), checked before allocating
+        raise SmoothingError(f"{levels} subdivision levels of '{name}': {e}; use fewer levels") from None
     except MemoryError:
         raise SmoothingError(f"out of memory subdividing '{name}' {levels} levels ({tets:,} tets): "
                              "use fewer levels") from None

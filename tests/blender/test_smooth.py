@@ -273,7 +273,7 @@ def test_bake_shows_the_subdivisions_steps_on_the_progress_bar(demo, tmp_path, m
 
 
 def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
-    from animanifold_blender import live, subdivision_cache
+    from animanifold_blender import live
     from animanifold_blender.deform_constraints import slice_constraints
     from animanifold_blender.reporting import OperatorError
 
@@ -299,10 +299,15 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
     with pytest.raises(RuntimeError, match="out of memory"):
         bpy.ops.animanifold.bake(alembic=False)
     assert scene_state() == state
-    # A result that would not fit in memory is refused before it is tried.
-    monkeypatch.setattr(subdivision_cache, "available_memory", lambda: 2**20)
-    settings.subdivision_levels = 1
-    assert "would make 21,504 tets" in live.last_error(man)
+    # A result beyond the package's memory limit is refused by the core before it allocates.
+    monkeypatch.undo()
+    previous = am.memory_limit() if am.memory_limits.memory_limit_is_set() else None
+    am.set_memory_limit(2**20)
+    try:
+        settings.subdivision_levels = 1
+    finally:
+        am.set_memory_limit(previous)
+    assert "(21504 simplices)" in live.last_error(man) and "memory limit" in live.last_error(man)
     assert calls == [1]
     settings.subdivision_levels = 0
     scene.frame_set(17)
