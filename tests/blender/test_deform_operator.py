@@ -13,7 +13,7 @@ bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip in
 
 import animanifold as am  # noqa: E402
 from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, ModalContext, mesh_vertices, modal_event, modal_stand_in,  # noqa: E402
-                                     record_core_progress, run_blender_binary_smoke, scene_state, shown)
+                                     record_core_progress, run_blender_binary_smoke, scene_state, shown, until_done)
 
 pytestmark = pytest.mark.blender
 
@@ -411,7 +411,6 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     waits; Esc stops the core at its next step and the mesh and the Empty's rest are as they
     were; a finished job's result is written by modal() in the main thread, as execute() does."""
     import threading
-    import time
 
     from animanifold_blender import deform_apply, ops_deform
     from animanifold_blender._lib import am as addon_am
@@ -434,14 +433,6 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
         return modal_stand_in(ops_deform.ANIMANIFOLD_OT_deform, _job=addon_am.CoreJob(call, plan), _source=obj,
                               _plan=plan)
 
-    def until_done(modal):
-        for _ in range(1200):  # a bound on the waits, not an assertion on time
-            result = modal(ModalContext(calls), event("TIMER"))
-            if result != {"RUNNING_MODAL"}:
-                return result
-            time.sleep(0.05)
-        return None
-
     reached, esc = threading.Event(), threading.Event()
 
     def held_at_deforming(plan, progress, interrupted):
@@ -460,7 +451,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     assert reached.wait(30.0)
     assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     esc.set()
-    assert until_done(modal) == {"CANCELLED"}
+    assert until_done(modal, calls) == {"CANCELLED"}
     assert op._job.cancelled and op._job.stage == "deforming"
     assert ("timer removed", "the timer") in calls and ("progress end",) in calls
     assert any("cancelled" in text for _, text in op.reports)
@@ -468,7 +459,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     assert custom(obj) == rest0
 
     modal, op = operator(lambda plan, progress, interrupted: plan.compute(progress, interrupted))
-    assert until_done(modal) == {"FINISHED"}, op.reports
+    assert until_done(modal, calls) == {"FINISHED"}, op.reports
     handles = np.flatnonzero(v0[:, 2] > 0.7)
     np.testing.assert_allclose(mesh_vertices(obj.data)[handles], v0[handles] + [0, 0, 0.5], atol=1e-6)
     assert custom(obj) != rest0  # the Empty's new rest is recorded

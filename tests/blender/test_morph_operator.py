@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import os
-import time
 
 import numpy as np
 import pytest
@@ -13,7 +12,8 @@ bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip in
 
 from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, ModalContext,  # noqa: E402
                              RecordingProgressBar, mesh_corners, mesh_vertices, modal_event, modal_stand_in,
-                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks)
+                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks,
+                             until_done)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
 
@@ -628,15 +628,6 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
 
     event = modal_event
 
-    def until_done(modal, seconds):
-        began = time.perf_counter()
-        while time.perf_counter() - began < seconds:
-            result = modal(ModalContext(calls), event("TIMER"))
-            if result != {"RUNNING_MODAL"}:
-                return result
-            time.sleep(0.05)
-        return None
-
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1, radius=1.0)
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_cube_add(size=1.5, location=(0.3, 0.0, 0.0))
@@ -652,7 +643,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
     assert modal(ModalContext(calls), event("X", "PRESS")) == {"RUNNING_MODAL"}  # no delete while it runs
     assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
-    assert until_done(modal, 120.0) == {"CANCELLED"}  # a bound against a hang, far beyond the hold
+    assert until_done(modal, calls) == {"CANCELLED"}
     assert op._job.stage in BEFORE_THE_HOLD, op._job.stage  # stopped within the hold, not after it
     assert ("timer removed", "the timer") in calls and ("status", None) in calls and ("progress end",) in calls
     assert any("cancelled" in text for _, text in op.reports) and len(bpy.data.objects) == objects
@@ -667,7 +658,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     inputs = (ops_morph.morph_input(bpy.context, source), ops_morph.morph_input(bpy.context, target))
     modal, op = _modal_operator(MorphJob(inputs[0].mesh, inputs[1].mesh, t0=1.0, t1=24.0),
                                 (source, target, 1, 24) + inputs)
-    assert until_done(modal, 120.0) == {"FINISHED"}, op.reports
+    assert until_done(modal, calls) == {"FINISHED"}, op.reports
     made = bpy.context.active_object
     assert made.name == "Icosphere_to_Cube" and made.animanifold.is_manifold
     assert len(bpy.data.objects) == objects + 1 and source.hide_get() and target.hide_get()

@@ -7,7 +7,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import ModalContext, RecordingProgressBar, modal_event, modal_stand_in, scene_state  # noqa: E402
+from helpers.blender_helpers import (ModalContext, RecordingProgressBar, modal_event, modal_stand_in, scene_state,  # noqa: E402
+                                     until_done)
 
 pytestmark = pytest.mark.blender
 
@@ -94,7 +95,6 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     pass, everything else waits; Esc stops the core at its next step and nothing is added; a
     finished job's object is made by modal() in the main thread, as execute() makes it."""
     import threading
-    import time
 
     from animanifold_blender import ops_skeleton
     from animanifold_blender._lib import am
@@ -107,14 +107,6 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     def operator(job, source):
         return modal_stand_in(ops_skeleton.ANIMANIFOLD_OT_skeleton, _job=job, _source=source, side="INTERNAL",
                               max_iterations=4, wrap="BOX")
-
-    def until_done(modal):
-        for _ in range(1200):  # a bound on the waits, not an assertion on time
-            result = modal(ModalContext(calls), event("TIMER"))
-            if result != {"RUNNING_MODAL"}:
-                return result
-            time.sleep(0.05)
-        return None
 
     bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
     torus = bpy.context.active_object
@@ -139,11 +131,11 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     assert reached.wait(30.0)  # Esc before the core reached "separability" would stop it at "checks"
     assert modal(ModalContext(calls), event("ESC", "PRESS")) == {"RUNNING_MODAL"}
     esc.set()
-    assert until_done(modal) == {"CANCELLED"}
+    assert until_done(modal, calls) == {"CANCELLED"}
     assert op._job.cancelled and op._job.stage == "separability"
     assert ("timer removed", "the timer") in calls and ("progress end",) in calls
     assert any("cancelled" in text for _, text in op.reports) and len(bpy.data.objects) == objects
 
     modal, op = operator(am.CoreJob(am.voronoi_skeleton, vertices, faces, side="internal", warn=False), torus)
-    assert until_done(modal) == {"FINISHED"}, op.reports
+    assert until_done(modal, calls) == {"FINISHED"}, op.reports
     assert bpy.context.active_object.name == "Torus_skeleton" and len(bpy.data.objects) == objects + 1

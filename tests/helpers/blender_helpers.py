@@ -7,6 +7,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -276,3 +277,15 @@ class ModalContext:
 def modal_event(kind: str, value: str = "NOTHING") -> SimpleNamespace:
     """An event as modal() reads it: its type and value."""
     return SimpleNamespace(type=kind, value=value)
+
+
+def until_done(modal, calls, ticks: int = 2400):
+    """Sends `modal` timer events, 0.05 s apart, until it returns something other than
+    RUNNING_MODAL, and returns that (None after `ticks` events: a bound against a hang, not an
+    assertion on time)."""
+    for _ in range(ticks):
+        result = modal(ModalContext(calls), modal_event("TIMER"))
+        if result != {"RUNNING_MODAL"}:
+            return result
+        time.sleep(0.05)
+    return None
