@@ -19,6 +19,7 @@ import animanifold as am
 from animanifold import cli_deform, cli_skeleton, cli_subdivide
 from animanifold.cli import main
 from animanifold.cli_common import StepPrinter
+from helpers.contours import blob, polygons
 from helpers.keyframes import TIMES, wobble
 from helpers.shapes import icosphere
 
@@ -152,6 +153,27 @@ def test_morph_prints_each_stage_as_it_ends(capsys, tmp_path):
     assert all(name.endswith(" done") for name in step_names(err))
     code, _, err = run(capsys, "morph", tmp_path / "s.obj", tmp_path / "t.obj", "-o", tmp_path / "q", "-q")
     assert code == 0 and step_names(err) == []
+
+
+def test_a_2d_animation_subdivides_into_triangles_and_deforms_with_three_numbers(capsys, tmp_path):
+    """Animated contours (x, y, t): a level makes 4 triangles of each, a motion has 3 coordinates."""
+    points, edges = polygons(blob(12, 1.0, (0, 0), wobble=0.2))
+    manifold = am.stitch(np.stack([points, points * 1.3, points * [1.0, 0.6]]), edges, [0.0, 0.5, 1.0])
+    source = tmp_path / "contour.amf"
+    am.save(manifold, source)
+    code, stdout, err = run(capsys, "subdivide", source, "-o", tmp_path / "s.amf", "-q")
+    assert code == 0 and f"into {4 * len(manifold.simplices):,} triangles" in stdout, err
+    moved = tmp_path / "m.amf"
+    code, _, err = run(capsys, "deform", source, "-o", moved, "--anchors", "t::0", "--handles", "t:1:",
+                       "--translate", 0.5, 0, 0, "-q")
+    assert code == 0, err
+    handles = np.flatnonzero(manifold.points[:, 2] >= 1)
+    assert np.allclose(am.load(moved).points[handles], manifold.points[handles] + [0.5, 0, 0], rtol=0, atol=1e-12)
+    for motion, culprit in [(("--translate", 0, 0, 0, 0), "--translate takes 3 finite numbers (x y t)"),
+                            (("--rotate", 0, 0, 1, 90), "--rotate turns animated surfaces")]:
+        code, _, err = run(capsys, "deform", source, "-o", tmp_path / "x.amf", "--anchors", "t::0", "--handles",
+                           "t:1:", *motion)
+        assert code == 2 and culprit in err, err
 
 
 class CtrlCAt(StepPrinter):

@@ -104,7 +104,6 @@ def motion(args: argparse.Namespace, manifold: AnimationManifold, handles: np.nd
                             f"{' '.join(f'{v:g}' for v in args.rotate)}")
         rotation = rotation_matrix(axis, math.radians(degrees))
         centre = manifold.points[handles].mean(axis=0)
-        centre[-1] = 0.0  # the rotation keeps time; its centre's time plays no part
     return handle_transform(rotation=rotation, translation=translation, center=centre, dimension=D)
 
 
