@@ -112,6 +112,11 @@ def test_deform_writes_what_the_api_makes_anchors_stay_and_handles_move(capsys, 
     assert f"({len(anchors):,} anchors, {len(handles):,} handles; dual)" in stdout
 
 
+def test_deform_reports_a_huge_finite_motion_without_overflowing(capsys, stitched, tmp_path):
+    code, stdout, err = run(capsys, *deform_args(stitched[0], tmp_path / "far.amf", "--translate", 0, 0, 1e308, 0, "-q"))
+    assert code == 0 and "largest motion 1e+308" in stdout, err
+
+
 def test_deform_rotates_the_handles_about_their_centre(capsys, stitched, tmp_path):
     source, manifold = stitched
     out = tmp_path / "turned.amf"

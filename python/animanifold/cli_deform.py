@@ -107,6 +107,12 @@ def motion(args: argparse.Namespace, manifold: AnimationManifold, handles: np.nd
     return handle_transform(rotation=rotation, translation=translation, center=centre, dimension=D)
 
 
+def _lengths(vectors: np.ndarray) -> np.ndarray:
+    """Each row's length, scaled first so that huge finite motions do not overflow to inf."""
+    scale = float(np.abs(vectors).max(initial=0.0)) or 1.0
+    return scale * np.linalg.norm(vectors / scale, axis=1)
+
+
 def run(args: argparse.Namespace) -> int:
     manifold = load(args.manifold)
     anchors = parse_ranges("--anchors", args.anchors, manifold)
@@ -121,9 +127,9 @@ def run(args: argparse.Namespace) -> int:
                             regularise=RegulariseOptions() if args.regularise else None)
     moved = deform(manifold, anchors, handles, transform, options=options, progress=StepPrinter(args.quiet))
     save(moved, args.output)
-    shift = np.linalg.norm(moved.points[: len(manifold.points)] - manifold.points, axis=1)
+    shift = _lengths(moved.points[: len(manifold.points)] - manifold.points)
     added = len(moved.simplices) - len(manifold.simplices)
     print(f"deformed {len(manifold.points):,} vertices ({anchors.size:,} anchors, {handles.size:,} handles; "
-          f"{args.method}): largest motion {shift.max():.6g}, mean {shift.mean():.6g}"
+          f"{args.method}): largest motion {shift.max():.6g}, {np.count_nonzero(shift):,} vertices moved"
           + (f"; regularised: {added:,} simplices added" if args.regularise else "") + f": {args.output}")
     return 0
