@@ -76,10 +76,16 @@ BAD = {  # name: (argv with {file} placeholders, a word the message must hold)
     "skeleton --wrap-density 100000": ("skeleton {a} -o {tmp}/s.obj --wrap-density 100000", "wrap_density"),
     "skeleton --wrap-density 0": ("skeleton {a} -o {tmp}/s.obj --wrap-density 0", "wrap-density"),
     "skeleton of an STL text .obj": ("skeleton {stl_as_obj} -o {tmp}/s.obj", "stl.obj"),
+    "subdivide a FIFO": ("subdivide {fifo} -o {tmp}/s.amf", "FIFO"),
+    "subdivide a nested header": ("subdivide {nested} -o {tmp}/s.amf", "nested"),
+    "subdivide to a folder": ("subdivide {cache} -o {dir} -q", "directory"),
+    "deform a huge count": ("deform {huge} -o {tmp}/d.amf --anchors t::0 --handles t:1: --translate 0 0 1 0", "huge.amf"),
+    "deform to a FIFO": ("deform {cache} -o {fifo} --anchors t::0 --handles t:1: --translate 0 0 1 0 -q", "FIFO"),
 }
 if os.path.exists("/dev/zero"):
     BAD["info /dev/zero"] = ("info /dev/zero", "character device")
     BAD["slice /dev/zero"] = ("slice /dev/zero -t 0 -o {tmp}/f.obj", "character device")
+    BAD["subdivide /dev/zero"] = ("subdivide /dev/zero -o {tmp}/s.amf", "character device")
 
 
 @pytest.mark.parametrize("case", sorted(BAD))
