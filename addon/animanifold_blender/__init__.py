@@ -10,7 +10,7 @@ Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
   Back to Live), ops_morph (Morph Selected; modal, the core in am.MorphJob's
   worker thread, Esc cancels), ops_skeleton and ops_deform (modal likewise, in
   am.CoreJob, through job_modal); `reporting` turns their
-  failures into reports;
+  failures into reports, `polls` holds their shared poll checks;
 * what they run: convert, bake_object and bake, morph_object, deform_apply with
   deform_constraints, deform_handle and interactive_deform;
 * render farms: farm (a chunk's bake and the assembly, called from Blender's command

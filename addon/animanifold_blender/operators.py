@@ -16,6 +16,7 @@ from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
 from .convert import convert_object
 from .object_manifold import manifold_for
 from .operator_defaults import option
+from .polls import active_object_is, in_object_mode
 from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 from .reporting import reporting
 
@@ -39,8 +40,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
+        if not in_object_mode(cls, context):
             return False
         obj = context.active_object
         if obj is None:
@@ -92,14 +92,8 @@ class ANIMANIFOLD_OT_bake(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        if obj is None or not getattr(obj, "animanifold", None) or not obj.animanifold.is_manifold:
-            cls.poll_message_set("Select a manifold object (made by Convert)")
-            return False
-        return True
+        return active_object_is(cls, context, lambda obj: bool(getattr(obj, "animanifold", None))
+                                and obj.animanifold.is_manifold, "Select a manifold object (made by Convert)")
 
     def execute(self, context):
         preferences.apply_threads(context)

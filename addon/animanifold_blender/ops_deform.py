@@ -21,6 +21,7 @@ from .interactive_deform import session
 from .job_modal import CoreJobModal
 from .live import scene_frame
 from .operator_defaults import option
+from .polls import active_object_is
 from .properties import BOUNDARY_ITEMS, ENDPOINT_ITEMS, METHOD_ITEMS
 from .reporting import OperatorError, reporting
 
@@ -51,14 +52,8 @@ class ANIMANIFOLD_OT_deform(CoreJobModal, Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        if obj is None or obj.type != "MESH" or obj.library is not None:
-            cls.poll_message_set("Select a mesh or manifold object")
-            return False
-        return True
+        return active_object_is(cls, context, lambda obj: obj.type == "MESH" and obj.library is None,
+                                "Select a mesh or manifold object")
 
     def _inputs(self, context, obj):
         """(options, Empty) of a Deform of `obj`, checked; raises OperatorError."""
@@ -117,14 +112,8 @@ class ANIMANIFOLD_OT_deform_store(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        if obj is None or not is_manifold_object(obj) or obj.library is not None:
-            cls.poll_message_set("Select a manifold object (made by Convert)")
-            return False
-        return True
+        return active_object_is(cls, context, lambda obj: is_manifold_object(obj) and obj.library is None,
+                                "Select a manifold object (made by Convert)")
 
     def execute(self, context):
         obj = context.active_object

@@ -31,6 +31,7 @@ from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (wor
 from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
 from .job_modal import CoreJobModal
 from .progress import MorphStages
+from .polls import in_object_mode
 from .reporting import OperatorError, reporting
 
 MorphJob = am.MorphJob  # the morph in a worker thread that invoke() starts
@@ -57,8 +58,7 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
 
     @classmethod
     def poll(cls, context):
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
+        if not in_object_mode(cls, context):
             return False
         selected = [o for o in context.selected_objects if o.type == "MESH"]
         if len(selected) != 2 or context.active_object not in selected:

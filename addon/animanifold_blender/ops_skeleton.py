@@ -19,6 +19,7 @@ from ._lib import am
 from .enum_items import enum_items
 from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
+from .polls import active_object_is
 from .job_modal import CoreJobModal
 from .progress import CoreProgress
 from .reporting import reporting
@@ -49,14 +50,7 @@ class ANIMANIFOLD_OT_skeleton(CoreJobModal, Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        if context.mode != "OBJECT":
-            cls.poll_message_set("Switch to Object Mode")
-            return False
-        if obj is None or obj.type != "MESH":
-            cls.poll_message_set("Select a mesh object")
-            return False
-        return True
+        return active_object_is(cls, context, lambda obj: obj.type == "MESH", "Select a mesh object")
 
     def _options(self) -> dict:
         return dict(side=self.side.lower(), max_iterations=self.max_iterations, wrap=self.wrap.lower(), warn=False)
