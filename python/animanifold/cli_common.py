@@ -1,9 +1,9 @@
 """What every sub-command of the command line shares: the user's-mistake error, bounded
 counts, and the progress lines a long call prints on stderr.
 
-Long calls (subdivide, deform) report their steps through the core's one interrupter
-(cpp/include/animanifold/progress.hpp); :class:`StepPrinter` turns those reports into a
-few lines on stderr. Ctrl-C stops such a call at its next step: the core polls Python's
+Long calls (subdivide, deform, skeleton, morph) report their steps through the core's one
+interrupter (cpp/include/animanifold/progress.hpp); :class:`StepPrinter` turns those reports
+into a few lines on stderr. Ctrl-C stops such a call at its next step: the core polls Python's
 signals there, so the command ends with "interrupted" and exit code 130, having written
 nothing.
 """
