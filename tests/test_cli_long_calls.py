@@ -59,9 +59,17 @@ def step_names(err: str) -> list[str]:
 
 def test_the_step_printer_prints_each_step_and_each_further_tenth():
     printer = StepPrinter(quiet=True)
-    for step, fraction in [("a", 0.0), ("a", 0.05), ("a", 0.1), ("a", 0.19), ("b", 0.19), ("b", 0.2), ("b", 0.55)]:
+    for step, fraction in [("checks", 0.0), ("a", 0.0), ("a", 0.05), ("a", 0.1), ("a", 0.19), ("b", 0.19), ("b", 0.2),
+                           ("b", 0.55)]:
         assert printer(step, fraction) is True
     assert printer.printed == [("a", 0.0), ("a", 0.1), ("b", 0.19), ("b", 0.2), ("b", 0.55)]
+
+
+def test_an_input_refused_at_the_checks_step_ends_in_one_error_line(capsys, tmp_path):
+    v, f = icosphere(1)
+    am.write_mesh(tmp_path / "open.obj", v, f[1:])
+    code, _, err = run(capsys, "skeleton", tmp_path / "open.obj", "-o", tmp_path / "s.obj")
+    assert code == 2 and err.startswith("animanifold: error: ") and err.count("\n") == 1, err
 
 
 def test_subdivide_writes_what_the_api_makes_and_prints_the_cores_steps(capsys, stitched, tmp_path):
@@ -73,7 +81,7 @@ def test_subdivide_writes_what_the_api_makes_and_prints_the_cores_steps(capsys, 
     assert np.array_equal(written.points, expected.points) and np.array_equal(written.simplices, expected.simplices)
     assert len(written.simplices) == 64 * len(manifold.simplices) == am.subdivided_simplex_count(manifold, 2)
     assert written.metadata["subdivisions"] == expected.metadata["subdivisions"]
-    assert step_names(err) == ["checks", "refining", "averaging", "octahedra"], err
+    assert step_names(err) == ["refining", "averaging", "octahedra"], err  # the input's checks are not shown
     assert f"into {len(written.simplices):,} tets" in stdout and str(out) in stdout
 
     linear = tmp_path / "linear.amf"
@@ -108,7 +116,7 @@ def test_deform_writes_what_the_api_makes_anchors_stay_and_handles_move(capsys, 
     assert np.array_equal(written.points[anchors], manifold.points[anchors])
     assert np.allclose(written.points[handles], manifold.points[handles] + [0, 0, 0.5, 0], rtol=0, atol=1e-12)
     names = step_names(err)
-    assert names[:3] == ["checks", "laplacian", "factorising"] and "deforming" in names and "restoring" in names, err
+    assert names[:2] == ["laplacian", "factorising"] and "deforming" in names and "restoring" in names, err
     assert f"({len(anchors):,} anchors, {len(handles):,} handles; dual)" in stdout
 
 
@@ -198,7 +206,7 @@ def test_skeleton_prints_the_cores_steps_and_writes_what_the_api_makes(capsys, b
     code, _, err = run(capsys, "skeleton", ball, "-o", out, "--side", "internal")
     assert code == 0, err
     names = step_names(err)
-    assert names[0] == "checks" and "bisectors" in names, err
+    assert names[0] == "separability" and "bisectors" in names, err
     v, f = am.read_mesh(ball)
     expected = am.voronoi_skeleton(v, f, side="internal", warn=False)
     assert np.array_equal(am.read_mesh(out)[1], expected.faces)

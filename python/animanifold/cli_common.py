@@ -53,7 +53,9 @@ class StepPrinter:
     reporting thousands of chunks prints a few lines. Never cancels (Ctrl-C does).
 
     The core's calls report a step as it starts; the morph reports each stage as it ends,
-    which ``ended=True`` says: ``  <stage> done (<percent>)``."""
+    which ``ended=True`` says: ``  <stage> done (<percent>)``. The "checks" step (the input's
+    validation, which takes no time) is not printed, so an input refused there ends in the one
+    error line the command line promises for bad input."""
 
     def __init__(self, quiet: bool = False, stream: TextIO | None = None, ended: bool = False):
         self.quiet = quiet
@@ -63,6 +65,8 @@ class StepPrinter:
 
     def __call__(self, step: str, fraction: float) -> bool:
         tenth = int(fraction * 10)
+        if step == "checks" and not self.suffix:
+            return True
         if not self.printed or self.printed[-1][0] != step or tenth > int(self.printed[-1][1] * 10):
             self.printed.append((step, fraction))
             if not self.quiet:
