@@ -63,6 +63,9 @@ ctest "${ctest_args[@]}" > "$logs/ctest.log" 2>&1 || status=1
 tail -3 "$logs/ctest.log"
 
 if [ "$SANITIZE" = thread ]; then runtime=$(gcc -print-file-name=libtsan.so); else runtime=$(gcc -print-file-name=libasan.so); fi
+# libstdc++ preloaded too: python3 does not link it, so the sanitizer would find no
+# __cxa_throw to intercept when it starts, and abort at the first C++ exception.
+runtime="$runtime $(gcc -print-file-name=libstdc++.so.6)"
 tests=${SANITIZE_TESTS:-"tests/test_input_validation.py tests/test_fuzz_corpus.py tests/test_stitch.py \
   tests/test_slice.py tests/test_refine.py tests/test_subdivide.py tests/test_cache.py tests/test_memory_limit.py"}
 # The interpreter itself, not a wrapper script (pyenv's shim): bash segfaults with libtsan preloaded.
