@@ -5,7 +5,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release > build.log 2>&1 || { cat build.log; exit 1; }
+# SANITIZED_TESTS=address,undefined adds the sanitized copy of our own units and C++ tests
+# (cmake/sanitized_tests.cmake; scripts/test.sh sets it); unset, the build has none.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DANIMANIFOLD_SANITIZED_TESTS="${SANITIZED_TESTS:-}" \
+  > build.log 2>&1 || { cat build.log; exit 1; }
 cmake --build build -j2 >> build.log 2>&1 || { tail -60 build.log; exit 1; }
 rm -f build.log
 # The committed stub follows the bindings (scripts/check-stubs.sh checks it).

@@ -4,32 +4,48 @@
 # smoke with the sanitized module (libasan preloaded into python3, leak checks off: CPython
 # keeps its arenas for ever), and reports what the sanitizers found. Exit status 1 when they
 # found anything. Not part of CI's 30 minutes: the first build takes ~15 min on two cores
-# (ccache makes later ones incremental); see tests/fuzz/README.md for when to run it.
+# (ccache makes later ones incremental); see tests/fuzz/README.md for when to run it. CI runs
+# the cheaper part of it, our own units' C++ tests (cmake/sanitized_tests.cmake).
 #
 #   bash scripts/sanitize.sh                  # build, ctest, Python smoke
 #   SANITIZE=thread bash scripts/sanitize.sh  # ThreadSanitizer instead, in build-tsan/
+#   SANITIZE_SCOPE=own bash scripts/sanitize.sh   # only our units instrumented, CGAL's not
+#                                             # (a much shorter build; build-<asan|tsan>-own/)
 #   SANITIZE_TESTS="tests/test_threads.py" bash scripts/sanitize.sh   # another Python subset
 #   GTEST_FILTER='Stitch*' bash scripts/sanitize.sh                   # a ctest subset
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 SANITIZE="${SANITIZE:-address,undefined}"
+SCOPE="${SANITIZE_SCOPE:-all}"
 if [ "$SANITIZE" = thread ]; then build="$root/build-tsan"; else build="$root/build-asan"; fi
+if [ "$SCOPE" = own ]; then
+  build="$build-own"
+  # The normal tree (Release, as build/, so ccache has it) plus sanitized copies of our own
+  # units, tests and module (cmake/sanitized_tests.cmake sets their flags).
+  scope_flags=(-DCMAKE_BUILD_TYPE=Release -DANIMANIFOLD_SANITIZED_TESTS="$SANITIZE" -DANIMANIFOLD_SANITIZED_MODULE=ON)
+  python_dir="$build/sanitized/python"
+  ctest_filter='^sanitized\.'
+else
+  # -O1 keeps the stacks readable and the build short; NDEBUG as in release builds, so the
+  # sanitizers judge the code users run (Eigen's assertions would abort first).
+  scope_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DANIMANIFOLD_SANITIZE="$SANITIZE"
+               -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
+  python_dir="$build/python"
+  ctest_filter=''
+fi
 logs="$build/logs"
 mkdir -p "$logs"
 
-# -O1 keeps the stacks readable and the build short; NDEBUG as in release builds, so the
-# sanitizers judge the code users run (Eigen's assertions would abort first).
 echo "sanitize: building $build (-fsanitize=$SANITIZE; log $logs/build.log)"
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DANIMANIFOLD_SANITIZE="$SANITIZE" \
+cmake -S . -B "$build" -G Ninja "${scope_flags[@]}" \
   -DANIMANIFOLD_BENCH=OFF -DANIMANIFOLD_MODULE_DIR="$build/python/animanifold" > "$logs/build.log" 2>&1 \
   || { tail -40 "$logs/build.log"; exit 1; }
 cmake --build "$build" -j"${JOBS:-2}" >> "$logs/build.log" 2>&1 || { tail -60 "$logs/build.log"; exit 1; }
 
 # The package's Python sources beside the sanitized module, so that imports find that one.
-find "$build/python/animanifold" -maxdepth 1 -name '*.py' -delete
-cp python/animanifold/*.py "$build/python/animanifold/"
+find "$python_dir/animanifold" -maxdepth 1 -name '*.py' -delete
+cp python/animanifold/*.py "$python_dir/animanifold/"
 
 # Reports go to files (log_path), one per process, so that findings in the C++ tests, in
 # python3 and in the CLI subprocesses the tests start are all counted. UBSan's checks go on
@@ -42,21 +58,26 @@ export TSAN_OPTIONS="log_path=$logs/tsan:second_deadlock_stack=1"
 status=0
 echo "sanitize: ctest (log $logs/ctest.log)"
 ctest_args=(--test-dir "$build" --output-on-failure -j1 --timeout 900)
-[ -n "${GTEST_FILTER:-}" ] && ctest_args+=(-R "$GTEST_FILTER")
+[ -n "${GTEST_FILTER:-$ctest_filter}" ] && ctest_args+=(-R "${GTEST_FILTER:-$ctest_filter}")
 ctest "${ctest_args[@]}" > "$logs/ctest.log" 2>&1 || status=1
 tail -3 "$logs/ctest.log"
 
 if [ "$SANITIZE" = thread ]; then runtime=$(gcc -print-file-name=libtsan.so); else runtime=$(gcc -print-file-name=libasan.so); fi
+# libstdc++ preloaded too: python3 does not link it, so the sanitizer would find no
+# __cxa_throw to intercept when it starts, and abort at the first C++ exception.
+runtime="$runtime $(gcc -print-file-name=libstdc++.so.6)"
 tests=${SANITIZE_TESTS:-"tests/test_input_validation.py tests/test_fuzz_corpus.py tests/test_stitch.py \
   tests/test_slice.py tests/test_refine.py tests/test_subdivide.py tests/test_cache.py tests/test_memory_limit.py"}
+# The interpreter itself, not a wrapper script (pyenv's shim): bash segfaults with libtsan preloaded.
+python=$(python3 -c 'import sys; print(sys.executable)')
 echo "sanitize: pytest with the sanitized module (log $logs/pytest.log): $tests"
 # pytest puts its `pythonpath` (python/) first; -o points it at the sanitized tree instead.
 # shellcheck disable=SC2086
-LD_PRELOAD="$runtime" python3 -m pytest -q -p no:cacheprovider -o pythonpath="$build/python" \
+LD_PRELOAD="$runtime" "$python" -m pytest -q -p no:cacheprovider -o pythonpath="$python_dir" \
   $tests > "$logs/pytest.log" 2>&1 || status=1
 tail -3 "$logs/pytest.log"
-LD_PRELOAD="$runtime" PYTHONPATH="$build/python" python3 -c \
-  "import animanifold._core as c, sys; sys.exit(0 if c.__file__.startswith('$build') else 1)" \
+LD_PRELOAD="$runtime" PYTHONPATH="$python_dir" "$python" -c \
+  "import animanifold._core as c, sys; sys.exit(0 if c.__file__.startswith('$python_dir') else 1)" \
   || { echo "sanitize: python3 did not load the sanitized module" >&2; status=1; }
 
 reports=$(find "$logs" -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' | sort)

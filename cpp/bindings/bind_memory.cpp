@@ -10,7 +10,9 @@ void bind_memory(py::module_& m) {
   m.def("memory_limit", py::overload_cast<>(&memory_limit),
         "The memory limit in force, in bytes: the one set, else half of the available memory now.");
   m.def("memory_limit_setting", &memory_limit_setting, "The memory limit set, or None when the default applies.");
-  m.def("available_memory", &available_memory, "The memory the system can give without swapping, in bytes.");
+  m.def("available_memory", [] { return available_memory(); },
+        "The memory the system can give without swapping, in bytes: MemAvailable, or what the process's "
+        "cgroups still allow where that is less.");
 }
 
 }  // namespace animanifold::bindings

@@ -48,8 +48,10 @@ std::optional<std::uint64_t> memory_limit_setting() {
   return limit ? std::optional<std::uint64_t>(limit) : std::nullopt;
 }
 
-std::uint64_t available_memory() {
-  std::ifstream meminfo("/proc/meminfo");
+namespace {
+
+std::uint64_t machine_available_memory(const std::string& meminfo_path) {
+  std::ifstream meminfo(meminfo_path);
   for (std::string key; meminfo >> key;) {
     std::uint64_t kib = 0;
     if (key == "MemAvailable:" && meminfo >> kib) return kib * 1024;
@@ -57,6 +59,14 @@ std::uint64_t available_memory() {
   }
   const long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
   return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) : 0;
+}
+
+}  // namespace
+
+std::uint64_t available_memory(const MemoryFiles& files) {
+  const std::uint64_t machine = machine_available_memory(files.meminfo);
+  const auto cgroups = cgroup_memory_headroom(files.cgroups);
+  return cgroups ? std::min(machine, *cgroups) : machine;
 }
 
 std::uint64_t memory_limit() {

@@ -1165,7 +1165,7 @@ class Deformer:
         """
 def available_memory() -> int:
     """
-    The memory the system can give without swapping, in bytes.
+    The memory the system can give without swapping, in bytes: MemAvailable, or what the process's cgroups still allow where that is less.
     """
 def boundary_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]:
     """

@@ -6,7 +6,9 @@ The calls whose output size follows from their input — :func:`~animanifold.sti
 estimate their peak memory before they allocate it and raise :class:`MemoryLimitError` (an
 :class:`animanifold.Error` and a :class:`MemoryError`) naming the call, the estimate and the
 limit when it exceeds the limit. By default the limit is half of the memory available when the
-call starts; the limit is process-wide (the core's, ``animanifold/memory_limit.hpp``).
+call starts: MemAvailable, or what the process's cgroups (v2 ``memory.max``, v1
+``memory.limit_in_bytes``, less their working set) still allow where that is less, as in a
+container. The limit is process-wide (the core's, ``animanifold/memory_limit.hpp``).
 """
 
 from __future__ import annotations

@@ -5,9 +5,12 @@
 // once with a message instead of the machine swapping or the kernel killing the process.
 //
 // The limit is process-wide. By default it is half of the memory available when the call
-// starts (/proc/meminfo's MemAvailable, else the free physical pages), read afresh on
-// every check; set_memory_limit() fixes it (Python: animanifold.set_memory_limit).
+// starts (/proc/meminfo's MemAvailable, else the free physical pages, or what the process's
+// cgroups still allow where that is less), read afresh on every check; set_memory_limit()
+// fixes it (Python: animanifold.set_memory_limit).
 #pragma once
+
+#include "animanifold/cgroup_memory.hpp"
 
 #include <cstdint>
 #include <new>
@@ -39,9 +42,18 @@ void set_memory_limit(std::optional<std::uint64_t> bytes);
 // Outputs: the limit set by set_memory_limit(), nullopt when the default applies
 std::optional<std::uint64_t> memory_limit_setting();
 
-// Outputs: the memory the system can give without swapping, in bytes
-//   (MemAvailable; the free physical pages where /proc/meminfo is missing)
-std::uint64_t available_memory();
+// Where the available memory is read from; tests substitute stand-in files.
+struct MemoryFiles {
+  std::string meminfo = "/proc/meminfo";
+  CgroupFiles cgroups;
+};
+
+// Inputs:
+//   files  /proc/meminfo and the cgroup files (the real ones by default)
+// Outputs: the memory the system can give without swapping, in bytes: MemAvailable (the
+//   free physical pages where meminfo is missing), or the headroom the process's cgroups
+//   leave (cgroup_memory_headroom) where that is lower
+std::uint64_t available_memory(const MemoryFiles& files = {});
 
 // Outputs: the limit in force now: the one set, else half of available_memory()
 std::uint64_t memory_limit();

@@ -1,0 +1,51 @@
+# Which of the core's translation units include CGAL, directly or through a private header
+# of cpp/src (cgal_failures.hpp, hole_space_internal.hpp, ...). Found from the sources, so
+# that a unit starting to use CGAL moves to the shared, uninstrumented object library by
+# itself (CMakeLists.txt, cmake/sanitized_tests.cmake).
+
+# True when `file` includes <CGAL/...> or one of the private headers in `cgal_headers`.
+function(_animanifold_includes_cgal file cgal_headers out)
+  file(STRINGS "${file}" includes REGEX "^#include [<\"]")
+  set(found FALSE)
+  foreach(line IN LISTS includes)
+    if(line MATCHES "^#include <CGAL/")
+      set(found TRUE)
+    elseif(line MATCHES "^#include \"([a-z0-9_]+\\.hpp)\"" AND CMAKE_MATCH_1 IN_LIST cgal_headers)
+      set(found TRUE)
+    endif()
+  endforeach()
+  set(${out} ${found} PARENT_SCOPE)
+endfunction()
+
+# Splits `sources` (cpp/src/*.cpp) into the units that include CGAL and the rest.
+function(animanifold_split_cgal_units sources cgal_out own_out)
+  # Private headers that bring CGAL in, to a fixed point (a header including such a header).
+  file(GLOB headers ${CMAKE_CURRENT_SOURCE_DIR}/cpp/src/*.hpp)
+  set(cgal_headers "")
+  set(changed TRUE)
+  while(changed)
+    set(changed FALSE)
+    foreach(header IN LISTS headers)
+      get_filename_component(name "${header}" NAME)
+      if(NOT name IN_LIST cgal_headers)
+        _animanifold_includes_cgal("${header}" "${cgal_headers}" uses)
+        if(uses)
+          list(APPEND cgal_headers "${name}")
+          set(changed TRUE)
+        endif()
+      endif()
+    endforeach()
+  endwhile()
+  set(cgal "")
+  set(own "")
+  foreach(source IN LISTS sources)
+    _animanifold_includes_cgal("${source}" "${cgal_headers}" uses)
+    if(uses)
+      list(APPEND cgal "${source}")
+    else()
+      list(APPEND own "${source}")
+    endif()
+  endforeach()
+  set(${cgal_out} "${cgal}" PARENT_SCOPE)
+  set(${own_out} "${own}" PARENT_SCOPE)
+endfunction()

@@ -1,0 +1,83 @@
+# A second, sanitized copy of the C++ tests for CI, cheap enough to build next to the normal
+# tree on a fresh machine: only the checked units (CMakeLists.txt: our own units without
+# CGAL, less the morph's and the skeleton's stages) and the tests below are compiled again
+# with the sanitizers; every other unit is the normal build's object (animanifold_shared_units),
+# uninstrumented. ASan still sees every allocation (its allocator replaces malloc for the
+# whole process), so our code overrunning a buffer CGAL gave it is found; CGAL's internals
+# and the shared units are not checked (scripts/sanitize.sh builds everything sanitized).
+#
+#   -DANIMANIFOLD_SANITIZED_TESTS=address,undefined   (scripts/test.sh, CI)
+#   -DANIMANIFOLD_SANITIZED_TESTS=thread              (ThreadSanitizer on the threaded tests)
+# adds animanifold_core_sanitized, animanifold_tests_sanitized and their ctest cases, named
+# "sanitized.<Suite>.<Test>". Any finding fails its test: UBSan is compiled not to recover,
+# and ASan and TSan stop at their first report.
+set(ANIMANIFOLD_SANITIZED_TESTS "" CACHE STRING
+    "Sanitizers for the extra sanitized C++ test build (e.g. address,undefined); empty: none")
+if(NOT ANIMANIFOLD_SANITIZED_TESTS)
+  return()
+endif()
+if(ANIMANIFOLD_SANITIZE)
+  message(FATAL_ERROR "ANIMANIFOLD_SANITIZED_TESTS adds a sanitized copy to a normal build; "
+                      "this build is sanitized whole already (ANIMANIFOLD_SANITIZE)")
+endif()
+
+# The tests of our own code. Left out: the tests of the CGAL units (booleans, exact
+# predicates, the skeleton and the morph's stages), which would run uninstrumented code
+# slowly under the sanitizer's allocator and check little of ours.
+set(_sanitized_test_names
+  test_complex test_conforming_mend test_delaunay test_errors test_flat_polygons
+  test_isolated test_laplacian test_memory_estimates test_memory_limit test_normals
+  test_perturbation test_progress test_refine test_shelling test_simplex_qp test_slice
+  test_stitch test_subdivide test_validation test_cgroup_memory internal/test_zero_set)
+set(_sanitized_test_sources "")
+foreach(name IN LISTS _sanitized_test_names)
+  list(APPEND _sanitized_test_sources ${CMAKE_CURRENT_SOURCE_DIR}/cpp/tests/${name}.cpp)
+endforeach()
+
+# -O1: a short build and readable stacks; NDEBUG as in release builds, so the sanitizers
+# judge the code users run (Eigen's assertions would abort first).
+# Eigen allocates with its own aligned allocator under ASan and with plain malloc otherwise
+# (EIGEN_MALLOC_ALREADY_ALIGNED): a matrix allocated in a shared unit and freed in a checked
+# one would be freed wrongly. The checked units get the normal build's choice.
+include(CheckCXXSourceCompiles)
+set(CMAKE_REQUIRED_LIBRARIES Eigen3::Eigen)
+check_cxx_source_compiles("#include <Eigen/Core>
+#if !EIGEN_MALLOC_ALREADY_ALIGNED
+#error handmade
+#endif
+int main() { return 0; }" ANIMANIFOLD_EIGEN_MALLOC_ALREADY_ALIGNED)
+unset(CMAKE_REQUIRED_LIBRARIES)
+if(ANIMANIFOLD_EIGEN_MALLOC_ALREADY_ALIGNED)
+  set(_eigen_malloc -DEIGEN_MALLOC_ALREADY_ALIGNED=1)
+else()
+  set(_eigen_malloc -DEIGEN_MALLOC_ALREADY_ALIGNED=0)
+endif()
+set(_sanitize_flags -fsanitize=${ANIMANIFOLD_SANITIZED_TESTS} -fno-omit-frame-pointer
+    -fno-sanitize-recover=all -O1 -g1 ${_eigen_malloc})
+add_library(animanifold_core_sanitized STATIC ${ANIMANIFOLD_CHECKED_SOURCES}
+            $<TARGET_OBJECTS:animanifold_shared_units>)
+animanifold_core_settings(animanifold_core_sanitized)
+target_compile_options(animanifold_core_sanitized PRIVATE ${_sanitize_flags})
+target_link_options(animanifold_core_sanitized PUBLIC -fsanitize=${ANIMANIFOLD_SANITIZED_TESTS})
+
+add_executable(animanifold_tests_sanitized ${_sanitized_test_sources})
+target_compile_options(animanifold_tests_sanitized PRIVATE ${_sanitize_flags})
+target_link_libraries(animanifold_tests_sanitized PRIVATE animanifold_core_sanitized GTest::gtest_main)
+target_include_directories(animanifold_tests_sanitized PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/cpp/src)
+# halt_on_error: the first finding ends the test, which then fails. Leak checks stay on:
+# the tests and the core free what they allocate.
+gtest_discover_tests(animanifold_tests_sanitized DISCOVERY_TIMEOUT 120 TEST_PREFIX "sanitized."
+  PROPERTIES ENVIRONMENT
+  "ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1")
+
+# The Python module from the same sanitized core, for running Python tests under the
+# sanitizer (ThreadSanitizer on the threaded tests; scripts/sanitize.sh SANITIZE_ONLY_OWN=1).
+# Off in CI: the bindings are the slowest of our own units to compile.
+option(ANIMANIFOLD_SANITIZED_MODULE "Also build a sanitized _core into <build>/sanitized/python/animanifold" OFF)
+if(ANIMANIFOLD_SANITIZED_MODULE)
+  pybind11_add_module(_core_sanitized ${ANIMANIFOLD_BINDINGS})
+  target_compile_options(_core_sanitized PRIVATE ${_sanitize_flags})
+  target_link_libraries(_core_sanitized PRIVATE animanifold_core_sanitized)
+  set_target_properties(_core_sanitized PROPERTIES OUTPUT_NAME _core
+                        LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/sanitized/python/animanifold)
+endif()
