@@ -5,6 +5,7 @@
 #include "animanifold/validation.hpp"
 #include "animanifold/normals.hpp"
 #include "animanifold/simplex_qp.hpp"
+#include "animanifold/threads.hpp"
 #include "deformer_response.hpp"
 #include "sparse_cholesky.hpp"
 
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -156,28 +158,43 @@ SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, Lap
   GraphWeightOptions boundary_options = graph;
   boundary_options.lambda = 0;  // eq. 4.3
 
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(adjacency.neighbours.size());
-  PointMatrix edges;
+  // Each vertex's weights go to its own slots (its adjacency range), so the
+  // loop gives the same bits on any thread count; the first failure by vertex
+  // index is rethrown after it (an exception may not leave an OpenMP region).
+  std::vector<double> weights(adjacency.neighbours.size());
+  std::vector<std::exception_ptr> failures(static_cast<size_t>(n));
+#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
   for (Index i = 0; i < n; ++i) {
     const Index begin = adjacency.offsets[i], end = adjacency.offsets[i + 1], k = end - begin;
     if (k == 0) continue;
-    if (on_boundary[i] || method == LaplacianMethod::Graph) {
-      edges.resize(k, V.cols());
-      for (Index j = 0; j < k; ++j) edges.row(j) = V.row(adjacency.neighbours[begin + j]) - V.row(i);
-      const Eigen::VectorXd w = graph_laplacian_weights(edges, on_boundary[i] ? boundary_options : graph);
-      for (Index j = 0; j < k; ++j) triplets.emplace_back(i, adjacency.neighbours[begin + j], w(j));
-    } else if (method == LaplacianMethod::Uniform) {
-      for (Index j = begin; j < end; ++j) triplets.emplace_back(i, adjacency.neighbours[j], 1.0 / k);
-    } else {  // cotangent, interior vertex
-      double total = 0;
-      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) total += it.value();
-      if (!(total > 1e-12))
-        fail<InputError>("the cotangent weights of vertex ", i, " sum to ", total,
-                         " (degenerate or very obtuse triangles around it): use method 'graph' or 'dual'");
-      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) triplets.emplace_back(i, it.col(), it.value() / total);
+    try {
+      if (on_boundary[i] || method == LaplacianMethod::Graph) {
+        PointMatrix edges(k, V.cols());
+        for (Index j = 0; j < k; ++j) edges.row(j) = V.row(adjacency.neighbours[begin + j]) - V.row(i);
+        const Eigen::VectorXd w = graph_laplacian_weights(edges, on_boundary[i] ? boundary_options : graph);
+        for (Index j = 0; j < k; ++j) weights[begin + j] = w(j);
+      } else if (method == LaplacianMethod::Uniform) {
+        for (Index j = begin; j < end; ++j) weights[j] = 1.0 / k;
+      } else {  // cotangent, interior vertex: cot's row i has the same sorted columns as the adjacency
+        double total = 0;
+        for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) total += it.value();
+        if (!(total > 1e-12))
+          fail<InputError>("the cotangent weights of vertex ", i, " sum to ", total,
+                           " (degenerate or very obtuse triangles around it): use method 'graph' or 'dual'");
+        Index j = begin;
+        for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) weights[j++] = it.value() / total;
+      }
+    } catch (...) {
+      failures[i] = std::current_exception();
     }
   }
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(adjacency.neighbours.size());
+  for (Index i = 0; i < n; ++i)
+    for (Index j = adjacency.offsets[i]; j < adjacency.offsets[i + 1]; ++j)
+      triplets.emplace_back(i, adjacency.neighbours[j], weights[j]);
   SparseRowMatrix W(n, n);
   W.setFromTriplets(triplets.begin(), triplets.end());
   return W;
@@ -295,11 +312,12 @@ void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOp
 
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
   using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
-  Small B(k, n);
+  // Each simplex's neighbour weights go to its own row of `weights`: the same bits on any thread count.
+  PointMatrix weights(simplex_count, k);
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (Index s = 0; s < simplex_count; ++s) {
     // Barycentric coordinates of the projection of c_s onto the hyperplane of its n+1 neighbours.
+    Small B(k, n);
     const auto p0 = C.row(dual.neighbours(s, 0));
     double product = 1;
     for (int j = 1; j < k; ++j) {
@@ -315,9 +333,14 @@ void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOp
       system.degenerate[s] = 1;
       a = B.completeOrthogonalDecomposition().solve(r);
     }
+    weights(s, 0) = -(1.0 - a.sum());
+    for (int j = 1; j < k; ++j) weights(s, j) = -a(j - 1);
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
+  for (Index s = 0; s < simplex_count; ++s) {
     triplets.emplace_back(s, s, 1.0);
-    triplets.emplace_back(s, dual.neighbours(s, 0), -(1.0 - a.sum()));
-    for (int j = 1; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), -a(j - 1));
+    for (int j = 0; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), weights(s, j));
   }
   system.dual_weights.resize(simplex_count, dual_count);
   system.dual_weights.setFromTriplets(triplets.begin(), triplets.end());
