@@ -11,9 +11,9 @@ namespace animanifold {
 
 namespace {
 
-// OpenBLAS's threaded kernels split some sums by the thread count (its
-// dpotrf blocks by it; a supernodal solve on 2 threads also differs from one
-// on 1 in the last bits), so CHOLMOD's calls run BLAS on the calling thread
+// OpenBLAS's threaded kernels split some sums by the thread count (dpotrf,
+// dgemm, dsyrk and dtrsm each change the factor's last bits on 2 threads, see
+// threads.hpp), so CHOLMOD's calls run BLAS on the calling thread
 // alone (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()),
 // and the Laplacian gives the same bits for any thread count (threads.hpp).
 struct SerialBlas {

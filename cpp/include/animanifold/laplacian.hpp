@@ -16,8 +16,10 @@
 // scheme completes boundary simplices with ghost dual vertices (§4.4.2).
 //
 // Use `laplacian_deform` for a one-off deformation, or a `Deformer`, which
-// factors the normal matrix once with CHOLMOD (supernodal) and re-solves for
-// every handle move, then optionally restores features (dual scheme).
+// factors the normal matrix once with CHOLMOD (supernodal), answers every
+// handle move (a dense combination of response columns for a move by a
+// transform, a solve for explicit positions), then optionally restores
+// features (dual scheme).
 #pragma once
 
 #include "animanifold/enum_names.hpp"
