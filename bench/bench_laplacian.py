@@ -14,9 +14,14 @@ Cases:
   blender    Blender's own Laplacian Deform modifier (bpy) on the block and surface,
              handles driven by a Hook to an Empty: bind time and per-frame evaluation
 
-Initialise = weights + L + factorisation of LᵀL (CHOLMOD supernodal); Deform = one
-re-solve for a new handle transform (mean of several); Restore = the dual method's
-feature restoration from a one-step deform until motion < 1e-6 (cap 50; 30 for tets).
+Initialise = weights + L + factorisation of LᵀL (CHOLMOD supernodal); First = the first
+deform by a transform, which also solves the 2D+1 response columns (the solution is affine
+in the transform); Deform = each later deform by a new transform (mean of several), the
+response's dense combination; Solve = one fresh sparse solve (deform to handle positions,
+what every restore iteration costs); Restore = the dual method's feature restoration from
+a one-step deform until motion < 1e-6 (cap 50; 30 for tets). The tets case also prints the
+initialise breakdown from Deformer.info (weights and L, normal matrix, CHOLMOD analyse and
+factorise) and the factorisation's flops.
 """
 
 from __future__ import annotations
@@ -66,15 +71,23 @@ def inverted_faces(V, F, out, angle):
 
 
 def time_method(V, F, anchors, handles, method, transforms, solves=10, restore_cap=50, steps=None):
-    """(init s, deform s per solve, restore s or None, restore status, points after restore/deform)."""
+    """(init s, deform s per solve, restore s or None, restore status, points after restore/deform,
+    the Deformer, the first deform's s, one fresh sparse solve's s)."""
     t0 = time.perf_counter()
     d = am.Deformer(V, F, anchors, handles, method)
     init = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    d.deform(transforms[0])
+    first = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    d.deform(handle_positions=d.points[handles])
+    fresh = time.perf_counter() - t0
     deform_times, restore_times, statuses, outs = [], [], [], []
     for T in transforms:
         t0 = time.perf_counter()
-        for _ in range(solves):
-            out = d.deform(T)
+        for i in range(solves):
+            # A slightly different transform each time: nothing may be cached per transform.
+            out = d.deform(T @ am.handle_transform(translation=[1e-6 * i] * (len(T) - 1), dimension=len(T) - 1))
         deform_times.append((time.perf_counter() - t0) / solves)
         if method == "dual":
             t0 = time.perf_counter()
@@ -83,11 +96,12 @@ def time_method(V, F, anchors, handles, method, transforms, solves=10, restore_c
             statuses.append(d.status)
         outs.append(out)
     restore = float(np.mean(restore_times)) if restore_times else None
-    return init, float(np.mean(deform_times)), restore, statuses, outs, d
+    return init, float(np.mean(deform_times)), restore, statuses, outs, d, first, fresh
 
 
-def method_figures(init, deform, restore, statuses) -> dict:
-    figures = {"initialise_s": init, "deform_s": deform, "solves_per_s": 1 / deform, "restore_s": restore}
+def method_figures(init, deform, restore, statuses, first=None, fresh=None) -> dict:
+    figures = {"initialise_s": init, "deform_s": deform, "solves_per_s": 1 / deform, "restore_s": restore,
+               "first_deform_s": first, "fresh_solve_s": fresh}
     if statuses:
         figures["restore_iterations"] = statuses[0].iterations
         figures["restore_converged"] = bool(statuses[0].converged)
@@ -110,8 +124,9 @@ def bench_block():
           f"{'restore its':>12s} {'inverted π/4,π/2,3π/4':>22s} | seed (Fig 4.12): init, deform, restore")
     figures = {"vertices": len(V)}
     for method in ("uniform", "cotangent", "graph", "dual"):
-        init, deform, restore, statuses, outs, _ = time_method(V, F, bottom, top, method, transforms, solves=20)
-        figures[method] = method_figures(init, deform, restore, statuses)
+        init, deform, restore, statuses, outs, _, first, fresh = time_method(V, F, bottom, top, method, transforms,
+                                                                             solves=20)
+        figures[method] = method_figures(init, deform, restore, statuses, first, fresh)
         inv = ",".join(str(inverted_faces(V, F, o, a)) for o, a in zip(outs, angles))
         its = ",".join(f"{s.iterations}{'' if s.converged else '!'}" for s in statuses) or "---"
         seed = SEED_TABLE[method]
@@ -136,13 +151,14 @@ def bench_surface(methods=("uniform", "cotangent", "graph", "dual")):
     bottom, top = caps(V)
     T = twist(V, np.pi / 2)
     print(f"\n== ~100k surface: the block refined, {len(V)} vertices, {len(F)} triangles; top cap rotated π/2 ==")
-    print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
+    print(f"{'method':10s} {'initialise':>11s} {'first':>8s} {'deform':>9s} {'solves/s':>9s} {'solve':>8s} "
+          f"{'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
     figures = {"vertices": len(V)}
     for method in methods:
-        init, deform, restore, statuses, _, d = time_method(V, F, bottom, top, method, [T], solves=5)
-        figures[method] = method_figures(init, deform, restore, statuses)
+        init, deform, restore, statuses, _, d, first, fresh = time_method(V, F, bottom, top, method, [T], solves=5)
+        figures[method] = method_figures(init, deform, restore, statuses, first, fresh)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
-        print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} "
+        print(f"{method:10s} {init:10.2f}s {first:7.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} {fresh:7.2f}s "
               f"{(f'{restore:.2f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}")
     return figures
 
@@ -164,15 +180,22 @@ def bench_tets(methods=("uniform", "graph", "dual")):
     t0 = time.perf_counter()
     _core._testing.primal_weights(P, S, "graph")
     print(f"graph-Laplacian weights alone: {time.perf_counter() - t0:.2f} s")
-    print(f"{'method':10s} {'initialise':>11s} {'deform':>9s} {'solves/s':>9s} {'restore':>9s} {'its':>5s} {'factor nnz':>11s}")
+    print(f"{'method':10s} {'initialise':>11s} {'first':>8s} {'deform':>9s} {'solves/s':>9s} {'solve':>8s} "
+          f"{'restore':>9s} {'its':>5s} {'factor nnz':>11s} | initialise = L + normal + analyse + factorise + rest")
     figures = {"vertices": len(P), "tets": len(S)}
     for method in methods:
-        init, deform, restore, statuses, _, d = time_method(P, S, anchors, handles, method, [T], solves=2, restore_cap=30)
-        figures[method] = method_figures(init, deform, restore, statuses)
+        init, deform, restore, statuses, _, d, first, fresh = time_method(P, S, anchors, handles, method, [T],
+                                                                          solves=10, restore_cap=30)
+        figures[method] = method_figures(init, deform, restore, statuses, first, fresh)
+        i = d.info
+        phases = [i.laplacian_seconds, i.normal_seconds, i.analyse_seconds, i.factorise_seconds]
+        figures[method].update(laplacian_s=phases[0], normal_s=phases[1], analyse_s=phases[2], factorise_s=phases[3],
+                               factor_flops=i.factor_flops, factor_nonzeros=i.factor_nonzeros)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
-        print(f"{method:10s} {init:10.2f}s {deform * 1e3:7.0f}ms {1 / deform:9.2f} "
-              f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {d.info.factor_nonzeros:11d}",
-              flush=True)
+        breakdown = " + ".join(f"{p:.2f}" for p in phases + [init - sum(phases)])
+        print(f"{method:10s} {init:10.2f}s {first:7.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} {fresh:7.2f}s "
+              f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {i.factor_nonzeros:11d} | "
+              f"{breakdown} s; {i.factor_flops / 1e9:.0f} GFlop", flush=True)
     return figures
 
 

@@ -169,6 +169,25 @@ def test_deformation_is_the_same_on_one_and_two_threads():
     assert_same_on_one_and_two_threads(lambda: am.deform(m, anchors, handles, transform))
 
 
+@pytest.mark.parametrize("method", ["dual", "uniform", "graph", "cotangent"])
+def test_laplacian_weights_are_the_same_on_one_and_two_threads(method):
+    """The per-vertex (primal) and per-simplex (dual) weight loops run in parallel."""
+    if method == "cotangent":
+        points, simplices = icosphere(3)
+    else:
+        m = walking_sphere(subdivisions=2, keyframes=4)
+        points, simplices = m.points, m.simplices
+    assert_same_on_one_and_two_threads(lambda: _core._testing.laplacian_system(points, simplices, method))
+
+
+def test_a_failure_inside_the_parallel_weight_loop_is_raised_not_a_crash():
+    v, f = icosphere(2)
+    for count in (1, 2):
+        am.set_threads(count)
+        with pytest.raises(ValueError, match="lambda >= 0"):
+            _core._testing.laplacian_system(v, f, "graph", lam=-1.0)
+
+
 def test_a_laplacian_deformers_solves_and_restore_are_the_same_on_one_and_two_threads():
     v, f = icosphere(4)
     anchors = np.flatnonzero(v[:, 2] < -0.7)

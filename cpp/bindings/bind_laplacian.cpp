@@ -118,7 +118,16 @@ static void bind_deformer(py::module_& m) {
       .def_readonly("ghost_anchor_rows", &DeformerInfo::ghost_anchor_rows, "Rows added by the ghost-anchors rule.")
       .def_readonly("grown", &DeformerInfo::grown, "Constraints added by the grow rule.")
       .def_readonly("rcond", &DeformerInfo::rcond, "CHOLMOD's reciprocal condition estimate of the factor.")
-      .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.");
+      .def_readonly("factor_nonzeros", &DeformerInfo::factor_nonzeros, "Non-zeros of the factor.")
+      .def_readonly("factor_flops", &DeformerInfo::factor_flops, "Floating-point operations of the factorisation.")
+      .def_readonly("laplacian_seconds", &DeformerInfo::laplacian_seconds,
+                    "Seconds building the weights and L (for reports).")
+      .def_readonly("normal_seconds", &DeformerInfo::normal_seconds,
+                    "Seconds assembling the constrained rows and the normal matrix (for reports).")
+      .def_readonly("analyse_seconds", &DeformerInfo::analyse_seconds,
+                    "Seconds in CHOLMOD's ordering and symbolic analysis (for reports).")
+      .def_readonly("factorise_seconds", &DeformerInfo::factorise_seconds,
+                    "Seconds in CHOLMOD's numerical factorisation (for reports).");
   py::class_<Deformer>(m, "Deformer", "Laplacian editing with a kept CHOLMOD factorisation.")
       .def(py::init([](PointsRef V, SimplicesRef S, IndicesRef anchors, IndicesRef handles,
                        LaplacianMethod method, BoundaryRule boundary, double lambda, double xi, double ridge,

@@ -5,6 +5,8 @@
 #include "animanifold/validation.hpp"
 #include "animanifold/normals.hpp"
 #include "animanifold/simplex_qp.hpp"
+#include "animanifold/threads.hpp"
+#include "deformer_response.hpp"
 #include "sparse_cholesky.hpp"
 
 #include <Eigen/Dense>
@@ -12,7 +14,9 @@
 #include <complex>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -154,28 +158,43 @@ SparseRowMatrix primal_weights(const PointMatrix& V, const SimplexMatrix& S, Lap
   GraphWeightOptions boundary_options = graph;
   boundary_options.lambda = 0;  // eq. 4.3
 
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(adjacency.neighbours.size());
-  PointMatrix edges;
+  // Each vertex's weights go to its own slots (its adjacency range), so the
+  // loop gives the same bits on any thread count; the first failure by vertex
+  // index is rethrown after it (an exception may not leave an OpenMP region).
+  std::vector<double> weights(adjacency.neighbours.size());
+  std::vector<std::exception_ptr> failures(static_cast<size_t>(n));
+#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
   for (Index i = 0; i < n; ++i) {
     const Index begin = adjacency.offsets[i], end = adjacency.offsets[i + 1], k = end - begin;
     if (k == 0) continue;
-    if (on_boundary[i] || method == LaplacianMethod::Graph) {
-      edges.resize(k, V.cols());
-      for (Index j = 0; j < k; ++j) edges.row(j) = V.row(adjacency.neighbours[begin + j]) - V.row(i);
-      const Eigen::VectorXd w = graph_laplacian_weights(edges, on_boundary[i] ? boundary_options : graph);
-      for (Index j = 0; j < k; ++j) triplets.emplace_back(i, adjacency.neighbours[begin + j], w(j));
-    } else if (method == LaplacianMethod::Uniform) {
-      for (Index j = begin; j < end; ++j) triplets.emplace_back(i, adjacency.neighbours[j], 1.0 / k);
-    } else {  // cotangent, interior vertex
-      double total = 0;
-      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) total += it.value();
-      if (!(total > 1e-12))
-        fail<InputError>("the cotangent weights of vertex ", i, " sum to ", total,
-                         " (degenerate or very obtuse triangles around it): use method 'graph' or 'dual'");
-      for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) triplets.emplace_back(i, it.col(), it.value() / total);
+    try {
+      if (on_boundary[i] || method == LaplacianMethod::Graph) {
+        PointMatrix edges(k, V.cols());
+        for (Index j = 0; j < k; ++j) edges.row(j) = V.row(adjacency.neighbours[begin + j]) - V.row(i);
+        const Eigen::VectorXd w = graph_laplacian_weights(edges, on_boundary[i] ? boundary_options : graph);
+        for (Index j = 0; j < k; ++j) weights[begin + j] = w(j);
+      } else if (method == LaplacianMethod::Uniform) {
+        for (Index j = begin; j < end; ++j) weights[j] = 1.0 / k;
+      } else {  // cotangent, interior vertex: cot's row i has the same sorted columns as the adjacency
+        double total = 0;
+        for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) total += it.value();
+        if (!(total > 1e-12))
+          fail<InputError>("the cotangent weights of vertex ", i, " sum to ", total,
+                           " (degenerate or very obtuse triangles around it): use method 'graph' or 'dual'");
+        Index j = begin;
+        for (SparseRowMatrix::InnerIterator it(cot, i); it; ++it) weights[j++] = it.value() / total;
+      }
+    } catch (...) {
+      failures[i] = std::current_exception();
     }
   }
+  for (const std::exception_ptr& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(adjacency.neighbours.size());
+  for (Index i = 0; i < n; ++i)
+    for (Index j = adjacency.offsets[i]; j < adjacency.offsets[i + 1]; ++j)
+      triplets.emplace_back(i, adjacency.neighbours[j], weights[j]);
   SparseRowMatrix W(n, n);
   W.setFromTriplets(triplets.begin(), triplets.end());
   return W;
@@ -293,11 +312,12 @@ void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOp
 
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 4, 4>;
   using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 4, 1>;
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
-  Small B(k, n);
+  // Each simplex's neighbour weights go to its own row of `weights`: the same bits on any thread count.
+  PointMatrix weights(simplex_count, k);
+#pragma omp parallel for schedule(static) num_threads(thread_count())
   for (Index s = 0; s < simplex_count; ++s) {
     // Barycentric coordinates of the projection of c_s onto the hyperplane of its n+1 neighbours.
+    Small B(k, n);
     const auto p0 = C.row(dual.neighbours(s, 0));
     double product = 1;
     for (int j = 1; j < k; ++j) {
@@ -313,9 +333,14 @@ void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOp
       system.degenerate[s] = 1;
       a = B.completeOrthogonalDecomposition().solve(r);
     }
+    weights(s, 0) = -(1.0 - a.sum());
+    for (int j = 1; j < k; ++j) weights(s, j) = -a(j - 1);
+  }
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
+  for (Index s = 0; s < simplex_count; ++s) {
     triplets.emplace_back(s, s, 1.0);
-    triplets.emplace_back(s, dual.neighbours(s, 0), -(1.0 - a.sum()));
-    for (int j = 1; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), -a(j - 1));
+    for (int j = 0; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), weights(s, j));
   }
   system.dual_weights.resize(simplex_count, dual_count);
   system.dual_weights.setFromTriplets(triplets.begin(), triplets.end());
@@ -357,6 +382,11 @@ DifferentialSystem laplacian_system(const PointMatrix& V, const SimplexMatrix& S
 namespace {
 
 using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // Number of eigenvalues of the symmetric N (lower triangle given) below tau,
 // from the inertia of the LDLᵀ factorisation of N − τI (Sylvester's law).
@@ -396,6 +426,7 @@ struct Deformer::Impl {
   SparseCholesky cholesky;
   PointMatrix delta;             // current differential coordinates (restore rotates them)
   PointMatrix constraint_positions;  // constraints by dim, in `constrained` order
+  AffineResponse response;       // deform by a transform, once built (first such deform)
   bool deformed = false;
   DeformerInfo info;
   // deform, deform_to, restore and points() take it: they read and write V,
@@ -409,12 +440,16 @@ struct Deformer::Impl {
   void grow_constraints(const VertexAdjacency& adjacency);
   void factor_under_boundary_rule(const Interrupter& interrupter);
   PointMatrix solve() const;
+  PointMatrix solve_columns(const PointMatrix& delta_cols, const PointMatrix& extra_cols,
+                            const PointMatrix& constraint_cols) const;
+  void build_response();
   RestoreStatus restore(int max_iterations, double tolerance, const Interrupter& interrupter = {});
 };
 
 Index Deformer::Impl::build_and_factor() {
   const Index vertex_count = static_cast<Index>(V0.rows());
   const bool soft = options.constraint_weight > 0;
+  const auto assembly_start = Clock::now();
   const bool ghost_rows = system.method == LaplacianMethod::Dual && options.boundary == BoundaryRule::GhostAnchors &&
                           system.dual.ghost_count() > 0;
   const Index ghost_count = ghost_rows ? system.dual.ghost_count() : 0;
@@ -476,15 +511,20 @@ Index Deformer::Impl::build_and_factor() {
     if (free_vertices.empty()) {
       info.rcond = 1;
       info.factor_nonzeros = 0;
+      info.normal_seconds += seconds_since(assembly_start);
       return 0;
     }
     N = A_free_t * A_free_t.transpose();
   }
   ColMatrix N_lower = N.triangularView<Eigen::Lower>();
   N_lower.makeCompressed();
+  info.normal_seconds += seconds_since(assembly_start);
   const bool positive = cholesky.factor(N_lower);
+  info.analyse_seconds += cholesky.analyse_seconds();
+  info.factorise_seconds += cholesky.factorise_seconds();
   info.rcond = positive ? cholesky.rcond() : 0;
   info.factor_nonzeros = cholesky.factor_nonzeros();
+  info.factor_flops = cholesky.factor_flops();
   if (positive && info.rcond > 1e-12) return 0;
   // Possibly rank-deficient: count the (numerically) zero eigenvalues.
   const double tau = 1e-10 * N_lower.diagonal().cwiseAbs().maxCoeff();
@@ -528,27 +568,56 @@ void Deformer::Impl::grow_constraints(const VertexAdjacency& adjacency) {
   info.grown += grown;
 }
 
-PointMatrix Deformer::Impl::solve() const {
+PointMatrix Deformer::Impl::solve() const { return solve_columns(delta, extra_rhs, constraint_positions); }
+
+// The least-squares solution for any number of right-hand-side columns: the
+// Laplacian rows' targets (laplacian_rows by k), the ghost-anchor rows'
+// (extra_rhs.rows() by k) and the constraints' positions (constraints by k).
+// Returns #V by k, linear in the three.
+PointMatrix Deformer::Impl::solve_columns(const PointMatrix& delta_cols, const PointMatrix& extra_cols,
+                                          const PointMatrix& constraint_cols) const {
   const Index vertex_count = static_cast<Index>(V0.rows());
+  const Index k = static_cast<Index>(delta_cols.cols());
   // Right-hand side of the full rows: [Δ ; ghost-anchor positions].
-  PointMatrix rhs(laplacian_rows + extra_rhs.rows(), dim);
-  rhs.topRows(laplacian_rows) = delta;
-  if (extra_rhs.rows()) rhs.bottomRows(extra_rhs.rows()) = extra_rhs;
-  PointMatrix out(vertex_count, dim);
+  PointMatrix rhs(laplacian_rows + extra_cols.rows(), k);
+  rhs.topRows(laplacian_rows) = delta_cols;
+  if (extra_cols.rows()) rhs.bottomRows(extra_cols.rows()) = extra_cols;
+  PointMatrix out(vertex_count, k);
   if (options.constraint_weight > 0) {
     Eigen::MatrixXd b = A_free_t * rhs;
     const double w2 = options.constraint_weight * options.constraint_weight;
-    for (size_t c = 0; c < constrained.size(); ++c) b.row(constrained[c]) += w2 * constraint_positions.row(c);
+    for (size_t c = 0; c < constrained.size(); ++c) b.row(constrained[c]) += w2 * constraint_cols.row(c);
     out = cholesky.solve(b);
     return out;
   }
-  for (size_t c = 0; c < constrained.size(); ++c) out.row(constrained[c]) = constraint_positions.row(c);
+  for (size_t c = 0; c < constrained.size(); ++c) out.row(constrained[c]) = constraint_cols.row(c);
   if (free_vertices.empty()) return out;
-  rhs -= A_constrained * constraint_positions;
+  rhs -= A_constrained * constraint_cols;
   const Eigen::MatrixXd b = A_free_t * rhs;
   const Eigen::MatrixXd x = cholesky.solve(b);
   for (size_t f = 0; f < free_vertices.size(); ++f) out.row(free_vertices[f]) = x.row(f);
   return out;
+}
+
+// The base (handles at the origin) and the response to each homogeneous
+// coordinate of the handles' rest positions, as one solve of 2D+1 columns.
+void Deformer::Impl::build_response() {
+  const Index anchor_count = static_cast<Index>(anchors.size());
+  const Index constraint_count = static_cast<Index>(constrained.size());
+  const int k = 2 * dim + 1;
+  PointMatrix delta_cols = PointMatrix::Zero(laplacian_rows, k);
+  delta_cols.leftCols(dim) = system.delta;
+  PointMatrix extra_cols = PointMatrix::Zero(extra_rhs.rows(), k);
+  extra_cols.leftCols(dim) = extra_rhs;
+  PointMatrix constraint_cols = PointMatrix::Zero(constraint_count, k);
+  for (Index c = 0; c < anchor_count; ++c) constraint_cols.row(c).head(dim) = V0.row(anchors(c));
+  for (Index h = 0; h < handles.size(); ++h) {
+    constraint_cols.row(anchor_count + h).segment(dim, dim) = V0.row(handles(h));
+    constraint_cols(anchor_count + h, 2 * dim) = 1;
+  }
+  const PointMatrix X = solve_columns(delta_cols, extra_cols, constraint_cols);
+  response.base = X.leftCols(dim);
+  response.linear = X.rightCols(dim + 1);
 }
 
 namespace {
@@ -627,7 +696,9 @@ Deformer::Deformer(const PointMatrix& V, const SimplexMatrix& S, const IndexVect
   std::iota(d.handle_source.begin(), d.handle_source.end(), 0);
 
   interrupter.step("laplacian", 0.1);
+  const auto laplacian_start = Clock::now();
   d.system = laplacian_system(V, S, options.laplacian);
+  d.info.laplacian_seconds = seconds_since(laplacian_start);
   d.laplacian_rows = static_cast<Index>(d.system.L.rows());
   d.delta = d.system.delta;
 
@@ -746,6 +817,17 @@ PointMatrix Deformer::deform(const Eigen::MatrixXd& transform, int steps, const 
   if (steps < 1) fail<InputError>("steps must be at least 1, got ", steps);
   if (d.system.method != LaplacianMethod::Dual) steps = 1;
   d.delta = d.system.delta;
+  if (steps == 1) {
+    interrupter.step("deforming", 0);
+    d.place_handles_by_transform(transform);
+    if (d.response.empty()) d.build_response();
+    d.V = d.response.apply(transform);
+    // Hard constraints land exactly where place_handles_by_transform put them.
+    if (d.options.constraint_weight == 0)
+      for (size_t c = 0; c < d.constrained.size(); ++c) d.V.row(d.constrained[c]) = d.constraint_positions.row(c);
+    d.deformed = true;
+    return d.V;
+  }
   const Interrupter poll_only{{}, interrupter.interrupted};
   for (int k = 1; k <= steps; ++k) {
     interrupter.step("deforming", loop_fraction(0, 1, k - 1, steps));

@@ -4,15 +4,16 @@
 
 #include <cholmod.h>
 #include <omp.h>
+#include <chrono>
 #include <cstring>
 
 namespace animanifold {
 
 namespace {
 
-// OpenBLAS's threaded kernels split some sums by the thread count (its
-// dpotrf blocks by it; a supernodal solve on 2 threads also differs from one
-// on 1 in the last bits), so CHOLMOD's calls run BLAS on the calling thread
+// OpenBLAS's threaded kernels split some sums by the thread count (dpotrf,
+// dgemm, dsyrk and dtrsm each change the factor's last bits on 2 threads, see
+// threads.hpp), so CHOLMOD's calls run BLAS on the calling thread
 // alone (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()),
 // and the Laplacian gives the same bits for any thread count (threads.hpp).
 struct SerialBlas {
@@ -30,6 +31,7 @@ struct SparseCholesky::Impl {
   mutable cholmod_common common;
   cholmod_factor* factor = nullptr;
   Eigen::Index n = 0;
+  double analyse_seconds = 0, factorise_seconds = 0;
 
   Impl() {
     cholmod_start(&common);
@@ -67,9 +69,14 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   A.sorted = 1;
   A.packed = 1;
   d.n = lower.rows();
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   d.factor = cholmod_analyze(&A, &d.common);
   if (!d.factor) fail<MeshingError>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
+  const auto analysed = Clock::now();
   cholmod_factorize(&A, d.factor, &d.common);
+  d.analyse_seconds = std::chrono::duration<double>(analysed - start).count();
+  d.factorise_seconds = std::chrono::duration<double>(Clock::now() - analysed).count();
   if (d.common.status == CHOLMOD_NOT_POSDEF || d.factor->minor < d.factor->n) return false;
   if (d.common.status < CHOLMOD_OK)
     fail<MeshingError>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
@@ -84,6 +91,10 @@ double SparseCholesky::rcond() const {
 std::int64_t SparseCholesky::factor_nonzeros() const {
   return impl_->factor ? static_cast<std::int64_t>(impl_->common.lnz) : 0;
 }
+
+double SparseCholesky::factor_flops() const { return impl_->factor ? impl_->common.fl : 0; }
+double SparseCholesky::analyse_seconds() const { return impl_->analyse_seconds; }
+double SparseCholesky::factorise_seconds() const { return impl_->factorise_seconds; }
 
 Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   const Impl& d = *impl_;

@@ -25,6 +25,12 @@ class SparseCholesky {
   // CHOLMOD's cheap reciprocal condition estimate, (min diag L / max diag L)².
   double rcond() const;
   std::int64_t factor_nonzeros() const;
+  // Floating-point operations of the last factorisation (CHOLMOD's count).
+  double factor_flops() const;
+  // Seconds the last factor() spent choosing the ordering (cholmod_analyze)
+  // and computing the numbers (cholmod_factorize): for reports only.
+  double analyse_seconds() const;
+  double factorise_seconds() const;
   // Solves A X = B for all columns of B at once.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
 

@@ -90,3 +90,30 @@ TEST(Deformer, RefusesCotangentOnTetsAndOverlappingConstraints) {
   o.laplacian.method = LaplacianMethod::Cotangent;
   EXPECT_THROW(Deformer(m.V, m.S, a, h, o), InputError);
 }
+
+// deform(T) combines the responses (deformer_response.hpp); deform_to solves afresh.
+TEST(Deformer, DeformByATransformEqualsAFreshSolveToTheSamePositions) {
+  const Complex m = moving_octahedron(4);
+  IndexVector anchors(6), handles(6);
+  for (int i = 0; i < 6; ++i) {
+    anchors(i) = i;
+    handles(i) = 18 + i;
+  }
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
+  T.topLeftCorner(4, 4) << 0.9, -0.3, 0, 0.1, 0.3, 0.9, 0, 0, 0, 0.2, 1.1, 0, 0, 0, 0, 1;
+  T.topRightCorner(4, 1) << 0.5, -1, 2, -0.25;
+  for (const char* method : {"uniform", "graph", "dual"}) {
+    DeformerOptions o;
+    o.laplacian.method = parse_laplacian_method(method);
+    Deformer combined(m.V, m.S, anchors, handles, o), fresh(m.V, m.S, anchors, handles, o);
+    ASSERT_EQ(combined.info().grown, 0) << method;
+    PointMatrix positions(6, 4);
+    for (int h = 0; h < 6; ++h)
+      positions.row(h) = m.V.row(handles(h)) * T.topLeftCorner(4, 4).transpose() + T.topRightCorner(4, 1).transpose();
+    for (int round = 0; round < 2; ++round) {  // the second reuses the response
+      const PointMatrix a = combined.deform(T), b = fresh.deform_to(positions);
+      EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-10) << method;
+      for (int i = 0; i < 6; ++i) EXPECT_EQ(a.row(i), m.V.row(i)) << method;
+    }
+  }
+}

@@ -1079,9 +1079,24 @@ class DeformerInfo:
     Sizes and conditioning of a Deformer's least-squares system.
     """
     @property
+    def analyse_seconds(self) -> float:
+        """
+        Seconds in CHOLMOD's ordering and symbolic analysis (for reports).
+        """
+    @property
+    def factor_flops(self) -> float:
+        """
+        Floating-point operations of the factorisation.
+        """
+    @property
     def factor_nonzeros(self) -> int:
         """
         Non-zeros of the factor.
+        """
+    @property
+    def factorise_seconds(self) -> float:
+        """
+        Seconds in CHOLMOD's numerical factorisation (for reports).
         """
     @property
     def ghost_anchor_rows(self) -> int:
@@ -1097,6 +1112,16 @@ class DeformerInfo:
     def grown(self) -> int:
         """
         Constraints added by the grow rule.
+        """
+    @property
+    def laplacian_seconds(self) -> float:
+        """
+        Seconds building the weights and L (for reports).
+        """
+    @property
+    def normal_seconds(self) -> float:
+        """
+        Seconds assembling the constrained rows and the normal matrix (for reports).
         """
     @property
     def rcond(self) -> float:

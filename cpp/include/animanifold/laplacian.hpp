@@ -16,8 +16,10 @@
 // scheme completes boundary simplices with ghost dual vertices (§4.4.2).
 //
 // Use `laplacian_deform` for a one-off deformation, or a `Deformer`, which
-// factors the normal matrix once with CHOLMOD (supernodal) and re-solves for
-// every handle move, then optionally restores features (dual scheme).
+// factors the normal matrix once with CHOLMOD (supernodal), answers every
+// handle move (a dense combination of response columns for a move by a
+// transform, a solve for explicit positions), then optionally restores
+// features (dual scheme).
 #pragma once
 
 #include "animanifold/enum_names.hpp"
@@ -196,6 +198,13 @@ struct DeformerInfo {
   Index grown = 0;             // constraints added by BoundaryRule::Grow
   double rcond = 0;            // CHOLMOD's reciprocal condition estimate of the factor
   std::int64_t factor_nonzeros = 0;
+  double factor_flops = 0;     // floating-point operations of the factorisation
+  // Seconds of the constructor's phases (summed over the boundary rule's
+  // attempts), for reports and benchmarks only:
+  double laplacian_seconds = 0;  // weights and L (laplacian_system)
+  double normal_seconds = 0;     // the constrained rows and the normal matrix AᵀA
+  double analyse_seconds = 0;    // CHOLMOD's fill-reducing ordering and symbolic analysis
+  double factorise_seconds = 0;  // CHOLMOD's numerical factorisation
 };
 
 // Inputs:
@@ -253,6 +262,13 @@ class Deformer {
 
   // Moves the handles by the affine map x ↦ T·[x; 1] (T is (D+1) by (D+1),
   // last row [0 … 0 1]) and solves. Returns the new #V by D points.
+  //
+  // The solution is affine in T, so the first deform by a transform solves
+  // once for the rest shape with the handles at the origin and once for each
+  // homogeneous coordinate of the handles (2D+1 right-hand sides, one
+  // cholmod_solve), and every one-step deform is then that base plus a
+  // dense (D+1)-term combination (deformer_response.hpp): equal to a fresh
+  // solve up to rounding. deform_to, steps > 1 and restore solve afresh.
   //
   // steps > 1 (dual scheme) drags the handles there in `steps` equal
   // increments, restoring features after each but the last (a large rotation

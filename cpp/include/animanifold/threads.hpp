@@ -19,10 +19,13 @@
 // - CHOLMOD: SuiteSparse 5.12's CHOLMOD 3.0 has no thread setting of its own
 //   (cholmod_common gained nthreads_max only in CHOLMOD 4); its supernodal
 //   factorisation spends its time in BLAS (dsyrk, dgemm, dpotrf, dtrsm).
-//   OpenBLAS's threaded dpotrf blocks its work by the thread count, so its
-//   result's last bits change with the count; SparseCholesky therefore runs
-//   CHOLMOD's BLAS calls on the calling thread alone (sparse_cholesky.cpp),
-//   and the Laplacian gives the same bits for any count. CHOLMOD's only
+//   OpenBLAS 0.3.21's threaded dpotrf blocks its work by the thread count,
+//   and so, measured on the Laplacian's normal matrix, do its threaded dgemm,
+//   dsyrk and dtrsm: a factor made with any one of the four on 2 threads
+//   (the other three on 1) differs in the last bits from one made on 1, so
+//   keeping only dpotrf serial is not enough. SparseCholesky therefore runs
+//   all of CHOLMOD's BLAS calls on the calling thread alone
+//   (sparse_cholesky.cpp), and the Laplacian gives the same bits for any count. CHOLMOD's only
 //   OpenMP loops of its own (the integer row maps of supernodes taller than
 //   128 rows) ask for a team of CHOLMOD_OMP_NUM_THREADS = 4 compiled into the
 //   library, which no setting reaches; they move no floating-point values.
