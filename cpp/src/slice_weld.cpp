@@ -4,6 +4,7 @@
 #include "slice_points.hpp"
 
 #include <exception>
+#include <memory>
 #include <omp.h>
 
 namespace animanifold::slice_cut {
@@ -66,7 +67,8 @@ void weld(const Complex& m, int axis, double value, const std::vector<std::span<
   for (std::ptrdiff_t c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + keys[c].size();
   const size_t total = offset.back();
   // Per key: the position of its point's first key, then (below) for a first key -1 - its point.
-  std::vector<Index> first_of(total);
+  // Every entry is written by the thread owning its key, so none is initialised.
+  const std::unique_ptr<Index[]> first_of(new Index[total]);
   std::exception_ptr failure;
 #pragma omp parallel num_threads(thread_count()) if (total > kParallelKeys)
   {
@@ -75,7 +77,7 @@ void weld(const Complex& m, int axis, double value, const std::vector<std::span<
     thread_local std::vector<Link> links;
     try {
       if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
-      weld_share(keys, offset, omp_get_thread_num(), omp_get_num_threads(), head, links, first_of.data());
+      weld_share(keys, offset, omp_get_thread_num(), omp_get_num_threads(), head, links, first_of.get());
     } catch (...) {
 #pragma omp critical(slice_weld_failure)
       if (!failure) failure = std::current_exception();

@@ -122,9 +122,11 @@ struct SliceStages {
 // `index`, when given, must have been built on the same manifold and axis;
 // without it every simplex is tested.
 //
-// Threads: the cut runs on OpenMP's threads in chunks of a fixed size, and
-// the chunks' cut points are welded in chunk order, so the output (its order
-// included) is the same for any thread count.
+// Threads: the cut runs on OpenMP's threads in chunks of a fixed size; the
+// weld shares the points between the threads and numbers them in the order
+// the chunks, taken in order, first meet them; each thread sums the normals
+// of its own vertices in face order. The output (its order included) is the
+// same for any thread count.
 //
 // Normals: each frame face lies in the hyperplane of the simplex it was cut
 // from, so the simplex's wedge normal with the axis dropped (§2.3.2) is the
