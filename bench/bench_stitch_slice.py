@@ -19,7 +19,8 @@ best of --repeat) and the C++ stitch alone (_core.stitch with the seam order
 given), the stitch's peak memory (the process's resident high-water mark,
 reset before the call) against the output's size; the interval index's build time and size
 (bytes a tet); the first slice (cold caches); per-frame slice time (frames between keyframes) with the index
-and without it (every tet tested), through the package, and its normals' share; a sequence of
+and without it (every tet tested), per stage (stab, cut, weld, output, normals), through the
+package, and its normals' share; a sequence of
 frames (a bake: several per keyframe gap) sliced one by one and through
 AnimationManifold.slices, which reuses each topology interval's cut; the OpenMP thread count;
 and the bytes a slice touches per second against this machine's
@@ -27,7 +28,7 @@ memory bandwidth (a numpy copy of a large array, measured in the same run).
 
 Bytes touched per slice, a lower bound: for each cut tet its 4 int32 indices
 and its 4 points of 4 doubles (144 B), plus the output arrays. It leaves out
-the index nodes visited and the welding hash table.
+the index nodes visited and the weld's per-vertex lists.
 """
 
 from __future__ import annotations
@@ -168,6 +169,23 @@ def stitch_figures(keyframes: np.ndarray, faces: np.ndarray, times: np.ndarray, 
     return manifold, figures
 
 
+STAGES = ("stab", "cut", "weld", "output", "normals")
+
+
+def slice_stages(slicer, frame_times: np.ndarray, repeat: int = 3) -> dict:
+    """Per stage of a slice (_core._testing.slice_stages): the median over the frames of the
+    best of `repeat` runs, in ms; printed as one line."""
+    best = {stage: [] for stage in STAGES}
+    for t in frame_times:
+        runs = [_core._testing.slice_stages(slicer, TIME_AXIS, float(t)) for _ in range(repeat)]
+        for stage in STAGES:
+            best[stage].append(min(run[stage] for run in runs))
+    ms = {stage: float(np.median(best[stage])) * 1e3 for stage in STAGES}
+    print("            stages      " + ", ".join(f"{stage} {ms[stage]:.2f}" for stage in STAGES)
+          + f" ms (median over the frames of the best of {repeat}; sum {sum(ms.values()):.2f} ms)")
+    return {f"slice_{stage}_ms": value for stage, value in ms.items()}
+
+
 def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
     """The interval index's build, the first slice, and per-frame slices with and without the index."""
     tets = len(manifold.simplices)
@@ -201,6 +219,7 @@ def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
         f"mean {without_index.mean() * 1e3:7.2f} ms  (every tet tested; "
         f"{np.median(without_index) / np.median(with_index):.0f}x slower)"
     )
+    stage_figures = slice_stages(slicer, frame_times)
     manifold.slice(first_t)  # builds the package's own Slicer index, untimed
     package = np.array([timed(manifold.slice, float(t))[1] for t in frame_times])
     print(f"            package     median {np.median(package) * 1e3:7.2f} ms "
@@ -221,7 +240,7 @@ def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
             "slice_without_index_ms": float(np.median(without_index)) * 1e3, "brute_force_slice_s": brute_s,
             "faces_per_frame": int(np.median(faces_out)), "touched_gb_per_s": float(np.median(rate)),
             "touched_bytes_per_frame": float(np.median(touched)),
-            "package_slice_ms_per_frame": float(np.median(package)) * 1e3}
+            "package_slice_ms_per_frame": float(np.median(package)) * 1e3, **stage_figures}
 
 
 def sequence_figures(manifold, times: np.ndarray, frames_per_gap: int, gaps: int) -> dict:

@@ -45,6 +45,14 @@ def at_most(value: float | None, target: float) -> bool | None:
     return None if value is None else value <= target
 
 
+def slice_stage_note(f: dict) -> str:
+    """'; stages stab 1.2, cut 6.0, ... ms' from bench_stitch_slice's per-stage figures (empty without them)."""
+    stages = [(name, f.get(f"slice_{name}_ms")) for name in ("stab", "cut", "weld", "output", "normals")]
+    if any(ms is None for _, ms in stages):
+        return ""
+    return "; stages " + ", ".join(f"{name} {ms:.1f}" for name, ms in stages) + " ms"
+
+
 def stitch_rows(f: dict) -> list[Row]:
     """bench_stitch_slice --mesh production (4.87 M tets): stitch and slice."""
     case = f"{f['tets'] / 1e6:.2f} M tets"
@@ -62,7 +70,7 @@ def stitch_rows(f: dict) -> list[Row]:
         Row(f"slice per frame ({case})", "ms/frame", frame_ms, bound_ms, "memory bound (bytes touched / copy bandwidth)",
             higher_is_better=False, target="<= 20 (50 frames/s)", met=at_most(frame_ms, 20.0),
             note=f"{f['slice_frames_per_s']:.1f} frames/s, {f['faces_per_frame']:,} faces; "
-                 f"index built in {f['index_s']:.2f} s"),
+                 f"index built in {f['index_s']:.2f} s" + slice_stage_note(f)),
     ]
 
 
@@ -74,7 +82,7 @@ def slice_large_rows(f: dict) -> list[Row]:
         Row(f"slice per frame ({case})", "ms/frame", frame_ms, f["memory_bound_slice_ms"],
             "memory bound (bytes touched / copy bandwidth)", higher_is_better=False,
             target="<= 9.65 (38.6 / 4)", met=at_most(frame_ms, 38.6 / 4),
-            note=f"{f['slice_frames_per_s']:.1f} frames/s"),
+            note=f"{f['slice_frames_per_s']:.1f} frames/s" + slice_stage_note(f)),
         Row(f"slice index memory ({case})", "MiB", index_mib, higher_is_better=False, target="< 300",
             met=index_mib < 300),
     ]

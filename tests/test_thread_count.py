@@ -141,6 +141,25 @@ def test_slices_are_the_same_on_one_and_two_threads():
     assert_same_on_one_and_two_threads(frames)
 
 
+def test_large_slices_and_their_normals_are_the_same_on_one_two_and_three_threads():
+    # Large enough for every parallel part of a slice: the cut's chunks, the weld's
+    # shares of the points, the frame's normals (each thread summing onto its own rows).
+    m = walking_sphere(subdivisions=6, keyframes=3)
+    slicer = _core.Slicer(m.core_complex)
+
+    def frames():
+        slices = [slicer.slice(3, t) for t in (0.37, 1.0, 1.5)] + [slicer.slice(0, 0.1)]
+        big = slices[0]
+        assert len(big.faces) > 100_000 and len(big.vertex_edges) > 50_000
+        return [arrays_of([s.vertices, s.faces, s.normals, s.vertex_attributes, s.face_attributes,
+                           s.vertex_edges, s.edge_parameter, s.face_simplex]) for s in slices] + [
+            _core.frame_vertex_normals(big.vertices, big.faces)]
+
+    assert_same_on_one_and_two_threads(frames)
+    one, three = arrays_of(on_threads(1, frames)), arrays_of(on_threads(3, frames))
+    assert all(same_bits(a, b) for a, b in zip(one, three)) and len(one) == len(three)
+
+
 def test_manifold_subdivision_is_the_same_on_one_and_two_threads():
     m = walking_sphere(subdivisions=2, keyframes=3)
     assert_same_on_one_and_two_threads(lambda: am.subdivide(m, levels=2, return_parents=True))

@@ -68,6 +68,21 @@ void bind_slice(py::module_& m, py::module_& testing) {
       .def("index_memory_bytes", [](Slicer& s, int axis) { return s.index(axis).memory_bytes(); }, py::arg("axis"),
            "Bytes held by the interval index of `axis` (built if needed).");
 
+  testing.def("slice_stages",
+        [](Slicer& s, int axis, double value) {
+          SliceStages stages;
+          {
+            py::gil_scoped_release release;
+            s.slice(axis, value, true, &stages);
+          }
+          py::dict out;
+          out["stab"] = stages.stab, out["cut"] = stages.cut, out["weld"] = stages.weld;
+          out["output"] = stages.output, out["normals"] = stages.normals;
+          return out;
+        },
+        py::arg("slicer"), py::arg("axis"), py::arg("value"),
+        "Seconds each stage of slicer.slice(axis, value) took: stab, cut, weld, output, normals "
+        "(the benchmark's breakdown).");
   testing.def("slice",
         [](const Complex& c, int axis, double value) {
           py::gil_scoped_release release;

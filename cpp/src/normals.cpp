@@ -5,6 +5,8 @@
 #include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
+#include <omp.h>
+#include <cstdint>
 #include <cmath>
 #include <vector>
 
@@ -120,21 +122,44 @@ PointMatrix drop_component(const PointMatrix& normals, int axis) {
 
 namespace {
 
+// Faces from which frame normals run on OpenMP's threads.
+constexpr Index kParallelFaces = 16384;
+
 // Each face's normal, twice its area (3D) or its length (2D), summed onto
-// its corners' rows of N in face order. Fixed-size: this runs for every
-// frame a slice writes.
+// its corners' rows of N in face order, then each row made unit length.
+// Fixed-size: this runs for every frame a slice writes.
+//
+// Each thread owns a range of rows and walks every face, adding only onto
+// its own rows: every row still sums its faces' normals in face order, so
+// the bits are those of one thread for any thread count (a face whose
+// corners fall in two ranges has its normal computed by both, identically).
 template <int d>
 void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix& N) {
-  for (Index f = 0; f < F.rows(); ++f) {
-    Eigen::Matrix<double, 1, d> n;
-    if constexpr (d == 3) {
-      const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-      n = (b - a).cross(c - a).transpose();
-    } else {
-      const Eigen::Vector2d e = V.row(F(f, 1)) - V.row(F(f, 0));
-      n << e.y(), -e.x();
+  const Index faces = static_cast<Index>(F.rows());
+#pragma omp parallel num_threads(thread_count()) if (faces > kParallelFaces)
+  {
+    const std::int64_t rows = N.rows(), teams = omp_get_num_threads(), team = omp_get_thread_num();
+    const Index lo = static_cast<Index>(rows * team / teams), hi = static_cast<Index>(rows * (team + 1) / teams);
+    for (Index f = 0; f < faces; ++f) {
+      const Index* corner = F.row(f).data();
+      bool mine = false;
+      for (int c = 0; c < d; ++c) mine |= corner[c] >= lo && corner[c] < hi;
+      if (!mine) continue;
+      Eigen::Matrix<double, 1, d> n;
+      if constexpr (d == 3) {
+        const Eigen::Vector3d a = V.row(corner[0]), b = V.row(corner[1]), c = V.row(corner[2]);
+        n = (b - a).cross(c - a).transpose();
+      } else {
+        const Eigen::Vector2d e = V.row(corner[1]) - V.row(corner[0]);
+        n << e.y(), -e.x();
+      }
+      for (int c = 0; c < d; ++c)
+        if (corner[c] >= lo && corner[c] < hi) N.row(corner[c]) += n;
     }
-    for (int c = 0; c < d; ++c) N.row(F(f, c)) += n;
+    for (Index v = lo; v < hi; ++v) {
+      const double length = N.row(v).norm();
+      if (length > 0) N.row(v) /= length;
+    }
   }
 }
 
@@ -154,12 +179,6 @@ PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   PointMatrix N = PointMatrix::Zero(V.rows(), d);
   if (d == 3) add_face_normals<3>(points, F, N);
   else if (d == 2) add_face_normals<2>(points, F, N);
-  const Index count = N.rows();
-#pragma omp parallel for schedule(static) num_threads(thread_count()) if (count > 16384)
-  for (Index v = 0; v < count; ++v) {
-    const double length = N.row(v).norm();
-    if (length > 0) N.row(v) /= length;
-  }
   return N;
 }
 

@@ -5,6 +5,7 @@
 #include "animanifold/threads.hpp"
 #include "slice_cut.hpp"
 #include "slice_points.hpp"
+#include "slice_stages.hpp"
 
 #include <algorithm>
 #include <array>
@@ -182,13 +183,16 @@ void interpolate_points(const Complex& m, int axis, Slice& out) {
 
 }  // namespace slice_points
 
-Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index) {
+Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index, SliceStages* stages) {
   check_slice_request(m, axis, value, index);
   const int D = m.ambient_dimension();
+  StageClock clock(stages);
   const Stabber stabber(m, axis, index);
   std::vector<Index> candidates;
   value = snapped_value(m, axis, value, stabber, candidates);
-  slice_cut::CutFaces cut = slice_cut::cut_and_weld(m, axis, value, value >= stabber.highest, candidates);
+  clock.lap(&SliceStages::stab);
+  slice_cut::CutFaces cut = slice_cut::cut_and_weld(m, axis, value, value >= stabber.highest, candidates, stages);
+  clock.restart();
   slice_cut::cancel_opposite_pairs(cut);
   Slice out = frame_of_cuts(m, axis, cut);
 
@@ -197,7 +201,9 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   // face inward, so they are turned over. Slices along time are never
   // turned, so keyframes keep their orientation.
   if ((D - 1 - axis) % 2 == 1) out.faces.col(0).swap(out.faces.col(1));
+  clock.lap(&SliceStages::output);
   out.normals = frame_vertex_normals(out.vertices, out.faces);
+  clock.lap(&SliceStages::normals);
   return out;
 }
 
@@ -222,8 +228,8 @@ const IntervalIndex& Slicer::index(int axis) {
   return *indices_[axis];
 }
 
-Slice Slicer::slice(int axis, double value, bool use_index) {
-  return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr);
+Slice Slicer::slice(int axis, double value, bool use_index, SliceStages* stages) {
+  return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr, stages);
 }
 
 }  // namespace animanifold

@@ -2,6 +2,7 @@
 
 #include "animanifold/threads.hpp"
 #include "slice_points.hpp"
+#include "slice_stages.hpp"
 
 #include <algorithm>
 #include <array>
@@ -19,12 +20,13 @@ std::uint64_t pack(Index a, Index b) {
 }
 
 // One chunk's cut: the points in the order it meets them, as keys (a, b),
-// a <= b, and each kept face's corners as positions among them.
+// a <= b (a key may come more than once), and each kept face's corners as
+// positions among them.
 struct Chunk {
   std::vector<std::uint64_t> keys;
   std::vector<Index> corners;
   std::vector<Index> simplex;
-  std::vector<Index> ids;  // per key: its welded point (weld())
+  std::vector<Index> ids;  // per key: its point (weld())
 };
 
 // Cuts simplices into a Chunk: the table of Figure 2.6.
@@ -75,7 +77,10 @@ class ChunkCutter {
  private:
   // The point where the plane crosses edge (a, b), keyed (min, max), or
   // (v, v) where it passes through vertex v: both simplices sharing an edge
-  // give the same key. Returns its position in the chunk's keys.
+  // give the same key. Returns its position in the chunk's keys: an earlier
+  // one when the key is among those the chunk met recently (the simplices
+  // around an edge are mostly near one another in the candidates), so the
+  // weld has fewer keys to number. Which keys repeat changes no point's first key.
   Index point(Index a, Index b) {
     if (a > b) std::swap(a, b);
     if (a != b) {
@@ -83,8 +88,13 @@ class ChunkCutter {
       if (s <= 0.0) b = a;          // the plane passes through a
       else if (s >= 1.0) a = b;     // ... or through b
     }
-    out_.keys.push_back(pack(a, b));
-    return static_cast<Index>(out_.keys.size() - 1);
+    const std::uint64_t key = pack(a, b);
+    Index& recent = recent_[(key * 0x9E3779B97F4A7C15ull) >> (64 - kRecentBits)];
+    // A slot may hold a position from an earlier chunk or another key: only a position with this key counts.
+    if (static_cast<size_t>(recent) < out_.keys.size() && out_.keys[recent] == key) return recent;
+    recent = static_cast<Index>(out_.keys.size());
+    out_.keys.push_back(key);
+    return recent;
   }
 
   void face(const Index* p, int n, Index source) {
@@ -95,10 +105,13 @@ class ChunkCutter {
     out_.simplex.push_back(source);
   }
 
+  static constexpr int kRecentBits = 10;
+
   const Complex& m_;
   int axis_;
   double value_;
   Chunk& out_;
+  std::array<Index, 1 << kRecentBits> recent_{};  // by a hash of a key: the position it was last added at
 };
 
 // The candidates [begin, end) cut into `out`. On-plane vertices count as
@@ -111,7 +124,12 @@ void cut_chunk(const Complex& m, int axis, double value, bool on_plane_is_above,
   out.simplex.reserve(2 * (end - begin));
   ChunkCutter cutter(m, axis, value, out);
   bool above[4];
+  constexpr std::ptrdiff_t kAhead = 8;  // the points of the simplex this many candidates on are fetched early
   for (const Index* s = begin; s != end; ++s) {
+    if (end - s > kAhead) {
+      const Index* later = m.S.row(s[kAhead]).data();
+      for (int c = 0; c < k; ++c) __builtin_prefetch(&m.V(later[c], axis));
+    }
     const Index* t = m.S.row(*s).data();
     int above_count = 0;
     for (int c = 0; c < k; ++c) {
@@ -125,42 +143,11 @@ void cut_chunk(const Complex& m, int axis, double value, bool on_plane_is_above,
   }
 }
 
-// Numbers the chunks' keys in order, each new key a new point: keys are
-// found through the list of points keyed by their lower vertex `a`
-// (`head`: one entry per manifold vertex, -1 where none, as it is left).
-void weld(const Complex& m, int axis, double value, std::vector<Chunk>& chunks, std::vector<Index>& head,
-          std::vector<Point>& points) {
-  struct Link {
-    Index b, next;  // the point's b, and the previous point with the same a (-1: none)
-  };
-  std::vector<Link> links;
-  try {
-    for (Chunk& chunk : chunks) {
-      chunk.ids.resize(chunk.keys.size());
-      for (size_t i = 0; i < chunk.keys.size(); ++i) {
-        const Index a = static_cast<Index>(chunk.keys[i] >> 32), b = static_cast<Index>(chunk.keys[i] & 0xffffffffu);
-        Index id = head[a];
-        while (id >= 0 && links[id].b != b) id = links[id].next;
-        if (id < 0) {
-          id = static_cast<Index>(points.size());
-          points.push_back({a, b, a == b ? 0.0 : slice_points::edge_parameter(m.V, axis, value, a, b)});
-          links.push_back({b, head[a]});
-          head[a] = id;
-        }
-        chunk.ids[i] = id;
-      }
-    }
-  } catch (...) {
-    for (const Point& p : points) head[p.a] = -1;
-    throw;
-  }
-  for (const Point& p : points) head[p.a] = -1;
-}
-
 }  // namespace
 
 CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is_above,
-                      const std::vector<Index>& candidates) {
+                      const std::vector<Index>& candidates, SliceStages* stages) {
+  StageClock clock(stages);
   const int k = m.vertices_per_simplex();
   std::vector<Chunk> chunks((candidates.size() + kChunk - 1) / kChunk);
   const std::ptrdiff_t chunk_count = static_cast<std::ptrdiff_t>(chunks.size());
@@ -170,13 +157,16 @@ CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is
     cut_chunk(m, axis, value, on_plane_is_above, begin, std::min(begin + kChunk, candidates.data() + candidates.size()),
               chunks[c]);
   }
-  // Per thread and kept between slices, at -1 but while weld() runs: slices
-  // on other threads at once each have their own.
-  thread_local std::vector<Index> head;
-  if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
+  clock.lap(&SliceStages::cut);
   CutFaces out;
   out.n = k - 1;
-  weld(m, axis, value, chunks, head, out.points);
+  std::vector<std::span<const std::uint64_t>> keys;
+  std::vector<std::span<Index>> ids;
+  for (Chunk& chunk : chunks) {
+    chunk.ids.resize(chunk.keys.size());
+    keys.emplace_back(chunk.keys), ids.emplace_back(chunk.ids);
+  }
+  weld(m, axis, value, keys, ids, out.points);
   out.on_vertices = std::any_of(out.points.begin(), out.points.end(), [](const Point& p) { return p.a == p.b; });
 
   std::vector<size_t> first_face(chunks.size() + 1, 0);
@@ -190,6 +180,7 @@ CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is
     Index* corner = out.corners.data() + first_face[c] * out.n;
     for (const Index position : chunk.corners) *corner++ = chunk.ids[position];
   }
+  clock.lap(&SliceStages::weld);
   return out;
 }
 

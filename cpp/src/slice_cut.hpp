@@ -4,24 +4,18 @@
 //
 // The cut runs in parallel over chunks of a fixed number of candidates; each
 // chunk lists the points it meets as (edge) keys. The weld then walks the
-// chunks in order and numbers each key the first time it comes, so the
-// output is what one thread cutting the candidates in order would give, for
-// any thread count. It finds a key through a per-vertex list (the points
-// keyed by their lower vertex: a handful each) instead of a global hash.
+// chunks' keys in order and numbers each key's point by its first key
+// (slice_weld.hpp), so the output is what one thread cutting the candidates
+// in order would give, for any thread count.
 #pragma once
 
 #include "animanifold/complex.hpp"
+#include "animanifold/slice.hpp"
+#include "slice_weld.hpp"
 
 #include <vector>
 
 namespace animanifold::slice_cut {
-
-// The point at parameter s on manifold edge (a, b), a < b; a == b (s = 0)
-// for a manifold vertex on the plane.
-struct Point {
-  Index a, b;
-  double s;
-};
 
 struct CutFaces {
   int n = 0;                  // corners per face: 3 (tets) or 2 (triangles)
@@ -38,10 +32,11 @@ struct CutFaces {
 //   axis, value        the hyperplane {x_axis = value}
 //   on_plane_is_above  whether a vertex on the plane counts as above it
 //   candidates         the simplices to cut, in order
+//   stages             optional: receives the seconds of the cut and of the weld
 // Outputs: each candidate's faces (none when it lies on one side) with
 //   welded corners; faces whose corners repeat a point (zero area) dropped
 CutFaces cut_and_weld(const Complex& m, int axis, double value, bool on_plane_is_above,
-                      const std::vector<Index>& candidates);
+                      const std::vector<Index>& candidates, SliceStages* stages = nullptr);
 
 // A face and its exact reverse on the same vertices bound nothing: they are
 // the two sides of a zero-width slit (where a manifold that opens a hole or a

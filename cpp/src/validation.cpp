@@ -7,6 +7,8 @@
 namespace animanifold {
 
 void check_indices(const Eigen::Ref<const SimplexMatrix>& rows, Eigen::Index count, const char* what) {
+  // The usual case, all in range, in two vectorised passes; the loop below names the first offender.
+  if (rows.size() == 0 || (rows.minCoeff() >= 0 && rows.maxCoeff() < count)) return;
   for (Eigen::Index r = 0; r < rows.rows(); ++r)
     for (Eigen::Index c = 0; c < rows.cols(); ++c) {
       const Index v = rows(r, c);

@@ -97,11 +97,21 @@ class IntervalIndex {
   double lowest_, highest_;
 };
 
+// Seconds the stages of one slice took: the benchmark's breakdown.
+struct SliceStages {
+  double stab = 0;     // finding the simplices the plane may cut, and snapping to vertices
+  double cut = 0;      // cutting them, each chunk listing its points once
+  double weld = 0;     // numbering the chunks' points, one per manifold edge or vertex, and the faces' corners
+  double output = 0;   // the frame's points, attributes and faces
+  double normals = 0;  // its vertex normals
+};
+
 // Inputs:
 //   manifold  n-simplices in R^(n+1) (#S by D over #V by D points)
 //   axis      0..D-1 (D-1 is time)
 //   value     where to cut
 //   index     optional IntervalIndex built on the same manifold and axis
+//   stages    optional: receives the seconds each stage took
 // Outputs:
 //   Slice: vertices P by D-1, faces F by n, normals, interpolated attributes,
 //   each vertex's manifold edge and parameter, each face's simplex
@@ -112,9 +122,11 @@ class IntervalIndex {
 // `index`, when given, must have been built on the same manifold and axis;
 // without it every simplex is tested.
 //
-// Threads: the cut runs on OpenMP's threads in chunks of a fixed size, and
-// the chunks' cut points are welded in chunk order, so the output (its order
-// included) is the same for any thread count.
+// Threads: the cut runs on OpenMP's threads in chunks of a fixed size; the
+// weld shares the points between the threads and numbers them in the order
+// the chunks, taken in order, first meet them; each thread sums the normals
+// of its own vertices in face order. The output (its order included) is the
+// same for any thread count.
 //
 // Normals: each frame face lies in the hyperplane of the simplex it was cut
 // from, so the simplex's wedge normal with the axis dropped (§2.3.2) is the
@@ -122,7 +134,8 @@ class IntervalIndex {
 // weighted by area (frame_vertex_normals). Averaging the manifold's vertex
 // normals instead would blend in the tets of neighbouring time slabs, which
 // tilts frame normals wherever the shape changes quickly.
-Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr);
+Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr,
+            SliceStages* stages = nullptr);
 
 }  // namespace animanifold
 
@@ -156,7 +169,7 @@ struct IntervalFrame {
 class Slicer {
  public:
   explicit Slicer(std::shared_ptr<const Complex> manifold);
-  Slice slice(int axis, double value, bool use_index = true);
+  Slice slice(int axis, double value, bool use_index = true, SliceStages* stages = nullptr);
   // The frame at `value` along `axis` with its topology interval and rates
   // (IntervalFrame). Throws InputError when `value` has no topology interval
   // (it lies on a vertex coordinate or outside the manifold: the faces change
