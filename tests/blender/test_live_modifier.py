@@ -218,6 +218,9 @@ def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
     goto(5.5)
     frame = cache.interval_frame(5.5)
     lo, hi = frame.interval
+    # Between two keys the frame is the prism frame: the source's triangles, no staircase.
+    assert cache.prisms is not None and (lo, hi) == tuple(cache.prisms.times[[0, 1]] + 0) or lo in cache.prisms.times
+    assert len(frame.slice.faces) == cache.metadata["keyframe_faces"]
     assert modifier_inputs(man)["Active"] and (modifier_inputs(man)["Start"], modifier_inputs(man)["End"]) == (lo, hi)
     monkeypatch.setattr(live, "update_scene", lambda *args, **kwargs: 0)
     times = [lo + 0.25, 5.5, float(np.floor(hi)) if np.floor(hi) < hi else hi - 0.5, hi - 0.25]
@@ -229,6 +232,7 @@ def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
                                    rtol=0, err_msg=f"frame {t}")
         cv = corner_vertex(mesh)
         np.testing.assert_array_equal(cv.reshape(-1, 3), expected.faces, err_msg=f"frame {t}: faces")
+        assert len(mesh.polygons) == cache.metadata["keyframe_faces"], f"frame {t}: face count"
         uv = expected.vertex_attributes["uv"][cv]
         np.testing.assert_allclose(corner_uv(mesh, man.animanifold.uv_name), uv, atol=float32_tolerance(uv), rtol=0,
                                    err_msg=f"frame {t}: UVs")
