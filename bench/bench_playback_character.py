@@ -12,7 +12,7 @@ The character (blender_scenes/build_character.py) is a Skin-modifier figure subd
 ~70k triangles at the default level, bound by bone envelopes, walking over frames 1-48;
 Convert uses the add-on's default sampling (Within Tolerance).
 
-    python3 bench/bench_playback_character.py [--levels 4] [--loops 3] [--json out.json]
+    python3 bench/bench_playback_character.py [--levels 4] [--loops 3] [--sampling KEYFRAMES] [--json out.json]
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ def measure(args, folder: Path) -> dict:
 
     bpy.ops.wm.save_as_mainfile(filepath=str(folder / "character.blend"))
     t = time.perf_counter()
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling=args.sampling) == {"FINISHED"}
     result["convert_s"] = round(time.perf_counter() - t, 2)
     man = bpy.data.objects[src.name + "_manifold"]
     from animanifold_blender import object_manifold
@@ -156,6 +156,8 @@ def main() -> int:
     parser.add_argument("--levels", type=int, default=4, help="subdivision level of the character (4: ~70k triangles)")
     parser.add_argument("--loops", type=int, default=3)
     parser.add_argument("--obj-frames", type=int, default=12, help="OBJ frames to load for the load rate")
+    parser.add_argument("--sampling", default="ADAPTIVE", choices=["ADAPTIVE", "KEYFRAMES"],
+                        help="Convert's sampling (ADAPTIVE: Within Tolerance, the default; KEYFRAMES: the walk's keys)")
     parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args()
     import animanifold_blender

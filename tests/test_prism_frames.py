@@ -270,3 +270,19 @@ def test_a_key_moved_off_its_time_drops_only_the_gaps_beside_it():
     assert m.prisms.holds_for(points, len(m.simplices)).gaps.tolist() == [False, False, False, True]
     moved = am.AnimationManifold.from_arrays(points, m.simplices, prisms=kept.holds_for(points, len(m.simplices)))
     assert len(moved.slice(2.0).faces) == len(f) and len(moved.slice(0.5).faces) > len(f)
+
+
+def test_prism_frames_are_the_same_bits_on_one_and_two_threads():
+    v, f, frames, uv, m = _sphere(4)
+    previous = am.threads()
+    try:
+        am.set_threads(1)
+        one = [m.slice(t) for t in (0.15, 0.65, 1.8)]
+        am.set_threads(2)
+        two = [m.slice(t) for t in (0.15, 0.65, 1.8)]
+    finally:
+        am.set_threads(previous)
+    for a, b in zip(one, two):
+        for name in ("vertices", "faces", "normals", "vertex_edges", "edge_parameter", "face_simplex"):
+            assert np.array_equal(getattr(a, name), getattr(b, name)), name
+        assert np.array_equal(a.vertex_attributes["uv"], b.vertex_attributes["uv"])
