@@ -5,13 +5,14 @@ and an OBJ sequence (Blender has no OBJ sequence player, so its figure is the ra
 `wm.obj_import` loads the frames at). For each: frames/s, bytes per frame, and the largest
 two-sided distance (vertex to surface, both ways) of an in-between frame from the source's
 evaluated mesh, as % of the source's bounding-box diagonal, and the largest ratio of a frame's
-triangles to the source's.
+triangles to the source's; for the live manifold also over the frames and half frames that are
+not samples (Within Tolerance may sample every integer frame).
 
 The character (blender_scenes/build_character.py) is a Skin-modifier figure subdivided to
 ~70k triangles at the default level, bound by bone envelopes, walking over frames 1-48;
 Convert uses the add-on's default sampling (Within Tolerance).
 
-    python3 bench/bench_playback_character.py [--levels 4] [--loops 3] [--json out.json]
+    python3 bench/bench_playback_character.py [--levels 4] [--loops 3] [--sampling KEYFRAMES] [--json out.json]
 """
 
 from __future__ import annotations
@@ -60,11 +61,15 @@ def compare_frames(scene, obj, frames, source_surfaces, diagonal) -> tuple[float
 
     worst, ratio = 0.0, 0.0
     for f in frames:
-        scene.frame_set(f)
+        set_frame(scene, f)
         v, t = evaluated_surface(obj)
         worst = max(worst, two_sided_distance(v, t, *source_surfaces[f]))
         ratio = max(ratio, len(t) / len(source_surfaces[f][1]))
     return round(100.0 * worst / diagonal, 4), round(ratio, 3)
+
+
+def set_frame(scene, frame: float) -> None:
+    scene.frame_set(int(frame), subframe=float(frame - int(frame)))
 
 
 def obj_sequence_load_fps(files) -> float:
@@ -81,9 +86,10 @@ def measure(args, folder: Path) -> dict:
     scene = bpy.context.scene
     src = build_character(args.levels)
     frames = list(range(scene.frame_start, scene.frame_end + 1))
+    halves = [f + 0.5 for f in frames[:-1]]  # subframes: in-between frames where samples are every frame
     source_surfaces = {}
-    for f in frames:
-        scene.frame_set(f)
+    for f in frames + halves:
+        set_frame(scene, f)
         source_surfaces[f] = evaluated_surface(src)
     allv = np.concatenate([v for v, _ in source_surfaces.values()])
     diagonal = float(np.linalg.norm(allv.max(0) - allv.min(0)))
@@ -98,7 +104,7 @@ def measure(args, folder: Path) -> dict:
 
     bpy.ops.wm.save_as_mainfile(filepath=str(folder / "character.blend"))
     t = time.perf_counter()
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
+    assert bpy.ops.animanifold.convert_action(sampling=args.sampling) == {"FINISHED"}
     result["convert_s"] = round(time.perf_counter() - t, 2)
     man = bpy.data.objects[src.name + "_manifold"]
     from animanifold_blender import object_manifold
@@ -113,6 +119,12 @@ def measure(args, folder: Path) -> dict:
     result["bytes_per_frame"]["live (.amf cache)"] = os.path.getsize(bpy.path.abspath(man.animanifold.cache_path)) // len(frames)
     result["deviation_percent"]["live"], result["largest_triangle_ratio"]["live"] = compare_frames(
         scene, man, frames, source_surfaces, diagonal)
+    # Frames and half frames that are not samples: in-between frames for certain (the bakes hold
+    # integer frames only, so they are measured at those).
+    between = [f for f in frames + halves if f not in set(manifold.metadata["keyframe_times"])]
+    result["in_between_frames_measured"] = len(between)
+    result["deviation_percent"]["live, in-between frames"], result["largest_triangle_ratio"][
+        "live, in-between frames"] = compare_frames(scene, man, between, source_surfaces, diagonal)
 
     before = os.path.getsize(folder / "character.blend")
     assert bpy.ops.animanifold.bake(alembic=False) == {"FINISHED"}
@@ -144,6 +156,8 @@ def main() -> int:
     parser.add_argument("--levels", type=int, default=4, help="subdivision level of the character (4: ~70k triangles)")
     parser.add_argument("--loops", type=int, default=3)
     parser.add_argument("--obj-frames", type=int, default=12, help="OBJ frames to load for the load rate")
+    parser.add_argument("--sampling", default="ADAPTIVE", choices=["ADAPTIVE", "KEYFRAMES"],
+                        help="Convert's sampling (ADAPTIVE: Within Tolerance, the default; KEYFRAMES: the walk's keys)")
     parser.add_argument("--json", type=Path, default=None, help="also write the figures here")
     args = parser.parse_args()
     import animanifold_blender

@@ -72,7 +72,10 @@ PREVIOUS = {
 
 @pytest.fixture(scope="module")
 def manifold() -> am.AnimationManifold:
-    return exact_animation()
+    """exact_animation() without its prisms: these tests are about the core's cut of the tets
+    (frames between keys played as prisms: tests/test_prism_frames.py)."""
+    stitched = exact_animation()
+    return am.AnimationManifold(stitched.core_complex, stitched.metadata)
 
 
 @pytest.fixture
@@ -86,6 +89,13 @@ def threads():
 @pytest.mark.parametrize("axis, value", SLICES)
 def test_slices_are_those_of_the_serial_implementation_bit_for_bit(manifold, axis, value):
     assert digest(manifold.slice(value, axis=axis)) == PREVIOUS[(axis, value)]
+
+
+@pytest.mark.parametrize("value", [0.0, 1.0, 1.0 + 1e-13, 2.0])
+def test_a_stitched_manifold_with_its_prisms_gives_the_keys_bit_for_bit_as_before(value):
+    stitched = exact_animation()
+    assert stitched.prisms is not None
+    assert digest(stitched.slice(value)) == PREVIOUS[(TIME_AXIS, value)]
 
 
 @pytest.mark.parametrize("axis, value", SLICES)

@@ -29,6 +29,7 @@ from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
 from .holes import BooleanError, hole_space, intersect_solids, solid_measure, subtract_solid
 from .interval_frame import IntervalFrame
+from .prism_frames import Prisms
 from .laplacian import Deformer, LaplacianOptions, RestoreStatus, handle_transform, laplacian_deform, rotation_matrix
 from .manifold import AnimationManifold, HoleSpaceWarning, axis_index
 from .memory_limits import MemoryLimitError, memory_limit, set_memory_limit
@@ -61,6 +62,7 @@ __all__ = [
     "Deformer",
     "HoleSpaceWarning",
     "IntervalFrame",
+    "Prisms",
     "CoreJob",
     "MorphJob",
     "RestoreStatus",

@@ -15,10 +15,17 @@ Layout (little-endian)::
     checksum   u32       CRC-32 of every byte before it
 
 Named arrays hold the hole space of a morph (§8.6.5): "hole_vertices"
-(k, D-1) float64 and "hole_faces" (l, D-1) int32. A file is written with the
-lowest version that describes it: version 1 when it has no named arrays (so
-older readers still read it), version 2 otherwise. Version 1 files load as
-before, with no hole space.
+(k, D-1) float64 and "hole_faces" (l, D-1) int32; and the prisms of stitched
+keyframes (prism_frames.py): "prism_times" (m, 1) float64,
+"prism_key_vertices" (m, k), "prism_faces" (l, D-1), "prism_face_simplices"
+(m-1, l) and "prism_gaps" (m-1, 1) int32. A file is written with the lowest
+version that describes it: version 1 when it has no named arrays (so older
+readers still read it), version 2 otherwise. Version 1 files, and version 2
+files without the prism arrays (written before they existed), load as before,
+with no hole space and no prisms: their frames between keys are the tets'
+slices. Readers that predate the prism arrays skip them (they read every
+named array and use the ones they know), so they still read the files this
+writes.
 
 Writing is atomic (atomic_file.py: a temporary file beside the target, fsync,
 rename, fsync of the directory), so a crash never leaves a half-written cache
@@ -50,6 +57,7 @@ from .atomic_file import describe_mode, replacing
 from .cache_format import (ARRAY_TYPES, CHECKSUM, FORMAT_VERSION, MAGIC, PREFIX, CacheError, Layout, check_prefix,
                            pack_prefix, padded_header, parse_header)
 from .manifold import AnimationManifold
+from .prism_frames import Prisms
 
 __all__ = ["CacheError", "FORMAT_VERSION", "MAGIC", "load", "save"]
 
@@ -84,6 +92,9 @@ def _chunks(manifold: AnimationManifold) -> tuple[int, list]:
     if manifold.hole_space is not None:
         arrays["hole_vertices"] = np.ascontiguousarray(manifold.hole_space[0], dtype="<f8")
         arrays["hole_faces"] = np.ascontiguousarray(manifold.hole_space[1], dtype="<i4")
+    if manifold.prisms is not None:
+        for name, table in manifold.prisms.arrays().items():
+            arrays[name] = np.ascontiguousarray(table, dtype="<f8" if table.dtype.kind == "f" else "<i4")
     fields = {
         "dimension": int(points.shape[1]),
         "points": int(points.shape[0]),
@@ -190,6 +201,7 @@ def _manifold(path: Path, layout: Layout, tables: list[np.ndarray]) -> Animation
             raise CacheError(f"cache file {path} has half a hole space (hole_vertices and hole_faces go together)")
         hole_space = (arrays["hole_vertices"], arrays["hole_faces"])
     try:
-        return AnimationManifold.from_arrays(points, simplices, vattrs, sattrs, layout.metadata, hole_space)
+        prisms = Prisms.from_arrays(arrays)
+        return AnimationManifold.from_arrays(points, simplices, vattrs, sattrs, layout.metadata, hole_space, prisms)
     except (Error, ValueError, TypeError) as e:
         raise CacheError(f"cache file {path} holds an invalid manifold: {' '.join(str(e).split())}") from None

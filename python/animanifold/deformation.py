@@ -59,7 +59,8 @@ def deform(
     affine) or to `handle_positions` (H, D), solved as ``options`` say.
 
     Without regularisation the result has the same simplices, attributes and
-    metadata. With ``options.regularise`` it has more vertices (the input's
+    metadata, and keeps the prisms of stitched keyframes while every key's
+    vertices stay at its time (a motion through time drops them). With ``options.regularise`` it has more vertices (the input's
     first) and simplices, attributes interpolated / inherited, and
     metadata["regularisation"] saying how it ended (iterations, splits,
     converged, ...). Either way the hole space is dropped: the shape changed.
@@ -90,9 +91,11 @@ def deform(
     points = laplacian_deform(manifold.points, manifold.simplices, anchors, handles, transform,
                               handle_positions=handle_positions, options=options.laplacian, progress=progress,
                               interrupted=interrupted)
-    return AnimationManifold.from_arrays(_keep_times(manifold.points, points), manifold.simplices,
+    points = _keep_times(manifold.points, points)
+    prisms = None if manifold.prisms is None else manifold.prisms.holds_for(points, len(manifold.simplices))
+    return AnimationManifold.from_arrays(points, manifold.simplices,
                                          dict(manifold.vertex_attributes), dict(manifold.simplex_attributes),
-                                         manifold.metadata)
+                                         manifold.metadata, prisms=prisms)
 
 
 def _keep_times(before: np.ndarray, after: np.ndarray) -> np.ndarray:

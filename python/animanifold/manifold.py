@@ -22,6 +22,7 @@ from .frame_smoothing import smooth_slice
 from .hole_cut import cut_frame
 from .indices import as_indices
 from .interval_frame import IntervalFrame
+from .prism_frames import PrismGap, Prisms
 from .slices import Slice, squeezed
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
@@ -60,7 +61,12 @@ class AnimationManifold:
     * metadata: a plain dict (keyframe_times, keyframe_vertices / _faces from
       :func:`stitch`, a morph's validity report, subdivisions, regularisation);
     * hole_space: for a morph, the holes its source and target share
-      (§8.6.5), a solid in R^n as (vertices, faces) like a frame, or None.
+      (§8.6.5), a solid in R^n as (vertices, faces) like a frame, or None;
+    * prisms: for stitched keyframes, which vertex is which key's source
+      vertex (:class:`~animanifold.prism_frames.Prisms`), or None. Time slices
+      strictly between two keys of a gap it plays are the keys' faces with
+      each vertex on its vertical edge (the keys' blend), not the tets'
+      staircase; see :meth:`slice`.
 
     Invariants: points, simplices and attributes never change after
     construction (the arrays are read-only; the core checks indices are in
@@ -70,7 +76,9 @@ class AnimationManifold:
     (validity 3 of §8.3); see :meth:`slice`. :func:`animanifold.weld` and
     :func:`animanifold.refine` keep H (the shape does not change);
     :func:`animanifold.deform` and :func:`animanifold.subdivide` return
-    manifolds without it.
+    manifolds without it. Operations that make new points or simplices drop
+    the prisms unless they provably still hold (:func:`animanifold.deform`
+    without regularisation keeps them while every key stays at its time).
     """
 
     def __init__(
@@ -78,12 +86,15 @@ class AnimationManifold:
         complex_: "_core.Complex",
         metadata: Mapping[str, object] | None = None,
         hole_space: tuple[np.ndarray, np.ndarray] | None = None,
+        prisms: Prisms | None = None,
     ):
         self._complex = complex_
         self._slicer: _core.Slicer | None = None
         self._time_range: tuple[float, float] | None = None
         self.metadata: dict = dict(metadata or {})
         self._hole_space = _checked_hole_space(hole_space, self.dimension)
+        self._prisms = None if prisms is None else prisms.checked(self.points, len(self.simplices))
+        self._prism_gap: PrismGap | None = None  # the last gap sliced, gathered
 
     @classmethod
     def from_arrays(
@@ -94,9 +105,11 @@ class AnimationManifold:
         simplex_attributes: Mapping[str, np.ndarray] | None = None,
         metadata: Mapping[str, object] | None = None,
         hole_space: tuple[np.ndarray, np.ndarray] | None = None,
+        prisms: Prisms | None = None,
     ) -> "AnimationManifold":
         """Builds a manifold from raw arrays (validated: indices in range, finite
-        points); `hole_space` (vertices (k, D-1), faces (l, D-1)) as in the class doc."""
+        points); `hole_space` (vertices (k, D-1), faces (l, D-1)) and `prisms`
+        as in the class doc (ValueError naming the element when they do not fit)."""
         points = np.ascontiguousarray(points, dtype=np.float64)
         simplices = as_indices(simplices, "simplices")
         if points.ndim != 2 or points.shape[1] not in (3, 4):
@@ -107,7 +120,7 @@ class AnimationManifold:
             )
         va = {k: as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
         sa = {k: as_table(v, np.int32, f"simplex attribute {k!r}") for k, v in (simplex_attributes or {}).items()}
-        return cls(_core.Complex(points, simplices, va, sa), metadata, hole_space)
+        return cls(_core.Complex(points, simplices, va, sa), metadata, hole_space, prisms)
 
     # -- data ---------------------------------------------------------------
     @property
@@ -145,6 +158,11 @@ class AnimationManifold:
         faces (l, D-1)) read-only; None when there is none (every manifold but
         a morph whose inputs share a hole)."""
         return self._hole_space
+
+    @property
+    def prisms(self) -> Prisms | None:
+        """The prism structure of stitched keyframes (read-only arrays), or None."""
+        return self._prisms
 
     @property
     def has_holes(self) -> bool:
@@ -208,11 +226,18 @@ class AnimationManifold:
         pinches or intersects itself: the morph is not valid there) comes back
         raw with a :class:`HoleSpaceWarning`; `honour_holes="strict"` raises
         the animanifold.BooleanError instead.
+
+        For stitched keyframes (:attr:`prisms`), a time slice strictly between
+        two keys is the keys' faces with every vertex moved linearly along its
+        vertical edge (prism_frames.py): the source's face count, its faces,
+        the keys' blend. Its vertex_edges are those vertical edges. At a key
+        (and within the core's snap of one) it is the tets' slice, the key.
         """
         if honour_holes not in (True, False, "strict"):
             raise ValueError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
         a = axis_index(axis, self.dimension)
-        s = self._core_slicer().slice(a, float(value), use_index)
+        prism = self._prism_cut(a, float(value))
+        s = prism.slice(float(value), a) if prism is not None else self._core_slicer().slice(a, float(value), use_index)
         if honour_holes and self._honours_holes(a, float(value)):
             try:
                 s = _subtract_holes(s, self._hole_space, a, float(value))
@@ -237,12 +262,16 @@ class AnimationManifold:
         interval as the frame before it reuses that frame's cut, so writing it
         is a gather and a lerp per vertex instead of a slice. Bakes and exports,
         which slice increasing times, several in each interval, use this.
-        Frames the hole space cuts are sliced one by one."""
+        Frames the hole space cuts are sliced one by one; prism frames
+        (:attr:`prisms`) are a lerp each."""
         a = axis_index(axis, self.dimension)
         slicer = self._core_slicer()
         cut = None  # the core IntervalFrame of the last frame's interval
         for value in values:
             v = float(value)
+            if self._prism_cut(a, v) is not None:
+                yield self.slice(v, a)
+                continue
             interval = None if self._honours_holes(a, v) else slicer.topology_interval(a, v)
             if interval is None:
                 cut = None
@@ -276,9 +305,31 @@ class AnimationManifold:
             raise ValueError(
                 f"the frame at {value} of a manifold with a hole space is cut by it, and the cut changes from "
                 "frame to frame: slice every frame (AnimationManifold.slice) instead of moving one")
+        prism = self._prism_cut(a, float(value))
+        if prism is not None:
+            return prism.interval_frame(float(value), a)
         f = self._core_slicer().interval_frame(a, float(value))
         return IntervalFrame(Slice._from_core(a, float(value), f.slice), f.interval, f.rate,
                              {k: squeezed(v) for k, v in f.attribute_rates.items()}, f.parameter_rate)
+
+    def _prism_cut(self, axis: int, value: float) -> PrismGap | None:
+        """The prism gap whose frames the time slice at `value` is (see :meth:`slice`), or None.
+        Its interval is the core's topology interval there (every manifold vertex is a key
+        vertex), so the core's snap to a key decides what is a key, as for the tets."""
+        if self._prisms is None or axis != self.dimension - 1 or not np.isfinite(value):
+            return None
+        t0, t1 = self.time_range
+        if not t0 < value < t1:
+            return None
+        interval = self._core_slicer().topology_interval(axis, value)
+        gap = self._prisms.gap(interval)
+        if gap is None:
+            return None
+        cut = self._prism_gap
+        if cut is None or cut.interval != interval:
+            cut = self._prisms.cut(self.points, self.vertex_attributes, self.simplex_attributes, gap)
+            self._prism_gap = cut
+        return cut
 
     def _core_slicer(self) -> "_core.Slicer":
         if self._slicer is None:

@@ -15,6 +15,7 @@ import numpy as np
 from . import _core
 from .indices import as_indices
 from .manifold import AnimationManifold, as_table
+from .prism_frames import Prisms
 
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -118,7 +119,9 @@ def stitch(
     keyframes; times: (m,) strictly increasing. vertex_attributes: name →
     (k,) / (k, c) constant over time, or (m, k) / (m, k, c) per keyframe.
     face_attributes: name → (l,) / (l, c) integers (material index, ...).
-    The result has exactly 3·l·(m−1) tets (2·l·(m−1) triangles for contours).
+    The result has exactly 3·l·(m−1) tets (2·l·(m−1) triangles for contours)
+    and records its prisms (``.prisms``): its frames between two keys are the
+    keys' faces, each vertex on its vertical edge (AnimationManifold.slice).
     progress(step, fraction) and interrupted() follow the core's steps (once per
     keyframe gap); False from the one or True from the other raises
     :class:`animanifold.Cancelled`.
@@ -169,4 +172,5 @@ def stitch(
         _core.stitch(flat, as_indices(faces, "faces"), times, va, fa, _seam_order(stacked, flat.reshape(m, k, d)),
                      progress=progress, interrupted=interrupted),
         metadata={"keyframe_times": times.tolist(), "keyframe_vertices": int(k), "keyframe_faces": int(len(faces))},
+        prisms=Prisms.stitched(times, k, faces),
     )

@@ -87,6 +87,7 @@ def test_node_group_bake_plays_without_the_addon(converted):
         got = np.array(result[f]["corners"])
         np.testing.assert_allclose(canonical(got), canonical(expected_corners(cache, HELD.get(f, f))), atol=1e-6,
                                    err_msg=f"frame {f}")
+        assert len(got) == cache.metadata["keyframe_faces"], f"frame {f}: not the source's triangles"  # prism frames
         assert result[f]["materials"] == [0, 1] and result[f]["slots"] == ["BlobSkin", "BlobCap"]
         assert "UVMap" in result[f]["uv"]
         assert result[f]["modifiers"] == ["NODES"]
@@ -124,6 +125,7 @@ def test_alembic_mesh_sequence_cache_bake(converted):
         got = np.array(result[f]["corners"])
         np.testing.assert_allclose(canonical(got, 5), canonical(expected_corners(cache, f), 5), atol=2e-5,
                                    err_msg=f"frame {f}")
+        assert len(got) == cache.metadata["keyframe_faces"], f"frame {f}: not the source's triangles"  # prism frames
         # Each triangle's material (by name), whatever the order of triangles and slots.
         s = cache.slice(f)
         want = sorted(zip(np.round(s.vertices[s.faces].mean(axis=1), 4).tolist(),

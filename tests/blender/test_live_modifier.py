@@ -207,7 +207,8 @@ def test_inside_an_interval_the_handler_copies_only_kept_frames(demo, writes, fr
     assert len(frame_work["written"]) > len(set(integer))  # the second loop copied them again
 
 
-def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
+@pytest.mark.parametrize("prisms", [True, False], ids=["prism frames", "tets' slice"])
+def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch, prisms):
     """The graph of live_nodes._build mirrors Slicer::interval_frame: with the handler
     silenced once the cut is written, the modifier alone moves the mesh, and the
     evaluated vertices and UVs at times across the interval are the core's interval
@@ -215,9 +216,14 @@ def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
     from animanifold_blender import live
 
     man, cache = convert(demo)
+    if not prisms:  # a cache without prisms (from before them): its UVs move inside the interval
+        cache = _without_prisms(man)
     goto(5.5)
     frame = cache.interval_frame(5.5)
     lo, hi = frame.interval
+    faces = len(frame.slice.faces)
+    # Between two keys the prism frame has the source's triangles; the tets' slice about 4x.
+    assert faces == cache.metadata["keyframe_faces"] if prisms else faces > 3 * cache.metadata["keyframe_faces"]
     assert modifier_inputs(man)["Active"] and (modifier_inputs(man)["Start"], modifier_inputs(man)["End"]) == (lo, hi)
     monkeypatch.setattr(live, "update_scene", lambda *args, **kwargs: 0)
     times = [lo + 0.25, 5.5, float(np.floor(hi)) if np.floor(hi) < hi else hi - 0.5, hi - 0.25]
@@ -229,6 +235,7 @@ def test_the_node_graph_plays_the_cores_interval_frame(demo, monkeypatch):
                                    rtol=0, err_msg=f"frame {t}")
         cv = corner_vertex(mesh)
         np.testing.assert_array_equal(cv.reshape(-1, 3), expected.faces, err_msg=f"frame {t}: faces")
+        assert len(mesh.polygons) == faces, f"frame {t}: face count"
         uv = expected.vertex_attributes["uv"][cv]
         np.testing.assert_allclose(corner_uv(mesh, man.animanifold.uv_name), uv, atol=float32_tolerance(uv), rtol=0,
                                    err_msg=f"frame {t}: UVs")
@@ -502,6 +509,23 @@ def _read(path, scene) -> np.ndarray:
     return px.reshape(scene.render.resolution_y, scene.render.resolution_x, 4)
 
 
+def _without_prisms(man):
+    """The object's cache rewritten without its prisms (as a cache from before them, a morph or
+    a subdivided manifold plays): frames between keys are the tets' slice, whose vertices slide
+    along edges between different source vertices, so their UVs move with the frame. (A prism
+    frame's vertex keeps its source vertex's UV, constant in the demo.)"""
+    from animanifold_blender.live_registry import registry
+
+    path = bpy.path.abspath(man.animanifold.cache_path)
+    stitched = am.load(path)
+    am.save(am.AnimationManifold(stitched.core_complex, stitched.metadata), path)
+    registry.forget(path)
+    registry.forget_shown()
+    tets = am.load(path)
+    assert tets.prisms is None
+    return tets
+
+
 def _render(scene, path) -> np.ndarray:
     scene.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)
@@ -540,6 +564,7 @@ def test_render_between_keyframes_matches_the_handler_written_frame(demo, tmp_pa
     from animanifold_blender.live_registry import registry
 
     man, cache = convert(demo)
+    cache = _without_prisms(man)
     scene = bpy.context.scene
     _uv_colour_cycles(man, scene)
     frame = 34.5  # inside (24, 36), away from the cut's middle (30): the modifier moves the mesh

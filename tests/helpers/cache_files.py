@@ -14,11 +14,13 @@ from helpers.keyframes import TIMES, wobble
 from helpers.shapes import icosphere
 
 
-def small_manifold() -> am.AnimationManifold:
-    """A 4D manifold with one vertex and one simplex attribute (240 tets)."""
+def small_manifold(prisms: bool = False) -> am.AnimationManifold:
+    """A 4D manifold with one vertex and one simplex attribute (240 tets); without its prisms
+    (the default) it saves as a version 1 file, with them as version 2 with named arrays."""
     v, f = icosphere(1)
-    return am.stitch(wobble(v, TIMES[:2]), f, TIMES[:2], vertex_attributes={"uv": v[:, :2] / 3.0},
-                     face_attributes={"material_index": np.arange(len(f)) % 3})
+    m = am.stitch(wobble(v, TIMES[:2]), f, TIMES[:2], vertex_attributes={"uv": v[:, :2] / 3.0},
+                  face_attributes={"material_index": np.arange(len(f)) % 3})
+    return m if prisms else am.AnimationManifold(m.core_complex, m.metadata)
 
 
 def with_checksum(body: bytes) -> bytes:
