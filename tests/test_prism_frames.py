@@ -10,6 +10,7 @@ from animanifold.prism_frames import Prisms
 from helpers.cache_files import assemble, small_manifold, split
 from helpers.keyframes import TIMES, wobble
 from helpers.shapes import cube, icosphere, polygon
+from helpers.surface_checks import triangles
 
 
 def _sphere(subdivisions: int = 2):
@@ -67,14 +68,28 @@ def test_in_between_frames_report_their_vertical_edges():
     assert np.array_equal(m.simplex_attributes["material_index"][s.face_simplex, 0], s.face_attributes["material_index"])
 
 
-def test_keys_are_reproduced_bit_for_bit_as_the_tets_slice():
+def test_keys_are_the_key_meshes_bit_for_bit_over_the_frames_faces():
     v, f, frames, uv, m = _sphere()
     tets = am.AnimationManifold(m.core_complex, m.metadata)  # the same arrays without the prisms
     for i, t in enumerate(TIMES):
-        s, before = m.slice(t), tets.slice(t)
-        assert np.array_equal(s.vertices, before.vertices) and np.array_equal(s.faces, before.faces)
-        assert np.array_equal(s.vertex_attributes["uv"], before.vertex_attributes["uv"])
-        assert len(s.faces) == len(f)
+        s = m.slice(t)
+        assert np.array_equal(s.vertices, frames[i]) and np.array_equal(s.faces, f)
+        assert np.array_equal(s.vertex_attributes["uv"], uv[i])
+        assert np.array_equal(s.face_attributes["material_index"], np.arange(len(f)) % 4)
+        assert np.array_equal(s.vertex_edges[:, 0], s.vertex_edges[:, 1]) and not s.edge_parameter.any()
+        assert triangles(s, "material_index") == triangles(tets.slice(t), "material_index")  # the tets' slice: the same triangles
+        assert np.all(np.einsum("ij,ij->i", s.normals, s.vertices - s.vertices.mean(axis=0)) > 0)  # outward
+    # Within the core's snap of a key, the key too (as the tets' slice snaps to it).
+    near = m.slice(TIMES[1] + 1e-13)
+    assert np.array_equal(near.vertices, frames[1]) and np.array_equal(near.faces, f)
+
+
+def test_an_animation_that_keeps_its_faces_has_one_face_list_at_every_frame():
+    """Keys and in-between frames share the source's faces, so playback never changes topology."""
+    v, f, frames, uv, m = _sphere(1)
+    values = sorted(set(TIMES) | set(_between()))
+    for s in m.slices(values):
+        assert np.array_equal(s.faces, f)
 
 
 def test_the_prism_frame_is_made_of_the_staircase_frames_points_on_vertical_edges():
@@ -121,6 +136,9 @@ def test_a_gap_not_played_as_prisms_keeps_the_tets_slice():
     assert len(marked.slice(inside).faces) > len(f)
     assert np.array_equal(marked.interval_frame(inside).slice.faces, tets.slice(inside).faces)
     assert np.array_equal(marked.slice(0.1).faces, f)
+    # The key below the gap takes its faces from the gap's tets: the tets' slice; the key above, the prisms'.
+    assert np.array_equal(marked.slice(TIMES[1]).faces, tets.slice(TIMES[1]).faces)
+    assert np.array_equal(marked.slice(TIMES[2]).faces, f)
 
 
 def test_contours_play_prisms_too():

@@ -27,8 +27,10 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
                smooth: np.ndarray | None = None, normals: np.ndarray | None = None,
                edges: tuple | None = None, vectors: dict | None = None,
-               corner_uv: np.ndarray | None = None, extra: dict | None = None) -> None:
+               corner_uv: np.ndarray | None = None, extra: dict | None = None) -> bool:
     """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
+    True when the mesh held these triangles already (holds_triangles): then only its
+    layers are written, and its edges stay as they were.
     `normals` (P, 3): smooth normals set as custom normals (slices between
     keyframes have thin triangles that shade unevenly with computed normals).
     `edges`: (edge vertices (2E,), corner edges (3F,)) that Blender computed for
@@ -38,6 +40,10 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     `extra`: a slice's vertex attributes, whose extra_layers (other UV maps, colours) are written."""
     P, F = len(vertices), len(faces)
     corner_vertex = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1)
+    if not extra and holds_triangles(mesh, P, corner_vertex):
+        _rewrite_in_place(mesh, vertices, corner_vertex, uv, uv_name, material_index, smooth, normals, vectors,
+                          corner_uv)
+        return True
     mesh.clear_geometry()
     mesh.vertices.add(P)
     mesh.loops.add(3 * F)
@@ -89,6 +95,61 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     if normals is not None and F:
         if _NEEDS_AUTO_SMOOTH:
             mesh.use_auto_smooth = True
+        set_vertex_normals(mesh, normals)
+    return False
+
+
+def holds_triangles(mesh, vertex_count: int, corner_vertex: np.ndarray) -> bool:
+    """Whether `mesh` already holds exactly these triangles over `vertex_count` vertices
+    (a frame of an animation that keeps its faces: a prism frame, a key of it). Only
+    where write_mesh can then leave the topology alone: 4.5+, whose custom normals are
+    a plain attribute (before, they live in a layer only clear_geometry resets)."""
+    F = len(corner_vertex) // 3
+    if not (_FREE_NORMALS and F and len(mesh.vertices) == vertex_count and len(mesh.polygons) == F
+            and len(mesh.loops) == 3 * F and ".corner_vert" in mesh.attributes.keys()):
+        return False
+    held = np.empty(3 * F, dtype=np.int32)
+    mesh.attributes[".corner_vert"].data.foreach_get("value", held)
+    return np.array_equal(held, corner_vertex)
+
+
+def _rewrite_in_place(mesh, vertices, corner_vertex, uv, uv_name, material_index, smooth, normals, vectors,
+                      corner_uv) -> None:
+    """write_mesh on a mesh that holds its triangles (holds_triangles): every layer
+    write_mesh sets is written into the mesh's own, the others it would not make are
+    removed, and the faces, edges and Blender's caches of them stay (no edge hash, no
+    topology rebuild: the cost of a new interval's first frame during playback)."""
+    F = len(corner_vertex) // 3
+    layers = {"position": ("FLOAT_VECTOR", "POINT", "vector", np.ascontiguousarray(vertices, dtype=np.float32))}
+    if material_index is not None:
+        layers["material_index"] = ("INT", "FACE", "value", np.ascontiguousarray(material_index, dtype=np.int32))
+    if smooth is not None:
+        layers["sharp_face"] = ("BOOLEAN", "FACE", "value", np.ascontiguousarray(smooth, dtype=np.int32) == 0)
+    if uv is not None and corner_uv is None:
+        corner_uv = live_cuts.corner_values(uv, corner_vertex)
+    if corner_uv is not None:
+        layers[uv_name or "UVMap"] = ("FLOAT2", "CORNER", "vector", corner_uv)
+    for name, values in (vectors or {}).items():
+        layers[name] = ("FLOAT_VECTOR", "POINT", "vector", np.ascontiguousarray(values, dtype=np.float32))
+    if normals is not None:
+        layers[FREE_NORMALS_NAME] = None  # set_vertex_normals writes it
+    attributes = mesh.attributes
+    for name in [n for n in attributes.keys() if not n.startswith(".") and n not in layers]:
+        attributes.remove(attributes[name])
+    for name, layer in layers.items():
+        if layer is None:
+            continue
+        data_type, domain, key, values = layer
+        target = attributes.get(name)
+        if target is not None and (target.data_type != data_type or target.domain != domain):
+            attributes.remove(target)
+            target = None
+        if target is None:
+            target = attributes.new(name, data_type, domain)
+        target.data.foreach_set(key, values.reshape(-1))
+    mesh.update()
+    tag_positions_changed(mesh)
+    if normals is not None and F:
         set_vertex_normals(mesh, normals)
 
 

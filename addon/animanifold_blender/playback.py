@@ -194,10 +194,13 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
     if normals and vectors is not None:
         vectors[live_nodes.NORMAL] = cut.normal
         vectors[live_nodes.NORMAL_RATE] = cut.normal_rate
-    mesh_writer.write_mesh(mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv,
-                           material_index=cut.material_index, smooth=cut.smooth, edges=cut.edges, vectors=vectors,
-                           normals=_unit(cut.normal) if normals and vectors is None else None)
-    if cut.edges is None:
+    kept_topology = mesh_writer.write_mesh(
+        mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv, material_index=cut.material_index,
+        smooth=cut.smooth, edges=cut.edges, vectors=vectors,
+        normals=_unit(cut.normal) if normals and vectors is None else None)
+    # A cut written over the faces the mesh held (frames of an animation that keeps its
+    # faces) made no edges: reading them back would cost more than the write.
+    if cut.edges is None and not kept_topology:
         cut.edges = mesh_writer.mesh_edges(mesh)
         registry.cuts.resized(manifold, cut_key)
     if interval is None:

@@ -48,9 +48,9 @@ class IntervalFrame:
 
     def at(self, value: float, attributes: Iterable[str] | None = None, normals: bool = True) -> "Slice":
         """The slice at `value` (in the interval). `attributes` names the vertex
-        attributes to carry (default: all); `normals=False` leaves the smooth
-        normals out (None), which are not linear in the value and are
-        recomputed from the moved vertices otherwise."""
+        attributes to carry (default: all). The smooth normals, which are not
+        linear in the value, are recomputed from the moved vertices: now, or with
+        `normals=False` when first read (a caller that never reads them skips them)."""
         lo, hi = self.interval
         if not lo < value < hi:
             raise ValueError(f"value {value} is not in the topology interval {self.interval} "

@@ -231,13 +231,14 @@ class AnimationManifold:
         two keys is the keys' faces with every vertex moved linearly along its
         vertical edge (prism_frames.py): the source's face count, its faces,
         the keys' blend. Its vertex_edges are those vertical edges. At a key
-        (and within the core's snap of one) it is the tets' slice, the key.
+        (and within the core's snap of one) it is the key, over the same faces.
         """
         if honour_holes not in (True, False, "strict"):
             raise ValueError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
         a = axis_index(axis, self.dimension)
-        prism = self._prism_cut(a, float(value))
-        s = prism.slice(float(value), a) if prism is not None else self._core_slicer().slice(a, float(value), use_index)
+        s = self._prism_frame(a, float(value))
+        if s is None:
+            s = self._core_slicer().slice(a, float(value), use_index)
         if honour_holes and self._honours_holes(a, float(value)):
             try:
                 s = _subtract_holes(s, self._hole_space, a, float(value))
@@ -269,7 +270,7 @@ class AnimationManifold:
         cut = None  # the core IntervalFrame of the last frame's interval
         for value in values:
             v = float(value)
-            if self._prism_cut(a, v) is not None:
+            if self._prism_frame(a, v) is not None:
                 yield self.slice(v, a)
                 continue
             interval = None if self._honours_holes(a, v) else slicer.topology_interval(a, v)
@@ -312,14 +313,29 @@ class AnimationManifold:
         return IntervalFrame(Slice._from_core(a, float(value), f.slice), f.interval, f.rate,
                              {k: squeezed(v) for k, v in f.attribute_rates.items()}, f.parameter_rate)
 
+    def _prism_frame(self, axis: int, value: float) -> Slice | None:
+        """The time slice at `value` as the prisms give it (a gap's lerp, or a key), or None
+        where the tets' slice is the frame (see :meth:`slice`)."""
+        if not self._prism_times(axis, value):
+            return None
+        interval = self._core_slicer().topology_interval(axis, value)
+        if interval is None:
+            return self._prisms.key_frame(self.points, self.vertex_attributes, self.simplex_attributes, value, axis)
+        gap = self._prism_cut(axis, value)
+        return None if gap is None else gap.slice(value, axis)
+
+    def _prism_times(self, axis: int, value: float) -> bool:
+        """Whether the prisms may give the time slice at `value`: within the keys' times."""
+        if self._prisms is None or axis != self.dimension - 1 or not np.isfinite(value):
+            return False
+        t0, t1 = self.time_range
+        return t0 <= value <= t1
+
     def _prism_cut(self, axis: int, value: float) -> PrismGap | None:
         """The prism gap whose frames the time slice at `value` is (see :meth:`slice`), or None.
         Its interval is the core's topology interval there (every manifold vertex is a key
         vertex), so the core's snap to a key decides what is a key, as for the tets."""
-        if self._prisms is None or axis != self.dimension - 1 or not np.isfinite(value):
-            return None
-        t0, t1 = self.time_range
-        if not t0 < value < t1:
+        if not self._prism_times(axis, value):
             return None
         interval = self._core_slicer().topology_interval(axis, value)
         gap = self._prisms.gap(interval)

@@ -152,10 +152,33 @@ class Prisms:
         return PrismGap(
             interval=(float(self.times[gap]), float(self.times[gap + 1])),
             faces=faces, edges=np.stack([a, b], axis=1).astype(np.int32),
-            low=points[a, :-1], high=points[b, :-1],
-            attributes={name: (np.asarray(t)[a], np.asarray(t)[b]) for name, t in vertex_attributes.items()},
-            face_attributes={name: squeezed(np.asarray(t)[simplices]) for name, t in simplex_attributes.items()},
+            low=_rows(points, a)[:, :-1], high=_rows(points, b)[:, :-1],
+            attributes={name: (_rows(t, a), _rows(t, b)) for name, t in vertex_attributes.items()},
+            face_attributes={name: squeezed(_rows(t, simplices)) for name, t in simplex_attributes.items()},
             face_simplex=np.array(simplices, dtype=np.int32))
+
+    def key_frame(self, points: np.ndarray, vertex_attributes: Mapping[str, np.ndarray],
+                  simplex_attributes: Mapping[str, np.ndarray], value: float, axis: int) -> Slice | None:
+        """The frame at `value`, a key's time (or within the core's snap of one: the
+        caller saw no topology interval there), as the key itself: the faces over the
+        key's vertices, so a key and the frames around it share the source's faces.
+        None unless the gap whose tets give the key's faces (the one above it; the last
+        key's, below) is played as prisms, and the gap `value` lies in holds (no other
+        vertex near it, so the key is what the core snapped to)."""
+        times, m = self.times, len(self.times)
+        i = int(np.argmin(np.abs(times - value)))
+        layer_gap = min(i, m - 2)
+        containing = i if value >= times[i] else i - 1
+        if not self.gaps[layer_gap] or (value != times[i] and not (0 <= containing < m - 1 and self.gaps[containing])):
+            return None
+        used, faces = self._frame_vertices
+        key = self.key_vertices[i][used]
+        simplices = self.face_simplices[layer_gap]
+        return Slice(axis=axis, value=float(value), vertices=_rows(points, key)[:, :-1], faces=faces, normals=None,
+                     vertex_attributes={k: squeezed(_rows(t, key)) for k, t in vertex_attributes.items()},
+                     face_attributes={k: squeezed(_rows(t, simplices)) for k, t in simplex_attributes.items()},
+                     vertex_edges=np.stack([key, key], axis=1).astype(np.int32),
+                     edge_parameter=np.zeros(len(key)), face_simplex=np.array(simplices, dtype=np.int32))
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The named 2D arrays the cache file stores (CACHE_ARRAYS)."""
@@ -201,7 +224,7 @@ class PrismGap:
         s = self.parameter(float(value))
         vertices = (1.0 - s) * self.low + s * self.high
         return Slice(axis=axis, value=float(value), vertices=vertices, faces=self.faces,
-                     normals=_core.frame_vertex_normals(vertices, self.faces),
+                     normals=None,
                      vertex_attributes={k: squeezed((1.0 - s) * a + s * b) for k, (a, b) in self.attributes.items()},
                      face_attributes=dict(self.face_attributes), vertex_edges=self.edges,
                      edge_parameter=np.full(len(vertices), s), face_simplex=self.face_simplex)
@@ -226,6 +249,12 @@ def _holding_gaps(layer_times: np.ndarray, times: np.ndarray) -> np.ndarray:
     fits_below = np.r_[True, below[:m - 2] <= times[1:m - 1]]  # keys 0..i-1 at or below t_i
     fits_above = np.r_[above[2:] >= times[1:m - 1], True]  # keys i+2.. at or above t_{i+1}
     return at_time[:-1] & at_time[1:] & fits_below & fits_above
+
+
+def _rows(table, rows: np.ndarray) -> np.ndarray:
+    """table[rows] for a table of rows: np.take, several times faster than fancy indexing
+    of a 2D array (a frame's gathers are most of a cold playback frame's cost)."""
+    return np.take(np.asarray(table), rows, axis=0)
 
 
 def _int_table(values, what: str) -> np.ndarray:

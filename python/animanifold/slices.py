@@ -10,13 +10,32 @@ import numpy as np
 from . import _core
 
 
+class _NormalsOnFirstRead:
+    """The Slice field `normals`, given as None by a maker that has none at hand (a prism
+    frame): computed from the faces when first read and kept. Playback of a live object
+    reads positions and the carried source normals only, and skips their cost."""
+
+    def __get__(self, frame, owner=None):
+        if frame is None:
+            raise AttributeError("normals")  # dataclasses: the field has no default
+        normals = frame.__dict__["normals"]
+        if normals is None:
+            normals = _core.frame_vertex_normals(frame.vertices, frame.faces)
+            frame.__dict__["normals"] = normals
+        return normals
+
+    def __set__(self, frame, normals) -> None:
+        frame.__dict__["normals"] = normals  # only the dataclass's __init__ gets here (frozen)
+
+
 @dataclass(frozen=True)
 class Slice:
     """One frame: the iso-slice of a manifold at `value` along `axis`.
 
     vertices (P, D-1) are the coordinates other than the slicing axis, in
     order; faces (F, 3) triangles — (F, 2) segments for 2D animations —
-    oriented like the keyframes; normals (P, D-1) unit smooth normals.
+    oriented like the keyframes; normals (P, D-1) unit smooth normals (a maker
+    may give None: they are then computed when first read).
     vertex_edges (P, 2) and edge_parameter (P,) say which manifold edge each
     vertex lies on (a == b for a manifold vertex); face_simplex (F,) which
     manifold simplex each face was cut from.
@@ -26,7 +45,7 @@ class Slice:
     value: float
     vertices: np.ndarray
     faces: np.ndarray
-    normals: np.ndarray
+    normals: np.ndarray = _NormalsOnFirstRead()  # None when made: computed on first read
     vertex_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
     face_attributes: Mapping[str, np.ndarray] = field(default_factory=dict)
     vertex_edges: np.ndarray | None = None

@@ -327,6 +327,35 @@ def test_crossing_keyframes_and_intervals_writes_once_each(demo, writes):
     assert len(bpy.data.node_groups) == max(groups, 1) == 1  # one shared group (made by Convert's first frame)
 
 
+def test_an_animation_that_keeps_its_faces_is_played_without_rewriting_the_topology(demo, writes, monkeypatch):
+    """Keys and in-between frames of a converted action share the source's faces: after
+    Convert's first write, crossing keys and intervals writes layers only, the mesh's
+    edges stay as Blender made them, and every frame shows the slice."""
+    from animanifold_blender import mesh_writer
+
+    man, cache = convert(demo)
+    assert cache.prisms is not None
+    edges = snapshot(man.data)[".edge_verts"]
+    in_place = {"n": 0}
+    rewrite = mesh_writer._rewrite_in_place
+
+    def counted(*args, **kwargs):
+        in_place["n"] += 1
+        return rewrite(*args, **kwargs)
+
+    monkeypatch.setattr(mesh_writer, "_rewrite_in_place", counted)
+    writes["n"] = 0
+    frames = (3, 4.5, 11, 12, 12.5, 13, 24, 30, 12, 1, 47.5, 48)
+    for frame in frames:
+        goto(frame)
+        assert_shows(man, cache, frame)
+        assert np.array_equal(snapshot(man.data)[".edge_verts"], edges), f"frame {frame}: edges rewritten"
+        assert man.data.validate(verbose=True) is False, f"frame {frame}"
+    shown = [cache.topology_interval(f) or ("at", f) for f in frames]  # what each frame writes, if new
+    changes = 1 + sum(a != b for a, b in zip(shown, shown[1:]))
+    assert writes["n"] == changes and in_place["n"] == changes  # each over the faces the mesh held
+
+
 def test_kept_cuts_are_reused_and_match_fresh_ones(demo):
     from animanifold_blender.live_registry import registry
 

@@ -83,3 +83,15 @@ def compare_frame(frame_vertices: np.ndarray, frame_corners: np.ndarray, vertice
 
 def frame_matches(report: dict, tolerance: float = 1e-6) -> bool:
     return all(value <= tolerance for value in report.values())
+
+
+def triangles(s, face_attribute: str | None = None) -> list:
+    """A frame's triangles as corner coordinates, each started at its least corner (its
+    orientation kept), with `face_attribute` if named, sorted: the same surface, bit for
+    bit, whatever the order of its vertices and faces."""
+    values = s.face_attributes[face_attribute].tolist() if face_attribute else [None] * len(s.faces)
+    out = []
+    for corners, value in zip(s.vertices[s.faces].tolist(), values):
+        first = corners.index(min(corners))
+        out.append((tuple(map(tuple, corners[first:] + corners[:first])), value))
+    return sorted(out)
