@@ -304,3 +304,17 @@ def test_prism_frames_are_the_same_bits_on_one_and_two_threads():
         for name in ("vertices", "faces", "normals", "vertex_edges", "edge_parameter", "face_simplex"):
             assert np.array_equal(getattr(a, name), getattr(b, name)), name
         assert np.array_equal(a.vertex_attributes["uv"], b.vertex_attributes["uv"])
+
+
+def test_a_vertex_attribute_the_same_at_every_key_is_one_shared_array_at_the_keys():
+    """Playback reuses what it made of a key's UVs when the next key hands out the same
+    unchangeable array: only when every key's values are equal."""
+    v, f, frames, uv, m = _sphere(1)
+    still = am.stitch(frames, f, TIMES, vertex_attributes={"uv": uv[0], "moving": uv})
+    first, second = still.slice(TIMES[0]), still.slice(TIMES[2])
+    assert first.vertex_attributes["uv"] is second.vertex_attributes["uv"]
+    assert not first.vertex_attributes["uv"].flags.writeable
+    assert np.array_equal(second.vertex_attributes["uv"], uv[0])
+    assert first.vertex_attributes["moving"] is not second.vertex_attributes["moving"]
+    assert np.array_equal(second.vertex_attributes["moving"], uv[2])
+    assert np.array_equal(m.slice(TIMES[3]).vertex_attributes["uv"], uv[3])  # animated UVs: each key its own

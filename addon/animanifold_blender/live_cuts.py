@@ -136,8 +136,25 @@ def vertex_time_cut(s) -> Cut:
     uv = s.vertex_attributes.get("uv")
     normal = s.vertex_attributes.get("normal")
     return Cut(float(s.value), faces, _own(s.face_attributes.get("material_index")),
-               _own(s.face_attributes.get("smooth")), _f32(s.vertices), None if uv is None else corner_values(uv, faces),
+               _own(s.face_attributes.get("smooth")), _f32(s.vertices), None if uv is None else _key_corner_uv(uv, faces),
                normal=None if normal is None or not len(normal) else _f32(normal))
+
+
+_last_key_corner_uv: list = [None, None, None]  # [uv, faces, their corner values]
+
+
+def _key_corner_uv(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """corner_values(uv, faces) of a vertex-time cut; the last one's again when both are
+    the same unchangeable arrays (the keys of an animation whose faces and UVs do not
+    change share them: prism_frames), a gather of every corner saved per key."""
+    last_uv, last_faces, values = _last_key_corner_uv
+    if uv is last_uv and faces is last_faces:
+        return values
+    values = corner_values(uv, faces)
+    if _immutable(uv) and _immutable(faces):
+        values.flags.writeable = False
+        _last_key_corner_uv[:] = [uv, faces, values]
+    return values
 
 
 def corner_values(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -152,8 +169,19 @@ def _faces(s) -> np.ndarray:
 
 
 def _own(a) -> np.ndarray | None:
-    """An int32 copy: the slice's arrays are views that keep the whole slice alive."""
-    return None if a is None else np.array(a, dtype=np.int32, copy=True, order="C")
+    """An int32 copy: the slice's arrays are views that keep the whole slice alive. An
+    array nobody can change that keeps nothing else alive (the faces every prism frame
+    shares) is kept as it is."""
+    if a is None:
+        return None
+    if _immutable(a) and a.dtype == np.int32 and a.flags.c_contiguous:
+        return a
+    return np.array(a, dtype=np.int32, copy=True, order="C")
+
+
+def _immutable(a) -> bool:
+    """Whether `a` is a read-only array owning its memory: its values never change."""
+    return isinstance(a, np.ndarray) and not a.flags.writeable and a.base is None
 
 
 def _f32(a) -> np.ndarray:

@@ -141,7 +141,33 @@ class Prisms:
         """(the source vertices the faces use, ascending; the faces over them): a frame keeps
         only vertices its faces use, as the tets' slice does."""
         used, faces = np.unique(self.faces, return_inverse=True)
-        return used.astype(np.int64), faces.reshape(self.faces.shape).astype(np.int32)
+        faces = faces.reshape(self.faces.shape).astype(np.int32)
+        faces.flags.writeable = False  # shared by every frame (and kept by playback uncopied)
+        return used.astype(np.int64), faces
+
+    @cached_property
+    def _same_at_every_key(self) -> dict:
+        """(name, the table's memory) -> (the table, kept so that its memory is not reused,
+        and its frame rows at key 0, read-only, or None when they differ between keys):
+        filled by :meth:`_key_rows`. By memory: the manifold hands out a new view of
+        the same table on every read."""
+        return {}
+
+    def _key_rows(self, name: str, table, key: int) -> np.ndarray:
+        """Vertex attribute `table`'s rows of key `key`'s frame vertices. An attribute the
+        same at every key (a UV map that does not animate) gives one shared read-only
+        array for all keys, so playback can reuse what it made of it (its corner UVs)."""
+        used = self._frame_vertices[0]
+        table = np.asarray(table)
+        memory = (name, table.__array_interface__["data"][0], table.shape, table.strides, table.dtype.str)
+        entry = self._same_at_every_key.get(memory)
+        if entry is None:
+            first = _rows(table, self.key_vertices[0][used])
+            same = all(np.array_equal(first, _rows(table, self.key_vertices[i][used]))
+                       for i in range(1, len(self.times)))
+            first.flags.writeable = False
+            entry = self._same_at_every_key[memory] = (table, first if same else None)
+        return entry[1] if entry[1] is not None else _rows(table, self.key_vertices[key][used])
 
     def cut(self, points: np.ndarray, vertex_attributes: Mapping[str, np.ndarray],
             simplex_attributes: Mapping[str, np.ndarray], gap: int) -> "PrismGap":
@@ -152,7 +178,7 @@ class Prisms:
         return PrismGap(
             interval=(float(self.times[gap]), float(self.times[gap + 1])),
             faces=faces, edges=np.stack([a, b], axis=1).astype(np.int32),
-            low=_rows(points, a)[:, :-1], high=_rows(points, b)[:, :-1],
+            low=_space(points, a), high=_space(points, b),
             attributes={name: (_rows(t, a), _rows(t, b)) for name, t in vertex_attributes.items()},
             face_attributes={name: squeezed(_rows(t, simplices)) for name, t in simplex_attributes.items()},
             face_simplex=np.array(simplices, dtype=np.int32))
@@ -174,8 +200,8 @@ class Prisms:
         used, faces = self._frame_vertices
         key = self.key_vertices[i][used]
         simplices = self.face_simplices[layer_gap]
-        return Slice(axis=axis, value=float(value), vertices=_rows(points, key)[:, :-1], faces=faces, normals=None,
-                     vertex_attributes={k: squeezed(_rows(t, key)) for k, t in vertex_attributes.items()},
+        return Slice(axis=axis, value=float(value), vertices=_space(points, key), faces=faces, normals=None,
+                     vertex_attributes={k: squeezed(self._key_rows(k, t, i)) for k, t in vertex_attributes.items()},
                      face_attributes={k: squeezed(_rows(t, simplices)) for k, t in simplex_attributes.items()},
                      vertex_edges=np.stack([key, key], axis=1).astype(np.int32),
                      edge_parameter=np.zeros(len(key)), face_simplex=np.array(simplices, dtype=np.int32))
@@ -255,6 +281,17 @@ def _rows(table, rows: np.ndarray) -> np.ndarray:
     """table[rows] for a table of rows: np.take, several times faster than fancy indexing
     of a 2D array (a frame's gathers are most of a cold playback frame's cost)."""
     return np.take(np.asarray(table), rows, axis=0)
+
+
+def _space(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """The rows' coordinates but the last (time), contiguous: copied column by column,
+    since numpy copies a (P, 3) view of (P, 4) rows row by row, ~5x slower (and callers
+    convert the frame to float32 for Blender, as slowly again from a strided view)."""
+    taken = _rows(points, rows)
+    space = np.empty((len(rows), taken.shape[1] - 1), dtype=taken.dtype)
+    for c in range(space.shape[1]):
+        space[:, c] = taken[:, c]
+    return space
 
 
 def _int_table(values, what: str) -> np.ndarray:

@@ -78,3 +78,25 @@ def test_frames_go_with_their_cut():
     cache.keep_frame(m, "b", frame(6.0))
     cache.clear()
     assert cache.frame_nbytes == 0 and len(cache) == 0
+
+
+def test_keys_sharing_unchangeable_faces_and_uvs_share_their_corner_uvs():
+    import dataclasses
+
+    from animanifold.slices import Slice
+
+    faces = np.array([[0, 1, 2], [2, 1, 3]], np.int32)
+    faces.flags.writeable = False
+    uv = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    uv.flags.writeable = False
+    key = Slice(axis=3, value=1.0, vertices=np.zeros((4, 3)), faces=faces, normals=None,
+                vertex_attributes={"uv": uv})
+    one, two = live_cuts.vertex_time_cut(key), live_cuts.vertex_time_cut(dataclasses.replace(key, value=2.0))
+    assert one.faces is faces and two.faces is faces  # kept, not copied
+    assert two.corner_uv is one.corner_uv
+    np.testing.assert_array_equal(one.corner_uv.reshape(-1, 2), uv[faces.reshape(-1)])
+    moving = uv + 0.5  # a writeable array may change: its corners are gathered again
+    three = live_cuts.vertex_time_cut(dataclasses.replace(key, vertex_attributes={"uv": moving}))
+    np.testing.assert_array_equal(three.corner_uv.reshape(-1, 2), moving[faces.reshape(-1)])
+    writeable = np.array(faces)
+    assert live_cuts.vertex_time_cut(dataclasses.replace(key, faces=writeable)).faces is not writeable
