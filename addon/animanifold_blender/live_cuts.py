@@ -77,10 +77,7 @@ def interval_cut(frame) -> Cut:
     slice (the core's frame, edges and rates), shown at the interval's middle:
     every vertex at its place on its edge there, with the rate at which it slides
     along the edge."""
-    lo, hi = frame.interval
-    middle = float(np.float32((lo + hi) / 2))  # as the modifier's float input holds it
-    if not lo < middle < hi:  # an interval too short for float32: any frame of it
-        middle = float(frame.value)
+    middle = cut_value(frame.interval, frame.value)
     s = frame.slice
     dt = middle - frame.value
     faces = _faces(s)
@@ -98,6 +95,14 @@ def interval_cut(frame) -> Cut:
         cut.normal = _f32(np.asarray(s.vertex_attributes["normal"]) + dt * np.asarray(normal_rate))
         cut.normal_rate = _f32(normal_rate)
     return cut
+
+
+def cut_value(interval: tuple[float, float], value: float) -> float:
+    """The frame an interval's cut shows: its middle as the modifier's float input holds
+    it; `value` (a frame of it) for an interval too short for float32."""
+    lo, hi = interval
+    middle = float(np.float32((lo + hi) / 2))
+    return middle if lo < middle < hi else float(value)
 
 
 @dataclass
@@ -155,6 +160,16 @@ def _key_corner_uv(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
         values.flags.writeable = False
         _last_key_corner_uv[:] = [uv, faces, values]
     return values
+
+
+def time_cut(manifold, value: float) -> tuple[object, Cut]:
+    """(the key playback keeps it under, the cut) of the time slice at `value`: its
+    topology interval's cut, or at a vertex time the frame itself ("at", value)."""
+    interval = manifold.topology_interval(value, "t")
+    if interval is None:
+        return ("at", value), vertex_time_cut(manifold.slice(value, "t"))
+    # Cut at the frame it shows, so a cut is the same bits whichever frame made it.
+    return interval, interval_cut(manifold.interval_frame(cut_value(interval, value), "t"))
 
 
 def corner_values(uv: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -249,6 +264,10 @@ class CutCache:
             self._drop(next(iter(self._entries)))
         for k in [k for k, (ref, _, _) in self._entries.items() if ref() is None]:
             self._drop(k)
+
+    def room(self, nbytes: int, share: float = 1.0) -> bool:
+        """Whether a cut of `nbytes` fits within `share` of the budget beside those kept."""
+        return self._bytes + nbytes <= share * self.budget
 
     def frame(self, manifold, key, value: float) -> Frame | None:
         """The kept frame `value` of the kept cut `key`, if any."""

@@ -17,6 +17,7 @@ undo and redo forget what the meshes show (they may have gone back).
 from __future__ import annotations
 
 import os
+import weakref
 
 from . import live_cuts, preferences
 from ._lib import am
@@ -37,6 +38,7 @@ class LiveRegistry:
         self._shown: dict[str, object] = {}
         self._checked: dict[str, tuple] = {}
         self._skipped: set[str] = set()
+        self._played: weakref.WeakSet = weakref.WeakSet()  # manifolds playback has shown
         self.subdivisions = SubdivisionCache()
         budget = preferences.frame_cache_budget_bytes
         self.cuts = live_cuts.CutCache(budget=budget, frame_budget=budget)
@@ -47,6 +49,7 @@ class LiveRegistry:
         self._shown.clear()
         self._checked.clear()
         self._skipped.clear()
+        self._played.clear()
         self.subdivisions.clear()
         self.cuts.clear()
 
@@ -84,6 +87,13 @@ class LiveRegistry:
         path = os.path.normpath(path)
         self._manifolds.pop(path, None)
         self.subdivisions.drop(path)
+
+    def first_played(self, manifold) -> bool:
+        """True the first time playback shows `manifold` (a loaded manifold, by identity)."""
+        if manifold in self._played:
+            return False
+        self._played.add(manifold)
+        return True
 
     # -- per object ------------------------------------------------------------------
     def error(self, obj) -> str | None:

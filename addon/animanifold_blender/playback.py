@@ -8,7 +8,8 @@ as its settings allow. Three strategies, chosen per frame by update_object:
   copied into the mesh's positions and UV map instead, and the modifier passes it
   through. At a vertex time (a keyframe) the frame is written as sliced. Cuts and frames
   are kept between visits (live_registry), so looping playback slices nothing and Blender
-  computes no edges.
+  computes no edges; for prism frames they are made ahead, on the first frame played
+  (live_prefetch).
 * moved (sweep views, custom normals, older Blender): the first frame of an interval is
   cut and written in full, the next ones slide its vertices along their manifold edges
   (am.IntervalFrame), rewriting positions, UVs and normals.
@@ -27,7 +28,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from . import extra_layers, live_cuts, live_nodes, mesh_writer
+from . import extra_layers, live_cuts, live_nodes, live_prefetch, mesh_writer
 from ._lib import am
 from .live_registry import registry
 from .object_manifold import frame_slice, shown_manifold, slice_value
@@ -115,6 +116,8 @@ def update_object(obj, frame: float, force: bool = True, scene=None) -> None:
     # or colours (extra_layers) is played by the handler, which rewrites them all.
     extra = extra_layers.carried(manifold.vertex_attributes)
     if not extra and can_drive(obj, scene):
+        if registry.first_played(manifold):
+            _prefetch(obj, manifold, scene or bpy.context.scene, frame)
         _update_driven(obj, manifold, value, key, None if force else shown)
         return
 
@@ -175,12 +178,12 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
     registry.forget_shown_of(obj)  # until the write is done, the mesh shows nothing known
     if interval is None:  # a vertex time (a keyframe): the frame as sliced, the modifier off
         cut_key = ("at", value)
-        cut = _cut(manifold, cut_key, lambda: live_cuts.vertex_time_cut(manifold.slice(value, "t")))
+        cut = _cut(manifold, cut_key, lambda: live_cuts.time_cut(manifold, value)[1])
         vectors = None
         vertices, corner_uv, mesh_value = cut.vertices, cut.corner_uv, value
     else:
         cut_key = interval
-        cut = _cut(manifold, cut_key, lambda: live_cuts.interval_cut(manifold.interval_frame(value, "t")))
+        cut = _cut(manifold, cut_key, lambda: live_cuts.time_cut(manifold, value)[1])
         vectors = {live_nodes.RATE: cut.rate}
         if cut.uv_rate is not None:
             vectors[live_nodes.UV] = cut.uv
@@ -210,6 +213,15 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
                          uv_name if cut.uv_rate is not None else None, normals=normals)
     registry.set_shown(obj, Shown(key, interval, None, None, _counts(mesh), value, driven=interval is not None,
                                   cut=cut if interval is not None else None, mesh_value=mesh_value))
+
+
+def _prefetch(obj, manifold, scene, frame: float) -> None:
+    """Makes the cuts and kept frames of the scene's frame range ahead (live_prefetch),
+    from `frame` on, then the frames before it (playback's order)."""
+    frames = list(range(scene.frame_start, scene.frame_end + 1))
+    start = next((i for i, f in enumerate(frames) if f >= frame), 0)
+    values = [slice_value(obj, manifold, f) for f in frames[start:] + frames[:start]]
+    live_prefetch.prefetch(manifold, values, registry.cuts)
 
 
 def _shown_range(manifold, value: float) -> tuple[float, float]:

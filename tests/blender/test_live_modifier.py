@@ -105,8 +105,11 @@ def writes(monkeypatch):
 def frame_work(monkeypatch):
     """Records the frames the handler copies into the mesh (write_frame), the frames it
     computes (live_cuts.interval_frame, but for a cut's own frame) and the corner
-    gathers of UV maps (live_cuts.corner_values)."""
-    from animanifold_blender import live_cuts, mesh_writer
+    gathers of UV maps (live_cuts.corner_values), on each frame's first visit: nothing
+    is made ahead (live_prefetch, tested on its own)."""
+    from animanifold_blender import live_cuts, live_prefetch, mesh_writer
+
+    monkeypatch.setattr(live_prefetch, "prefetch", lambda *args: (0, 0))
 
     work = {"written": [], "computed": [], "gathers": 0}
     write, compute, gather = mesh_writer.write_frame, live_cuts.interval_frame, live_cuts.corner_values
@@ -354,6 +357,33 @@ def test_an_animation_that_keeps_its_faces_is_played_without_rewriting_the_topol
     shown = [cache.topology_interval(f) or ("at", f) for f in frames]  # what each frame writes, if new
     changes = 1 + sum(a != b for a, b in zip(shown, shown[1:]))
     assert writes["n"] == changes and in_place["n"] == changes  # each over the faces the mesh held
+
+
+def test_the_first_pass_over_prism_frames_finds_every_cut_and_frame_made_ahead(demo, monkeypatch):
+    """Convert's first frame makes the range's cuts and integer frames (live_prefetch):
+    the first pass then cuts nothing and computes no frame, and shows every frame right."""
+    from animanifold_blender import live_cuts
+
+    man, cache = convert(demo)
+    assert cache.prisms is not None
+    made = {"cuts": 0, "frames": 0}
+    time_cut, interval_frame = live_cuts.time_cut, live_cuts.interval_frame
+
+    def counted_cut(*args):
+        made["cuts"] += 1
+        return time_cut(*args)
+
+    def counted_frame(cut, frame):
+        made["frames"] += frame != cut.value
+        return interval_frame(cut, frame)
+
+    monkeypatch.setattr(live_cuts, "time_cut", counted_cut)
+    monkeypatch.setattr(live_cuts, "interval_frame", counted_frame)
+    scene = bpy.context.scene
+    for frame in range(scene.frame_start, scene.frame_end + 1):
+        goto(frame)
+        assert_shows(man, cache, frame)
+    assert made == {"cuts": 0, "frames": 0}
 
 
 def test_kept_cuts_are_reused_and_match_fresh_ones(demo):
