@@ -135,30 +135,50 @@ constexpr Index kParallelFaces = 16384;
 // corners fall in two ranges has its normal computed by both, identically).
 template <int d>
 void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix& N) {
+  // Raw rows (both matrices are row-major, d wide): Eigen's dynamic-size row
+  // views cost more than the arithmetic on a frame of a few hundred thousand faces.
   const Index faces = static_cast<Index>(F.rows());
+  const double* points = V.data();
+  const Index* corners = F.data();
+  double* normals = N.data();
 #pragma omp parallel num_threads(thread_count()) if (faces > kParallelFaces)
   {
     const std::int64_t rows = N.rows(), teams = omp_get_num_threads(), team = omp_get_thread_num();
     const Index lo = static_cast<Index>(rows * team / teams), hi = static_cast<Index>(rows * (team + 1) / teams);
     for (Index f = 0; f < faces; ++f) {
-      const Index* corner = F.row(f).data();
+      const Index* corner = corners + static_cast<std::int64_t>(f) * d;
       bool mine = false;
       for (int c = 0; c < d; ++c) mine |= corner[c] >= lo && corner[c] < hi;
       if (!mine) continue;
-      Eigen::Matrix<double, 1, d> n;
+      double n[d];
       if constexpr (d == 3) {
-        const Eigen::Vector3d a = V.row(corner[0]), b = V.row(corner[1]), c = V.row(corner[2]);
-        n = (b - a).cross(c - a).transpose();
+        const double* a = points + 3 * static_cast<std::int64_t>(corner[0]);
+        const double* b = points + 3 * static_cast<std::int64_t>(corner[1]);
+        const double* c = points + 3 * static_cast<std::int64_t>(corner[2]);
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+        n[0] = u[1] * w[2] - u[2] * w[1];
+        n[1] = u[2] * w[0] - u[0] * w[2];
+        n[2] = u[0] * w[1] - u[1] * w[0];
       } else {
-        const Eigen::Vector2d e = V.row(corner[1]) - V.row(corner[0]);
-        n << e.y(), -e.x();
+        const double* a = points + 2 * static_cast<std::int64_t>(corner[0]);
+        const double* b = points + 2 * static_cast<std::int64_t>(corner[1]);
+        n[0] = b[1] - a[1];
+        n[1] = -(b[0] - a[0]);
       }
-      for (int c = 0; c < d; ++c)
-        if (corner[c] >= lo && corner[c] < hi) N.row(corner[c]) += n;
+      for (int c = 0; c < d; ++c) {
+        if (corner[c] < lo || corner[c] >= hi) continue;
+        double* row = normals + static_cast<std::int64_t>(corner[c]) * d;
+        for (int k = 0; k < d; ++k) row[k] += n[k];
+      }
     }
     for (Index v = lo; v < hi; ++v) {
-      const double length = N.row(v).norm();
-      if (length > 0) N.row(v) /= length;
+      double* row = normals + static_cast<std::int64_t>(v) * d;
+      double squared = 0;
+      for (int k = 0; k < d; ++k) squared += row[k] * row[k];
+      const double length = std::sqrt(squared);
+      if (length > 0)
+        for (int k = 0; k < d; ++k) row[k] /= length;
     }
   }
 }
