@@ -27,10 +27,11 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
                uv_name: str = "UVMap", material_index: np.ndarray | None = None,
                smooth: np.ndarray | None = None, normals: np.ndarray | None = None,
                edges: tuple | None = None, vectors: dict | None = None,
-               corner_uv: np.ndarray | None = None, extra: dict | None = None) -> bool:
+               corner_uv: np.ndarray | None = None, extra: dict | None = None, owner=None) -> bool:
     """Replaces the geometry of `mesh` by triangles (in place, no new data blocks).
-    True when the mesh held these triangles already (holds_triangles): then only its
-    layers are written, and its edges stay as they were.
+    True when the mesh held these triangles already (holds_triangles) and `owner`, the
+    object showing it, is given: then only its layers are written, its edges stay as
+    they were, and the owner's vertex groups go as a new geometry would drop them.
     `normals` (P, 3): smooth normals set as custom normals (slices between
     keyframes have thin triangles that shade unevenly with computed normals).
     `edges`: (edge vertices (2E,), corner edges (3F,)) that Blender computed for
@@ -40,7 +41,9 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     `extra`: a slice's vertex attributes, whose extra_layers (other UV maps, colours) are written."""
     P, F = len(vertices), len(faces)
     corner_vertex = np.ascontiguousarray(faces, dtype=np.int32).reshape(-1)
-    if not extra and holds_triangles(mesh, P, corner_vertex):
+    if owner is not None and not extra and holds_triangles(mesh, P, corner_vertex):
+        if owner.vertex_groups:  # painted on the frame shown before (clear_geometry drops them too)
+            owner.vertex_groups.clear()
         _rewrite_in_place(mesh, vertices, corner_vertex, uv, uv_name, material_index, smooth, normals, vectors,
                           corner_uv)
         return True

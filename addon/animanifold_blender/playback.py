@@ -200,7 +200,7 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
     kept_topology = mesh_writer.write_mesh(
         mesh, vertices, cut.faces, uv_name=uv_name, corner_uv=corner_uv, material_index=cut.material_index,
         smooth=cut.smooth, edges=cut.edges, vectors=vectors,
-        normals=_unit(cut.normal) if normals and vectors is None else None)
+        normals=_unit(cut.normal) if normals and vectors is None else None, owner=obj)
     # A cut written over the faces the mesh held (frames of an animation that keeps its
     # faces) made no edges: reading them back would cost more than the write.
     if cut.edges is None and not kept_topology:

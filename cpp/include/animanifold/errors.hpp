@@ -9,6 +9,7 @@
 //   BooleanError -> _core.BooleanError(Error, RuntimeError)
 //   MeshingError -> _core.MeshingError(Error, RuntimeError)
 //   Cancelled    -> _core.Cancelled(Error)
+//   MemoryLimitError -> _core.MemoryLimitError(Error, MemoryError)
 #pragma once
 
 #include <exception>
@@ -47,6 +48,18 @@ struct MeshingError : std::runtime_error {
 // The caller's progress or interrupt callback asked a long call to stop.
 struct Cancelled : std::runtime_error {
   Cancelled() : std::runtime_error("cancelled") {}
+};
+
+// A call's estimated memory exceeds the limit (memory_limit.hpp); nothing was allocated.
+// The message names the call, the estimate and the limit. A std::bad_alloc, so that
+// translating_library_failures (below) and every handler of running out of memory pass it on.
+class MemoryLimitError : public std::bad_alloc {
+ public:
+  explicit MemoryLimitError(std::string message) : message_(std::move(message)) {}
+  const char* what() const noexcept override { return message_.c_str(); }
+
+ private:
+  std::string message_;
 };
 
 // Builds a message from streamable parts: fail<InputError>("keyframe ", i, " ...").

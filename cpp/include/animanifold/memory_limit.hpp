@@ -11,27 +11,13 @@
 #pragma once
 
 #include "animanifold/cgroup_memory.hpp"
+#include "animanifold/errors.hpp"
 
 #include <cstdint>
-#include <new>
 #include <optional>
 #include <string>
-#include <utility>
 
 namespace animanifold {
-
-// A call's estimated memory exceeds the limit; nothing was allocated. The message names the
-// call, the estimate and the limit. A std::bad_alloc, so that translating_library_failures
-// (errors.hpp) and every handler of running out of memory pass it on; Python sees
-// _core.MemoryLimitError(Error, MemoryError) (cpp/bindings/bind_errors.cpp).
-class MemoryLimitError : public std::bad_alloc {
- public:
-  explicit MemoryLimitError(std::string message) : message_(std::move(message)) {}
-  const char* what() const noexcept override { return message_.c_str(); }
-
- private:
-  std::string message_;
-};
 
 // Inputs:
 //   bytes  the limit to apply from now on; nullopt returns to the default (half of
