@@ -20,7 +20,8 @@ given), the stitch's peak memory (the process's resident high-water mark,
 reset before the call) against the output's size; the interval index's build time and size
 (bytes a tet); the first slice (cold caches); per-frame slice time (frames between keyframes) with the index
 and without it (every tet tested), per stage (stab, cut, weld, output, normals), through the
-package, and its normals' share; a sequence of
+package (a stitched manifold's frame between keys is its prism frame: the source's faces, a
+lerp), and its normals' share; a sequence of
 frames (a bake: several per keyframe gap) sliced one by one and through
 AnimationManifold.slices, which reuses each topology interval's cut; the OpenMP thread count;
 and the bytes a slice touches per second against this machine's
@@ -221,9 +222,18 @@ def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
     )
     stage_figures = slice_stages(slicer, frame_times)
     manifold.slice(first_t)  # builds the package's own Slicer index, untimed
-    package = np.array([timed(manifold.slice, float(t))[1] for t in frame_times])
+
+    def package_frame(t: float):
+        frame = manifold.slice(t)
+        frame.normals  # computed on first read: timed, for a whole frame
+        return frame
+
+    package = np.array([timed(package_frame, float(t))[1] for t in frame_times])
+    package_faces = len(manifold.slice(float(frame_times[0])).faces)
+    what = ("its prism frame between keys: the keys' faces, each vertex on its vertical edge"
+            if manifold.prisms is not None else "the core slice wrapped as the package's Slice")
     print(f"            package     median {np.median(package) * 1e3:7.2f} ms "
-          f"(am.AnimationManifold.slice: the core slice wrapped as the package's Slice; "
+          f"(am.AnimationManifold.slice with its normals, {package_faces:,} faces: {what}; "
           f"{1 / np.median(package):.0f} frames/s)")
     normals = np.array([timed(_core.frame_vertex_normals, s.vertices, s.faces)[1] for _ in range(5)])
     print(f"            normals     median {np.median(normals) * 1e3:7.2f} ms of it (frame_vertex_normals of the last frame)")
