@@ -250,7 +250,8 @@ def slice_figures(manifold, times: np.ndarray, frames: int) -> dict:
             "slice_without_index_ms": float(np.median(without_index)) * 1e3, "brute_force_slice_s": brute_s,
             "faces_per_frame": int(np.median(faces_out)), "touched_gb_per_s": float(np.median(rate)),
             "touched_bytes_per_frame": float(np.median(touched)),
-            "package_slice_ms_per_frame": float(np.median(package)) * 1e3, **stage_figures}
+            "package_slice_ms_per_frame": float(np.median(package)) * 1e3, "package_faces_per_frame": package_faces,
+            "package_prism_frames": manifold.prisms is not None, **stage_figures}
 
 
 def sequence_figures(manifold, times: np.ndarray, frames_per_gap: int, gaps: int) -> dict:

@@ -34,11 +34,13 @@ def test_stitch_rows_hold_figures_to_the_issue_targets():
     figures = {"tets": 4_873_728, "stitch_mtets_per_s": 60.0, "stitch_first_mtets_per_s": 20.0,
                "stitch_core_mtets_per_s": 70.0, "output_copy_mtets_per_s": 250.0, "stitch_peak_over_output": 1.7,
                "stitch_peak_bytes": 170 * 2**20, "output_bytes": 100 * 2**20, "slice_ms_per_frame": 19.0,
-               "memory_bound_slice_ms": 2.0, "slice_frames_per_s": 52.6, "faces_per_frame": 340_000, "index_s": 0.4}
-    best, first, peak, frame = table_rows.stitch_rows(figures)
-    assert (best.met, first.met, peak.met, frame.met) == (True, False, False, True)
+               "memory_bound_slice_ms": 2.0, "slice_frames_per_s": 52.6, "faces_per_frame": 340_000, "index_s": 0.4,
+               "package_slice_ms_per_frame": 25.0, "package_faces_per_frame": 85_000, "package_prism_frames": True}
+    best, first, peak, frame, package = table_rows.stitch_rows(figures)
+    assert (best.met, first.met, peak.met, frame.met, package.met) == (True, False, False, True, False)
     assert best.ratio == pytest.approx(60.0 / 250.0)
     assert frame.ratio == pytest.approx(2.0 / 19.0)
+    assert package.ratio == pytest.approx(19.0 / 25.0) and "prism frame" in package.note and "85,000" in package.note
 
 
 def stand_in(tmp_path: Path, body: str) -> run_all.Job:
