@@ -9,7 +9,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold.morph_job import MorphJob
-from helpers.held_morph import BEFORE_THE_HOLD, HOLD
+from helpers.held_morph import BEFORE_THE_HOLD
 from helpers.shapes import icosphere, torus
 
 

@@ -32,7 +32,7 @@ import numpy as np
 
 from ._core import Error, MemoryLimitError
 from . import cli_deform, cli_farm, cli_skeleton, cli_subdivide
-from .cli_common import MAX_FRAMES, PROG, StepPrinter, UserError, add_command, check_count
+from .cli_common import PROG, StepPrinter, UserError, add_command, check_count
 from .cache import load, save
 from .demo import run_demo as build_demo
 from .manifold import AXES, AnimationManifold, axis_index

@@ -36,7 +36,6 @@ from typing import Mapping
 
 import numpy as np
 
-from . import _core
 from .interval_frame import IntervalFrame
 from .slices import Slice, squeezed
 
