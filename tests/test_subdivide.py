@@ -398,3 +398,25 @@ def test_welding_closes_seams_before_smoothing():
     s = am.smooth_slice(m.slice(0.5), 1)
     assert _core.check_manifold(s.faces).boundary_facets == 0
     assert weld_copies(v, f) is None  # nothing to merge
+
+
+@pytest.mark.parametrize("shape", ["surface", "polyline"])
+def test_frame_subdivision_reports_its_steps_and_stops_when_asked(shape):
+    """The interrupter of every long call: steps with growing fractions, then Cancelled from
+    either callable, and the same result as without it when nobody stops it."""
+    if shape == "surface":
+        v, f = icosphere(2)
+    else:
+        v, f = polygon(12)
+    steps = []
+    r = am.subdivide_frame(v, f, levels=2, progress=lambda step, fraction: steps.append((step, fraction)) or True)
+    plain = am.subdivide_frame(v, f, levels=2)
+    assert np.array_equal(r.vertices, plain.vertices) and np.array_equal(r.faces, plain.faces)
+    fractions = [fraction for _, fraction in steps]
+    assert len(steps) >= 3 and fractions == sorted(fractions) and 0.0 <= fractions[0] and fractions[-1] <= 1.0
+    with pytest.raises(am.Cancelled):
+        am.subdivide_frame(v, f, levels=2, interrupted=lambda: True)
+    second = []
+    with pytest.raises(am.Cancelled):
+        am.subdivide_frame(v, f, levels=2, progress=lambda step, fraction: second.append(step) or len(second) < 2)
+    assert second == [step for step, _ in steps[:2]]  # stopped at the second step

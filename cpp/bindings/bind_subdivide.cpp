@@ -98,41 +98,50 @@ void bind_subdivide(py::module_& m) {
   m.def("subdivide_frame",
         [](PointsRef V, SimplicesRef F, int levels, FrameScheme scheme, double crease_angle,
            std::optional<SimplexMatrix> crease_edges, bool limit, VertexAttributes vertex_attributes,
-           SimplexAttributes face_attributes) {
+           SimplexAttributes face_attributes, const py::object& progress, const py::object& interrupted) {
           FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, scheme);
           if (crease_edges) options.crease_edges = std::move(*crease_edges);
           check_memory(frame_subdivision_memory(V.rows(), F.rows(), static_cast<int>(F.cols()),
                                                 attribute_columns(vertex_attributes), levels));
+          const Interrupter interrupter = interrupter_from(progress, interrupted);
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
-            r = subdivide_frame(V, F, options, vertex_attributes, face_attributes);
+            r = subdivide_frame(V, F, options, vertex_attributes, face_attributes, interrupter);
           }
           return r;
         },
         py::arg("vertices"), py::arg("faces"), py::arg("levels") = 1, py::arg("scheme") = FrameScheme::Loop,
         py::arg("crease_angle") = 30.0, py::arg("crease_edges") = py::none(), py::arg("limit") = true,
         py::arg("vertex_attributes") = VertexAttributes{}, py::arg("face_attributes") = SimplexAttributes{},
-        "OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; raises "
-        "InputError for a bad mesh or scheme, MemoryLimitError when the result would not fit the memory limit.");
+        py::kw_only(), py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),
+        (std::string("OpenSubdiv refinement of a triangle/quad mesh with creases at sharp edges: a FrameSubdivision; "
+                     "raises InputError for a bad mesh or scheme, MemoryLimitError when the result would not fit the "
+                     "memory limit.") +
+         kInterrupterDoc)
+            .c_str());
 
   m.def("subdivide_polyline",
         [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,
-           SimplexAttributes segment_attributes) {
+           SimplexAttributes segment_attributes, const py::object& progress, const py::object& interrupted) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::BSpline);
           check_memory(frame_subdivision_memory(V.rows(), E.rows(), 2, attribute_columns(vertex_attributes), levels));
+          const Interrupter interrupter = interrupter_from(progress, interrupted);
           FrameSubdivision r;
           {
             py::gil_scoped_release release;
-            r = subdivide_polyline(V, E, options, vertex_attributes, segment_attributes);
+            r = subdivide_polyline(V, E, options, vertex_attributes, segment_attributes, interrupter);
           }
           return r;
         },
         py::arg("vertices"), py::arg("segments"), py::arg("levels") = 1, py::arg("crease_angle") = 30.0,
         py::arg("limit") = true, py::arg("vertex_attributes") = VertexAttributes{},
-        py::arg("segment_attributes") = SimplexAttributes{},
-        "Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations): a "
-        "FrameSubdivision.");
+        py::arg("segment_attributes") = SimplexAttributes{}, py::kw_only(), py::arg("progress") = py::none(),
+        py::arg("interrupted") = py::none(),
+        (std::string("Cubic B-spline subdivision of polylines with corners at sharp turns (frames of 2D animations): "
+                     "a FrameSubdivision.") +
+         kInterrupterDoc)
+            .c_str());
 
   m.def("smooth_slice",
         [](const Slice& s, int levels, double crease_angle, bool limit) {

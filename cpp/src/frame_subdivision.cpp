@@ -407,9 +407,10 @@ PointMatrix curve_normals(const PointMatrix& vertices, const SimplexMatrix& segm
 
 FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatrix& faces,
                                  const FrameSubdivisionOptions& options, const VertexAttributes& vertex_attributes,
-                                 const SimplexAttributes& face_attributes) {
+                                 const SimplexAttributes& face_attributes, const Interrupter& interrupter) {
   check_frame_input(vertices, faces, options, vertex_attributes, face_attributes);
   const Index nF = static_cast<Index>(faces.rows());
+  interrupter.step("creases", 0.0);
   const std::vector<Index> creases = crease_pairs(vertices, faces, options);
   FrameSubdivision out;
   out.crease_count = static_cast<Index>(creases.size() / 2);
@@ -420,28 +421,39 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
     out.face_attributes = face_attributes;
     out.face_parent = identity_parent(nF);
   } else {
+    interrupter.step("topology", 0.1);
     const auto refiner = refine_topology(faces, static_cast<Index>(vertices.rows()), creases, options);
     Far::PrimvarRefinerReal<double> primvar(*refiner);
+    interrupter.step("points", 0.3);
     out.vertices = refined_points(*refiner, primvar, vertices, options.limit);
+    interrupter.step("attributes", 0.5);
     out.vertex_attributes = refined_attributes(*refiner, primvar, vertex_attributes, options.limit);
+    interrupter.step("faces", 0.7);
     out.faces = refined_faces(*refiner, options.scheme);
     out.face_parent = refined_face_parents(*refiner, primvar, nF);
     out.face_attributes = inherit_rows(face_attributes, out.face_parent);
   }
+  interrupter.step("normals", 0.9);
   out.normals = vertex_normals(out.vertices, out.faces);
   return out;
 }
 
 FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMatrix& segments,
                                     const FrameSubdivisionOptions& options, const VertexAttributes& vertex_attributes,
-                                    const SimplexAttributes& segment_attributes) {
+                                    const SimplexAttributes& segment_attributes, const Interrupter& interrupter) {
   check_polyline_input(vertices, segments, options, vertex_attributes, segment_attributes);
   const Eigen::Index D = vertices.cols();
   Curve curve{pack_columns(vertices, vertex_attributes), segments, identity_parent(segments.rows()), {}, {}, {}};
   curve_neighbours(static_cast<Index>(vertices.rows()), curve.E, curve.prev, curve.next);
   curve.fixed = curve_corners(vertices, curve.prev, curve.next, options.crease_angle_degrees);
   const Index corners = static_cast<Index>(std::count(curve.fixed.begin(), curve.fixed.end(), 1));
-  for (int level = 0; level < options.levels; ++level) refine_curve(curve);
+  for (int level = 0; level < options.levels; ++level) {
+    std::string step = "level ";  // appended, not operator+: GCC 12 warns falsely (-Wrestrict) on that
+    step += std::to_string(level + 1);
+    interrupter.step(step, loop_fraction(0.0, 0.9, level, options.levels));
+    refine_curve(curve);
+  }
+  interrupter.step("limit", 0.9);
   if (options.limit && options.levels > 0) move_curve_to_limit(curve);
 
   FrameSubdivision out;

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -59,6 +59,9 @@ def subdivide_frame(
     limit: bool = True,
     vertex_attributes: Mapping[str, np.ndarray] | None = None,
     face_attributes: Mapping[str, np.ndarray] | None = None,
+    *,
+    progress: Callable[[str, float], bool] | None = None,
+    interrupted: Callable[[], bool] | None = None,
 ) -> SmoothFrame:
     """Refines a frame mesh with OpenSubdiv (or a polyline with B-splines).
 
@@ -71,6 +74,8 @@ def subdivide_frame(
     by more than `crease_angle` (crease_angle <= 0 or >= 180 disables the
     angle test). With `limit` the points are projected onto the limit surface
     (curve). crease_count is the number of creased edges (corners for curves).
+    progress(step, fraction) and interrupted() follow the core's steps; False
+    from the one or True from the other raises :class:`animanifold.Cancelled`.
     """
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
         raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
@@ -99,9 +104,11 @@ def subdivide_frame(
     if scheme == "bspline":
         if creases is not None:
             raise ValueError("crease_edges apply to surfaces; polylines take corners from crease_angle")
-        r = _core.subdivide_polyline(vertices, faces, int(levels), float(crease_angle), bool(limit), va, fa)
+        r = _core.subdivide_polyline(vertices, faces, int(levels), float(crease_angle), bool(limit), va, fa,
+                                     progress=progress, interrupted=interrupted)
     else:
-        r = _core.subdivide_frame(vertices, faces, int(levels), scheme, float(crease_angle), creases, bool(limit), va, fa)
+        r = _core.subdivide_frame(vertices, faces, int(levels), scheme, float(crease_angle), creases, bool(limit), va, fa,
+                                  progress=progress, interrupted=interrupted)
     return SmoothFrame(
         vertices=r.vertices,
         faces=r.faces,

@@ -1,6 +1,7 @@
 // How a long core call tells its caller how far it is, and learns that it
 // should stop: the one interrupter of morph, voronoi_skeleton, the Deformer
-// (factorisation, deform, restore), subdivide_manifold and stitch (in the spirit of OpenVDB's
+// (factorisation, deform, restore), subdivide_manifold, subdivide_frame,
+// subdivide_polyline and stitch (in the spirit of OpenVDB's
 // util::NullInterrupter: a step name, a fraction, a was-interrupted check).
 //
 // A call reports each of its named steps as it starts, and the chunks of its

@@ -148,9 +148,11 @@ struct FrameSubdivision {
 //   vertices, faces    #V by 3 points, #F by 3 triangles or #F by 4 quads
 //   options            levels, scheme, creases, limit projection
 //   vertex_attributes  refined with the points; face_attributes inherited
+//   interrupter        told each step (creases, topology, points, attributes,
+//                      faces, normals) as it starts
 // Outputs:
 //   FrameSubdivision: refined vertices, faces, normals, attributes, face parents
-// Throws: InputError (see below)
+// Throws: InputError (see below); Cancelled when the interrupter says so
 //
 // Refines a polygon mesh (#V by 3 points; #F by 3 triangles or #F by 4 quads)
 // with OpenSubdiv (Far::TopologyRefiner + PrimvarRefiner): Loop needs
@@ -160,15 +162,17 @@ struct FrameSubdivision {
 FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatrix& faces,
                                  const FrameSubdivisionOptions& options = {},
                                  const VertexAttributes& vertex_attributes = {},
-                                 const SimplexAttributes& face_attributes = {});
+                                 const SimplexAttributes& face_attributes = {},
+                                 const Interrupter& interrupter = {});
 
 // Inputs:
 //   vertices, segments  #V by d points, #E by 2 directed segments
 //   options             levels, crease angle
 //   attributes          refined (vertex) or inherited (segment)
+//   interrupter         told each level (and the limit step) as it starts
 // Outputs:
 //   FrameSubdivision with segments as faces
-// Throws: InputError for segments out of range
+// Throws: InputError for segments out of range; Cancelled when the interrupter says so
 //
 // Frames of 2D animations are polylines, which OpenSubdiv does not refine:
 // cubic B-spline subdivision (midpoints, then 1/8, 3/4, 1/8 at old points;
@@ -180,7 +184,8 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
 FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMatrix& segments,
                                     const FrameSubdivisionOptions& options = {},
                                     const VertexAttributes& vertex_attributes = {},
-                                    const SimplexAttributes& segment_attributes = {});
+                                    const SimplexAttributes& segment_attributes = {},
+                                    const Interrupter& interrupter = {});
 
 // Inputs:
 //   frame    a Slice
