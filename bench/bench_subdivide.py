@@ -77,6 +77,16 @@ def blender_subsurf_ms(vertices: np.ndarray, quads: np.ndarray, levels: int = 2,
             "blender_peer": f"Blender {bpy.app.version_string} Subdivision Surface modifier"}
 
 
+
+def median_ms(call, runs: int = 5):
+    """(the last result of `call`, the median of `runs` calls in milliseconds)."""
+    seconds = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        result = call()
+        seconds.append(time.perf_counter() - t0)
+    return result, 1000 * float(np.median(seconds))
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     add_json_option(parser)
@@ -110,27 +120,19 @@ def main() -> None:
     # --- 2. OpenSubdiv on a ~50k-face frame
     tv, tf = torus(160, 160)
     print(f"frame: {len(tv):,} vertices, {len(tf):,} triangles")
-    runs = []
-    for _ in range(5):
-        t0 = time.perf_counter()
-        r = am.subdivide_frame(tv, tf, levels=2, scheme="loop", crease_angle=30.0)
-        runs.append(time.perf_counter() - t0)
+    r, loop_ms = median_ms(lambda: am.subdivide_frame(tv, tf, levels=2, scheme="loop", crease_angle=30.0))
     print(
-        f"Loop level 2 + limit: {1000 * np.median(runs):.0f} ms per frame (median of 5) -> "
+        f"Loop level 2 + limit: {loop_ms:.0f} ms per frame (median of 5) -> "
         f"{len(r.vertices):,} vertices, {len(r.faces):,} triangles"
     )
-    figures["loop_frame"] = {"triangles": len(tf), "ms_per_frame": 1000 * float(np.median(runs))}
+    figures["loop_frame"] = {"triangles": len(tf), "ms_per_frame": loop_ms}
     quads = np.concatenate([tf[: len(tf) // 2], tf[len(tf) // 2 :, 2:3]], 1)  # (a, b, c, d) per grid cell
-    runs = []
-    for _ in range(5):
-        t0 = time.perf_counter()
-        r = am.subdivide_frame(tv, quads, levels=2, scheme="catmull_clark", crease_angle=30.0)
-        runs.append(time.perf_counter() - t0)
+    r, cc_ms = median_ms(lambda: am.subdivide_frame(tv, quads, levels=2, scheme="catmull_clark", crease_angle=30.0))
     print(
-        f"Catmull-Clark level 2 + limit on {len(quads):,} quads: {1000 * np.median(runs):.0f} ms per frame -> "
+        f"Catmull-Clark level 2 + limit on {len(quads):,} quads: {cc_ms:.0f} ms per frame -> "
         f"{len(r.faces):,} quads"
     )
-    figures["catmull_clark_frame"] = {"quads": len(quads), "ms_per_frame": 1000 * float(np.median(runs)),
+    figures["catmull_clark_frame"] = {"quads": len(quads), "ms_per_frame": cc_ms,
                                       **blender_subsurf_ms(tv, quads)}
     peer = figures["catmull_clark_frame"]
     if "blender_ms" in peer:

@@ -186,6 +186,19 @@ def slice_at(manifold, frame):
     return np.asarray(s.vertices), np.asarray(s.faces)
 
 
+def constrain_by_height(man, frame: int, handles_above: float, anchors_below: float = 0.3):
+    """At `frame`, the slice's vertices above the `handles_above` quantile of height become
+    the handle group and those below `anchors_below` the anchor group; a new Empty drives
+    the handles. Returns the Empty."""
+    bpy.context.scene.frame_set(frame)
+    v = mesh_vertices(shown(man))
+    add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], handles_above)))
+    add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], anchors_below)))
+    empty = add_empty()
+    man.animanifold_deform.empty = empty
+    return empty
+
+
 def canonical_slice(vertices, faces):
     """A frame's triangles as a table that does not depend on the order of the faces or on
     which corner each starts at, and moves little when the points do: each triangle's x, y
@@ -287,13 +300,7 @@ def test_selected_slice_faces_make_their_space_time_simplices_handles(manifold_o
 
 def test_manifold_regularise_adds_vertices_and_stays_a_manifold(manifold_object):
     man = manifold_object
-    scene = bpy.context.scene
-    scene.frame_set(48)
-    v = mesh_vertices(shown(man))
-    add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], 0.85)))
-    add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
-    empty = add_empty()
-    man.animanifold_deform.empty = empty
+    empty = constrain_by_height(man, 48, handles_above=0.85)
     old = am.load(bpy.path.abspath(man.animanifold.cache_path))
     assert bpy.ops.animanifold.deform() == {"FINISHED"}
     empty.location.z += 2.0
@@ -492,12 +499,7 @@ def test_interactive_manifold_preview_follows_frames_and_unregister_removes_the_
 
     man = manifold_object
     scene = bpy.context.scene
-    scene.frame_set(36)
-    v = mesh_vertices(shown(man))
-    add_group(man, "handle", np.flatnonzero(v[:, 2] > np.quantile(v[:, 2], 0.8)))
-    add_group(man, "anchor", np.flatnonzero(v[:, 2] < np.quantile(v[:, 2], 0.3)))
-    empty = add_empty()
-    man.animanifold_deform.empty = empty
+    empty = constrain_by_height(man, 36, handles_above=0.8)
     man.animanifold_deform.method = "graph"
     man.animanifold_deform.interactive = True
     state = interactive_deform.session(man)
