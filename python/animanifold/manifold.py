@@ -270,8 +270,9 @@ class AnimationManifold:
         cut = None  # the core IntervalFrame of the last frame's interval
         for value in values:
             v = float(value)
-            if self._prism_frame(a, v) is not None:
-                yield self.slice(v, a)
+            prism = self._prism_frame(a, v)
+            if prism is not None:
+                yield self.slice(v, a) if self._honours_holes(a, v) else prism  # slice() gives `prism` itself
                 continue
             interval = None if self._honours_holes(a, v) else slicer.topology_interval(a, v)
             if interval is None:
