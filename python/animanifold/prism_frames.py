@@ -20,8 +20,10 @@ strictly inside the gap the frame is::
 with the same arithmetic the core's slice uses for a point on an edge, so the
 prism frame's vertices are bit for bit the staircase frame's points on the
 vertical edges. Vertex attributes blend the same way; face attributes are the
-prism's tets' (one face, one prism). At a key the frame stays the tets' slice:
-the key exactly.
+prism's tets' (one face, one prism). At a key the frame is the key exactly, over
+the same faces (:meth:`Prisms.key_frame`; the tets' slice has the same triangles):
+all frames of an animation that keeps its faces share one face list, so playback
+moves vertices and never rewrites the mesh's topology.
 
 The structure holds only for the points and simplices it was made with:
 operations that make a new manifold drop it unless it provably still holds
