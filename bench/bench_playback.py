@@ -5,7 +5,7 @@ collection), on the demo blob at ~50k triangles. Prints figures and ratios.
 
 (b) is the add-on's live playback: inside a topology interval, on every integer
 frame the frame-change handler copies the frame (positions and UV map, kept per
-frame by live_cuts) into the mesh with two foreach_set and the "Animanifold Live"
+frame by animanifold.cut_cache) into the mesh with two foreach_set and the "Animanifold Live"
 geometry-nodes modifier passes it through (on other frames the modifier moves the
 vertices and rebuilds the UV map); it writes a cut when playback enters an
 interval or a keyframe (9 of the 48 frames of the demo). The first loop also
@@ -118,19 +118,20 @@ def main() -> int:
         man = bpy.data.objects[src.name + "_manifold"]
         src.hide_set(False)
         only_visible(man, [src, man])
-        from animanifold_blender import live_cuts, mesh_writer, object_manifold, playback
+        from animanifold import interval_cuts
+        from animanifold_blender import mesh_writer, object_manifold, playback
         from animanifold_blender.live_registry import registry
 
         writes = count_calls(mesh_writer, "write_mesh")
         copies = count_calls(mesh_writer, "write_frame")
         computed = {"n": 0}
-        interval_frame = live_cuts.interval_frame
+        interval_frame = interval_cuts.interval_frame
 
         def counted_frame(cut, value):  # computed, not the cut's own
             computed["n"] += value != cut.value
             return interval_frame(cut, value)
 
-        live_cuts.interval_frame = counted_frame
+        interval_cuts.interval_frame = counted_frame
         keyframes = set(object_manifold.manifold_for(man).metadata["keyframe_times"])
         # Frames that write a cut: the keyframes and the first frame of each interval.
         writing = {f for f in frames if f in keyframes or (f - 1) in keyframes}

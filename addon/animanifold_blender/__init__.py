@@ -18,7 +18,8 @@ Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
   importable when Blender loads the add-on as an extension under bl_ext.*);
 * live playback: live (a scene's frame), playback (the strategies), object_manifold
   (the manifold an object shows), live_registry (all state kept between frames),
-  subdivision_cache, live_cuts, live_nodes (the geometry-nodes modifier);
+  live_nodes (the geometry-nodes modifier); the bpy-free parts are the package's
+  (am.interval_cuts, am.cut_cache, am.cut_prefetch, am.subdivision_cache);
 * Blender data in and out: sampling, mesh_input, mesh_writer, cache_paths,
   object_names; the `animanifold` package through _lib.
 """

@@ -12,7 +12,7 @@ import warnings
 from . import playback, visibility
 from ._lib import am
 from .live_registry import registry
-from .reporting import ReportedError
+from .reporting import ALREADY_WORDED
 
 
 def scene_frame(scene) -> float:
@@ -42,7 +42,7 @@ def show_object(obj, frame: float, force: bool = True, scene=None) -> bool:
     except Exception as e:  # a broken cache must not break playback
         message = f"{type(e).__name__}: {e}"
         if registry.set_error(obj, message):
-            if not isinstance(e, (ReportedError, am.CacheError)):
+            if not isinstance(e, ALREADY_WORDED):
                 traceback.print_exc()
             print(f"animanifold: cannot slice '{obj.name}': {message}")
         return False

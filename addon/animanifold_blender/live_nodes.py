@@ -5,7 +5,7 @@ am.AnimationManifold.interval_frame): between two vertex times of a manifold
 every frame has the same faces and each vertex slides along one manifold edge,
 so its position (and UV) is affine in the frame: p(t) = p(t0) + (t - t0) * rate,
 with the rates the core gives. playback.py writes the cut once per interval (its
-frame t0, the interval's middle; live_cuts.interval_cut) with `am_rate` (and
+frame t0, the interval's middle; am.interval_cuts.interval_cut) with `am_rate` (and
 `am_uv` / `am_uv_rate`) point attributes; the node group "Animanifold Live"
 reads the Scene Time and evaluates that formula for the vertices and the UV
 map, so the object plays without the handler. It lives in Blender's graph, not
@@ -18,7 +18,7 @@ most of a frame's cost (600k corners for a 50k-triangle source, six per vertex;
 the fields are evaluated on the corners, and Named Attribute reads no float2, so
 the values pass through float3 conversions), and moving 100k vertices most of
 the rest. So on integer frames the handler copies the frame, kept per frame
-(live_cuts), into the mesh's positions and UV map and sets Frame to it; at Frame
+(am.cut_cache), into the mesh's positions and UV map and sets Frame to it; at Frame
 the group passes the mesh through. On other frames (subframes, motion blur, no
 add-on) it moves the vertices from Frame and rebuilds the UV map from Cut Frame.
 

@@ -3,8 +3,8 @@
 
 * manifolds loaded from cache files, once per file version (path, mtime, size), so a
   frame costs one slice and one mesh write, never a load;
-* their subdivisions (subdivision_cache) and the interval cuts kept for playback
-  (live_cuts);
+* their subdivisions (am.subdivision_cache) and the interval cuts kept for playback
+  (am.cut_cache);
 * per manifold object (by its full name): the last error (shown in the panel), what
   its mesh shows (so a frame change that moves nothing writes nothing) and the scene
   frame it was last shown at without error, and whether the frame handlers skipped it
@@ -19,9 +19,8 @@ from __future__ import annotations
 import os
 import weakref
 
-from . import live_cuts, preferences
+from . import preferences
 from ._lib import am
-from .subdivision_cache import SubdivisionCache
 
 
 def _file_version(path: str) -> tuple[int, int]:
@@ -39,9 +38,9 @@ class LiveRegistry:
         self._checked: dict[str, tuple] = {}
         self._skipped: set[str] = set()
         self._played: weakref.WeakSet = weakref.WeakSet()  # manifolds playback has shown
-        self.subdivisions = SubdivisionCache()
+        self.subdivisions = am.subdivision_cache.SubdivisionCache()
         budget = preferences.frame_cache_budget_bytes
-        self.cuts = live_cuts.CutCache(budget=budget, frame_budget=budget)
+        self.cuts = am.cut_cache.CutCache(budget=budget, frame_budget=budget)
 
     def clear(self) -> None:
         self._manifolds.clear()

@@ -12,7 +12,8 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from . import extra_layers, live_cuts
+from . import extra_layers
+from ._lib import am
 
 _NEEDS_LOOP_TOTAL = bpy.app.version < (3, 6, 0)
 _NEEDS_AUTO_SMOOTH = bpy.app.version < (4, 1, 0)
@@ -66,7 +67,7 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
             attributes.new("sharp_face", "BOOLEAN", "FACE").data.foreach_set(
                 "value", np.ascontiguousarray(smooth, dtype=np.int32) == 0)
         if uv is not None and corner_uv is None:
-            corner_uv = live_cuts.corner_values(uv, corner_vertex)
+            corner_uv = am.interval_cuts.corner_values(uv, corner_vertex)
         if corner_uv is not None:
             attributes.new(uv_name or "UVMap", "FLOAT2", "CORNER").data.foreach_set("vector", corner_uv)
         for name, values in (vectors or {}).items():
@@ -129,7 +130,7 @@ def _rewrite_in_place(mesh, vertices, corner_vertex, uv, uv_name, material_index
     if smooth is not None:
         layers["sharp_face"] = ("BOOLEAN", "FACE", "value", np.ascontiguousarray(smooth, dtype=np.int32) == 0)
     if uv is not None and corner_uv is None:
-        corner_uv = live_cuts.corner_values(uv, corner_vertex)
+        corner_uv = am.interval_cuts.corner_values(uv, corner_vertex)
     if corner_uv is not None:
         layers[uv_name or "UVMap"] = ("FLOAT2", "CORNER", "vector", corner_uv)
     for name, values in (vectors or {}).items():
@@ -195,7 +196,7 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
     else:
         mesh.vertices.foreach_set("co", co)
     if uv is not None and len(corner_vertex):
-        corner = live_cuts.corner_values(uv, corner_vertex)
+        corner = am.interval_cuts.corner_values(uv, corner_vertex)
         if _ATTRIBUTES and uv_name in mesh.attributes:
             mesh.attributes[uv_name].data.foreach_set("vector", corner)
         elif uv_name in mesh.uv_layers:
@@ -208,7 +209,7 @@ def write_positions(mesh, vertices: np.ndarray, corner_vertex: np.ndarray, uv: n
         set_vertex_normals(mesh, normals)
 
 
-def write_frame(mesh, uv_name: str, frame: live_cuts.Frame) -> bool:
+def write_frame(mesh, uv_name: str, frame: am.interval_cuts.Frame) -> bool:
     """Copies a frame's positions and UV map into a mesh holding its cut (one raw copy
     each, after Blender unshares each buffer from the evaluated mesh). False, and
     nothing written, if the mesh's sizes or UV map do not match (Blender 4.0+)."""

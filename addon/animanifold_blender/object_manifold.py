@@ -1,5 +1,5 @@
 """The manifold a manifold object shows: its cache's manifold (loaded once per file
-version, live_registry), subdivided as its Smooth settings say (subdivision_cache),
+version, live_registry), subdivided as its Smooth settings say (am.subdivision_cache),
 and the frame it shows at a value: a slice, refined by OpenSubdiv when its Frame
 Levels > 0. Live playback and bakes both slice through frame_slice, so they bake
 what plays live."""

@@ -4,12 +4,12 @@ as its settings allow. Three strategies, chosen per frame by update_object:
 * driven (Blender 4.2+, time axis, plain slices: can_drive): inside a topology interval
   the interval's cut is written once with the rate of every vertex, and the "Animanifold
   Live" geometry-nodes modifier (live_nodes) moves the vertices (and rebuilds the UV map)
-  with the scene frame; on integer frames the frame kept per interval (live_cuts) is
+  with the scene frame; on integer frames the frame kept per interval (am.cut_cache) is
   copied into the mesh's positions and UV map instead, and the modifier passes it
   through. At a vertex time (a keyframe) the frame is written as sliced. Cuts and frames
   are kept between visits (live_registry), so looping playback slices nothing and Blender
   computes no edges; for prism frames they are made ahead, on the first frame played
-  (live_prefetch).
+  (am.cut_prefetch).
 * moved (sweep views, custom normals, older Blender): the first frame of an interval is
   cut and written in full, the next ones slide its vertices along their manifold edges
   (am.IntervalFrame), rewriting positions, UVs and normals.
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from . import extra_layers, live_cuts, live_nodes, live_prefetch, mesh_writer
+from . import extra_layers, live_nodes, mesh_writer
 from ._lib import am
 from .live_registry import registry
 from .object_manifold import frame_slice, shown_manifold, slice_value
@@ -48,7 +48,7 @@ class Shown:
     counts: tuple  # (vertices, faces) of the mesh as written
     value: float = math.nan
     driven: bool = False
-    cut: live_cuts.Cut | None = None  # driven: the cut written
+    cut: am.interval_cuts.Cut | None = None  # driven: the cut written
     mesh_value: float = math.nan  # driven: the frame the mesh's positions and UV map hold
 
 
@@ -178,19 +178,19 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
     registry.forget_shown_of(obj)  # until the write is done, the mesh shows nothing known
     if interval is None:  # a vertex time (a keyframe): the frame as sliced, the modifier off
         cut_key = ("at", value)
-        cut = _cut(manifold, cut_key, lambda: live_cuts.time_cut(manifold, value)[1])
+        cut = _cut(manifold, cut_key, lambda: am.interval_cuts.time_cut(manifold, value)[1])
         vectors = None
         vertices, corner_uv, mesh_value = cut.vertices, cut.corner_uv, value
     else:
         cut_key = interval
-        cut = _cut(manifold, cut_key, lambda: live_cuts.time_cut(manifold, value)[1])
+        cut = _cut(manifold, cut_key, lambda: am.interval_cuts.time_cut(manifold, value)[1])
         vectors = {live_nodes.RATE: cut.rate}
         if cut.uv_rate is not None:
             vectors[live_nodes.UV] = cut.uv
             vectors[live_nodes.UV_RATE] = cut.uv_rate
         # The mesh holds this frame if it is kept (the modifier passes it through), else
         # the cut's frame (the modifier moves it).
-        frame = _frame(manifold, cut_key, cut, value) or live_cuts.interval_frame(cut, cut.value)
+        frame = _frame(manifold, cut_key, cut, value) or am.interval_cuts.interval_frame(cut, cut.value)
         vertices, corner_uv, mesh_value = frame.positions.reshape(-1, 3), frame.corner_uv, frame.value
     uv_name = obj.animanifold.uv_name or "UVMap"
     normals = obj.animanifold.live_normals and cut.normal is not None
@@ -216,12 +216,12 @@ def _update_driven(obj, manifold, value: float, key: tuple, shown: Shown | None)
 
 
 def _prefetch(obj, manifold, scene, frame: float) -> None:
-    """Makes the cuts and kept frames of the scene's frame range ahead (live_prefetch),
+    """Makes the cuts and kept frames of the scene's frame range ahead (am.cut_prefetch),
     from `frame` on, then the frames before it (playback's order)."""
     frames = list(range(scene.frame_start, scene.frame_end + 1))
     start = next((i for i, f in enumerate(frames) if f >= frame), 0)
     values = [slice_value(obj, manifold, f) for f in frames[start:] + frames[:start]]
-    live_prefetch.prefetch(manifold, values, registry.cuts)
+    am.cut_prefetch.prefetch(manifold, values, registry.cuts)
 
 
 def _shown_range(manifold, value: float) -> tuple[float, float]:
@@ -244,22 +244,23 @@ def _has_rates(mesh) -> bool:
     return live_nodes.RATE in mesh.attributes.keys()
 
 
-def _frame(manifold, key, cut: live_cuts.Cut, value: float) -> live_cuts.Frame | None:
+def _frame(manifold, key, cut: am.interval_cuts.Cut, value: float) -> am.interval_cuts.Frame | None:
     """Interval cut `cut` (kept as `key`) at integer frame `value`: kept from an
     earlier visit, or computed now and kept if the frame budget has room; None for
     other frames, or when it has none (the modifier moves those)."""
     if value != math.floor(value):
         return None
     if value == cut.value:
-        return live_cuts.interval_frame(cut, value)  # the cut's own arrays: nothing to keep
+        return am.interval_cuts.interval_frame(cut, value)  # the cut's own arrays: nothing to keep
     frame = registry.cuts.frame(manifold, key, value)
     if frame is not None:
         return frame
     # Computed only to be kept: one that could not be would cost a gather over every
     # corner on each visit, more than the modifier's work.
-    if registry.cuts.get(manifold, key) is not cut or not registry.cuts.frame_room(manifold, key, live_cuts.frame_nbytes(cut)):
+    if (registry.cuts.get(manifold, key) is not cut
+            or not registry.cuts.frame_room(manifold, key, am.interval_cuts.frame_nbytes(cut))):
         return None
-    frame = live_cuts.interval_frame(cut, value)
+    frame = am.interval_cuts.interval_frame(cut, value)
     return frame if registry.cuts.keep_frame(manifold, key, frame) else None
 
 
@@ -280,7 +281,7 @@ def _show_frame(obj, manifold, shown: Shown, value: float) -> bool:
     return True
 
 
-def _cut(manifold, key, make) -> live_cuts.Cut:
+def _cut(manifold, key, make) -> am.interval_cuts.Cut:
     cut = registry.cuts.get(manifold, key)
     if cut is None:
         cut = make()

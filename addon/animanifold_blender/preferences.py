@@ -9,7 +9,7 @@ count and the memory playback keeps frames in.
   the preference changes, and by `apply_threads` before long work (convert, bake,
   morph, deform, skeleton).
 * Frame Cache Budget: the memory, in MB, for each of playback's two caches (the
-  interval cuts and their kept integer frames, `live_cuts.CutCache`), read each time
+  interval cuts and their kept integer frames, `am.cut_cache.CutCache`), read each time
   the cache decides what to keep.
 
 `bl_idname` is the add-on's package name as Blender imported it: `animanifold_blender`

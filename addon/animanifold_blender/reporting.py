@@ -6,7 +6,8 @@ to return {'CANCELLED'}. Whatever the operator changed must already have been ro
 back by the code that changed it (each keeps its own `except BaseException: undo; raise`),
 so the manager only words the report:
 
-* ReportedError (the add-on's own failures): its message is the report;
+* ReportedError (the add-on's own failures) and the package's failures worded for the
+  user (am.CacheError, am.subdivision_cache.SmoothingError): its message is the report;
 * am.Cancelled (the user stopped the core: Esc, or Ctrl-C in the terminal): "<failure>: cancelled",
   as a warning;
 * what the core or the file system raise (ValueError, RuntimeError, OSError: their
@@ -33,7 +34,7 @@ class OperatorError(ReportedError):
 
 
 # The package's own error classes that name the file or input and the problem in full.
-_ALREADY_WORDED = (ReportedError, am.CacheError)
+ALREADY_WORDED = (ReportedError, am.CacheError, am.subdivision_cache.SmoothingError)
 
 
 @contextmanager
@@ -44,7 +45,7 @@ def reporting(operator, failure: str | Callable[[], str], name_type: bool = Fals
     with its exception class."""
     try:
         yield
-    except _ALREADY_WORDED as e:
+    except ALREADY_WORDED as e:
         operator.report({"ERROR"}, str(e))
     except am.Cancelled:
         what = failure() if callable(failure) else failure

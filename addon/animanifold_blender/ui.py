@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from bpy.types import Panel
 
-from . import bake, live, subdivision_cache
+from . import bake, live
 from ._lib import am
 from .object_manifold import loaded_manifold
 
@@ -132,7 +132,7 @@ class VIEW3D_PT_animanifold_smooth(Panel):
         if manifold is not None:
             tets = am.subdivided_simplex_count(manifold, settings.subdivision_levels)
             kind = "tets" if manifold.dimension == 4 else "triangles"
-            if tets >= subdivision_cache.LARGE_TETS:
+            if tets >= LARGE_TETS:
                 col.label(text=f"{tets:,} {kind}: slow slicing, much memory", icon="ERROR")
             elif settings.subdivision_levels > 0:
                 col.label(text=f"{tets:,} {kind}", icon="INFO")
@@ -150,6 +150,8 @@ class VIEW3D_PT_animanifold_smooth(Panel):
             layout.label(text="The bake keeps the settings it was made with: bake again", icon="INFO")
 
 
+# The panel warns from this many shown tets on (slower slicing, more memory).
+LARGE_TETS = 2_000_000
 # Frames with this many faces after smoothing play slowly: the panel warns.
 LARGE_FACES = 1_000_000
 

@@ -109,15 +109,16 @@ def writes(monkeypatch):
 @pytest.fixture()
 def frame_work(monkeypatch):
     """Records the frames the handler copies into the mesh (write_frame), the frames it
-    computes (live_cuts.interval_frame, but for a cut's own frame) and the corner
-    gathers of UV maps (live_cuts.corner_values), on each frame's first visit: nothing
-    is made ahead (live_prefetch, tested on its own)."""
-    from animanifold_blender import live_cuts, live_prefetch, mesh_writer
+    computes (interval_cuts.interval_frame, but for a cut's own frame) and the corner
+    gathers of UV maps (interval_cuts.corner_values), on each frame's first visit: nothing
+    is made ahead (cut_prefetch, tested on its own in tests/test_cut_prefetch.py)."""
+    from animanifold import cut_prefetch, interval_cuts
+    from animanifold_blender import mesh_writer
 
-    monkeypatch.setattr(live_prefetch, "prefetch", lambda *args: (0, 0))
+    monkeypatch.setattr(cut_prefetch, "prefetch", lambda *args: (0, 0))
 
     work = {"written": [], "computed": [], "gathers": 0}
-    write, compute, gather = mesh_writer.write_frame, live_cuts.interval_frame, live_cuts.corner_values
+    write, compute, gather = mesh_writer.write_frame, interval_cuts.interval_frame, interval_cuts.corner_values
 
     def counted_write(mesh, uv_name, frame):
         scene = bpy.context.scene
@@ -134,8 +135,8 @@ def frame_work(monkeypatch):
         return gather(*args)
 
     monkeypatch.setattr(mesh_writer, "write_frame", counted_write)
-    monkeypatch.setattr(live_cuts, "interval_frame", counted_compute)
-    monkeypatch.setattr(live_cuts, "corner_values", counted_gather)
+    monkeypatch.setattr(interval_cuts, "interval_frame", counted_compute)
+    monkeypatch.setattr(interval_cuts, "corner_values", counted_gather)
     return work
 
 
@@ -358,21 +359,21 @@ def test_an_animation_that_keeps_its_faces_is_played_without_rewriting_the_topol
 
 
 def test_the_first_pass_over_prism_frames_finds_every_cut_and_frame_made_ahead(demo, monkeypatch):
-    """Convert's first frame makes the range's cuts and integer frames (live_prefetch):
+    """Convert's first frame makes the range's cuts and integer frames (cut_prefetch):
     the first pass then cuts nothing and computes no frame, and shows every frame right."""
-    from animanifold_blender import live_cuts
+    from animanifold import interval_cuts
 
     man, cache = convert(demo)
     assert cache.prisms is not None
-    cuts = counted(monkeypatch, live_cuts, "time_cut")
-    made_frames, interval_frame = [], live_cuts.interval_frame
+    cuts = counted(monkeypatch, interval_cuts, "time_cut")
+    made_frames, interval_frame = [], interval_cuts.interval_frame
 
     def counted_frame(cut, frame):
         if frame != cut.value:  # a cut's own frame is its arrays: nothing made
             made_frames.append(frame)
         return interval_frame(cut, frame)
 
-    monkeypatch.setattr(live_cuts, "interval_frame", counted_frame)
+    monkeypatch.setattr(interval_cuts, "interval_frame", counted_frame)
     scene = bpy.context.scene
     for frame in range(scene.frame_start, scene.frame_end + 1):
         goto(frame)

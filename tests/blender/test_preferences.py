@@ -9,7 +9,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from animanifold_blender import live_cuts, preferences  # noqa: E402
+from animanifold import interval_cuts  # noqa: E402
+from animanifold_blender import preferences  # noqa: E402
 from animanifold_blender._lib import am  # noqa: E402
 from animanifold_blender.live_registry import registry  # noqa: E402
 
@@ -68,11 +69,11 @@ def test_convert_applies_the_threads_preference_before_it_runs(prefs, demo, tmp_
     assert am.threads() == 2
 
 
-def big_cut(corners: int) -> live_cuts.Cut:
+def big_cut(corners: int) -> interval_cuts.Cut:
     faces = np.zeros((corners // 3, 3), np.int32)
     zeros = np.zeros((corners, 3), np.float32)
-    return live_cuts.Cut(0.5, faces, None, None, zeros, np.zeros(2 * corners, np.float32), rate=zeros.copy(),
-                         uv=zeros.copy(), uv_rate=zeros.copy())
+    return interval_cuts.Cut(0.5, faces, None, None, zeros, np.zeros(2 * corners, np.float32), rate=zeros.copy(),
+                             uv=zeros.copy(), uv_rate=zeros.copy())
 
 
 class Manifold:  # a loaded manifold as the cache sees it: keyed by identity, weakly referenced

@@ -153,13 +153,13 @@ def test_manifold_subdivision_keeps_keyframes(demo, monkeypatch):
     scene.frame_set(24)
     F = len(shown(man).polygons)
     calls = []
-    real = am.subdivide
+    real = am.subdivision.subdivide
 
     def counting(manifold, *args, **kwargs):
         calls.append(kwargs.get("keep_keyframe_times"))
         return real(manifold, *args, **kwargs)
 
-    monkeypatch.setattr(am, "subdivide", counting)
+    monkeypatch.setattr(am.subdivision, "subdivide", counting)  # what the subdivision cache calls
     settings.subdivision_levels = 1
     assert calls == [True]
     for frame in (24, 1, 48):
@@ -288,7 +288,7 @@ def test_failures_show_in_the_panel_and_never_raise(demo, monkeypatch):
         calls.append(1)
         raise MemoryError()
 
-    monkeypatch.setattr(am, "subdivide", out_of_memory)
+    monkeypatch.setattr(am.subdivision, "subdivide", out_of_memory)  # what the subdivision cache calls
     settings.subdivision_levels = 2  # must not raise
     assert "out of memory" in live.last_error(man)
     for frame in (18, 30):
@@ -363,7 +363,7 @@ class _Layout:
 def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
     from types import SimpleNamespace
 
-    from animanifold_blender import subdivision_cache, ui
+    from animanifold_blender import ui
 
     man = convert(demo)
     bpy.context.scene.frame_set(17)
@@ -385,5 +385,5 @@ def test_smooth_panel_draws_settings_and_warnings(demo, monkeypatch):
     assert ("label", "21,504 tets", "INFO") in log
     assert ("label", f"{len(shown(man).polygons):,} faces this frame", "INFO") in log
     assert ("prop", "keep_keyframe_times", True) in log and ("prop", "crease_angle", True) in log
-    monkeypatch.setattr(subdivision_cache, "LARGE_TETS", 10_000)
+    monkeypatch.setattr(ui, "LARGE_TETS", 10_000)
     assert ("label", "21,504 tets: slow slicing, much memory", "ERROR") in draw()

@@ -1,12 +1,13 @@
-"""Subdivisions of loaded manifolds (a manifold object's Manifold Levels), each computed
-once and kept, within a memory budget.
+"""Subdivisions of loaded manifolds (the add-on's Manifold Levels of a manifold object),
+each computed once and kept, within the package's memory limit.
 
 The shown manifold of an object with Manifold Levels > 0 is its cache's manifold
 subdivided (Schaefer et al.) that many times, keyed by (levels, keep_keyframe_times)
 beside the loaded manifold it came from; a new version of the file makes them stale.
 A subdivision that fails, or would not fit in the package's memory limit (by default
-half the free memory: am.set_memory_limit), is remembered as failed so that playback does not retry it on every frame; a settings change
-(prune) forgets the failures and frees what no object asks for any more.
+half the free memory: am.set_memory_limit), is remembered as failed so that playback does
+not retry it on every frame; a settings change (prune) forgets the failures and frees what
+no object asks for any more.
 
 An operator that needs a subdivision (Bake Frames) passes a `progress(step, fraction)`
 that moves the window manager's bar through the core's levels. Playback cannot offer
@@ -21,15 +22,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ._lib import am
-from .reporting import ReportedError
-
-# The panel warns from this many shown tets on (slower slicing, more memory).
-LARGE_TETS = 2_000_000
+from . import subdivision, welding
+from ._core import Error
+from .memory_limits import MemoryLimitError
 
 
-class SmoothingError(ReportedError):
-    """Subdivision of a manifold object's manifold failed or would not fit in memory."""
+class SmoothingError(Error):
+    """Subdivision of a manifold object's manifold failed or would not fit in memory; the
+    message names the object and says what to do (the add-on reports it as it is)."""
 
 
 @dataclass
@@ -97,11 +97,11 @@ class SubdivisionCache:
 
 
 def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
-    tets = am.subdivided_simplex_count(base, levels)
+    tets = subdivision.subdivided_simplex_count(base, levels)
     try:
-        return am.subdivide(am.weld(base), levels=levels, scheme="schaefer", keep_keyframe_times=keep_keyframe_times,
-                            progress=progress)
-    except am.MemoryLimitError as e:  # the package's limit (am.set_memory_limit), checked before allocating
+        return subdivision.subdivide(welding.weld(base), levels=levels, scheme="schaefer",
+                                     keep_keyframe_times=keep_keyframe_times, progress=progress)
+    except MemoryLimitError as e:  # the package's limit (am.set_memory_limit), checked before allocating
         raise SmoothingError(f"{levels} subdivision levels of '{name}': {e}; use fewer levels") from None
     except MemoryError:
         raise SmoothingError(f"out of memory subdividing '{name}' {levels} levels ({tets:,} tets): "
