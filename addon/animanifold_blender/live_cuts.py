@@ -17,10 +17,9 @@ preference; BUDGET_BYTES by default), per loaded manifold
 
 Beside an interval's cut, each of its integer frames (interval_frame: the
 positions and the UV map per corner, as the mesh takes them): the live modifier
-would move every vertex and rebuild the UV map on every corner (600k corners for
+moves every vertex and rebuilds the UV map on every corner (600k corners for
 a 50k-triangle source) on every frame, where copying a kept frame into the mesh
-is two copies (bench_playback.py, a frame inside an interval: ~1.2 ms this way,
-the median of 5 runs on a shared 2-core machine; ~4-5 ms by the modifier). Computed
+is two raw copies, several times cheaper (bench/bench_playback.py compares them). Computed
 on a frame's first visit and kept within a budget of their own (the same preference;
 FRAME_BUDGET_BYTES by default); when that is full,
 no more are kept (a loop longer than the budget would otherwise evict every frame
@@ -39,8 +38,8 @@ import numpy as np
 # Defaults (preferences.DEFAULT_BUDGET_MB in the add-on). ~12 intervals of a 200k-face frame (a 50k-triangle source): a typical action's
 # keyframes fit, and scrubbing back and forth over them slices nothing.
 BUDGET_BYTES = 256 * 2**20
-# ~44 integer frames of that frame (100k positions, 600k corners: 6 MB each): the 40
-# of the bench's 48-frame loop fit.
+# ~44 integer frames of that frame (100k positions, 600k corners: 6 MB each): a loop
+# of 40 frames fits whole.
 FRAME_BUDGET_BYTES = 256 * 2**20
 
 

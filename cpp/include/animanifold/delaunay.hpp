@@ -65,8 +65,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 // predicates, symbolic perturbation of cospherical points, incremental along
 // a space-filling curve). On points on two parallel hyperplanes — a morph's
 // fill — Qhull spends its time merging the huge vertical facets each plane
-// makes in the lifted hull (quadratic: 31.6 s for 7,000 points in R^4,
-// against 1.9 s here for 10,000); CGAL never builds them. Every cell is
+// makes in the lifted hull, quadratic in the points; CGAL never builds them. Every cell is
 // proper (exact orientation) and kept; those flat within roundoff (Hadamard's
 // ratio below 1e-12) are listed in `slivers`. Throws InputError for
 // coinciding or too few points.

@@ -72,7 +72,7 @@ struct MorphOptions {
   // close within it after t0, the target's open within it before t1.
   double max_push = 0.45;
   // The fill's Delaunay triangulation: Cgal (delaunay_exact, the default:
-  // 10-20 times faster on the fill's two planes of points) or Qhull.
+  // Qhull's time grows quadratically on the fill's two planes of points) or Qhull.
   FillTriangulation fill = FillTriangulation::Cgal;
   // How the inputs are put in general position (see morph.cpp):
   // HullFaces (perturbed_along_hull_faces, the default: points on the
