@@ -77,7 +77,8 @@ def test_an_interval_frame_with_altered_faces_is_refused_not_crashed(sphere):
         altered.at(0.6)
 
 
-# Index arrays wider than int32 used to be converted silently: 2**32 wrapped to 0.
+# numpy would convert index arrays wider than int32 silently (2**32 wraps to 0): the
+# bindings refuse them instead (cpp/bindings/index_arrays.hpp).
 @pytest.mark.parametrize("value", [2**31, 2**32, 2**32 + 1, -(2**31) - 1])
 def test_int64_indices_beyond_32_bits_are_refused_not_wrapped(sphere, value):
     v, f = sphere
@@ -293,7 +294,7 @@ def test_mesh_paths_that_are_not_regular_files_are_refused(tmp_path):
             _core.read_mesh(path)
 
 
-# --- numbers that used to give silently wrong results -------------------------------------
+# --- extreme numbers: a right result or an error, never a silently wrong one -------------
 
 @pytest.mark.parametrize("scale", [1e154, 1e300, 1e-160])
 def test_frame_normals_of_huge_and_tiny_frames_are_those_of_the_unit_frame(sphere, scale):

@@ -435,11 +435,10 @@ def test_the_torus_hole_opens_through_one_shell_without_bubble_or_island(perturb
 def test_a_64_sided_cylinder_morphs_into_a_torus_with_its_caps_fanned_from_their_centres(caps):
     """A 64-sided cylinder's caps are 64 cocircular points. Triangulated between rim points (the
     tests' fans from one rim vertex, Blender's N-gon caps as strips), into this torus TetGen loops
-    on the first (no perturbation finished: the morph failed after 22 s), and on the second the
-    torus's free vertices were held near the plane (106) with a bubble of 28 % of the volume
-    before t1 (Blender's own triangulation: frames ran through themselves at 3 of 5 times).
-    Fanned from a centre point (fan_flat_polygons, the default), both morph in 0.1 s and every
-    checked frame is clean. The ends are the cylinder as given (the first frame's cap need not
+    on the first (no perturbation finishes, and the morph fails), and on the second the torus's
+    free vertices are held near the plane with a bubble of over a quarter of the volume before
+    t1 (Blender's own triangulation: frames run through themselves). Fanned from a centre point
+    (fan_flat_polygons, the default), both morph at once and every checked frame is clean. The ends are the cylinder as given (the first frame's cap need not
     hold the centre: the cap and the torus's lowest ring lie in one 3-flat, a side of the fill's
     hull, and the slivers there are peeled)."""
     source = cylinder(64) if caps.startswith("fans") else strip_capped_cylinder(64)

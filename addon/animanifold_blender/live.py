@@ -59,8 +59,8 @@ def update_scene(scene, force: bool = False, after_evaluation: bool = False) -> 
 
     `after_evaluation` (the post-frame handler): objects shown at this frame before
     the evaluation are skipped unless animated (an animated setting, a keyframed
-    sweep value say, has its new value only now): ~0.1 ms a frame on the bench
-    object, as much as its frame's other checks."""
+    sweep value say, has its new value only now): a still object is not shown
+    twice at one frame."""
     frame = scene_frame(scene)
     checked = (scene.as_pointer(), frame)
     count = 0

@@ -53,8 +53,8 @@ def write_mesh(mesh, vertices: np.ndarray, faces: np.ndarray, uv: np.ndarray | N
     mesh.loops.add(3 * F)
     mesh.polygons.add(F)
     co = np.ascontiguousarray(vertices, dtype=np.float32).reshape(-1)
-    # loop_start is unsigned in 4.0+: an unsigned array is copied raw (~100x faster
-    # than the per-item path a signed one takes).
+    # loop_start is unsigned in 4.0+: an unsigned array is copied raw, where a signed
+    # one takes the per-item path.
     mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * F, 3, dtype=np.uint32 if _ATTRIBUTES else np.int32))
     if _ATTRIBUTES:
         attributes = mesh.attributes
@@ -214,14 +214,14 @@ def write_frame(mesh, uv_name: str, frame: am.interval_cuts.Frame) -> bool:
     each, after Blender unshares each buffer from the evaluated mesh). False, and
     nothing written, if the mesh's sizes or UV map do not match (Blender 4.0+)."""
     # The UV map through uv_layers: mesh.attributes[name] looks the layer up for
-    # writing, ~0.4 ms on the bench object's UV map after each evaluation (uv_layers':
-    # ~4 us), a third of a frame's copy.
+    # writing, which after each evaluation costs about a hundred times uv_layers'
+    # lookup and a good part of a frame's copy.
     layer = mesh.uv_layers.get(uv_name) if frame.corner_uv is not None else None
     if (3 * len(mesh.vertices) != len(frame.positions)
             or (frame.corner_uv is not None and (layer is None or 2 * len(mesh.loops) != len(frame.corner_uv)))):
         return False
     # Through the position attribute: mesh.vertices.foreach_set("co") is no raw copy
-    # (ten times slower on the bench object).
+    # (it sets the vertices one by one through RNA).
     mesh.attributes["position"].data.foreach_set("vector", frame.positions)
     if layer is not None:
         layer.uv.foreach_set("vector", frame.corner_uv)
@@ -231,8 +231,8 @@ def write_frame(mesh, uv_name: str, frame: am.interval_cuts.Frame) -> bool:
 
 def tag_positions_changed(mesh) -> None:
     """After foreach_set of a mesh's positions: its normals, bounds and BVH are stale
-    and the depsgraph must copy it again. mesh.update() marks only the normals (4.5:
-    the evaluated object kept its old bounding box, measured); setting one vertex's
+    and the depsgraph must copy it again. mesh.update() marks only the normals (in 4.5
+    the evaluated object keeps its old bounding box); setting one vertex's
     co through RNA runs Blender's positions-changed tag and tags the depsgraph."""
     if len(mesh.vertices):
         vertex = mesh.vertices[0]

@@ -22,7 +22,7 @@ from .playback import update_object
 
 # The methods this build of the core has (animanifold.morph_pipeline.METHODS); the best one is the default:
 # the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
-# method is not the default: it does not yet meet the morph's bar (speed, pops: bench/bench_morph.py).
+# method is not the default: it does not meet the morph's bar (speed, pops: bench/bench_morph.py).
 METHODS = tuple(getattr(am.morph_pipeline, "METHODS", ("strip",)))
 BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
 _METHOD_TEXT = {

@@ -222,7 +222,7 @@ class AnimanifoldDeformSettings(PropertyGroup):
                                      description="Manifold objects: a selected slice face makes the space-time "
                                                  "simplex it was cut from a handle (a slice is written with every "
                                                  "face selected: that counts as no selection)")
-    # Not kept from older files' "live": a session never outlives the Blender session that started it.
+    # Read from no other stored name: a session never outlives the Blender session that started it.
     interactive: BoolProperty(name="Interactive", default=False, update=_interactive_toggled,
                               description="Re-solve whenever the Empty moves (kept factorisation); Deform applies it")
 

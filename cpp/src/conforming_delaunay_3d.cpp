@@ -24,7 +24,7 @@ namespace {
 // Delaunay. Most inputs conform at once or after one; the decimated knight's
 // sharp creases (dihedral angles of 9° and 17°), where a point added on one
 // side encroaches on the other, take up to 13. A run costs about as much as
-// the first (0.3 s on the bunny with its skeleton points).
+// the first, so the cap bounds the stage at a fixed multiple of one run.
 constexpr Index kMaxMendingRounds = 24;
 
 struct TetgenSurface {
@@ -75,10 +75,10 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // markers.
   // TetGen 1.5 can loop for ever recovering facets (a fan of 64 cocircular
   // points as a cylinder's cap): stopped after far longer than meshing such
-  // an input takes. Measured: the whole conforming stage of a morph (both
-  // inputs, every mending round, CGAL's checks) is 0.48-0.73 s for the shared
-  // 1,000-7,200-face models with their skeletons, 0.38 s for a 20,480-face
-  // sphere; this allows 5 s + 0.5 ms a face per run (8.6 s for 7,200 faces).
+  // an input takes: the whole conforming stage of a morph (both inputs, every
+  // mending round, CGAL's checks) takes under a second for the shared models
+  // with their skeletons (bench/bench_morph.py), and this allows 5 s + 0.5 ms a
+  // face per run, several times that.
   // A longer allowance keeps Blender frozen that much longer on an input that
   // loops (the fan cylinder -> torus tries three perturbations before its
   // report).

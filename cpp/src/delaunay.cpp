@@ -138,8 +138,8 @@ IndexVector missing_facets(const SimplexMatrix& simplices, const SimplexMatrix& 
     return key;
   };
   // The faces, by their sorted corners; every k-subset of every simplex is
-  // looked up among them (there are far fewer faces than subsets: a set of
-  // all subsets took seconds on a 4D fill of 300,000 simplices).
+  // looked up among them: there are far fewer faces than subsets, and a set
+  // of every subset of a large 4D fill is slow to build.
   std::vector<std::pair<Key, Index>> wanted(faces.rows());
   for (Index f = 0; f < faces.rows(); ++f) wanted[f] = {sorted_key([&](int c) { return faces(f, c); }), f};
   std::sort(wanted.begin(), wanted.end());

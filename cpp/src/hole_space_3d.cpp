@@ -291,8 +291,7 @@ bool intersects_itself_3d(const Operand& shape) {
 // points). A closed connected surface convex at every edge and vertex bounds
 // a convex body, so its hole space is empty and both the self-intersection
 // test and the hull's corefinement with it (every face of one in a face of
-// the other: CGAL's slowest case) can be skipped: 0.7 s for a sphere of
-// 5,000 faces. False when in doubt (an edge without exactly one opposite).
+// the other: CGAL's slowest case) can be skipped. False when in doubt (an edge without exactly one opposite).
 bool is_convex_surface(const Operand& shape) {
   using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
   const Index n = shape.F.rows();

@@ -293,8 +293,8 @@ def morph_with_clean_frames(source, target, **options) -> dict:
 
 def test_a_64_sided_cylinder_with_fan_caps_morphs_into_a_torus(empty_scene):
     """A 64-sided cylinder whose caps are fans from one rim vertex (as an exporter that splits
-    n-gons into fans writes them), into Blender's torus: on those caps TetGen crashed at every
-    perturbation and Morph Selected failed after 5 s. The core fans such caps from their centres
+    n-gons into fans writes them), into Blender's torus: on those caps TetGen crashes at every
+    perturbation, and Morph Selected would fail. The core fans such caps from their centres
     first; the first frame is the cylinder as the user made it."""
     from helpers.shapes import cylinder
 

@@ -25,6 +25,7 @@ struct CgroupFiles {
 //   which the kernel reclaims before it fails an allocation), 0 when the working set is at
 //   the limit already; nullopt when no cgroup sets a limit or the files are missing or
 //   unreadable (the machine's memory then is the only bound)
+// Throws: nothing: a missing, unreadable or malformed file counts as setting no limit
 std::optional<std::uint64_t> cgroup_memory_headroom(const CgroupFiles& files = {});
 
 }  // namespace animanifold

@@ -25,18 +25,26 @@ struct Complex {
   VertexAttributes vertex_attributes;
   SimplexAttributes simplex_attributes;
 
+  // Outputs: D (V's columns) and k+1 (S's columns)
+  // Throws: nothing
   int ambient_dimension() const { return static_cast<int>(V.cols()); }
   int vertices_per_simplex() const { return static_cast<int>(S.cols()); }
 
-  // Throws InputError naming the offending simplex, vertex or attribute when
-  // indices are out of range, coordinates are not finite or span more than a
-  // double holds along an axis (slicing divides by their differences), or
-  // attribute tables have the wrong number of rows.
+  // Outputs: nothing: returns when the complex is well formed
+  // Throws: InputError naming the offending simplex, vertex or attribute when
+  //   indices are out of range, coordinates are not finite or span more than a
+  //   double holds along an axis (slicing divides by their differences), or
+  //   attribute tables have the wrong number of rows
   void validate() const;
 };
 
-// Writes facet `i` of `simplex` (k vertices) into `out` (k-1 vertices) with
-// the orientation rule of §2.4.
+// Inputs:
+//   simplex  k vertex indices
+//   k        vertices per simplex
+//   i        0..k-1: the facet, the one without simplex[i]
+// Outputs:
+//   out  k-1 vertex indices: facet i, oriented by §2.4's rule
+// Throws: nothing (nothing is checked: i must lie in 0..k-1)
 void facet(const Index* simplex, int k, int i, Index* out);
 
 // Inputs:
@@ -89,6 +97,8 @@ struct ManifoldReport {
   std::int64_t nonmanifold_facets = 0;   // in three or more simplices
   std::int64_t misoriented_facets = 0;   // shared by two with the same orientation
   std::int64_t degenerate_simplices = 0; // repeating a vertex index
+  // Outputs: no non-manifold or misoriented facet and no degenerate simplex.
+  // Throws: nothing
   bool is_oriented_manifold() const {
     return nonmanifold_facets == 0 && misoriented_facets == 0 && degenerate_simplices == 0;
   }
@@ -145,7 +155,11 @@ struct VertexStar {
 };
 VertexStar vertex_star(const SimplexMatrix& S, Index vertex_count);
 
-// Parity of the permutation that sorts `ids` (k entries, k <= 8): +1 even, -1 odd.
+// Inputs:
+//   ids  k distinct entries (k <= 8; any k works, in O(k^2))
+//   k    how many
+// Outputs: the parity of the permutation that sorts `ids`: +1 even, -1 odd
+// Throws: nothing
 int permutation_parity(const Index* ids, int k);
 
 }  // namespace animanifold

@@ -40,6 +40,7 @@ struct MendReport {
   // too (the point could fall on the new edge, which TetGen does not
   // survive); the next round sees that face again if it still needs one.
   Index deferred = 0;
+  // Outputs: inner_points + edge_points. Throws: nothing
   Index added() const { return inner_points + edge_points; }
 };
 

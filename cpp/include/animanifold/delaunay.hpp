@@ -43,7 +43,7 @@ struct DelaunayTriangulation {
 //   joggle  let Qhull perturb the input ('QJ')
 // Outputs:
 //   DelaunayTriangulation: #S by d+1 positive simplices, flat ones left out
-// Throws: InputError, std::runtime_error (see below)
+// Throws: InputError, MeshingError (see below)
 //
 // `points` is #P by d (d >= 2). With `joggle`, Qhull perturbs the input by a
 // tiny random amount ('QJ') so that every simplex it returns is proper: the
@@ -65,8 +65,7 @@ DelaunayTriangulation delaunay(const PointMatrix& points, bool joggle = false);
 // predicates, symbolic perturbation of cospherical points, incremental along
 // a space-filling curve). On points on two parallel hyperplanes — a morph's
 // fill — Qhull spends its time merging the huge vertical facets each plane
-// makes in the lifted hull (quadratic: 31.6 s for 7,000 points in R^4,
-// against 1.9 s here for 10,000); CGAL never builds them. Every cell is
+// makes in the lifted hull, quadratic in the points; CGAL never builds them. Every cell is
 // proper (exact orientation) and kept; those flat within roundoff (Hadamard's
 // ratio below 1e-12) are listed in `slivers`. Throws InputError for
 // coinciding or too few points.
@@ -115,7 +114,7 @@ struct ConformingDelaunay {
 //   while_meshing  optional poll while TetGen runs
 // Outputs:
 //   ConformingDelaunay: points (input first), tets, refined constraints and their parents
-// Throws: InputError, std::runtime_error (see below); whatever while_meshing throws
+// Throws: InputError, MeshingError (see below); whatever while_meshing throws
 //
 // Constraint triangles `faces` (#F by 3) over `points` (#P by 3); points that
 // belong to no face (skeleton vertices, say) are inserted too. `simplices`
@@ -132,7 +131,9 @@ ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const Simpl
 //   edges   #E by 2 constraint segments
 // Outputs:
 //   ConformingDelaunay: points (input first), triangles, refined segments
-// Throws: InputError for bad indices; std::runtime_error when CGAL's mesher fails
+// Throws: InputError for points not in R^2, fewer than 3, non-finite or coinciding,
+//   or segments that are not pairs of indices into points; MeshingError when CGAL's
+//   mesher fails or loses a constraint segment
 //
 // Constraint segments `edges` (#E by 2) over `points` (#P by 2).
 ConformingDelaunay conforming_delaunay_2d(const PointMatrix& points, const SimplexMatrix& edges);

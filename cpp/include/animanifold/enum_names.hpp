@@ -19,7 +19,11 @@ namespace animanifold {
 template <class Enum, std::size_t N>
 using NameTable = std::array<std::pair<Enum, const char*>, N>;
 
-// The name of `value` in `names`; "?" for a value missing from the table.
+// Inputs:
+//   value  an enumeration value
+//   names  its table (kLaplacianMethodNames, ...)
+// Outputs: the name `value` has in `names`; "?" for a value missing from the table
+// Throws: nothing
 template <class Enum, std::size_t N>
 constexpr const char* name_of(Enum value, const NameTable<Enum, N>& names) {
   for (const auto& [v, name] : names)
@@ -27,7 +31,10 @@ constexpr const char* name_of(Enum value, const NameTable<Enum, N>& names) {
   return "?";
 }
 
-// "'a', 'b' or 'c'": the choices, for error messages.
+// Inputs:
+//   names  a table of names
+// Outputs: its names quoted, in table order: "'a', 'b' or 'c'" (for error messages)
+// Throws: nothing (beyond std::bad_alloc)
 template <class Enum, std::size_t N>
 std::string quoted_choices(const NameTable<Enum, N>& names) {
   std::string text;
@@ -38,8 +45,13 @@ std::string quoted_choices(const NameTable<Enum, N>& names) {
   return text;
 }
 
-// The value named `name` in `names`.
-// Throws: InputError "unknown <what> '<name>': use <choices>" otherwise.
+// Inputs:
+//   name   a name as users spell it (exact, case-sensitive)
+//   names  the table to look it up in
+//   what   how the message names the choice ("Laplacian method")
+// Outputs: the value named `name` in `names`
+// Throws: InputError "unknown <what> '<name>': use <choices>" when no entry has that
+//   name (<choices> as quoted_choices gives them)
 template <class Enum, std::size_t N>
 Enum parse_name(const std::string& name, const NameTable<Enum, N>& names, const char* what) {
   for (const auto& [value, known] : names)

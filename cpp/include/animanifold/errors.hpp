@@ -62,7 +62,11 @@ class MemoryLimitError : public std::bad_alloc {
   std::string message_;
 };
 
-// Builds a message from streamable parts: fail<InputError>("keyframe ", i, " ...").
+// Inputs:
+//   Error  the exception type to throw (constructible from a string)
+//   parts  streamable parts of the message: fail<InputError>("keyframe ", i, " ...")
+// Outputs: none: it never returns
+// Throws: Error with the parts streamed one after the other as its message
 template <class Error, class... Parts>
 [[noreturn]] void fail(Parts&&... parts) {
   std::ostringstream message;
@@ -70,7 +74,11 @@ template <class Error, class... Parts>
   throw Error(message.str());
 }
 
-// The library's own explanation of a failure: by default its what().
+// Inputs:
+//   e  what a library threw
+// Outputs: the library's own explanation of the failure: e.what() (the default
+//   `reason` of translating_library_failures)
+// Throws: nothing (beyond std::bad_alloc)
 inline std::string library_reason(const std::exception& e) { return e.what(); }
 
 // Runs `work` (a call into `library`) and turns what the library throws into

@@ -9,11 +9,10 @@
 // is as Delaunay as any other, and the perturbation picks at random): it
 // splits them and splits again near the rim, where chords meet at π/n. A
 // 64-sided cylinder -> a torus: with the caps as Blender gives them, TetGen
-// left 410 points it could not move off the caps, the fill held 103 of the
-// torus's free vertices near the plane, the frames ran through themselves at
-// 3 of 5 checked times and held a bubble of 31 % of the volume before t1;
-// with the tests' fans from one rim vertex, TetGen did not finish at any
-// perturbation. With the caps as fans from their centre (Blender's "Triangle
+// leaves hundreds of points it cannot move off the caps, the fill holds many
+// of the torus's free vertices near the plane, and the frames run through
+// themselves and hold a bubble of a large share of the volume before t1;
+// with fans from one rim vertex, TetGen finishes at no perturbation. With the caps as fans from their centre (Blender's "Triangle
 // Fan" fill), every triangle is Delaunay in its plane and the morph has
 // none of that. The surface is the same: only the triangulation of each
 // flat polygon changes, with one vertex added at its centre (the frames at

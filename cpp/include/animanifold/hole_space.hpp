@@ -49,6 +49,7 @@ namespace animanifold {
 struct Solid {
   PointMatrix vertices;  // #V by d
   SimplexMatrix faces;   // #F by d
+  // Outputs: whether the solid has no faces. Throws: nothing
   bool empty() const { return faces.rows() == 0; }
 };
 

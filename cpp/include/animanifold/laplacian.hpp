@@ -54,10 +54,28 @@ inline constexpr NameTable<LaplacianMethod, 4> kLaplacianMethodNames{{{Laplacian
 inline constexpr NameTable<BoundaryRule, 3> kBoundaryRuleNames{
     {{BoundaryRule::Grow, "grow"}, {BoundaryRule::GhostAnchors, "ghost_anchors"}, {BoundaryRule::Error, "error"}}};
 
-// A name of the tables above; InputError naming it and the choices otherwise.
+// Inputs:
+//   name  a name of kLaplacianMethodNames
+// Outputs: the method it names
+// Throws: InputError naming `name` and the choices when the table has no such name
 LaplacianMethod parse_laplacian_method(const std::string& name);
+
+// Inputs:
+//   name  a name of kBoundaryRuleNames
+// Outputs: the rule it names
+// Throws: InputError naming `name` and the choices when the table has no such name
 BoundaryRule parse_boundary_rule(const std::string& name);
+
+// Inputs:
+//   method  a Laplacian method
+// Outputs: its name in kLaplacianMethodNames (what parse_laplacian_method reads back)
+// Throws: nothing
 std::string to_string(LaplacianMethod method);
+
+// Inputs:
+//   rule  a boundary rule
+// Outputs: its name in kBoundaryRuleNames (what parse_boundary_rule reads back)
+// Throws: nothing
 std::string to_string(BoundaryRule rule);
 
 // Parameters of the graph-Laplacian QP, eq. 4.2:
@@ -84,6 +102,14 @@ struct LaplacianOptions {
   std::vector<Index> zero_detail_vertices;
 };
 
+// vertex_adjacency:
+// Inputs:
+//   S             #S by k simplices
+//   vertex_count  #V
+// Outputs:
+//   VertexAdjacency: offsets (#V+1) and each vertex's sorted neighbours
+// Throws: InputError when an index is outside 0..vertex_count-1 (check_indices)
+//
 // Vertex adjacency (the 1-ring) in compressed form: neighbours of v are
 // `neighbours[offsets[v] .. offsets[v+1])`, sorted.
 struct VertexAdjacency {
@@ -92,13 +118,24 @@ struct VertexAdjacency {
 };
 VertexAdjacency vertex_adjacency(const SimplexMatrix& S, Index vertex_count);
 
-// Vertices on a boundary facet (facets in exactly one simplex). #V flags.
-// InputError when an index is outside 0..vertex_count-1 (also vertex_adjacency
-// and dual_operator).
+// Inputs:
+//   S             #S by k simplices
+//   vertex_count  #V
+// Outputs:
+//   #V flags: 1 for a vertex on a boundary facet (a facet in exactly one simplex)
+// Throws: InputError when an index is outside 0..vertex_count-1 (check_indices)
 std::vector<char> boundary_vertices(const SimplexMatrix& S, Index vertex_count);
 
-// The eq. 4.2 weights of one vertex from its one-ring edge vectors
-// e_j = v_j − v_i (k by D rows); λ = 0 gives eq. 4.3. k weights summing to 1.
+// Inputs:
+//   edges    k by D one-ring edge vectors e_j = v_j − v_i of one vertex
+//   options  λ, ξ and the ridge of eq. 4.2
+// Outputs:
+//   k weights summing to 1 (uniform when every edge has zero length; empty for k = 0)
+// Throws: InputError when λ < 0, ξ < 0 or the ridge is not positive, and from
+//   solve_simplex_qp when an edge is infinite (a NaN is not caught here:
+//   laplacian_system checks the points first)
+//
+// The eq. 4.2 weights of one vertex; λ = 0 gives eq. 4.3.
 Eigen::VectorXd graph_laplacian_weights(const PointMatrix& edges, const GraphWeightOptions& options);
 
 // Inputs:
@@ -136,6 +173,7 @@ struct DualOperator {
   SparseRowMatrix D;             // (#S + #G) by #V
   SimplexMatrix neighbours;      // #S by (n+1): the dual vertex across facet i of simplex s
   SimplexMatrix ghost_facets;    // #G by 2: (simplex, facet index) of each ghost
+  // Outputs: #S and #G. Throws: nothing
   Index simplex_count() const { return static_cast<Index>(neighbours.rows()); }
   Index ghost_count() const { return static_cast<Index>(ghost_facets.rows()); }
 };
@@ -166,9 +204,16 @@ struct DifferentialSystem {
 DifferentialSystem laplacian_system(const PointMatrix& V, const SimplexMatrix& S,
                                     const LaplacianOptions& options = {});
 
-// Unit normals (#S by D) of the hyperplanes through each dual vertex's
-// neighbours, for dual points `C` ((#S+#G) by D, e.g. D·V), oriented by the
-// facet order; zero rows where the neighbours are affinely dependent.
+// Inputs:
+//   C           (#S+#G) by D dual points (e.g. D·V)
+//   neighbours  #S by D: DualOperator::neighbours, rows of C
+// Outputs:
+//   #S by D unit normals; zero rows where the neighbours are affinely dependent
+// Throws: InputError when neighbours do not have D columns or an index is
+//   outside C (simplex_normals)
+//
+// The normals of the hyperplanes through each dual vertex's neighbours,
+// oriented by the facet order.
 PointMatrix dual_hyperplane_normals(const PointMatrix& C, const SimplexMatrix& neighbours);
 
 struct DeformerOptions {
@@ -260,8 +305,18 @@ class Deformer {
   Deformer(Deformer&&) noexcept;
   Deformer& operator=(Deformer&&) noexcept;
 
-  // Moves the handles by the affine map x ↦ T·[x; 1] (T is (D+1) by (D+1),
-  // last row [0 … 0 1]) and solves. Returns the new #V by D points.
+  // Inputs:
+  //   transform    (D+1) by (D+1) affine map T, last row [0 … 0 1]
+  //   steps        >= 1: increments (dual scheme; primal schemes take 1)
+  //   interrupter  told of "deforming" before each increment
+  // Outputs:
+  //   the new #V by D points (also points())
+  // Throws: InputError for a transform of the wrong size, with non-finite entries
+  //   or another last row, for steps < 1, and (steps > 1) for a transform
+  //   affine_power refuses; MeshingError when CHOLMOD's solve fails; Cancelled
+  //   when the interrupter says so
+  //
+  // Moves the handles by the affine map x ↦ T·[x; 1] and solves.
   //
   // The solution is affine in T, so the first deform by a transform solves
   // once for the rest shape with the handles at the origin and once for each
@@ -278,22 +333,47 @@ class Deformer {
   // a rotation by exactly π has no unique real power and is refused.
   // Primal schemes are linear, so they ignore `steps`.
   PointMatrix deform(const Eigen::MatrixXd& transform, int steps = 1, const Interrupter& interrupter = {});
-  // Moves handle i (in the order given to the constructor) to row i of
-  // `positions` (H by D) and solves. Grown handles follow the displacement of
+
+  // Inputs:
+  //   positions    H by D: where each handle given to the constructor goes, in that order
+  //   steps        >= 1: increments (dual scheme; primal schemes take 1)
+  //   interrupter  told of "deforming" before each increment
+  // Outputs:
+  //   the new #V by D points (also points())
+  // Throws: InputError when positions are not H by D or not finite, or for
+  //   steps < 1; MeshingError when CHOLMOD's solve fails; Cancelled when the
+  //   interrupter says so
+  //
+  // Moves handle i to row i of `positions` and solves. Grown handles follow the displacement of
   // the handle they grew from. steps > 1 as above: increments follow
   // fractions of the handles' best-fit rigid motion (Kabsch) plus the same
   // fraction of what it leaves, so a rotated cap is not shrunk on the way.
   PointMatrix deform_to(const PointMatrix& positions, int steps = 1, const Interrupter& interrupter = {});
+
+  // Inputs:
+  //   max_iterations  >= 1: restore rounds at most
+  //   tolerance       > 0: the largest vertex motion of a round that counts as
+  //                   converged, in input bounding-box diagonals
+  //   interrupter     told of "restoring" before each round
+  // Outputs:
+  //   RestoreStatus: rounds, last motion, converged; the points are points()
+  // Throws: InputError for a primal scheme, before any deform, for
+  //   max_iterations < 1 or tolerance <= 0; MeshingError when CHOLMOD's solve
+  //   fails; Cancelled when the interrupter says so (points() is then the last
+  //   finished round)
+  //
   // Dual scheme: repeatedly rotates each δ'_s onto the normal of its
   // neighbours' deformed hyperplane (keeping its signed height) and re-solves
   // (Au et al.'s iteration), until the largest vertex motion of one such step
   // falls below `tolerance` times the input's bounding-box diagonal, or
   // `max_iterations`. The fixed-point iteration is Anderson-accelerated
   // (depth 5): plain, it oscillates with period two on large rotations.
-  // Starts from the last deform; InputError for primal schemes or before any
-  // deform. Returns the status; the points are `points()`.
+  // Starts from the last deform.
   RestoreStatus restore(int max_iterations = 50, double tolerance = 1e-6, const Interrupter& interrupter = {});
 
+  // Outputs: what the comment beside each says; points() takes the mutex, the others
+  //   return what the constructor built
+  // Throws: nothing
   PointMatrix points() const;               // a copy of the latest result (the input before any deform)
   const PointMatrix& rest_points() const;   // the input
   const IndexVector& anchors() const;       // after growth
@@ -310,7 +390,9 @@ class Deformer {
 // Inputs: as Deformer, plus transform ((D+1) by (D+1)), restore settings and steps
 // Outputs:
 //   #V by D deformed points
-// Throws: InputError as Deformer
+// Throws: InputError as Deformer, Deformer::deform and Deformer::restore (restore
+//   runs only when restore_iterations > 0 and the scheme is dual); MeshingError
+//   when CHOLMOD fails
 //
 // One-off: builds a Deformer, moves the handles by `transform` (in `steps`
 // increments) and returns the points, restored (dual scheme) when

@@ -19,12 +19,14 @@ namespace animanifold {
 // Inputs:
 //   input  as stitch() takes it
 // Outputs: stitch()'s estimate: (m*k) points and n*l*(m-1) simplices with their attributes
+// Throws: nothing (an input stitch() refuses is estimated, not refused: see above)
 MemoryEstimate stitch_memory(const StitchInput& input);
 
 // Inputs:
 //   manifold  as subdivide_manifold() takes it
 //   levels    its options.levels
 // Outputs: subdivide_manifold()'s estimate: 8^levels tets (4^levels triangles) per simplex
+// Throws: nothing (levels below 0 count as 0)
 MemoryEstimate manifold_subdivision_memory(const Complex& manifold, int levels);
 
 // Inputs:
@@ -33,6 +35,7 @@ MemoryEstimate manifold_subdivision_memory(const Complex& manifold, int levels);
 //   levels             the options' levels
 // Outputs: subdivide_frame()'s, subdivide_polyline()'s or smooth_slice()'s estimate: every
 //   level's faces (4 per face; 2 per segment), kept by OpenSubdiv's refiner
+// Throws: nothing (levels below 0 count as 0)
 MemoryEstimate frame_subdivision_memory(Eigen::Index vertices, Eigen::Index faces, int corners,
                                         Eigen::Index attribute_columns, int levels);
 
@@ -42,6 +45,7 @@ MemoryEstimate frame_subdivision_memory(Eigen::Index vertices, Eigen::Index face
 // Outputs: refine()'s estimate: each split adds a vertex and splits the simplices around its
 //   face into as many as the face has vertices; a face's star is taken as the smallest
 //   star of its vertices in the input
+// Throws: nothing (ids outside the input's vertices are skipped, not refused)
 MemoryEstimate refinement_memory(const Complex& input, const SimplexMatrix& split_vertices);
 
 }  // namespace animanifold

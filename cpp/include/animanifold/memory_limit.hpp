@@ -26,6 +26,7 @@ namespace animanifold {
 void set_memory_limit(std::optional<std::uint64_t> bytes);
 
 // Outputs: the limit set by set_memory_limit(), nullopt when the default applies
+// Throws: nothing
 std::optional<std::uint64_t> memory_limit_setting();
 
 // Where the available memory is read from; tests substitute stand-in files.
@@ -39,9 +40,12 @@ struct MemoryFiles {
 // Outputs: the memory the system can give without swapping, in bytes: MemAvailable (the
 //   free physical pages where meminfo is missing), or the headroom the process's cgroups
 //   leave (cgroup_memory_headroom) where that is lower
+// Throws: nothing: an unreadable file gives no figure (0 when neither meminfo nor the
+//   free-page count gives one; check_memory() then refuses nothing)
 std::uint64_t available_memory(const MemoryFiles& files = {});
 
 // Outputs: the limit in force now: the one set, else half of available_memory()
+// Throws: nothing
 std::uint64_t memory_limit();
 
 // What a call is about to do and how much memory it will take at its peak.
@@ -58,6 +62,10 @@ struct MemoryEstimate {
 //   MemoryLimitError naming `doing`, the estimate and the limit, when bytes exceeds
 //   memory_limit()
 void check_memory(const std::string& doing, double bytes);
+
+// Inputs:
+//   estimate  what a call is about to do and its peak (memory_estimates.hpp)
+// Throws: MemoryLimitError as check_memory(doing, bytes)
 inline void check_memory(const MemoryEstimate& estimate) { check_memory(estimate.doing, estimate.bytes); }
 
 }  // namespace animanifold

@@ -72,7 +72,7 @@ struct MorphOptions {
   // close within it after t0, the target's open within it before t1.
   double max_push = 0.45;
   // The fill's Delaunay triangulation: Cgal (delaunay_exact, the default:
-  // 10-20 times faster on the fill's two planes of points) or Qhull.
+  // Qhull's time grows quadratically on the fill's two planes of points) or Qhull.
   FillTriangulation fill = FillTriangulation::Cgal;
   // How the inputs are put in general position (see morph.cpp):
   // HullFaces (perturbed_along_hull_faces, the default: points on the
@@ -183,8 +183,13 @@ struct MorphReport {
   std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
-// Calls visit(name, value) for every entry of the report, in the order
-// declared: the one list of its names (the binding's MorphReport.to_dict(),
+// Inputs:
+//   report  a morph's report
+//   visit   called as visit(name, value) for every entry, in the order declared
+// Outputs: nothing but the calls
+// Throws: whatever visit throws
+//
+// The one list of the report's names (the binding's MorphReport.to_dict(),
 // which the cache stores, comes from it).
 template <class Visit>
 void for_each_entry(const MorphReport& report, Visit&& visit) {
@@ -262,7 +267,7 @@ void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::
 //   options                      times, method, push, fill, perturbation, progress, interrupt
 // Outputs:
 //   Morph: the manifold (n-simplices in R^(n+1), source at t0, target at t1) and the MorphReport
-// Throws: InputError, std::runtime_error (see below); Cancelled when progress()
+// Throws: InputError, MeshingError (see below); Cancelled when progress()
 //   returns false or interrupted() returns true
 //
 // Throws InputError naming the shape and face when an input is not a closed,
@@ -276,7 +281,7 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
 //   gap   the least distance kept from the surface and between points
 // Outputs:
 //   #K by d skeleton points off the surface
-// Throws: InputError as voronoi_skeleton; std::runtime_error when Qhull fails
+// Throws: InputError as voronoi_skeleton; MeshingError when Qhull or CGAL fails
 //
 // §8.6.1 step 1 of the skeleton method: the vertices of the external Voronoi skeleton of the closed outward shape
 // (V, F) that lie off the surface, at least `gap` from it and from each
@@ -303,8 +308,13 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, Index first, Index last,
                                         const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
 
-// The same with the plane's points given by a mask over `points` (the
-// skeleton method leaves the free points out: they are pushed off the plane).
+// Inputs: as above, with
+//   plane  #P flags: the constraint plane's points
+// Outputs: as above
+// Throws: InputError when plane does not have one flag per point
+//
+// The skeleton method gives its plane's points by a mask: it leaves the free
+// points out, as they are pushed off the plane.
 std::vector<bool> outside_of_constraint(const PointMatrix& points, const SimplexMatrix& A, const std::vector<bool>& plane,
                                         const SimplexMatrix& constraint, const PointMatrix* exact = nullptr);
 
@@ -315,7 +325,7 @@ std::vector<bool> outside_of_constraint(const PointMatrix& points, const Simplex
 //   flat        optional: cells never outside
 // Outputs:
 //   per cell, whether it lies outside the shape
-// Throws: std::runtime_error when a constraint face is not a face of the triangulation
+// Throws: MeshingError when a constraint face is not a face of the triangulation
 //
 // For each cell (row of n+1 vertices: tets in R^3, triangles in R^2, over
 // the first n coordinates of `points`) of a triangulation whose faces include

@@ -30,12 +30,18 @@ struct Interrupter {
   // Throws:
   //   Cancelled  when progress() returns false or interrupted() returns true
   void step(const std::string& name, double fraction) const;
-  // Polls interrupted() alone. Throws Cancelled when it returns true.
+  // Outputs: nothing: returns when the call may go on (progress is not called)
+  // Throws:
+  //   Cancelled  when interrupted() returns true
   void poll() const;
 };
 
-// The fraction `done` of `total` items of a loop that spans [from, to] of a
-// call: for step()s inside long loops.
+// Inputs:
+//   from, to     the span of the call's [0, 1] the loop takes
+//   done, total  items of the loop finished, and all of them
+// Outputs: from + (to - from) * done / total, the fraction to pass to step() inside
+//   a long loop; `to` when total <= 0
+// Throws: nothing
 inline double loop_fraction(double from, double to, long long done, long long total) {
   return total <= 0 ? to : from + (to - from) * static_cast<double>(done) / static_cast<double>(total);
 }

@@ -33,7 +33,10 @@ enum class WrapShape { None, Box, Sphere };
 inline constexpr NameTable<WrapShape, 3> kWrapShapeNames{
     {{WrapShape::Box, "box"}, {WrapShape::Sphere, "sphere"}, {WrapShape::None, "none"}}};
 
-// A name of kWrapShapeNames, or "" for None; throws InputError otherwise.
+// Inputs:
+//   name  a name of kWrapShapeNames, or "" for None
+// Outputs: the shape it names
+// Throws: InputError naming `name` and the choices when the table has no such name
 WrapShape parse_wrap_shape(const std::string& name);
 
 struct WrapResult {
@@ -228,8 +231,12 @@ VoronoiSkeleton voronoi_skeleton(const PointMatrix& V, const SimplexMatrix& F, c
 std::vector<bool> faces_intersecting_mesh(const PointMatrix& faces_V, const SimplexMatrix& faces,
                                           const PointMatrix& V, const SimplexMatrix& F);
 
-// Throws InputError unless (V, F) is a closed, manifold, outward-oriented
-// polygon (R^2) or triangle mesh (R^3) without unused or coincident vertices.
+// Inputs:
+//   V, F  the shape: #V by D points, #F by D faces (D = 2 or 3)
+// Outputs: nothing: returns when the shape is one voronoi_skeleton takes
+// Throws: InputError naming the culprit unless (V, F) is a closed, manifold,
+//   outward-oriented polygon (R^2) or triangle mesh (R^3) without unused or
+//   coincident vertices
 void check_closed_oriented(const PointMatrix& V, const SimplexMatrix& F);
 
 }  // namespace animanifold

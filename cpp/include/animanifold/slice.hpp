@@ -50,8 +50,9 @@ struct Slice {
 //   S     #S by k simplices
 //   axis  0..D-1
 // Outputs: stab(V, S, value) appends the simplices whose extent holds value
-// Throws: InputError when axis is out of range; stab() when given other
-//   points or simplices than the index was built on (by count)
+// Throws: InputError when axis is out of range (S's indices are not checked:
+//   build it on a validated complex, Complex::validate); the methods below say
+//   what each throws
 //
 // An interval index over the simplices' extents along one axis: a sorted
 // array of [min, max] intervals augmented with subtree maxima (an implicit
@@ -62,23 +63,47 @@ struct Slice {
 class IntervalIndex {
  public:
   IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int axis);
-  // Appends the simplices of S (over V: those the index was built on) whose
-  // extent along the axis contains `value`, in an order that depends only
-  // on the index and the set of hits.
+
+  // Inputs:
+  //   V, S   the points and simplices the index was built on
+  //   value  where to stab
+  //   out    hits are appended to it
+  // Outputs: out with the simplices whose extent along the axis contains `value`
+  //   appended, in an order that depends only on the index and the set of hits
+  // Throws: InputError when V or S do not have the counts the index was built on
   void stab(const PointMatrix& V, const SimplexMatrix& S, double value, std::vector<Index>& out) const;
-  // Appends, in the order stab() would, its hits and possibly simplices whose
-  // extent misses `value` by less than a float's rounding: for callers that
-  // read the simplices' points anyway (slicing skips simplices on one side).
+  // Inputs:
+  //   value  where to stab
+  //   out    candidates are appended to it
+  // Outputs: out with stab()'s hits appended, in the order stab() would, and possibly
+  //   simplices whose extent misses `value` by less than a float's rounding
+  // Throws: nothing
+  //
+  // For callers that read the simplices' points anyway (slicing skips
+  // simplices on one side).
   void stab_candidates(double value, std::vector<Index>& out) const;
-  // The topology interval around `value`: the open interval (lo, hi) between
-  // the nearest vertex coordinates below and above it along the axis. No
-  // vertex lies inside, so every slice there cuts the same edges into the same
-  // faces. Empty when `value` lies on a vertex coordinate (or within the
-  // rounding slice() snaps to one) or outside (lowest, highest): the faces
-  // change there.
+  // Inputs:
+  //   value  a coordinate along the axis
+  // Outputs: the topology interval around `value`: the open interval (lo, hi)
+  //   between the nearest vertex coordinates below and above it; nullopt when
+  //   `value` lies on a vertex coordinate (or within the rounding slice() snaps
+  //   to one) or outside (lowest, highest), where the faces change
+  // Throws: nothing
+  //
+  // No vertex lies inside the interval, so every slice there cuts the same
+  // edges into the same faces.
   std::optional<std::pair<double, double>> topology_interval(double value) const;
-  // Whether some vertex's coordinate along the axis lies within `tolerance` of `value`.
+  // Inputs:
+  //   value      a coordinate along the axis
+  //   tolerance  >= 0
+  // Outputs: whether some vertex's coordinate along the axis lies within
+  //   `tolerance` of `value`
+  // Throws: nothing
   bool has_vertex_value_near(double value, double tolerance) const;
+
+  // Outputs: the axis; the lowest and highest coordinate of the simplices along it
+  //   (+inf and -inf without simplices); the index's memory in bytes
+  // Throws: nothing
   int axis() const { return axis_; }
   double lowest() const { return lowest_; }
   double highest() const { return highest_; }
@@ -142,15 +167,19 @@ Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex
 namespace animanifold {
 
 // A frame with how it moves inside its topology interval: live playback.
+// Made by Slicer::interval_frame; a plain value (nothing of it throws).
 //
-// Inside the open interval (lo, hi) every slice has the faces, vertex_edges,
-// face attributes and face_simplex of `slice`, and each of its vertices
-// slides linearly along its manifold edge (a, b): at any v in (lo, hi)
-//   vertex p          = slice.vertices(p)          + (v - value) * rate(p)
-//   attribute p       = slice.vertex_attributes(p) + (v - value) * attribute_rates(p)
-//   edge_parameter p  = slice.edge_parameter(p)    + (v - value) * parameter_rate(p)
-// which is slice(manifold, axis, v) up to rounding. Normals are not linear:
-// recompute them from the moved vertices (frame_vertex_normals).
+// Inputs (of the frame as a function of v):
+//   v  any value in the open interval (lo, hi)
+// Outputs:
+//   the slice at v: the faces, vertex_edges, face attributes and face_simplex
+//   of `slice`, and, each vertex sliding linearly along its manifold edge (a, b),
+//     vertex p          = slice.vertices(p)          + (v - value) * rate(p)
+//     attribute p       = slice.vertex_attributes(p) + (v - value) * attribute_rates(p)
+//     edge_parameter p  = slice.edge_parameter(p)    + (v - value) * parameter_rate(p)
+//   which is slice(manifold, axis, v) up to rounding (Slicer::slice_in_interval
+//   gives it bit for bit). Normals are not linear: recompute them from the moved
+//   vertices (frame_vertex_normals).
 struct IntervalFrame {
   int axis;
   double value;         // the value `slice` was cut at
@@ -168,22 +197,53 @@ struct IntervalFrame {
 // others wait for it.
 class Slicer {
  public:
+  // Inputs:
+  //   manifold  the manifold to slice, shared and never changed (not validated
+  //             here: pass a validated one, Complex::validate)
+  // Throws: InputError when manifold is null
   explicit Slicer(std::shared_ptr<const Complex> manifold);
+
+  // Inputs:
+  //   axis, value, stages  as the free slice()
+  //   use_index            stab through the axis's interval index (built on first
+  //                        use), else test every simplex
+  // Outputs: the free slice()'s Slice
+  // Throws: InputError as the free slice(), and for an axis outside 0..D-1
   Slice slice(int axis, double value, bool use_index = true, SliceStages* stages = nullptr);
-  // The frame at `value` along `axis` with its topology interval and rates
-  // (IntervalFrame). Throws InputError when `value` has no topology interval
-  // (it lies on a vertex coordinate or outside the manifold: the faces change
-  // there) and for what slice() rejects.
+
+  // Inputs:
+  //   axis   0..D-1
+  //   value  where to cut, inside a topology interval
+  // Outputs: IntervalFrame: the frame at `value` with its topology interval and
+  //   each vertex's rates
+  // Throws: InputError when `value` is not finite or has no topology interval (it
+  //   lies on a vertex coordinate or outside the manifold: the faces change
+  //   there), and for what slice() rejects
   IntervalFrame interval_frame(int axis, double value);
-  // The slice at `value` from `frame`, an interval frame of this slicer:
-  // frame.slice's faces, vertex edges and face data with the points, edge
-  // parameters, vertex attributes and normals computed at `value`, identical
-  // bit for bit to slice(frame.axis, value) at the cost of a gather and a lerp
-  // per vertex (frames of a bake or export that share a topology interval).
-  // Throws InputError when `value` is not finite or lies outside frame's
-  // topology interval (topology_interval(value) is another one, or none).
+
+  // Inputs:
+  //   frame  an interval frame of this slicer (interval_frame)
+  //   value  inside frame's topology interval
+  // Outputs: the slice at `value`: frame.slice's faces, vertex edges and face
+  //   data with the points, edge parameters, vertex attributes and normals
+  //   computed at `value`, identical bit for bit to slice(frame.axis, value)
+  // Throws: InputError when `value` is not finite or lies outside frame's
+  //   topology interval (topology_interval(value) is another one, or none), or
+  //   when frame's vertex edges are not edges (a, b), a < b, of this manifold
+  //
+  // The cost is a gather and a lerp per vertex: for the frames of a bake or
+  // export that share a topology interval.
   Slice slice_in_interval(const IntervalFrame& frame, double value);
+
+  // Inputs:
+  //   axis  0..D-1
+  // Outputs: the axis's interval index, built on first use (once, whichever
+  //   threads ask at the same time)
+  // Throws: InputError for an axis outside 0..D-1
   const IntervalIndex& index(int axis);
+
+  // Outputs: the manifold
+  // Throws: nothing
   const Complex& manifold() const { return *manifold_; }
 
  private:

@@ -62,9 +62,14 @@ Complex stitch(const StitchInput& input, const Interrupter& interrupter = {});
 //   would not fit a 32-bit index. stitch() calls it before allocating.
 void check_stitch_size(std::int64_t keyframes, std::int64_t vertices, std::int64_t faces, int corners);
 
-// The manifold simplex that face `face` of the prism between keyframes
-// `segment` and `segment+1` became: simplices of one prism are consecutive,
-// starting at (segment * l + face) * n. Computed in 64 bits (a row index).
+// Inputs:
+//   segment              the keyframe gap: the prism between keyframes segment and segment+1
+//   face                 the keyframe face
+//   face_count           l
+//   simplices_per_prism  n
+// Outputs: the first manifold simplex that face's prism became, (segment * l + face) * n,
+//   in 64 bits (a row index); the prism's n simplices are consecutive from there
+// Throws: nothing (nothing is checked)
 inline Eigen::Index stitched_simplex(Index segment, Index face, Index face_count, int simplices_per_prism) {
   return (Eigen::Index{segment} * face_count + face) * simplices_per_prism;
 }

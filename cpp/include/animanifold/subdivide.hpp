@@ -202,9 +202,16 @@ FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMa
 // manifold edges).
 Slice smooth_slice(const Slice& frame, const FrameSubdivisionOptions& options);
 
-// The value of kManifoldSchemeNames / kFrameSchemeNames named `name`
-// (InputError naming it and the choices otherwise).
+// Inputs:
+//   name  a name of kManifoldSchemeNames
+// Outputs: the scheme it names
+// Throws: InputError naming `name` and the choices when the table has no such name
 ManifoldScheme parse_manifold_scheme(const std::string& name);
+
+// Inputs:
+//   name  a name of kFrameSchemeNames
+// Outputs: the scheme it names
+// Throws: InputError naming `name` and the choices when the table has no such name
 FrameScheme parse_frame_scheme(const std::string& name);
 
 }  // namespace animanifold

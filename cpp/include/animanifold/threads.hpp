@@ -45,27 +45,36 @@ constexpr int kMaxThreads = 1024;
 //   count  threads for the core's parallel work: >= 1, or 0 for every core
 //          (omp_get_num_procs())
 // Outputs:
-//   the count now in use (count, or the number of cores for 0)
-// Throws: InputError naming the count when it is negative or above kMaxThreads.
+//   the count now in use (count, or the number of cores for 0); it also applies to
+//   OpenBLAS (openblas_set_num_threads) and to the calling thread (apply_thread_count)
+// Throws: InputError naming the count when it is negative or above kMaxThreads; the
+//   count in use is then unchanged
 int set_thread_count(int count);
 
-// The threads the core's parallel work uses. Before any set_thread_count(),
-// OpenMP's default (OMP_NUM_THREADS, else every core).
+// Outputs: the threads the core's parallel work uses: the last set_thread_count()'s,
+//   else OpenMP's default when first asked (OMP_NUM_THREADS, else every core), kept
+//   from then on
+// Throws: nothing
 int thread_count();
 
-// Makes the calling thread's OpenMP setting (and so the team size of a BLAS
-// call it makes) the core's count. OpenMP keeps that setting per thread and
-// the caller may be any thread, so code that calls BLAS for a parallel
-// result calls this first (the Laplacian's CHOLMOD calls deliberately run
-// BLAS on one thread instead: see above).
+// Outputs: the calling thread's OpenMP setting (omp_set_num_threads, and so the team
+//   size of a BLAS call it makes) is thread_count()
+// Throws: nothing
+//
+// OpenMP keeps that setting per thread and the caller may be any thread, so
+// code that calls BLAS for a parallel result calls this first (the
+// Laplacian's CHOLMOD calls deliberately run BLAS on one thread instead: see
+// above).
 void apply_thread_count();
 
-// For the tests: the team size a core loop gets, as omp_get_num_threads()
-// reports inside a `num_threads(thread_count())` region.
+// Outputs: the team size a core loop gets, as omp_get_num_threads() reports inside a
+//   `num_threads(thread_count())` region (for the tests)
+// Throws: nothing
 int parallel_team_size();
 
-// For the tests: OpenBLAS's thread count after apply_thread_count() on the
-// calling thread, or 0 when the process's BLAS is not OpenBLAS.
+// Outputs: OpenBLAS's thread count after apply_thread_count() on the calling thread,
+//   or 0 when the process's BLAS is not OpenBLAS (for the tests)
+// Throws: nothing
 int blas_thread_count();
 
 }  // namespace animanifold
