@@ -14,7 +14,8 @@ from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, 
                                      run_blender_binary_smoke, run_blender_in_window, run_then_undo, scene_state,
                                      shown, triangle_looks, until_done)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
-from helpers.morph_scenes import add_sphere_and_torus, add_sphere_and_turned_mirrored_cube, compare_with  # noqa: E402
+from helpers.morph_scenes import (add_sphere_and_torus, add_sphere_and_turned_mirrored_cube,  # noqa: E402
+                                  assert_morph_shows, compare_with)
 from helpers.surface_checks import frame_matches  # noqa: E402
 
 pytestmark = pytest.mark.blender
@@ -89,22 +90,15 @@ def test_sphere_to_torus_is_a_manifold_object_that_starts_as_the_sphere(sphere_t
     assert manifold.time_range == (5.0, 29.0)
     assert manifold.metadata["morph"]["method"] == best_method()
     assert manifold.validity["inverted_simplices"] == 0
-    scene = bpy.context.scene
-    for frame in (5, 1):  # before the range the first frame holds
-        scene.frame_set(frame)
-        report = compare_with(morph, source)
-        assert frame_matches(report), (frame, report)
-    scene.frame_set(17)
+    assert_morph_shows(morph, source, 5, 1)  # before the range the first frame holds
+    bpy.context.scene.frame_set(17)
     assert len(morph.data.polygons) > 0
 
 
 @pytest.mark.xfail(best_method() == "strip", reason=STRIP_ONLY_REASON, strict=True)
 def test_sphere_to_torus_ends_as_the_torus(sphere_to_torus):
     source, target, morph = sphere_to_torus
-    for frame in (29, 40):  # after the range the last frame holds
-        bpy.context.scene.frame_set(frame)
-        report = compare_with(morph, target)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, target, 29, 40)  # after the range the last frame holds
 
 
 def test_reports_name_the_method_the_stages_and_a_change_of_topology(empty_scene, capfd):
@@ -224,10 +218,8 @@ def test_uv_sphere_to_a_turned_mirrored_cube_reproduces_both_ends_over_a_long_ra
     select(source, target)
     assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
     morph = bpy.context.active_object
-    for frame, obj in ((1, source), (120, target)):
-        scene.frame_set(frame)
-        report = compare_with(morph, obj)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, source, 1)
+    assert_morph_shows(morph, target, 120)
     scene.frame_set(60)
     assert len(morph.data.polygons) > 0
 
@@ -245,10 +237,8 @@ def morph_with_clean_frames(source, target, **options) -> dict:
     validity = object_manifold.manifold_for(morph).validity
     assert validity["ends_reproduced"], validity
     assert not validity["frames_cross_themselves"] and validity["bubble_frames"] == [], validity
-    for frame, obj in ((scene.frame_start, source), (scene.frame_end, target)):
-        scene.frame_set(frame)
-        report = compare_with(morph, obj)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, source, scene.frame_start)
+    assert_morph_shows(morph, target, scene.frame_end)
     return validity
 
 

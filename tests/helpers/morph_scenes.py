@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 
 from helpers.blender_helpers import mesh_corners, mesh_vertices
-from helpers.surface_checks import compare_frame
+from helpers.surface_checks import compare_frame, frame_matches
 
 
 def add_sphere_and_turned_mirrored_cube(x: float = 0.0):
@@ -57,3 +57,12 @@ def compare_with(morph, obj) -> dict:
     vertices = vertices @ m[:3, :3].T + m[:3, 3]
     corners = corners @ m[:3, :3].T + m[:3, 3]
     return compare_frame(frame_vertices, frame_corners, vertices, corners[:, ::-1] if mirrored else corners)
+
+
+def assert_morph_shows(morph, obj, *frames: int) -> None:
+    """At each of `frames` the morph's frame is `obj`'s evaluated mesh, within frame_matches's
+    tolerance."""
+    for frame in frames:
+        bpy.context.scene.frame_set(frame)
+        report = compare_with(morph, obj)
+        assert frame_matches(report), (obj.name, frame, report)
