@@ -17,6 +17,7 @@ from ._lib import am
 from .cache_paths import convert_cache_path
 from .live import scene_frame
 from .live_registry import registry
+from .object_manifold import is_manifold_object
 from .object_names import unique_object_name
 from .playback import update_object
 from .progress import Progress
@@ -44,7 +45,7 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
     `directory`, else beside the .blend) and makes the object."""
     if obj.type != "MESH":
         raise OperatorError(f"'{obj.name}' is {messages.object_type(obj)}, not a mesh: only mesh objects can be converted")
-    if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
+    if is_manifold_object(obj):
         raise OperatorError(f"'{obj.name}' is already a manifold object")
     if end <= start:
         raise OperatorError(f"the frame range {start}–{end} is empty: the end frame must be after the start")

@@ -20,12 +20,13 @@ import numpy as np
 
 from . import cache_paths, interactive_deform
 from ._lib import am
-from .deform_constraints import is_manifold_object, manifold_constraints, mesh_constraints
+from .deform_constraints import manifold_constraints, mesh_constraints
 from .deform_handle import local_transform, record_rest, recorded_rest
 from .live import is_live, scene_frame
 from .live_registry import registry
 from .mesh_input import mesh_arrays
 from .mesh_writer import write_points
+from .object_manifold import is_manifold_object
 from .playback import update_object
 from .progress import CoreProgress
 from .reporting import OperatorError

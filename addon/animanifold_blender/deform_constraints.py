@@ -45,11 +45,6 @@ def store(obj, anchors: np.ndarray, handles: np.ndarray) -> None:
     obj[HANDLES_KEY] = [int(x) for x in handles]
 
 
-def is_manifold_object(obj) -> bool:
-    settings = getattr(obj, "animanifold", None)
-    return settings is not None and settings.is_manifold
-
-
 def _group(obj, name: str, what: str, has_stored: bool) -> np.ndarray | None:
     """Members of group `name` (None: no group name given, or a missing/empty group
     made up for by stored constraints); raises when the group is missing or empty."""

@@ -18,12 +18,13 @@ import numpy as np
 
 from . import live_nodes
 from ._lib import am
-from .deform_constraints import is_manifold_object, manifold_constraints, mesh_constraints
+from .deform_constraints import manifold_constraints, mesh_constraints
 from .deform_handle import local_transform, matrix
 from .live import is_live, scene_frame
 from .live_registry import registry
 from .mesh_input import mesh_arrays
 from .mesh_writer import write_mesh, write_points
+from .object_manifold import is_manifold_object
 from .playback import update_object
 from .progress import CoreProgress
 from .reporting import OperatorError, ReportedError

@@ -15,6 +15,13 @@ from ._lib import am
 from .live_registry import registry
 
 
+def is_manifold_object(obj) -> bool:
+    """Whether `obj` (None included) is a manifold object: one whose frames are slices of its
+    cache (made by Convert or Morph Selected)."""
+    settings = getattr(obj, "animanifold", None)
+    return settings is not None and settings.is_manifold
+
+
 def manifold_for(obj):
     """The manifold of a manifold object, loaded (and validated) once per file version."""
     return registry.manifold(cache_paths.cache_abspath(obj), obj.name)

@@ -14,7 +14,7 @@ from . import bake, preferences
 from .bake_object import bake_object
 from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
 from .convert import convert_object
-from .object_manifold import manifold_for
+from .object_manifold import is_manifold_object, manifold_for
 from .operator_defaults import option
 from .polls import active_object_is, in_object_mode
 from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
@@ -46,7 +46,7 @@ class ANIMANIFOLD_OT_convert_action(Operator):
         if obj is None:
             cls.poll_message_set("Select the object to convert")
             return False
-        if getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold:
+        if is_manifold_object(obj):
             cls.poll_message_set("The active object is a manifold already: select its source to convert again")
             return False
         return True
@@ -92,8 +92,7 @@ class ANIMANIFOLD_OT_bake(Operator):
 
     @classmethod
     def poll(cls, context):
-        return active_object_is(cls, context, lambda obj: bool(getattr(obj, "animanifold", None))
-                                and obj.animanifold.is_manifold, "Select a manifold object (made by Convert)")
+        return active_object_is(cls, context, is_manifold_object, "Select a manifold object (made by Convert)")
 
     def execute(self, context):
         preferences.apply_threads(context)
@@ -123,8 +122,7 @@ class ANIMANIFOLD_OT_make_live(Operator):
     @classmethod
     def poll(cls, context):
         obj = context.active_object
-        return obj is not None and getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold \
-            and obj.animanifold.mode == "BAKED"
+        return is_manifold_object(obj) and obj.animanifold.mode == "BAKED"
 
     def execute(self, context):
         obj = context.active_object

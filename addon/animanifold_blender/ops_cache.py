@@ -15,12 +15,12 @@ from bpy.types import Operator
 from . import cache_paths, live
 from ._lib import am
 from .live_registry import registry
+from .object_manifold import is_manifold_object
 from .reporting import OperatorError, reporting
 
 
 def _is_manifold(obj) -> bool:
-    settings = getattr(obj, "animanifold", None)
-    return obj is not None and settings is not None and settings.is_manifold and obj.library is None
+    return is_manifold_object(obj) and obj.library is None
 
 
 class ANIMANIFOLD_OT_relink_cache(Operator):

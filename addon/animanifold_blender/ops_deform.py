@@ -14,12 +14,12 @@ from bpy.types import Operator
 from . import preferences
 from ._lib import am
 from .deform_apply import apply_interactive, check_target, deform_object, finish_deform, plan_deform
-from .deform_constraints import (ANCHORS_KEY, HANDLES_KEY, is_manifold_object, resolve, slice_constraints, store,
-                                 stored)
+from .deform_constraints import ANCHORS_KEY, HANDLES_KEY, resolve, slice_constraints, store, stored
 from .deform_handle import REST_EMPTY_KEY, REST_KEY, empty_for
 from .interactive_deform import session
 from .job_modal import CoreJobModal
 from .live import scene_frame
+from .object_manifold import is_manifold_object
 from .operator_defaults import option
 from .polls import active_object_is
 from .properties import BOUNDARY_ITEMS, ENDPOINT_ITEMS, METHOD_ITEMS
@@ -144,15 +144,20 @@ class ANIMANIFOLD_OT_deform_clear(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and any(k in obj for k in (ANCHORS_KEY, HANDLES_KEY, REST_KEY, REST_EMPTY_KEY))
+        return bool(_stored_keys(context.active_object))
 
     def execute(self, context):
         obj = context.active_object
-        for key in (ANCHORS_KEY, HANDLES_KEY, REST_KEY, REST_EMPTY_KEY):
-            if key in obj:
-                del obj[key]
+        for key in _stored_keys(obj):
+            del obj[key]
         return {"FINISHED"}
+
+
+def _stored_keys(obj) -> list[str]:
+    """The custom properties in which `obj` (None included) keeps its constraints and the Empty's rest."""
+    if obj is None:
+        return []
+    return [key for key in (ANCHORS_KEY, HANDLES_KEY, REST_KEY, REST_EMPTY_KEY) if key in obj]
 
 
 classes = (ANIMANIFOLD_OT_deform, ANIMANIFOLD_OT_deform_store, ANIMANIFOLD_OT_deform_clear)

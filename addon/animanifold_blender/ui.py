@@ -6,22 +6,31 @@ from bpy.types import Panel
 
 from . import bake, live
 from ._lib import am
-from .object_manifold import loaded_manifold
+from .object_manifold import is_manifold_object, loaded_manifold
 
 
-class VIEW3D_PT_animanifold(Panel):
-    bl_label = "Animanifold"
-    bl_idname = "VIEW3D_PT_animanifold"
+class SidebarPanel:
+    """Mixed into each of the add-on's panels: its tab in the 3D View's sidebar."""
+
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Animanifold"
 
+
+def split_layout(layout):
+    """`layout` with labels left and fields right (as Blender's own panels): no label is cut at
+    the default sidebar width; a label longer than LABEL_CHARS would be."""
+    layout.use_property_split = True
+    layout.use_property_decorate = False
+    return layout
+
+
+class VIEW3D_PT_animanifold(SidebarPanel, Panel):
+    bl_label = "Animanifold"
+    bl_idname = "VIEW3D_PT_animanifold"
+
     def draw(self, context):
-        layout = self.layout
-        # Labels left, fields right (as Blender's own panels): no label is cut at the
-        # default sidebar width; a label longer than LABEL_CHARS would be.
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        layout = split_layout(self.layout)
         scene_settings = context.scene.animanifold
         obj = context.active_object
         _draw_convert(layout.box(), scene_settings)
@@ -99,35 +108,25 @@ def _draw_bake(box, scene_settings) -> None:
     box.operator("animanifold.bake", text="Bake", icon="EXPORT")
 
 
-class VIEW3D_PT_animanifold_smooth(Panel):
+class VIEW3D_PT_animanifold_smooth(SidebarPanel, Panel):
     """Smoothing of a manifold object: subdivision of its manifold (shape and motion)
     and OpenSubdiv refinement of its frames; live playback and Bake both use them."""
 
     bl_label = "Smooth"
     bl_idname = "VIEW3D_PT_animanifold_smooth"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Animanifold"
     bl_parent_id = "VIEW3D_PT_animanifold"
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and getattr(obj, "animanifold", None) is not None and obj.animanifold.is_manifold
+        return is_manifold_object(context.active_object)
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        layout = split_layout(self.layout)
         obj = context.active_object
         settings = obj.animanifold
 
-        col = layout.column()
-        col.label(text="Manifold", icon="MOD_SUBSURF")
-        col.prop(settings, "subdivision_levels", text="Levels")
-        row = col.row()
-        row.enabled = settings.subdivision_levels > 0
-        row.prop(settings, "keep_keyframe_times", text="Keep Keys")
+        col = _levels_column(layout, settings, "Manifold", "MOD_SUBSURF", "subdivision_levels",
+                             "keep_keyframe_times", "Keep Keys")
         manifold = loaded_manifold(obj)  # never loads or subdivides while drawing
         if manifold is not None:
             tets = am.subdivided_simplex_count(manifold, settings.subdivision_levels)
@@ -137,12 +136,7 @@ class VIEW3D_PT_animanifold_smooth(Panel):
             elif settings.subdivision_levels > 0:
                 col.label(text=f"{tets:,} {kind}", icon="INFO")
 
-        col = layout.column()
-        col.label(text="Frames", icon="SURFACE_NSURFACE")
-        col.prop(settings, "smooth_levels", text="Levels")
-        row = col.row()
-        row.enabled = settings.smooth_levels > 0
-        row.prop(settings, "crease_angle", text="Crease")
+        col = _levels_column(layout, settings, "Frames", "SURFACE_NSURFACE", "smooth_levels", "crease_angle", "Crease")
         if settings.mode == "LIVE" and obj.type == "MESH" and obj.data is not None and settings.smooth_levels > 0:
             faces = len(obj.data.polygons)
             col.label(text=f"{faces:,} faces this frame", icon="ERROR" if faces >= LARGE_FACES else "INFO")
@@ -150,8 +144,21 @@ class VIEW3D_PT_animanifold_smooth(Panel):
             layout.label(text="The bake keeps the settings it was made with: bake again", icon="INFO")
 
 
+def _levels_column(layout, settings, title: str, icon: str, levels: str, option: str, option_text: str):
+    """A column headed `title` with the `levels` setting, and `option`, which only matters
+    once there is a level (greyed out at 0); returns the column."""
+    col = layout.column()
+    col.label(text=title, icon=icon)
+    col.prop(settings, levels, text="Levels")
+    row = col.row()
+    row.enabled = getattr(settings, levels) > 0
+    row.prop(settings, option, text=option_text)
+    return col
+
+
 # The panel warns from this many shown tets on (slower slicing, more memory).
 LARGE_TETS = 2_000_000
+
 # Frames with this many faces after smoothing play slowly: the panel warns.
 LARGE_FACES = 1_000_000
 

@@ -7,20 +7,16 @@ from bpy.types import Panel
 
 from .deform_constraints import ANCHORS_KEY, HANDLES_KEY, stored
 from .interactive_deform import session
+from .ui import SidebarPanel, split_layout
 
 
-class VIEW3D_PT_animanifold_tools(Panel):
+class VIEW3D_PT_animanifold_tools(SidebarPanel, Panel):
     bl_label = "Tools"
     bl_idname = "VIEW3D_PT_animanifold_tools"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Animanifold"
     bl_parent_id = "VIEW3D_PT_animanifold"
 
     def draw(self, context):
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        layout = split_layout(self.layout)
         col = layout.column(align=True)
         col.label(text="Skeleton", icon="OUTLINER_DATA_ARMATURE")
         row = col.row(align=True)

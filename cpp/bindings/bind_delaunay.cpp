@@ -32,11 +32,7 @@ void bind_delaunay(py::module_& m, py::module_& testing) {
   // (simplices, flat_count, flat_simplices) of a triangulation, computed without the GIL.
   auto triangulation = [](DelaunayTriangulation (*triangulate)(const PointMatrix&)) {
     return [triangulate](PointsRef points) {
-      DelaunayTriangulation dt;
-      {
-        py::gil_scoped_release release;
-        dt = triangulate(points);
-      }
+      DelaunayTriangulation dt = without_gil([&] { return triangulate(points); });
       return py::make_tuple(dt.simplices, dt.flat_simplices, dt.flat);
     };
   };
@@ -48,23 +44,13 @@ void bind_delaunay(py::module_& m, py::module_& testing) {
         "raises InputError for bad points, MeshingError when CGAL fails.");
   testing.def("conforming_delaunay_3d",
         [](PointsRef points, SimplicesRef faces) {
-          ConformingDelaunay c;
-          {
-            py::gil_scoped_release release;
-            c = conforming_delaunay_3d(points, faces, raise_pending_python_signals);
-          }
-          return c;
+          return without_gil([&] { return conforming_delaunay_3d(points, faces, raise_pending_python_signals); });
         },
         py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles "
         "(#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails.");
   testing.def("conforming_delaunay_2d",
         [](PointsRef points, SimplicesRef edges) {
-          ConformingDelaunay c;
-          {
-            py::gil_scoped_release release;
-            c = conforming_delaunay_2d(points, edges);
-          }
-          return c;
+          return without_gil([&] { return conforming_delaunay_2d(points, edges); });
         },
         py::arg("points"), py::arg("edges"), "Conforming Delaunay triangulation (CGAL) of points (#P by 2) and constraint segments (#E by 2): a "
         "ConformingDelaunay; raises InputError for bad indices, MeshingError when CGAL fails.");

@@ -7,11 +7,7 @@ void bind_hole_space(py::module_& m) {
   m.def(
       "hole_space",
       [](PointsRef V, SimplicesRef F) {
-        Solid s;
-        {
-          py::gil_scoped_release release;
-          s = hole_space(V, F);
-        }
+        Solid s = without_gil([&] { return hole_space(V, F); });
         return py::make_tuple(std::move(s.vertices), std::move(s.faces));
       },
       py::arg("vertices"), py::arg("faces"),
@@ -20,11 +16,7 @@ void bind_hole_space(py::module_& m) {
   m.def(
       "intersect_solids",
       [](PointsRef VA, SimplicesRef FA, PointsRef VB, SimplicesRef FB) {
-        Solid s;
-        {
-          py::gil_scoped_release release;
-          s = intersect_solids(VA, FA, VB, FB);
-        }
+        Solid s = without_gil([&] { return intersect_solids(VA, FA, VB, FB); });
         return py::make_tuple(std::move(s.vertices), std::move(s.faces));
       },
       py::arg("vertices_a"), py::arg("faces_a"), py::arg("vertices_b"), py::arg("faces_b"),
@@ -32,11 +24,7 @@ void bind_hole_space(py::module_& m) {
   m.def(
       "subtract_solid",
       [](PointsRef V, SimplicesRef F, PointsRef VH, SimplicesRef FH) {
-        Subtraction r;
-        {
-          py::gil_scoped_release release;
-          r = subtract_solid(V, F, VH, FH);
-        }
+        Subtraction r = without_gil([&] { return subtract_solid(V, F, VH, FH); });
         return py::make_tuple(std::move(r.solid.vertices), std::move(r.solid.faces), r.unchanged);
       },
       py::arg("vertices"), py::arg("faces"), py::arg("hole_vertices"), py::arg("hole_faces"),
@@ -45,8 +33,7 @@ void bind_hole_space(py::module_& m) {
   m.def(
       "points_inside_solid",
       [](PointsRef V, SimplicesRef F, PointsRef P) {
-        py::gil_scoped_release release;
-        return points_inside_solid(V, F, P);
+        return without_gil([&] { return points_inside_solid(V, F, P); });
       },
       py::arg("vertices"), py::arg("faces"), py::arg("points"),
       "Whether each point (#P, 3) lies inside (or on) the closed outward triangle mesh; cavities and "

@@ -58,11 +58,8 @@ static void bind_laplacian_parts(py::module_& testing) {
         "min ½wᵀHw + gᵀw s.t. Σw = 1, w >= lower → (weights, objective, iterations, converged).");
   testing.def("primal_weights",
         [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge) {
-          SparseRowMatrix W;
-          {
-            py::gil_scoped_release release;
-            W = primal_weights(V, S, method, graph_options(lambda, xi, ridge));
-          }
+          const GraphWeightOptions options = graph_options(lambda, xi, ridge);
+          SparseRowMatrix W = without_gil([&] { return primal_weights(V, S, method, options); });
           return csr(W);
         },
         py::arg("points"), py::arg("simplices"), py::arg("method"), py::arg("lam") = defaults.lambda,
@@ -88,11 +85,8 @@ static void bind_laplacian_parts(py::module_& testing) {
   testing.def("laplacian_system",
         [](PointsRef V, SimplicesRef S, LaplacianMethod method, double lambda, double xi, double ridge,
            IndicesRef zero_detail) {
-          DifferentialSystem s;
-          {
-            py::gil_scoped_release release;
-            s = laplacian_system(V, S, laplacian_options(method, lambda, xi, ridge, zero_detail));
-          }
+          const LaplacianOptions options = laplacian_options(method, lambda, xi, ridge, zero_detail);
+          DifferentialSystem s = without_gil([&] { return laplacian_system(V, S, options); });
           return py::make_tuple(csr(s.L), s.delta);
         },
         py::arg("points"), py::arg("simplices"), py::arg("method") = LaplacianMethod::Dual, py::arg("lam") = defaults.lambda,
@@ -140,8 +134,8 @@ static void bind_deformer(py::module_& m) {
              const PointMatrix points = V;
              const SimplexMatrix simplices = S;
              const Interrupter interrupter = interrupter_from(progress, interrupted);
-             py::gil_scoped_release release;
-             return std::make_unique<Deformer>(points, simplices, anchors, handles, o, interrupter);
+             return without_gil(
+                 [&] { return std::make_unique<Deformer>(points, simplices, anchors, handles, o, interrupter); });
            }),
            py::arg("points"), py::arg("simplices"), py::arg("anchors"), py::arg("handles"),
            py::arg("method") = LaplacianMethod::Dual, py::arg("boundary") = BoundaryRule::Grow, py::arg("lam") = defaults.lambda,
@@ -157,8 +151,7 @@ static void bind_deformer(py::module_& m) {
            [](Deformer& d, const Eigen::MatrixXd& T, int steps, const py::object& progress,
               const py::object& interrupted) {
              const Interrupter interrupter = interrupter_from(progress, interrupted);
-             py::gil_scoped_release release;
-             return d.deform(T, steps, interrupter);
+             return without_gil([&] { return d.deform(T, steps, interrupter); });
            },
            py::arg("transform"), py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
            py::arg("interrupted") = py::none(),
@@ -170,8 +163,7 @@ static void bind_deformer(py::module_& m) {
            [](Deformer& d, const PointMatrix& P, int steps, const py::object& progress,
               const py::object& interrupted) {
              const Interrupter interrupter = interrupter_from(progress, interrupted);
-             py::gil_scoped_release release;
-             return d.deform_to(P, steps, interrupter);
+             return without_gil([&] { return d.deform_to(P, steps, interrupter); });
            },
            py::arg("positions"), py::arg("steps") = 1, py::kw_only(), py::arg("progress") = py::none(),
            py::arg("interrupted") = py::none(),
@@ -183,12 +175,7 @@ static void bind_deformer(py::module_& m) {
            [](Deformer& d, int max_iterations, double tolerance, const py::object& progress,
               const py::object& interrupted) {
              const Interrupter interrupter = interrupter_from(progress, interrupted);
-             RestoreStatus s;
-             {
-               py::gil_scoped_release release;
-               s = d.restore(max_iterations, tolerance, interrupter);
-             }
-             return s;
+             return without_gil([&] { return d.restore(max_iterations, tolerance, interrupter); });
            },
            py::arg("max_iterations") = 50, py::arg("tolerance") = 1e-6, py::kw_only(),
            py::arg("progress") = py::none(), py::arg("interrupted") = py::none(),

@@ -61,11 +61,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
         }
         MorphOptions o = chosen.cast<MorphOptions>();
         o.interrupter = interrupter_from(progress, interrupted);
-        Morph result;
-        {
-          py::gil_scoped_release release;
-          result = morph(VS, FS, VT, FT, o);
-        }
+        Morph result = without_gil([&] { return morph(VS, FS, VT, FT, o); });
         return py::make_tuple(std::make_shared<Complex>(std::move(result.manifold)), std::move(result.report));
       },
       py::arg("source_points"), py::arg("source_faces"), py::arg("target_points"), py::arg("target_faces"),
@@ -79,10 +75,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
       [](const Complex& manifold, double t0, double t1, PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT,
          double budget_seconds) {
         MorphReport report;
-        {
-          py::gil_scoped_release release;
-          check_frames(manifold, t0, t1, VS, FS, VT, FT, budget_seconds, report);
-        }
+        without_gil([&] { check_frames(manifold, t0, t1, VS, FS, VT, FT, budget_seconds, report); });
         return report;
       },
       py::arg("manifold"), py::arg("t0"), py::arg("t1"), py::arg("source_points"), py::arg("source_faces"),
@@ -100,8 +93,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
       [](PointsRef V, SimplicesRef F, std::size_t max_pairs, double tolerance) {
         const PointMatrix v = V;
         const SimplexMatrix f = F;
-        py::gil_scoped_release release;
-        return self_intersections(v, f, max_pairs, tolerance);
+        return without_gil([&] { return self_intersections(v, f, max_pairs, tolerance); });
       },
       py::arg("vertices"), py::arg("faces"), py::arg("max_pairs") = 1, py::arg("tolerance") = 0.0,
       "Pairs of faces of a closed shape that cross (not along shared edges/corners); max_pairs=0: all. "
@@ -111,8 +103,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
       [](PointsRef points, PointsRef V, SimplicesRef F) {
         const PointMatrix p = points, v = V;
         const SimplexMatrix f = F;
-        py::gil_scoped_release release;
-        return Eigen::VectorXd(distances_to_surface(p, v, f));
+        return without_gil([&] { return Eigen::VectorXd(distances_to_surface(p, v, f)); });
       },
       py::arg("points"), py::arg("vertices"), py::arg("faces"),
       "Distance from each point to the surface (triangles in R^3, segments in R^2); inf without faces.");
@@ -121,11 +112,7 @@ void bind_morph(py::module_& m, py::module_& testing) {
       [](PointsRef points, PointsRef V, SimplicesRef F) {
         const PointMatrix p = points, v = V;
         const SimplexMatrix f = F;
-        ClosestPoints c;
-        {
-          py::gil_scoped_release release;
-          c = closest_points(p, v, f);
-        }
+        ClosestPoints c = without_gil([&] { return closest_points(p, v, f); });
         return py::make_tuple(Eigen::VectorXd(std::move(c.distance)), IndexVector(std::move(c.face)),
                               PointMatrix(std::move(c.barycentric)));
       },

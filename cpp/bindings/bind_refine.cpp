@@ -36,12 +36,7 @@ void bind_refine(py::module_& m, py::module_& testing) {
           const SimplexMatrix ids = split_vertices;
           const PointMatrix coords = split_barycentric;
           check_memory(refinement_memory(input, ids));
-          Refinement r;
-          {
-            py::gil_scoped_release release;
-            r = refine(input, ids, coords, RefineOptions{epsilon, order});
-          }
-          return r;
+          return without_gil([&] { return refine(input, ids, coords, RefineOptions{epsilon, order}); });
         },
         py::arg("points"), py::arg("simplices"), py::arg("vertex_attributes"), py::arg("simplex_attributes"),
         py::arg("split_vertices"), py::arg("split_barycentric"), py::arg("epsilon") = 1e-3,

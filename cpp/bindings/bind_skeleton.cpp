@@ -69,8 +69,7 @@ static void bind_voronoi_skeleton(py::module_& m) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
           const Interrupter interrupter = interrupter_from(progress, interrupted);
-          py::gil_scoped_release release;
-          return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o, interrupter));
+          return without_gil([&] { return std::make_shared<VoronoiSkeleton>(voronoi_skeleton(v, f, o, interrupter)); });
         },
         py::arg("vertices"), py::arg("faces"), py::arg("side") = SkeletonSide::Both,
         py::arg("max_iterations") = 4, py::arg("wrap") = WrapShape::Box, py::arg("wrap_density") = 4,
@@ -91,12 +90,8 @@ static void bind_separability(py::module_& m) {
         [](PointsRef V, SimplicesRef F, int max_iterations, int neighbourhood, double in_plane_angle) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
-          SeparabilityResult r;
-          {
-            py::gil_scoped_release release;
-            r = make_voronoi_separable(v, f, max_iterations, {neighbourhood, in_plane_angle});
-          }
-          return r;
+          return without_gil(
+              [&] { return make_voronoi_separable(v, f, max_iterations, {neighbourhood, in_plane_angle}); });
         },
         py::arg("vertices"), py::arg("faces"), py::arg("max_iterations") = 4, py::arg("neighbourhood") = 2,
         py::arg("in_plane_angle") = 0.3,
@@ -106,11 +101,8 @@ static void bind_separability(py::module_& m) {
         [](PointsRef V, SimplicesRef F, int neighbourhood, double in_plane_angle) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
-          std::vector<Encroachment> found;
-          {
-            py::gil_scoped_release release;
-            found = encroachments(v, f, {neighbourhood, in_plane_angle});
-          }
+          const std::vector<Encroachment> found =
+              without_gil([&] { return encroachments(v, f, {neighbourhood, in_plane_angle}); });
           SimplexMatrix rows(static_cast<Index>(found.size()), 5);
           Eigen::VectorXd distance(static_cast<Index>(found.size()));
           for (size_t i = 0; i < found.size(); ++i) {
@@ -127,12 +119,7 @@ static void bind_separability(py::module_& m) {
         [](PointsRef V, SimplicesRef F, double limit) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
-          DihedralReport r;
-          {
-            py::gil_scoped_release release;
-            r = dihedral_test(v, f, limit);
-          }
-          return r;
+          return without_gil([&] { return dihedral_test(v, f, limit); });
         },
         py::arg("vertices"), py::arg("faces"), py::arg("limit") = M_PI / 4,
         "Dihedral angles of the mesh's edges against `limit` (radians): a DihedralReport.");
@@ -141,11 +128,7 @@ static void bind_separability(py::module_& m) {
         [](PointsRef V, SimplicesRef F, WrapShape shape, int density, double margin) {
           const PointMatrix v = V;
           const SimplexMatrix f = F;
-          WrapResult r;
-          {
-            py::gil_scoped_release release;
-            r = wrap(v, f, shape, density, margin);
-          }
+          WrapResult r = without_gil([&] { return wrap(v, f, shape, density, margin); });
           return py::make_tuple(r.vertices, r.faces, r.input_vertices, r.input_faces);
         },
         py::arg("vertices"), py::arg("faces"), py::arg("shape") = WrapShape::Box, py::arg("density") = 4,
@@ -157,11 +140,7 @@ static void bind_separability(py::module_& m) {
         [](PointsRef QV, SimplicesRef QF, PointsRef V, SimplicesRef F) {
           const PointMatrix qv = QV, v = V;
           const SimplexMatrix qf = QF, f = F;
-          std::vector<bool> hit;
-          {
-            py::gil_scoped_release release;
-            hit = faces_intersecting_mesh(qv, qf, v, f);
-          }
+          std::vector<bool> hit = without_gil([&] { return faces_intersecting_mesh(qv, qf, v, f); });
           Eigen::Matrix<bool, Eigen::Dynamic, 1> out(static_cast<Index>(hit.size()));
           for (size_t i = 0; i < hit.size(); ++i) out[static_cast<Index>(i)] = hit[i];
           return out;

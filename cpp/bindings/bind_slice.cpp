@@ -34,24 +34,21 @@ void bind_slice(py::module_& m, py::module_& testing) {
            "Slices `manifold` (a Complex), building each axis's interval index on first use.")
       .def("slice",
            [](Slicer& s, int axis, double value, bool use_index) {
-             py::gil_scoped_release release;
-             return std::make_shared<Slice>(s.slice(axis, value, use_index));
+             return without_gil([&] { return std::make_shared<Slice>(s.slice(axis, value, use_index)); });
            },
            py::arg("axis"), py::arg("value"), py::arg("use_index") = true,
            "The Slice of the manifold at coordinate `value` along `axis` (3 is time); `use_index` False tests "
            "every simplex instead. Raises InputError for an axis out of range.")
       .def("interval_frame",
            [](Slicer& s, int axis, double value) {
-             py::gil_scoped_release release;
-             return std::make_shared<IntervalFrame>(s.interval_frame(axis, value));
+             return without_gil([&] { return std::make_shared<IntervalFrame>(s.interval_frame(axis, value)); });
            },
            py::arg("axis"), py::arg("value"),
            "The frame at `value` with its topology interval and rates; ValueError where it has none "
            "(a vertex coordinate, outside the manifold).")
       .def("slice_in_interval",
            [](Slicer& s, const IntervalFrame& frame, double value) {
-             py::gil_scoped_release release;
-             return std::make_shared<Slice>(s.slice_in_interval(frame, value));
+             return without_gil([&] { return std::make_shared<Slice>(s.slice_in_interval(frame, value)); });
            },
            py::arg("frame"), py::arg("value"),
            "The Slice at `value` from `frame` (an IntervalFrame of this slicer): its faces with the points "
@@ -59,8 +56,7 @@ void bind_slice(py::module_& m, py::module_& testing) {
            "ValueError when `value` is outside the frame's topology interval.")
       .def("topology_interval",
            [](Slicer& s, int axis, double value) {
-             py::gil_scoped_release release;
-             return s.index(axis).topology_interval(value);
+             return without_gil([&] { return s.index(axis).topology_interval(value); });
            },
            py::arg("axis"), py::arg("value"),
            "The open interval (lo, hi) around `value` without vertex coordinates (every slice in it has "
@@ -71,10 +67,7 @@ void bind_slice(py::module_& m, py::module_& testing) {
   testing.def("slice_stages",
         [](Slicer& s, int axis, double value) {
           SliceStages stages;
-          {
-            py::gil_scoped_release release;
-            s.slice(axis, value, true, &stages);
-          }
+          without_gil([&] { s.slice(axis, value, true, &stages); });
           py::dict out;
           out["stab"] = stages.stab, out["cut"] = stages.cut, out["weld"] = stages.weld;
           out["output"] = stages.output, out["normals"] = stages.normals;
@@ -85,8 +78,7 @@ void bind_slice(py::module_& m, py::module_& testing) {
         "(the benchmark's breakdown).");
   testing.def("slice",
         [](const Complex& c, int axis, double value) {
-          py::gil_scoped_release release;
-          return std::make_shared<Slice>(slice(c, axis, value));
+          return without_gil([&] { return std::make_shared<Slice>(slice(c, axis, value)); });
         },
         py::arg("manifold"), py::arg("axis"), py::arg("value"),
         "One slice without an index or cached normals (tests every simplex).");

@@ -14,8 +14,7 @@ void bind_stitch(py::module_& m) {
                          IndexVector(vertex_order)};
           check_memory(stitch_memory(in));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
-          py::gil_scoped_release release;
-          return std::make_shared<Complex>(stitch(in, interrupter));
+          return without_gil([&] { return std::make_shared<Complex>(stitch(in, interrupter)); });
         },
         py::arg("frames"), py::arg("faces"), py::arg("times"), py::arg("vertex_attributes") = VertexAttributes{},
         py::arg("face_attributes") = SimplexAttributes{}, py::arg("vertex_order") = IndexVector{},

@@ -77,11 +77,7 @@ void bind_subdivide(py::module_& m) {
           options.keyframe_times = std::move(keyframe_times);
           check_memory(manifold_subdivision_memory(c, levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
-          ManifoldSubdivision result;
-          {
-            py::gil_scoped_release release;
-            result = subdivide_manifold(c, options, interrupter);
-          }
+          ManifoldSubdivision result = without_gil([&] { return subdivide_manifold(c, options, interrupter); });
           return SubdividedManifold{std::make_shared<Complex>(std::move(result.manifold)),
                                     std::move(result.vertex_parents), std::move(result.simplex_parent),
                                     std::move(result.keyframe_times)};
@@ -104,12 +100,8 @@ void bind_subdivide(py::module_& m) {
           check_memory(frame_subdivision_memory(V.rows(), F.rows(), static_cast<int>(F.cols()),
                                                 attribute_columns(vertex_attributes), levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
-          FrameSubdivision r;
-          {
-            py::gil_scoped_release release;
-            r = subdivide_frame(V, F, options, vertex_attributes, face_attributes, interrupter);
-          }
-          return r;
+          return without_gil(
+              [&] { return subdivide_frame(V, F, options, vertex_attributes, face_attributes, interrupter); });
         },
         py::arg("vertices"), py::arg("faces"), py::arg("levels") = 1, py::arg("scheme") = FrameScheme::Loop,
         py::arg("crease_angle") = 30.0, py::arg("crease_edges") = py::none(), py::arg("limit") = true,
@@ -127,12 +119,8 @@ void bind_subdivide(py::module_& m) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::BSpline);
           check_memory(frame_subdivision_memory(V.rows(), E.rows(), 2, attribute_columns(vertex_attributes), levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
-          FrameSubdivision r;
-          {
-            py::gil_scoped_release release;
-            r = subdivide_polyline(V, E, options, vertex_attributes, segment_attributes, interrupter);
-          }
-          return r;
+          return without_gil(
+              [&] { return subdivide_polyline(V, E, options, vertex_attributes, segment_attributes, interrupter); });
         },
         py::arg("vertices"), py::arg("segments"), py::arg("levels") = 1, py::arg("crease_angle") = 30.0,
         py::arg("limit") = true, py::arg("vertex_attributes") = VertexAttributes{},
@@ -148,8 +136,7 @@ void bind_subdivide(py::module_& m) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::Loop);
           check_memory(frame_subdivision_memory(s.vertices.rows(), s.faces.rows(), static_cast<int>(s.faces.cols()),
                                                 attribute_columns(s.vertex_attributes), levels));
-          py::gil_scoped_release release;
-          return std::make_shared<Slice>(smooth_slice(s, options));
+          return without_gil([&] { return std::make_shared<Slice>(smooth_slice(s, options)); });
         },
         py::arg("slice"), py::arg("levels"), py::arg("crease_angle") = 30.0, py::arg("limit") = true,
         "A frame refined with Loop subdivision (OpenSubdiv), or B-spline curves for 2D animations; face_simplex inherited.");

@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 
 #include <optional>
+#include <utility>
 
 #include "animanifold/types.hpp"
 #include "index_arrays.hpp"
@@ -26,6 +27,15 @@ using PointsRef = Eigen::Ref<const PointMatrix>;
 inline void raise_pending_python_signals() {
   py::gil_scoped_acquire acquire;
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+}
+
+// Runs `work` with the GIL released, so that other Python threads run while
+// the core computes, and returns its result (a C++ value: converting it to
+// Python needs the GIL, which is held again when this returns).
+template <class Work>
+auto without_gil(Work&& work) {
+  py::gil_scoped_release release;
+  return std::forward<Work>(work)();
 }
 
 // A read-only property of a bound result class that returns a copy of

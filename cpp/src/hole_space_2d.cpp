@@ -4,7 +4,6 @@
 #include "animanifold/errors.hpp"
 #include "hole_space_internal.hpp"
 
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_2.h>
 #include <CGAL/Polygon_set_2.h>
 #include <CGAL/Polygon_with_holes_2.h>
@@ -19,16 +18,7 @@ namespace animanifold::holes {
 
 namespace {
 
-using K = CGAL::Exact_predicates_exact_constructions_kernel;
-
-// A lazy exact number rounds to the midpoint of its interval until its exact
-// value has been needed, and to the exact value's rounding after: the same
-// point could come out one ulp apart from one call to the next. Always
-// round the exact value.
-template <class Number>
-double rounded(const Number& x) {
-  return CGAL::to_double(CGAL::exact(x));
-}
+using K = ExactKernel;
 using Point = K::Point_2;
 using Polygon = CGAL::Polygon_2<K>;
 using PolygonWithHoles = CGAL::Polygon_with_holes_2<K>;

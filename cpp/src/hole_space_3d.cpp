@@ -5,7 +5,6 @@
 #include "animanifold/errors.hpp"
 #include "hole_space_internal.hpp"
 
-#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
@@ -32,16 +31,7 @@ namespace animanifold::holes {
 namespace {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
-using K = CGAL::Exact_predicates_exact_constructions_kernel;
-
-// A lazy exact number rounds to the midpoint of its interval until its exact
-// value has been needed, and to the exact value's rounding after: the same
-// point could come out one ulp apart from one call to the next. Always
-// round the exact value.
-template <class Number>
-double rounded(const Number& x) {
-  return CGAL::to_double(CGAL::exact(x));
-}
+using K = ExactKernel;
 using Point = K::Point_3;
 using Mesh = CGAL::Surface_mesh<Point>;
 using Triangle = std::array<std::size_t, 3>;

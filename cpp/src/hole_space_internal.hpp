@@ -7,7 +7,21 @@
 #include "animanifold/hole_space.hpp"
 #include "cgal_failures.hpp"
 
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+
 namespace animanifold::holes {
+
+// The CGAL halves construct exactly (Epeck) and round to doubles at the end.
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+
+// A lazy exact number rounds to the midpoint of its interval until its exact
+// value has been needed, and to the exact value's rounding after: the same
+// point could come out one ulp apart from one call to the next. Always
+// round the exact value.
+template <class Number>
+double rounded(const Number& x) {
+  return CGAL::to_double(CGAL::exact(x));
+}
 
 // One operand of a Boolean operation and how messages call it ("the frame").
 struct Operand {

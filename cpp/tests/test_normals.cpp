@@ -1,6 +1,7 @@
 // Wedge products and simplex / vertex normals (normals.hpp).
 #include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
+#include "fixtures.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -27,10 +28,9 @@ TEST(Normals, WedgeInR4IsOrthogonalWithVolumeLength) {
 
 TEST(Normals, SphereVertexNormalsAreRadial) {
   // Octahedron: area-weighted normals at the six vertices are exactly radial.
-  PointMatrix V(6, 3);
-  V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  SimplexMatrix F(8, 3);
-  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
   const PointMatrix N = vertex_normals(V, F);
   for (int v = 0; v < 6; ++v) EXPECT_NEAR((N.row(v) - V.row(v)).norm(), 0, 1e-14);
   const PointMatrix dropped = drop_component(N, 2);
@@ -40,10 +40,9 @@ TEST(Normals, SphereVertexNormalsAreRadial) {
 
 TEST(Normals, HugeAndTinyFramesHaveTheUnitFramesNormals) {
   // Octahedron frame: cross products of 1e154-sized edges overflow unless scaled first.
-  PointMatrix V(6, 3);
-  V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
-  SimplexMatrix F(8, 3);
-  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
   const PointMatrix unit = frame_vertex_normals(V, F);
   for (const double scale : {1e154, 1e300, 1e-170}) {
     const PointMatrix scaled = frame_vertex_normals(V * scale, F);

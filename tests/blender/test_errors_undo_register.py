@@ -7,7 +7,7 @@ import pytest
 
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
-from helpers.blender_helpers import scene_state  # noqa: E402
+from helpers.blender_helpers import run_then_undo, scene_state  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -95,16 +95,7 @@ def test_poll_needs_an_active_object(empty_scene):
 
 
 def test_undo_after_convert_restores_the_scene(demo):
-    before = scene_state()
-    bpy.ops.ed.undo_push(message="before convert")
-    assert bpy.ops.animanifold.convert_action() == {"FINISHED"}
-    # Operators called from Python in background mode push no undo step of their own;
-    # push the one the UI pushes when the operator (bl_options UNDO) finishes.
-    bpy.ops.ed.undo_push(message="Convert to Manifold")
-    assert "Blob_manifold" in bpy.data.objects and bpy.data.objects["Blob"].hide_get()
-    bpy.ops.ed.undo()
-    assert "Blob_manifold" not in bpy.data.objects
-    assert scene_state() == before
+    run_then_undo(bpy.ops.animanifold.convert_action, "Convert to Manifold", made="Blob_manifold", hidden="Blob")
     # Undo reloads data blocks: the handler holds no stale references.
     for frame in (5, 12, 30):
         bpy.context.scene.frame_set(frame)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
@@ -11,11 +10,13 @@ import pytest
 bpy = pytest.importorskip("bpy", reason="bpy (Blender as a Python module: pip install 'bpy>=4.5,<4.6') is not installed")
 
 from helpers.blender_helpers import (BLENDER, NO_BLENDER_BINARY, NO_XVFB, XVFB, ModalContext,  # noqa: E402
-                             RecordingProgressBar, mesh_corners, mesh_vertices, modal_event, modal_stand_in,
-                             run_blender_binary_smoke, run_blender_in_window, scene_state, shown, triangle_looks,
-                             until_done)
+                                     RecordingProgressBar, mesh_vertices, modal_event, modal_stand_in,
+                                     run_blender_binary_smoke, run_blender_in_window, run_then_undo, scene_state,
+                                     shown, triangle_looks, until_done)
 from helpers.blender_helpers import select_pair as select  # noqa: E402
-from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
+from helpers.morph_scenes import (add_sphere_and_torus, add_sphere_and_turned_mirrored_cube,  # noqa: E402
+                                  assert_morph_shows, compare_with)
+from helpers.surface_checks import frame_matches  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -71,44 +72,10 @@ def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
     assert len(shown(morph).polygons) > 0
 
 
-def evaluated(obj) -> tuple[np.ndarray, np.ndarray]:
-    """(vertices, triangle corners) of the evaluated mesh, in the object's local space."""
-    ob_eval = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = ob_eval.to_mesh()
-    try:
-        return mesh_vertices(mesh), mesh_corners(mesh)
-    finally:
-        ob_eval.to_mesh_clear()
-
-
-def compare_with(morph, obj) -> dict:
-    """The morph's current frame against `obj`'s evaluated mesh, both in the morph's frame."""
-    frame_vertices, frame_corners = evaluated(morph)
-    vertices, corners = evaluated(obj)
-    m = np.linalg.inv(np.array(morph.matrix_world)) @ np.array(obj.matrix_world)
-    mirrored = np.linalg.det(m[:3, :3]) < 0  # keep the triangles outward
-    vertices = vertices @ m[:3, :3].T + m[:3, 3]
-    corners = corners @ m[:3, :3].T + m[:3, 3]
-    return compare_frame(frame_vertices, frame_corners, vertices, corners[:, ::-1] if mirrored else corners)
-
-
-def add_pair_sphere_torus():
-    """A UV sphere and a torus (different genus, quads), moved, turned and scaled differently."""
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=1.0, location=(0.3, -0.2, 1.0),
-                                         rotation=(0.4, 0.0, 0.2))
-    source = bpy.context.active_object
-    bpy.ops.mesh.primitive_torus_add(major_segments=16, minor_segments=8, major_radius=0.7, minor_radius=0.3,
-                                     location=(0.35, -0.1, 1.05), rotation=(math.radians(70), 0.0, 0.5))
-    target = bpy.context.active_object
-    target.scale = (1.1, 1.1, 1.1)
-    bpy.context.view_layer.update()
-    return source, target
-
-
 @pytest.fixture()
 def sphere_to_torus(empty_scene):
     """Morph Selected, frames 5–29 (not the scene range), from the sphere to the torus."""
-    source, target = add_pair_sphere_torus()
+    source, target = add_sphere_and_torus()
     select(source, target)
     assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=5, frame_end=29) == {"FINISHED"}
     return source, target, bpy.context.active_object
@@ -123,26 +90,19 @@ def test_sphere_to_torus_is_a_manifold_object_that_starts_as_the_sphere(sphere_t
     assert manifold.time_range == (5.0, 29.0)
     assert manifold.metadata["morph"]["method"] == best_method()
     assert manifold.validity["inverted_simplices"] == 0
-    scene = bpy.context.scene
-    for frame in (5, 1):  # before the range the first frame holds
-        scene.frame_set(frame)
-        report = compare_with(morph, source)
-        assert frame_matches(report), (frame, report)
-    scene.frame_set(17)
+    assert_morph_shows(morph, source, 5, 1)  # before the range the first frame holds
+    bpy.context.scene.frame_set(17)
     assert len(morph.data.polygons) > 0
 
 
 @pytest.mark.xfail(best_method() == "strip", reason=STRIP_ONLY_REASON, strict=True)
 def test_sphere_to_torus_ends_as_the_torus(sphere_to_torus):
     source, target, morph = sphere_to_torus
-    for frame in (29, 40):  # after the range the last frame holds
-        bpy.context.scene.frame_set(frame)
-        report = compare_with(morph, target)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, target, 29, 40)  # after the range the last frame holds
 
 
 def test_reports_name_the_method_the_stages_and_a_change_of_topology(empty_scene, capfd):
-    source, target = add_pair_sphere_torus()
+    source, target = add_sphere_and_torus()
     select(source, target)
     capfd.readouterr()
     assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
@@ -159,7 +119,7 @@ def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(
     """Method: Field on Blender's UV sphere and torus: both ends reproduced where the range starts
     and ends, no hole space, and a report of the frames checked, the topology changes between them
     and whether every check passed."""
-    source, target = add_pair_sphere_torus()
+    source, target = add_sphere_and_torus()
     select(source, target)
     capfd.readouterr()
     assert bpy.ops.animanifold.morph_selected(method="FIELD") == {"FINISHED"}
@@ -205,7 +165,7 @@ def test_the_morph_shows_each_inputs_uv_map_and_material_at_its_end(empty_scene,
     """Morph Selected on a textured UV sphere and torus: the result holds both materials and the UV
     map, and at each end every corner of the frame is a corner of that input (its position and its
     UV, on the right side of the seams) with the input's material."""
-    source, target = add_pair_sphere_torus()
+    source, target = add_sphere_and_torus()
     source_material, target_material = textured(source, "sphere look"), textured(target, "torus look")
     select(source, target)
     assert bpy.ops.animanifold.morph_selected(method=method) == {"FINISHED"}
@@ -240,7 +200,7 @@ def test_a_failing_core_is_reported_with_its_stage_and_nothing_changes(empty_sce
         progress("conforming", 0.3)
         raise RuntimeError("TetGen gave up")
 
-    source, target = add_pair_sphere_torus()
+    source, target = add_sphere_and_torus()
     select(source, target)
     before = scene_state()
     monkeypatch.setattr(ops_morph.am, "morph", failing)
@@ -254,19 +214,12 @@ def test_uv_sphere_to_a_turned_mirrored_cube_reproduces_both_ends_over_a_long_ra
     included) align the inputs, and a long frame range (1–120) is fine."""
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, 120
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=1.0, location=(0.0, 0.0, 0.0))
-    source = bpy.context.active_object
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.4, 0.1, -0.2), rotation=(0.3, 0.2, 0.6))
-    target = bpy.context.active_object
-    target.scale = (1.4, -1.1, 0.9)
-    bpy.context.view_layer.update()
+    source, target = add_sphere_and_turned_mirrored_cube()
     select(source, target)
     assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
     morph = bpy.context.active_object
-    for frame, obj in ((1, source), (120, target)):
-        scene.frame_set(frame)
-        report = compare_with(morph, obj)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, source, 1)
+    assert_morph_shows(morph, target, 120)
     scene.frame_set(60)
     assert len(morph.data.polygons) > 0
 
@@ -284,10 +237,8 @@ def morph_with_clean_frames(source, target, **options) -> dict:
     validity = object_manifold.manifold_for(morph).validity
     assert validity["ends_reproduced"], validity
     assert not validity["frames_cross_themselves"] and validity["bubble_frames"] == [], validity
-    for frame, obj in ((scene.frame_start, source), (scene.frame_end, target)):
-        scene.frame_set(frame)
-        report = compare_with(morph, obj)
-        assert frame_matches(report), (frame, report)
+    assert_morph_shows(morph, source, scene.frame_start)
+    assert_morph_shows(morph, target, scene.frame_end)
     return validity
 
 
@@ -427,16 +378,7 @@ def test_undo_and_redo_of_a_morph(empty_scene):
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_cube_add(size=1.5, location=(0.2, 0.0, 0.0))
     select(source, bpy.context.active_object)
-    before = scene_state()
-    bpy.ops.ed.undo_push(message="before morph")
-    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
-    # Operators called from Python in background mode push no undo step of their own;
-    # push the one the UI pushes when the operator (bl_options UNDO) finishes.
-    bpy.ops.ed.undo_push(message="Morph Selected")
-    assert "Icosphere_to_Cube" in bpy.data.objects and bpy.data.objects["Icosphere"].hide_get()
-    bpy.ops.ed.undo()
-    assert "Icosphere_to_Cube" not in bpy.data.objects
-    assert scene_state() == before
+    run_then_undo(bpy.ops.animanifold.morph_selected, "Morph Selected", made="Icosphere_to_Cube", hidden="Icosphere")
     bpy.ops.ed.redo()
     morph = bpy.data.objects["Icosphere_to_Cube"]
     bpy.context.scene.frame_set(40)

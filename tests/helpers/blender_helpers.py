@@ -110,6 +110,21 @@ def scene_state() -> dict:
     }
 
 
+def run_then_undo(operator, step: str, made: str, hidden: str) -> None:
+    """Runs `operator` as the interface does, checks that it made the object `made` and hid
+    `hidden`, then undoes it: `made` is gone and the scene is as before. Redo is the caller's."""
+    before = scene_state()
+    bpy.ops.ed.undo_push(message=f"before {step}")
+    assert operator() == {"FINISHED"}
+    # Operators called from Python in background mode push no undo step of their own;
+    # push the one the UI pushes when the operator (bl_options UNDO) finishes.
+    bpy.ops.ed.undo_push(message=step)
+    assert made in bpy.data.objects and bpy.data.objects[hidden].hide_get()
+    bpy.ops.ed.undo()
+    assert made not in bpy.data.objects
+    assert scene_state() == before
+
+
 def run_fresh_blender(script: str, *args: str, timeout: int = 240) -> str:
     """Runs `script` in a fresh python3 process with bpy, WITHOUT the add-on or the
     animanifold package on sys.path; returns its stdout."""

@@ -11,7 +11,6 @@ The last line is "MORPH SMOKE OK <version> method=<method> torus_end=<exact|off:
 with the strip method (§8.5) the torus's end is reported, not asserted (stripping
 alone cannot reproduce a change of genus); with any other method it is asserted.
 """
-import math
 import os
 import sys
 
@@ -22,7 +21,9 @@ import numpy as np
 zip_path, scenes_dir, out_dir = sys.argv[sys.argv.index("--") + 1:][:3]
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # tests/, for helpers
 from helpers.blender_helpers import select_pair as select  # noqa: E402
-from helpers.surface_checks import compare_frame, frame_matches  # noqa: E402
+from helpers.morph_scenes import (add_sphere_and_torus, add_sphere_and_turned_mirrored_cube,  # noqa: E402
+                                  assert_morph_shows, compare_with, evaluated)
+from helpers.surface_checks import frame_matches  # noqa: E402
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
@@ -33,65 +34,22 @@ from animanifold_blender import object_manifold, ops_morph  # noqa: E402
 
 assert "animanifold_blender" in animanifold_blender._lib.am.__name__, animanifold_blender._lib.am.__name__
 
-
-def evaluated(obj):
-    ob_eval = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = ob_eval.to_mesh()
-    try:
-        mesh.calc_loop_triangles()
-        co = np.empty(3 * len(mesh.vertices), np.float32)
-        mesh.vertices.foreach_get("co", co)
-        tv = np.empty(3 * len(mesh.loop_triangles), np.int32)
-        mesh.loop_triangles.foreach_get("vertices", tv)
-        v = co.reshape(-1, 3).astype(np.float64)
-        return v, v[tv.reshape(-1, 3)]
-    finally:
-        ob_eval.to_mesh_clear()
-
-
-def compare_with(morph, obj):
-    """The morph's evaluated frame against obj's evaluated mesh, in the morph's frame."""
-    frame_vertices, frame_corners = evaluated(morph)
-    vertices, corners = evaluated(obj)
-    m = np.linalg.inv(np.array(morph.matrix_world)) @ np.array(obj.matrix_world)
-    vertices = vertices @ m[:3, :3].T + m[:3, 3]
-    corners = corners @ m[:3, :3].T + m[:3, 3]
-    if np.linalg.det(m[:3, :3]) < 0:
-        corners = corners[:, ::-1]
-    return compare_frame(frame_vertices, frame_corners, vertices, corners)
-
-
 scene = bpy.context.scene
 scene.frame_start, scene.frame_end = 1, 24
 blend = os.path.join(out_dir, "morph_smoke.blend")
 bpy.ops.wm.save_as_mainfile(filepath=blend)  # the caches go beside it
 
 # Same genus: both ends exact with any method.
-bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=1.0, location=(5.0, 0.0, 0.0))
-ball = bpy.context.active_object
-ball.name = "Ball"
-bpy.ops.mesh.primitive_cube_add(size=1.0, location=(5.4, 0.1, -0.2), rotation=(0.3, 0.2, 0.6))
-box = bpy.context.active_object
-box.name = "Box"
-box.scale = (1.4, -1.1, 0.9)
-bpy.context.view_layer.update()
+ball, box = add_sphere_and_turned_mirrored_cube(x=5.0)
+ball.name, box.name = "Ball", "Box"  # so that the next pair keeps the names "Sphere" and "Torus"
 select(ball, box)
 assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
 cube_morph = bpy.context.active_object
-for frame, obj in ((1, ball), (24, box)):
-    scene.frame_set(frame)
-    report = compare_with(cube_morph, obj)
-    assert frame_matches(report), ("sphere → cube", frame, report)
+assert_morph_shows(cube_morph, ball, 1)
+assert_morph_shows(cube_morph, box, 24)
 
 # Different genus: a UV sphere into a torus.
-bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, radius=1.0, location=(0.3, -0.2, 1.0),
-                                     rotation=(0.4, 0.0, 0.2))
-sphere = bpy.context.active_object
-bpy.ops.mesh.primitive_torus_add(major_segments=16, minor_segments=8, major_radius=0.7, minor_radius=0.3,
-                                 location=(0.35, -0.1, 1.05), rotation=(math.radians(70), 0.0, 0.5))
-torus = bpy.context.active_object
-torus.scale = (1.1, 1.1, 1.1)
-bpy.context.view_layer.update()
+sphere, torus = add_sphere_and_torus()
 select(sphere, torus)
 assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
 morph = bpy.context.active_object
