@@ -29,7 +29,7 @@ step() {  # step NAME LOG COMMAND...: runs the command, prints its wall and CPU 
 
 step configure "$build.configure.log" cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DANIMANIFOLD_MODULE_DIR="$PWD/$build/python/animanifold" \
-  -DANIMANIFOLD_SANITIZED_TESTS="${SANITIZED_TESTS:-address,undefined}"
+  -DANIMANIFOLD_SANITIZED_TESTS="${SANITIZED_TESTS:-address,undefined}" -DANIMANIFOLD_SANITIZED_MODULE=ON
 # What scripts/build.sh builds: the module, the tests and the C++ benchmarks.
 benches=$(find bench -maxdepth 1 -name 'bench_*.cpp' ! -name 'bench_vdb_morph.cpp' -printf '%f\n' | sed 's/\.cpp$//')
 # shellcheck disable=SC2086
@@ -40,3 +40,7 @@ step "sanitized core (our own units only)" "$build.core.log" cmake --build "$bui
 step "sanitized tests (compile, link, discovery)" "$build.tests.log" cmake --build "$build" -j2 --target animanifold_tests_sanitized
 step "sanitized ctest, serial" "$build.ctest.log" ctest --test-dir "$build" -R '^sanitized\.' --output-on-failure
 grep -E "tests passed|tests failed" "$build.ctest.log" || true
+step "sanitized module (the bindings)" "$build.module.log" cmake --build "$build" -j2 --target _core_sanitized
+step "sanitized Python subset" "$build.pytest.log" \
+  bash scripts/sanitized-pytest.sh "$build/sanitized/python" "$build/sanitized/logs" "${SANITIZED_TESTS:-address,undefined}"
+tail -2 "$build.pytest.log" || true

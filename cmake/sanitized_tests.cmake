@@ -72,11 +72,12 @@ gtest_discover_tests(animanifold_tests_sanitized DISCOVERY_TIMEOUT 120 TEST_PREF
   "ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1")
 
 # The Python module from the same sanitized core, for running Python tests under the
-# sanitizer (ThreadSanitizer on the threaded tests; scripts/sanitize.sh SANITIZE_ONLY_OWN=1).
-# Off in CI: the bindings are the slowest of our own units to compile.
+# sanitizer (scripts/sanitized-pytest.sh: CI's fast subset, ThreadSanitizer on the threaded
+# tests, scripts/sanitize.sh SANITIZE_SCOPE=own). scripts/build.sh turns it on with the tests.
 option(ANIMANIFOLD_SANITIZED_MODULE "Also build a sanitized _core into <build>/sanitized/python/animanifold" OFF)
 if(ANIMANIFOLD_SANITIZED_MODULE)
-  pybind11_add_module(_core_sanitized ${ANIMANIFOLD_BINDINGS})
+  # NO_EXTRAS: no link-time optimisation, whose link would compile the whole module again.
+  pybind11_add_module(_core_sanitized NO_EXTRAS ${ANIMANIFOLD_BINDINGS})
   target_compile_options(_core_sanitized PRIVATE ${_sanitize_flags})
   target_link_libraries(_core_sanitized PRIVATE animanifold_core_sanitized)
   set_target_properties(_core_sanitized PROPERTIES OUTPUT_NAME _core

@@ -43,10 +43,6 @@ cmake -S . -B "$build" -G Ninja "${scope_flags[@]}" \
   || { tail -40 "$logs/build.log"; exit 1; }
 cmake --build "$build" -j"${JOBS:-2}" >> "$logs/build.log" 2>&1 || { tail -60 "$logs/build.log"; exit 1; }
 
-# The package's Python sources beside the sanitized module, so that imports find that one.
-find "$python_dir/animanifold" -maxdepth 1 -name '*.py' -delete
-cp python/animanifold/*.py "$python_dir/animanifold/"
-
 # Reports go to files (log_path), one per process, so that findings in the C++ tests, in
 # python3 and in the CLI subprocesses the tests start are all counted. UBSan's checks go on
 # after a report (it is compiled to recover), so one run lists every kind of finding.
@@ -62,25 +58,10 @@ ctest_args=(--test-dir "$build" --output-on-failure -j1 --timeout 900)
 ctest "${ctest_args[@]}" > "$logs/ctest.log" 2>&1 || status=1
 tail -3 "$logs/ctest.log"
 
-if [ "$SANITIZE" = thread ]; then runtime=$(gcc -print-file-name=libtsan.so); else runtime=$(gcc -print-file-name=libasan.so); fi
-# libstdc++ preloaded too: python3 does not link it, so the sanitizer would find no
-# __cxa_throw to intercept when it starts, and abort at the first C++ exception.
-runtime="$runtime $(gcc -print-file-name=libstdc++.so.6)"
-tests=${SANITIZE_TESTS:-"tests/test_input_validation.py tests/test_fuzz_corpus.py tests/test_stitch.py \
-  tests/test_slice.py tests/test_refine.py tests/test_subdivide.py tests/test_cache.py tests/test_memory_limit.py"}
-# The interpreter itself, not a wrapper script (pyenv's shim): bash segfaults with libtsan preloaded.
-python=$(python3 -c 'import sys; print(sys.executable)')
-echo "sanitize: pytest with the sanitized module (log $logs/pytest.log): $tests"
-# pytest puts its `pythonpath` (python/) first; -o points it at the sanitized tree instead.
-# shellcheck disable=SC2086
-LD_PRELOAD="$runtime" "$python" -m pytest -q -p no:cacheprovider -o pythonpath="$python_dir" \
-  $tests > "$logs/pytest.log" 2>&1 || status=1
-tail -3 "$logs/pytest.log"
-LD_PRELOAD="$runtime" PYTHONPATH="$python_dir" "$python" -c \
-  "import animanifold._core as c, sys; sys.exit(0 if c.__file__.startswith('$python_dir') else 1)" \
-  || { echo "sanitize: python3 did not load the sanitized module" >&2; status=1; }
+# The Python side, with its own logs (the script clears them), counted apart from ctest's.
+bash scripts/sanitized-pytest.sh "$python_dir" "$logs/python" "$SANITIZE" || status=1
 
-reports=$(find "$logs" -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' | sort)
+reports=$(find "$logs" -maxdepth 1 \( -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' \) | sort)
 if [ -n "$reports" ]; then
   status=1
   echo "sanitize: findings ($(echo "$reports" | wc -l) report files in $logs):"

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import ast
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -169,3 +172,33 @@ def test_the_packages_own_errors_are_animanifold_errors(tmp_path, sphere):
     with pytest.raises(cli.UserError, match="--fps must be a positive number") as caught:
         cli.keyframe_times(2, None, -1.0, ["a.obj", "b.obj"])
     assert isinstance(caught.value, am.Error)
+
+
+def test_the_package_raises_only_animanifold_errors():
+    # A caller catches animanifold.Error for every refusal of ours; a builtin raised by the
+    # package itself would slip past it. Library errors caught and re-raised keep their type
+    # as the cause only.
+    package = Path(am.__file__).parent
+    builtins_raised = []
+    for module in sorted(package.glob("*.py")):
+        for node in ast.walk(ast.parse(module.read_text())):
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) \
+                    and isinstance(node.exc.func, ast.Name) and node.exc.func.id in _BUILTIN_ERRORS:
+                builtins_raised.append(f"{module.name}:{node.lineno} raises {node.exc.func.id}")
+    assert builtins_raised == []
+
+
+_BUILTIN_ERRORS = {"ValueError", "TypeError", "RuntimeError", "OSError", "KeyError", "IndexError", "Exception"}
+
+
+@pytest.mark.parametrize("call", [
+    lambda v, f: am.stitch([v, v], f, [0.0, 1.0]).slice(0.5, smooth_levels=-1),
+    lambda v, f: am.stitch([v, v], f, [0.0, 1.0]).slice(0.5, axis="w"),
+    lambda v, f: am.LaplacianOptions(method="magic"),
+    lambda v, f: am.refine(am.stitch([v, v], f, [0.0, 1.0]), [[0, 1]], order="sideways"),
+], ids=["smoothing levels", "slice axis", "laplacian method", "refine order"])
+def test_the_packages_own_checks_raise_input_errors(sphere, call):
+    v, f = sphere
+    with pytest.raises(am.InputError) as caught:
+        call(v, f)
+    assert isinstance(caught.value, am.Error) and isinstance(caught.value, ValueError)

@@ -4,6 +4,7 @@ watertightness, and refusal of bad input."""
 
 from __future__ import annotations
 
+import warnings
 
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ import pytest
 import animanifold as am
 from animanifold import skeleton as skel
 
-from helpers.shapes import cube, icosphere
+from helpers.shapes import cube, icosphere, torus
 from helpers.shared_files import shared_mesh
 
 # ---------------------------------------------------------------- helpers
@@ -242,9 +243,22 @@ def test_cospherical_convex_input_has_an_empty_skeleton():
     """All vertices on one sphere: every Delaunay cell shares one Voronoi vertex
     (Qhull's triangulated pieces keep one centre), so there is no bisector polygon."""
     v, f = icosphere(2)
-    sk = am.voronoi_skeleton(v, f)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", am.EmptySkeletonWarning)  # a convex shape has no external skeleton
+        sk = am.voronoi_skeleton(v, f, side="external")
     assert sk.separable and len(sk.faces) == 0 and len(sk.vertices) == 0
     assert_voronoi_property(sk)
+
+
+def test_an_empty_skeleton_of_a_shape_that_has_one_is_warned_of():
+    """A primitive torus is sampled on circles, so many of its vertices share a sphere and the
+    core finds no bisector to keep: the empty result must not pass for a skeleton."""
+    v, f = torus()
+    with pytest.warns(am.EmptySkeletonWarning, match="not convex.*sampled too regularly"):
+        sk = am.voronoi_skeleton(v, f)
+    assert len(sk.faces) == 0
+    with pytest.warns(am.EmptySkeletonWarning, match="^the internal skeleton came out empty: .*sampled too regularly"):
+        am.voronoi_skeleton(*icosphere(2), side="internal")
 
 
 def test_two_spheres_external_skeleton_contains_their_bisecting_plane():

@@ -1,4 +1,3 @@
-#include "animanifold/memory_estimates.hpp"
 #include "animanifold/refine.hpp"
 #include "bindings.hpp"
 #include "named_enum.hpp"
@@ -35,7 +34,6 @@ void bind_refine(py::module_& m, py::module_& testing) {
           Complex input{V, S, std::move(vertex_attributes), std::move(simplex_attributes)};
           const SimplexMatrix ids = split_vertices;
           const PointMatrix coords = split_barycentric;
-          check_memory(refinement_memory(input, ids));
           return without_gil([&] { return refine(input, ids, coords, RefineOptions{epsilon, order}); });
         },
         py::arg("points"), py::arg("simplices"), py::arg("vertex_attributes"), py::arg("simplex_attributes"),

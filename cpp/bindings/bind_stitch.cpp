@@ -1,4 +1,3 @@
-#include "animanifold/memory_estimates.hpp"
 #include "animanifold/stitch.hpp"
 #include "bindings.hpp"
 #include "interrupter.hpp"
@@ -12,7 +11,6 @@ void bind_stitch(py::module_& m) {
            const py::object& interrupted) {
           StitchInput in{frames, faces, times, std::move(vertex_attributes), std::move(face_attributes),
                          IndexVector(vertex_order)};
-          check_memory(stitch_memory(in));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           return without_gil([&] { return std::make_shared<Complex>(stitch(in, interrupter)); });
         },

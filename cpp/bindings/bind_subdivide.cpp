@@ -1,4 +1,3 @@
-#include "animanifold/memory_estimates.hpp"
 #include "animanifold/subdivide.hpp"
 #include "bindings.hpp"
 #include "interrupter.hpp"
@@ -25,12 +24,6 @@ FrameSubdivisionOptions frame_options(int levels, double crease_angle, bool limi
   options.crease_angle_degrees = crease_angle;
   options.limit = limit;
   return options;
-}
-
-Eigen::Index attribute_columns(const VertexAttributes& attributes) {
-  Eigen::Index columns = 0;
-  for (const auto& [name, table] : attributes) columns += table.cols();
-  return columns;
 }
 
 void bind_frame_subdivision(py::module_& m) {
@@ -75,7 +68,6 @@ void bind_subdivide(py::module_& m) {
           options.scheme = scheme;
           options.keep_keyframe_times = keep_keyframe_times;
           options.keyframe_times = std::move(keyframe_times);
-          check_memory(manifold_subdivision_memory(c, levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           ManifoldSubdivision result = without_gil([&] { return subdivide_manifold(c, options, interrupter); });
           return SubdividedManifold{std::make_shared<Complex>(std::move(result.manifold)),
@@ -97,8 +89,6 @@ void bind_subdivide(py::module_& m) {
            SimplexAttributes face_attributes, const py::object& progress, const py::object& interrupted) {
           FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, scheme);
           if (crease_edges) options.crease_edges = std::move(*crease_edges);
-          check_memory(frame_subdivision_memory(V.rows(), F.rows(), static_cast<int>(F.cols()),
-                                                attribute_columns(vertex_attributes), levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           return without_gil(
               [&] { return subdivide_frame(V, F, options, vertex_attributes, face_attributes, interrupter); });
@@ -117,7 +107,6 @@ void bind_subdivide(py::module_& m) {
         [](PointsRef V, SimplicesRef E, int levels, double crease_angle, bool limit, VertexAttributes vertex_attributes,
            SimplexAttributes segment_attributes, const py::object& progress, const py::object& interrupted) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::BSpline);
-          check_memory(frame_subdivision_memory(V.rows(), E.rows(), 2, attribute_columns(vertex_attributes), levels));
           const Interrupter interrupter = interrupter_from(progress, interrupted);
           return without_gil(
               [&] { return subdivide_polyline(V, E, options, vertex_attributes, segment_attributes, interrupter); });
@@ -134,8 +123,6 @@ void bind_subdivide(py::module_& m) {
   m.def("smooth_slice",
         [](const Slice& s, int levels, double crease_angle, bool limit) {
           const FrameSubdivisionOptions options = frame_options(levels, crease_angle, limit, FrameScheme::Loop);
-          check_memory(frame_subdivision_memory(s.vertices.rows(), s.faces.rows(), static_cast<int>(s.faces.cols()),
-                                                attribute_columns(s.vertex_attributes), levels));
           return without_gil([&] { return std::make_shared<Slice>(smooth_slice(s, options)); });
         },
         py::arg("slice"), py::arg("levels"), py::arg("crease_angle") = 30.0, py::arg("limit") = true,

@@ -1,6 +1,7 @@
 // OpenSubdiv refinement of frames (Loop / Catmull-Clark) with creases at
 // sharp edges. See subdivide.hpp.
 #include "animanifold/errors.hpp"
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/subdivide.hpp"
 #include "animanifold/threads.hpp"
 #include "subdivision_shared.hpp"
@@ -408,6 +409,7 @@ PointMatrix curve_normals(const PointMatrix& vertices, const SimplexMatrix& segm
 FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatrix& faces,
                                  const FrameSubdivisionOptions& options, const VertexAttributes& vertex_attributes,
                                  const SimplexAttributes& face_attributes, const Interrupter& interrupter) {
+  check_memory(frame_subdivision_memory(vertices, faces, vertex_attributes, options.levels));
   check_frame_input(vertices, faces, options, vertex_attributes, face_attributes);
   const Index nF = static_cast<Index>(faces.rows());
   interrupter.step("creases", 0.0);
@@ -441,6 +443,7 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
 FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMatrix& segments,
                                     const FrameSubdivisionOptions& options, const VertexAttributes& vertex_attributes,
                                     const SimplexAttributes& segment_attributes, const Interrupter& interrupter) {
+  check_memory(frame_subdivision_memory(vertices, segments, vertex_attributes, options.levels));
   check_polyline_input(vertices, segments, options, vertex_attributes, segment_attributes);
   const Eigen::Index D = vertices.cols();
   Curve curve{pack_columns(vertices, vertex_attributes), segments, identity_parent(segments.rows()), {}, {}, {}};

@@ -77,6 +77,14 @@ MemoryEstimate frame_subdivision_memory(Eigen::Index vertices, Eigen::Index face
           bytes * kFrameSubdivisionPeak};
 }
 
+MemoryEstimate frame_subdivision_memory(const PointMatrix& vertices, const SimplexMatrix& faces,
+                                        const VertexAttributes& vertex_attributes, int levels) {
+  Eigen::Index attribute_columns = 0;
+  for (const auto& [name, table] : vertex_attributes) attribute_columns += table.cols();
+  return frame_subdivision_memory(vertices.rows(), faces.rows(), static_cast<int>(faces.cols()), attribute_columns,
+                                  levels);
+}
+
 MemoryEstimate refinement_memory(const Complex& input, const SimplexMatrix& split_vertices) {
   const Eigen::Index N = input.V.rows(), T = split_vertices.rows();
   std::vector<double> star(static_cast<std::size_t>(N), 0.0);

@@ -1,6 +1,7 @@
 #include "animanifold/refine.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/memory_estimates.hpp"
 
 #include <algorithm>
 #include <array>
@@ -516,6 +517,7 @@ Eigen::VectorXd edge_length_degeneracy(const PointMatrix& V, const SimplexMatrix
 
 Refinement refine(const Complex& input, const SimplexMatrix& split_vertices, const PointMatrix& split_barycentric,
                   const RefineOptions& options) {
+  check_memory(refinement_memory(input, split_vertices));
   input.validate();
   const int k = static_cast<int>(input.S.cols());
   if (k < 2 || k > kMax)

@@ -1,6 +1,7 @@
 #include "animanifold/stitch.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/threads.hpp"
 #include "animanifold/validation.hpp"
 
@@ -178,6 +179,7 @@ void check_stitch_size(std::int64_t keyframes, std::int64_t vertices, std::int64
 
 Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   interrupter.step("checks", 0);
+  check_memory(stitch_memory(in));
   Index m = 0, k = 0;
   int d = 0;
   validate(in, m, k, d);

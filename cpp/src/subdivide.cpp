@@ -3,6 +3,7 @@
 #include "animanifold/subdivide.hpp"
 
 #include "animanifold/errors.hpp"
+#include "animanifold/memory_estimates.hpp"
 #include "animanifold/threads.hpp"
 #include "subdivision_shared.hpp"
 
@@ -731,6 +732,7 @@ double level_fraction(int level, int levels) {
 ManifoldSubdivision subdivide_manifold(const Complex& manifold, const ManifoldSubdivisionOptions& options,
                                        const Interrupter& interrupter) {
   interrupter.step("checks", 0);
+  check_memory(manifold_subdivision_memory(manifold, options.levels));
   check_manifold_input(manifold, options);
   const int D = manifold.ambient_dimension();
   std::vector<Index> boundary = boundary_facet_list(manifold.S);

@@ -1,9 +1,12 @@
 // The estimates of memory_estimates.hpp: what they count, and how they grow.
 #include "animanifold/memory_estimates.hpp"
 
+#include "animanifold/refine.hpp"
 #include "fixtures.hpp"
 
 #include <gtest/gtest.h>
+
+#include <optional>
 
 using namespace animanifold;
 using fixtures::octahedron_animation;
@@ -51,4 +54,45 @@ TEST(MemoryEstimates, RefinementCountsTheSimplicesAroundEachSplitFace) {
   EXPECT_GT(refinement_memory(c, vertex).bytes, base);
   EXPECT_EQ(refinement_memory(c, edge).doing, "refining 2 simplices with 1 splits (about 4 simplices)");
   EXPECT_NO_THROW(refinement_memory(c, hostile));
+}
+
+namespace {
+
+// A limit for one test, back to the default after it whatever happens.
+struct ScopedLimit {
+  explicit ScopedLimit(std::uint64_t bytes) { set_memory_limit(bytes); }
+  ~ScopedLimit() { set_memory_limit(std::nullopt); }
+};
+
+}  // namespace
+
+// The core calls check their own estimate, so a C++ caller is held to the limit as Python is.
+TEST(MemoryEstimates, EveryEstimatedCoreCallRefusesBeyondTheLimitBeforeItAllocates) {
+  const StitchInput in = octahedron_animation();
+  const Complex manifold = stitch(in);
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  SimplexMatrix segments(2, 2);
+  segments << 0, 1, 1, 2;
+  const SimplexMatrix split_vertices = manifold.S.topRows(1).leftCols(2);
+  const PointMatrix split_barycentric = PointMatrix::Constant(1, 2, 0.5);
+  FrameSubdivisionOptions frame;
+  frame.levels = 2;
+  ManifoldSubdivisionOptions levels;
+  levels.levels = 2;
+  Slice slice;
+  slice.vertices = V;
+  slice.faces = F;
+
+  const ScopedLimit limit(100);  // bytes: less than any of these calls needs
+  EXPECT_THROW(stitch(in), MemoryLimitError);
+  EXPECT_THROW(refine(manifold, split_vertices, split_barycentric), MemoryLimitError);
+  EXPECT_THROW(subdivide_manifold(manifold, levels), MemoryLimitError);
+  EXPECT_THROW(subdivide_frame(V, F, frame), MemoryLimitError);
+  EXPECT_THROW(subdivide_polyline(V.leftCols(2), segments, frame), MemoryLimitError);
+  EXPECT_THROW(smooth_slice(slice, frame), MemoryLimitError);
+  set_memory_limit(std::uint64_t{1} << 30);
+  EXPECT_NO_THROW(stitch(in));
+  EXPECT_NO_THROW(subdivide_frame(V, F, frame));
 }

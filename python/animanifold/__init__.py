@@ -23,7 +23,7 @@ topology. ::
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
-from ._core import Cancelled, Error
+from ._core import Cancelled, Error, FileError, InputError, MeshingError
 from .cache import CacheError, load, save
 from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
@@ -38,7 +38,7 @@ from .morph_pipeline import morph
 from .morph_surface import SurfaceAttributes
 from .refinement import Refinement, RefineOptions, refine, refine_complex
 from .regularisation import Regularisation, RegularisationMaps, RegulariseOptions, regularise
-from .skeleton import SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
+from .skeleton import EmptySkeletonWarning, SeparabilityWarning, VoronoiSkeleton, voronoi_skeleton
 from .slices import Slice
 from .stitching import stitch
 from .subdivision import SubdivideOptions, subdivide, subdivided_simplex_count
@@ -59,7 +59,11 @@ __all__ = [
     "AnimationManifold",
     "BooleanError",
     "CacheError",
+    "EmptySkeletonWarning",
     "Error",
+    "FileError",
+    "InputError",
+    "MeshingError",
     "SeparabilityWarning",
     "DeformOptions",
     "Deformer",

@@ -9,6 +9,7 @@ them exists.
 """
 
 from __future__ import annotations
+from ._core import InputError
 
 
 def names(enum) -> tuple[str, ...]:
@@ -26,5 +27,5 @@ def checked(value, enum, what: str) -> str:
         return value.name
     choices = names(enum)
     if not isinstance(value, str) or value not in choices:
-        raise ValueError(f"unknown {what} {value!r}: use one of {', '.join(choices)}")
+        raise InputError(f"unknown {what} {value!r}: use one of {', '.join(choices)}")
     return value

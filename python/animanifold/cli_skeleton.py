@@ -16,7 +16,7 @@ import numpy as np
 from .cli_common import StepPrinter
 from .holes import solid_measure
 from .meshio import read_mesh, write_mesh
-from .skeleton import SIDES, WRAP_SHAPES, voronoi_skeleton
+from .skeleton import SIDES, WRAP_SHAPES, empty_skeleton_reason, voronoi_skeleton
 
 PROG = "animanifold"
 
@@ -58,34 +58,12 @@ def _error(message: str) -> int:
 
 
 def empty_skeleton_message(path: str, side: str, vertices: np.ndarray, faces: np.ndarray) -> str:
-    """Why a skeleton came out empty: a convex shape has no external skeleton; any other shape
-    does, so the sampling is to blame (sites on common spheres, as a regularly sampled torus has,
-    give Voronoi cells the extraction cannot separate)."""
+    """What the command says of an empty skeleton, naming the file (skeleton.empty_skeleton_reason)."""
     which = "skeleton" if side == "both" else f"{side} skeleton"
-    if side != "internal" and is_convex(vertices, faces):
+    reason = empty_skeleton_reason(side, vertices, faces)
+    if reason is None:
         return f"the {which} of '{path}' is empty: the shape is convex, so it has no external skeleton"
-    return (f"the {which} of '{path}' came out empty although the shape is not convex: its vertices are probably "
-            "sampled too regularly (many on one sphere, as on a primitive torus); move them by a little noise "
-            "(1e-6 of the size) and try again")
-
-
-def is_convex(vertices: np.ndarray, faces: np.ndarray) -> bool:
-    """Every vertex lies on or behind every face's plane (to rounding): the closed, outward
-    oriented mesh is convex. Without scipy, which the package does not need at runtime."""
-    vertices = np.asarray(vertices, dtype=np.float64)
-    corners = vertices[faces]
-    chunk = max(1, (1 << 22) // max(len(vertices), 1))  # faces per pass: ~32 MB of heights
-    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
-    size = float(np.ptp(vertices, axis=0).max()) or 1.0
-    for i in range(0, len(faces), chunk):
-        n = normals[i:i + chunk]
-        lengths = np.linalg.norm(n, axis=1)
-        keep = lengths > 0
-        offsets = np.einsum("ij,ij->i", n[keep], corners[i:i + chunk, 0][keep])
-        heights = (vertices @ n[keep].T - offsets) / lengths[keep]
-        if heights.size and heights.max() > 1e-9 * size:
-            return False
-    return True
+    return f"the {which} of '{path}' {reason}"
 
 
 def run(args: argparse.Namespace) -> int:

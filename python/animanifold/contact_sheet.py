@@ -15,6 +15,7 @@ from typing import Sequence
 import numpy as np
 
 from .slices import Slice
+from ._core import InputError
 
 # Light from the upper front left, as in a default 3-point setup's key light.
 _LIGHT = np.array([-0.4, -0.6, 0.7]) / np.linalg.norm([-0.4, -0.6, 0.7])
@@ -49,7 +50,7 @@ def render_contact_sheet(
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     if not frames:
-        raise ValueError("a contact sheet needs at least one frame")
+        raise InputError("a contact sheet needs at least one frame")
     low, high = (np.asarray(b, dtype=np.float64)[:3] for b in bounds)
     # A small margin, and a minimum extent so a flat animation still gets a box.
     margin = 0.05 * max(float((high - low).max()), 1e-12)

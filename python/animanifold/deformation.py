@@ -20,6 +20,7 @@ from .interrupting import InterruptedCallback, ProgressCallback
 from .laplacian import LaplacianOptions, laplacian_deform
 from .manifold import AnimationManifold
 from .regularisation import RegulariseOptions, regularise
+from ._core import InputError
 
 
 @dataclass(frozen=True)
@@ -39,9 +40,9 @@ class DeformOptions:
 
     def __post_init__(self):
         if not isinstance(self.laplacian, LaplacianOptions):
-            raise ValueError(f"laplacian must be a LaplacianOptions, got {self.laplacian!r}")
+            raise InputError(f"laplacian must be a LaplacianOptions, got {self.laplacian!r}")
         if self.regularise is not None and not isinstance(self.regularise, RegulariseOptions):
-            raise ValueError(f"regularise must be None or a RegulariseOptions, got {self.regularise!r}")
+            raise InputError(f"regularise must be None or a RegulariseOptions, got {self.regularise!r}")
 
 
 def deform(

@@ -20,6 +20,7 @@ from .contact_sheet import render_contact_sheet
 from .stitching import stitch
 from .meshio import write_mesh
 from .procedural import demo_keyframes
+from ._core import InputError
 
 # Icosphere subdivision levels: 5,120 faces for the real demo, 320 for a quick check.
 FULL_SUBDIVISIONS = 4
@@ -48,7 +49,7 @@ def sheet_selection(count: int, panels: int) -> list[int]:
 def run_demo(output: str | Path, frame_count: int = 12, small: bool = False, picture: bool = True) -> DemoResult:
     """Runs the demo into `output` (created if needed): demo.amf, frames/*.obj, contact_sheet.png."""
     if frame_count < 1:
-        raise ValueError(f"the demo needs at least one frame, got {frame_count}")
+        raise InputError(f"the demo needs at least one frame, got {frame_count}")
     output = Path(output)
     frames_dir = output / "frames"
     frames_dir.mkdir(parents=True, exist_ok=True)

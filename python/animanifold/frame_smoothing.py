@@ -24,6 +24,7 @@ from .choices import checked, names
 from .indices import as_indices
 from .seams import weld_copies
 from .slices import Slice
+from ._core import InputError
 
 FRAME_SCHEMES = names(_core.FrameScheme)
 # The scheme a mesh gets when none is named, by vertices per face.
@@ -78,32 +79,32 @@ def subdivide_frame(
     from the one or True from the other raises :class:`animanifold.Cancelled`.
     """
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
-        raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
+        raise InputError(f"levels must be a non-negative integer, got {levels!r}")
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     faces = np.asarray(faces)
     if faces.ndim != 2 or faces.shape[1] not in (2, 3, 4):
-        raise ValueError(f"faces must be (F, 3), (F, 4) or (F, 2) segments, got shape {faces.shape}")
+        raise InputError(f"faces must be (F, 3), (F, 4) or (F, 2) segments, got shape {faces.shape}")
     if faces.size and not np.issubdtype(faces.dtype, np.integer):
-        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+        raise InputError(f"faces must be integer vertex indices, got {faces.dtype}")
     scheme = _DEFAULT_SCHEME[faces.shape[1]] if scheme is None else checked(scheme, _core.FrameScheme, "scheme")
     if (scheme == "bspline") != (faces.shape[1] == 2):
-        raise ValueError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
+        raise InputError(f"scheme {scheme!r} does not apply to faces of {faces.shape[1]} vertices")
     if vertices.ndim != 2 or (vertices.shape[1] != 3 and scheme != "bspline"):
-        raise ValueError(f"vertices must be (V, 3), got shape {vertices.shape}")
+        raise InputError(f"vertices must be (V, 3), got shape {vertices.shape}")
     creases = None
     if crease_edges is not None:
         creases = np.asarray(crease_edges)
         if creases.size == 0:
             creases = np.zeros((0, 2), np.int32)
         if creases.ndim != 2 or creases.shape[1] != 2 or not np.issubdtype(creases.dtype, np.integer):
-            raise ValueError(f"crease_edges must be (C, 2) integer vertex pairs, got {creases.shape} {creases.dtype}")
+            raise InputError(f"crease_edges must be (C, 2) integer vertex pairs, got {creases.shape} {creases.dtype}")
         creases = as_indices(creases, "crease_edges")
     va = {k: _table(v, np.float64) for k, v in (vertex_attributes or {}).items()}
     fa = {k: _table(v, np.int32) for k, v in (face_attributes or {}).items()}
     faces = as_indices(faces, "faces")
     if scheme == "bspline":
         if creases is not None:
-            raise ValueError("crease_edges apply to surfaces; polylines take corners from crease_angle")
+            raise InputError("crease_edges apply to surfaces; polylines take corners from crease_angle")
         r = _core.subdivide_polyline(vertices, faces, int(levels), float(crease_angle), bool(limit), va, fa,
                                      progress=progress, interrupted=interrupted)
     else:
@@ -125,7 +126,7 @@ def _table(values: np.ndarray, dtype) -> np.ndarray:
     if table.ndim == 1:
         table = table[:, None]
     if table.ndim != 2:
-        raise ValueError(f"attribute tables must be 1D or 2D, got shape {table.shape}")
+        raise InputError(f"attribute tables must be 1D or 2D, got shape {table.shape}")
     return np.ascontiguousarray(table, dtype=dtype)
 
 

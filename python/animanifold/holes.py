@@ -18,6 +18,7 @@ import numpy as np
 
 from . import _core
 from .indices import as_indices, as_vertex_indices
+from ._core import InputError
 
 BooleanError = _core.BooleanError
 
@@ -28,15 +29,15 @@ def _solid(solid, name: str) -> Solid:
     try:
         vertices, faces = solid
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a pair (vertices, faces)") from None
+        raise InputError(f"{name} must be a pair (vertices, faces)") from None
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     f = np.asarray(faces)
     if v.ndim != 2 or v.shape[1] not in (2, 3):
-        raise ValueError(f"{name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
+        raise InputError(f"{name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
     if f.size == 0:
         f = f.reshape(0, v.shape[1])
     if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
-        raise ValueError(f"{name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
+        raise InputError(f"{name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
     return v, as_indices(f, f"{name}'s faces")
 
 

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Iterable, Mapping
 import numpy as np
 
 from . import _core
+from ._core import InputError
 
 if TYPE_CHECKING:
     from .slices import Slice
@@ -53,7 +54,7 @@ class IntervalFrame:
         `normals=False` when first read (a caller that never reads them skips them)."""
         lo, hi = self.interval
         if not lo < value < hi:
-            raise ValueError(f"value {value} is not in the topology interval {self.interval} "
+            raise InputError(f"value {value} is not in the topology interval {self.interval} "
                              f"of the slice at {self.value}")
         dt = float(value) - self.value
         vertices = self.slice.vertices + dt * self.rate

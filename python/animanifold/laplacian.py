@@ -41,6 +41,7 @@ from . import _core
 from .indices import as_indices
 from .choices import checked, names
 from .interrupting import InterruptedCallback, ProgressCallback, Span
+from ._core import InputError
 
 METHODS = names(_core.LaplacianMethod)
 BOUNDARY_RULES = names(_core.BoundaryRule)
@@ -63,19 +64,19 @@ def _vertex_list(values, name: str, vertex_count: int) -> np.ndarray:
     raw = np.asarray(values)
     if raw.dtype == bool:
         if raw.shape != (vertex_count,):
-            raise ValueError(f"{name} mask has shape {raw.shape} for {vertex_count} vertices")
+            raise InputError(f"{name} mask has shape {raw.shape} for {vertex_count} vertices")
         array = np.flatnonzero(raw)
     else:
         if raw.size and not np.issubdtype(raw.dtype, np.integer):
-            raise ValueError(f"{name} must be integer vertex indices or a boolean mask, got {raw.dtype}")
+            raise InputError(f"{name} must be integer vertex indices or a boolean mask, got {raw.dtype}")
         array = raw.astype(np.int64).reshape(-1)
     if array.size:
         bad = np.flatnonzero((array < 0) | (array >= vertex_count))
         if bad.size:
-            raise ValueError(f"{name}[{bad[0]}] is vertex {array[bad[0]]}, outside 0..{vertex_count - 1}")
+            raise InputError(f"{name}[{bad[0]}] is vertex {array[bad[0]]}, outside 0..{vertex_count - 1}")
         unique, counts = np.unique(array, return_counts=True)
         if (counts > 1).any():
-            raise ValueError(f"vertex {unique[counts > 1][0]} is listed more than once in {name}")
+            raise InputError(f"vertex {unique[counts > 1][0]} is listed more than once in {name}")
     return np.ascontiguousarray(array, dtype=np.int32)
 
 
@@ -93,7 +94,7 @@ def handle_transform(
     """
     D = int(dimension)
     if D not in (3, 4):
-        raise ValueError(f"dimension must be 3 or 4, got {dimension}")
+        raise InputError(f"dimension must be 3 or 4, got {dimension}")
     linear = np.eye(D)
     if scale is not None:
         s = np.broadcast_to(np.asarray(scale, dtype=float), (D,))
@@ -103,7 +104,7 @@ def handle_transform(
         if R.shape == (3, 3) and D == 4:
             R = np.block([[R, np.zeros((3, 1))], [np.zeros((1, 3)), np.ones((1, 1))]])
         if R.shape != (D, D):
-            raise ValueError(f"rotation must be ({D}, {D}) (or (3, 3) for 4D points), got {R.shape}")
+            raise InputError(f"rotation must be ({D}, {D}) (or (3, 3) for 4D points), got {R.shape}")
         linear = R @ linear
     c = np.zeros(D) if center is None else np.asarray(center, dtype=float).reshape(D)
     t = np.zeros(D) if translation is None else np.asarray(translation, dtype=float).reshape(D)
@@ -126,7 +127,7 @@ def rotation_angle(linear: np.ndarray) -> float:
     U, _, Vt = np.linalg.svd(np.asarray(linear, dtype=float))
     R = U @ Vt
     if np.linalg.det(R) < 0:
-        raise ValueError("the handle motion reflects: a rotation angle is undefined")
+        raise InputError("the handle motion reflects: a rotation angle is undefined")
     return float(np.abs(np.angle(np.linalg.eigvals(R))).max())
 
 
@@ -149,7 +150,7 @@ def steps_for_rotation(angle: float, per_step: float = np.pi / 4) -> int:
 
 def _check_steps(steps) -> int:
     if isinstance(steps, str) or int(steps) < 1:
-        raise ValueError(f"steps must be 'auto' or an integer >= 1, got {steps!r}")
+        raise InputError(f"steps must be 'auto' or an integer >= 1, got {steps!r}")
     return int(steps)
 
 
@@ -188,16 +189,16 @@ class LaplacianOptions:
         object.__setattr__(self, "method", checked(self.method, _core.LaplacianMethod, "method"))
         object.__setattr__(self, "boundary", checked(self.boundary, _core.BoundaryRule, "boundary rule"))
         if not isinstance(self.restore, (bool, np.bool_)):
-            raise ValueError(f"restore must be True or False, got {self.restore!r}")
+            raise InputError(f"restore must be True or False, got {self.restore!r}")
         if not _is_count(self.restore_iterations):
-            raise ValueError(f"restore_iterations must be a non-negative integer, got {self.restore_iterations!r}")
+            raise InputError(f"restore_iterations must be a non-negative integer, got {self.restore_iterations!r}")
         if self.steps != "auto" and not (_is_count(self.steps) and self.steps >= 1):
-            raise ValueError(f"steps must be 'auto' or an integer >= 1, got {self.steps!r}")
+            raise InputError(f"steps must be 'auto' or an integer >= 1, got {self.steps!r}")
         for name in ("tolerance", "lam", "xi", "ridge", "constraint_weight"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not np.isfinite(value) \
                     or value < 0:
-                raise ValueError(f"{name} must be a finite non-negative number, got {value!r}")
+                raise InputError(f"{name} must be a finite non-negative number, got {value!r}")
 
 
 def _is_count(value) -> bool:
@@ -237,24 +238,24 @@ class Deformer:
         points = np.ascontiguousarray(points, dtype=np.float64)
         simplices = np.asarray(simplices)
         if points.ndim != 2 or points.shape[1] not in (3, 4):
-            raise ValueError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
+            raise InputError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
         if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
-            raise ValueError(
+            raise InputError(
                 f"simplices must be (M, {points.shape[1]}) for {points.shape[1]}D points "
                 f"(n-simplices in R^(n+1)), got shape {simplices.shape}"
             )
         if simplices.size and not np.issubdtype(simplices.dtype, np.integer):
-            raise ValueError(f"simplices must be integer vertex indices, got {simplices.dtype}")
+            raise InputError(f"simplices must be integer vertex indices, got {simplices.dtype}")
         method = checked(method, _core.LaplacianMethod, "method")
         boundary = checked(boundary, _core.BoundaryRule, "boundary rule")
         n = len(points)
         anchors = _vertex_list(anchors, "anchors", n)
         handles = _vertex_list(handles, "handles", n)
         if anchors.size + handles.size == 0:
-            raise ValueError("no anchors and no handles: the deformation needs at least one constrained vertex")
+            raise InputError("no anchors and no handles: the deformation needs at least one constrained vertex")
         both = np.intersect1d(anchors, handles)
         if both.size:
-            raise ValueError(f"vertex {both[0]} is both an anchor and a handle ({both.size} such vertices)")
+            raise InputError(f"vertex {both[0]} is both an anchor and a handle ({both.size} such vertices)")
         zero = _vertex_list(zero_detail_vertices, "zero_detail_vertices", n)
         self.method = method
         self.boundary = boundary
@@ -310,19 +311,19 @@ class Deformer:
         with it (and in the intermediate restores); False from the one or True
         from the other raises :class:`animanifold.Cancelled`."""
         if (handle_transform is None) == (handle_positions is None):
-            raise ValueError("give exactly one of handle_transform ((D+1)x(D+1)) or handle_positions ((H, D))")
+            raise InputError("give exactly one of handle_transform ((D+1)x(D+1)) or handle_positions ((H, D))")
         self.status = None
         D = self._dimension
         if handle_transform is not None:
             T = np.asarray(handle_transform, dtype=np.float64)
             if T.shape != (D + 1, D + 1):
-                raise ValueError(f"handle_transform must be ({D + 1}, {D + 1}) for {D}D points, got {T.shape}")
+                raise InputError(f"handle_transform must be ({D + 1}, {D + 1}) for {D}D points, got {T.shape}")
             if steps == "auto":
                 steps = steps_for_rotation(rotation_angle(T[:D, :D])) if self.method == "dual" else 1
             return self._core.deform(T, _check_steps(steps), progress=progress, interrupted=interrupted)
         P = np.ascontiguousarray(handle_positions, dtype=np.float64)
         if P.shape != (self._handle_count, D):
-            raise ValueError(f"handle_positions must be ({self._handle_count}, {D}), one row per handle, got {P.shape}")
+            raise InputError(f"handle_positions must be ({self._handle_count}, {D}), one row per handle, got {P.shape}")
         if steps == "auto":
             rest = self._rest_handles
             steps = steps_for_rotation(rotation_angle(best_fit_linear(rest, P))) if self.method == "dual" else 1
@@ -335,7 +336,7 @@ class Deformer:
         bounding-box diagonal) is below `tolerance`; sets :attr:`status`.
         ``progress`` is told "restoring" before each round, as for :meth:`deform`."""
         if self.method != "dual":
-            raise ValueError(f"restore applies to method='dual' only, this Deformer uses {self.method!r}")
+            raise InputError(f"restore applies to method='dual' only, this Deformer uses {self.method!r}")
         s = self._core.restore(int(max_iterations), float(tolerance), progress=progress, interrupted=interrupted)
         self.status = RestoreStatus(int(s.iterations), float(s.motion), bool(s.converged))
         return self._core.points

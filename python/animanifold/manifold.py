@@ -24,6 +24,7 @@ from .indices import as_indices
 from .interval_frame import IntervalFrame
 from .prism_frames import PrismGap, Prisms
 from .slices import Slice, squeezed
+from ._core import InputError
 
 AXES = {"x": 0, "y": 1, "z": 2, "t": -1}
 
@@ -37,14 +38,14 @@ def axis_index(axis: str | int, dimension: int) -> int:
     if isinstance(axis, str):
         key = axis.lower()
         if key not in AXES:
-            raise ValueError(f"unknown axis {axis!r}: use 't', 'x', 'y' or 'z'")
+            raise InputError(f"unknown axis {axis!r}: use 't', 'x', 'y' or 'z'")
         if key == "z" and dimension < 4:
-            raise ValueError("a 2D animation manifold (x, y, t) has no z axis")
+            raise InputError("a 2D animation manifold (x, y, t) has no z axis")
         index = AXES[key]
         return dimension - 1 if index < 0 else index
     index = int(axis)
     if not -dimension <= index < dimension:
-        raise ValueError(f"axis {axis} is outside 0..{dimension - 1}")
+        raise InputError(f"axis {axis} is outside 0..{dimension - 1}")
     return index % dimension
 
 
@@ -113,9 +114,9 @@ class AnimationManifold:
         points = np.ascontiguousarray(points, dtype=np.float64)
         simplices = as_indices(simplices, "simplices")
         if points.ndim != 2 or points.shape[1] not in (3, 4):
-            raise ValueError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
+            raise InputError(f"points must be (N, 3) or (N, 4), got shape {points.shape}")
         if simplices.ndim != 2 or simplices.shape[1] != points.shape[1]:
-            raise ValueError(
+            raise InputError(
                 f"simplices must be (M, {points.shape[1]}) for {points.shape[1]}D points, got shape {simplices.shape}"
             )
         va = {k: as_table(v, np.float64, f"vertex attribute {k!r}") for k, v in (vertex_attributes or {}).items()}
@@ -234,7 +235,7 @@ class AnimationManifold:
         (and within the core's snap of one) it is the key, over the same faces.
         """
         if honour_holes not in (True, False, "strict"):
-            raise ValueError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
+            raise InputError(f"honour_holes must be True, False or 'strict', got {honour_holes!r}")
         a = axis_index(axis, self.dimension)
         s = self._prism_frame(a, float(value))
         if s is None:
@@ -249,7 +250,7 @@ class AnimationManifold:
                               HoleSpaceWarning, stacklevel=2)
         if smooth_levels:
             if isinstance(smooth_levels, bool) or int(smooth_levels) != smooth_levels or smooth_levels < 0:
-                raise ValueError(f"smooth_levels must be a non-negative integer, got {smooth_levels!r}")
+                raise InputError(f"smooth_levels must be a non-negative integer, got {smooth_levels!r}")
             if isinstance(s, Slice):  # cut by the hole space
                 return smooth_slice(s, int(smooth_levels), float(crease_angle))
             s = _core.smooth_slice(s, int(smooth_levels), float(crease_angle), True)
@@ -304,7 +305,7 @@ class AnimationManifold:
         where :meth:`topology_interval` is None."""
         a = axis_index(axis, self.dimension)
         if self._honours_holes(a, float(value)):
-            raise ValueError(
+            raise InputError(
                 f"the frame at {value} of a manifold with a hole space is cut by it, and the cut changes from "
                 "frame to frame: slice every frame (AnimationManifold.slice) instead of moving one")
         prism = self._prism_cut(a, float(value))
@@ -374,19 +375,19 @@ def _checked_hole_space(hole_space, dimension: int) -> tuple[np.ndarray, np.ndar
     try:
         vertices, faces = hole_space
     except (TypeError, ValueError):
-        raise ValueError("hole_space must be a pair (vertices, faces)") from None
+        raise InputError("hole_space must be a pair (vertices, faces)") from None
     d = dimension - 1
     v = np.array(vertices, dtype=np.float64, order="C")
     f = np.asarray(faces)
     if f.size == 0:
         f = f.reshape(0, d)
     if v.ndim != 2 or v.shape[1] != d or f.ndim != 2 or f.shape[1] != d:
-        raise ValueError(f"the hole space of a manifold in R^{dimension} must be vertices (k, {d}) and faces "
+        raise InputError(f"the hole space of a manifold in R^{dimension} must be vertices (k, {d}) and faces "
                          f"(l, {d}), got shapes {v.shape} and {f.shape}")
     if f.size and (not np.issubdtype(f.dtype, np.integer) or f.min() < 0 or f.max() >= len(v)):
-        raise ValueError(f"the hole space's faces must be integer indices into its {len(v)} vertices")
+        raise InputError(f"the hole space's faces must be integer indices into its {len(v)} vertices")
     if not np.isfinite(v).all():
-        raise ValueError("the hole space has a vertex that is not finite")
+        raise InputError("the hole space has a vertex that is not finite")
     if not len(f):
         return None
     f = np.array(f, dtype=np.int32, order="C")
@@ -414,7 +415,7 @@ def as_table(values: np.ndarray, dtype, what: str) -> np.ndarray:
     if table.ndim == 1:
         table = table[:, None]
     if table.ndim != 2:
-        raise ValueError(f"{what} must be 1D or 2D, got shape {table.shape}")
+        raise InputError(f"{what} must be 1D or 2D, got shape {table.shape}")
     if dtype is np.int32:
         return as_indices(table, what)
     return np.ascontiguousarray(table, dtype=dtype)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import operator
 
 from . import _core
-from ._core import MemoryLimitError
+from ._core import InputError, MemoryLimitError
 
 _MAX_BYTES = 2**64 - 1
 
@@ -28,13 +28,13 @@ def set_memory_limit(bytes: int | None) -> None:
         _core.set_memory_limit(None)
         return
     if isinstance(bytes, bool):
-        raise ValueError(f"the memory limit must be a number of bytes or None, got {bytes!r}")
+        raise InputError(f"the memory limit must be a number of bytes or None, got {bytes!r}")
     try:
         limit = operator.index(bytes)
     except TypeError:
-        raise ValueError(f"the memory limit must be a whole number of bytes or None, got {bytes!r}") from None
+        raise InputError(f"the memory limit must be a whole number of bytes or None, got {bytes!r}") from None
     if not 1 <= limit <= _MAX_BYTES:
-        raise ValueError(f"the memory limit must be between 1 and 2**64 - 1 bytes, got {limit}")
+        raise InputError(f"the memory limit must be between 1 and 2**64 - 1 bytes, got {limit}")
     _core.set_memory_limit(limit)
 
 

@@ -15,6 +15,7 @@ import os
 from typing import Sequence
 
 import numpy as np
+from ._core import InputError
 
 _NUMBER = "%.9g"  # float32-exact; positions stay within 1e-9 relative of the slice
 
@@ -38,16 +39,16 @@ def _check(vertices, faces, uv, normals, material_index):
     vertices = np.asarray(vertices, dtype=np.float64)
     faces = np.asarray(faces, dtype=np.int64)
     if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise ValueError(f"vertices must be (k, 3), got shape {vertices.shape}")
+        raise InputError(f"vertices must be (k, 3), got shape {vertices.shape}")
     if faces.ndim != 2 or faces.shape[1] != 3:
-        raise ValueError(f"faces must be (l, 3) triangles, got shape {faces.shape}")
+        raise InputError(f"faces must be (l, 3) triangles, got shape {faces.shape}")
     if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
-        raise ValueError(f"faces index vertices 0..{len(vertices) - 1}, found {faces.min()}..{faces.max()}")
+        raise InputError(f"faces index vertices 0..{len(vertices) - 1}, found {faces.min()}..{faces.max()}")
     for name, table, width in (("uv", uv, 2), ("normals", normals, 3)):
         if table is not None and np.shape(table) != (len(vertices), width):
-            raise ValueError(f"{name} must be one row per vertex ({len(vertices)}, {width}), got {np.shape(table)}")
+            raise InputError(f"{name} must be one row per vertex ({len(vertices)}, {width}), got {np.shape(table)}")
     if material_index is not None and np.shape(material_index) != (len(faces),):
-        raise ValueError(f"material_index must be one per face ({len(faces)},), got {np.shape(material_index)}")
+        raise InputError(f"material_index must be one per face ({len(faces)},), got {np.shape(material_index)}")
     return vertices, faces
 
 
@@ -131,6 +132,6 @@ def write_frame(path: str | os.PathLike, vertices, faces, uv=None, normals=None,
     elif extension == ".ply":
         data = ply_bytes(vertices, faces, uv, normals, material_index, material_names)
     else:
-        raise ValueError(f"cannot write {os.fspath(path)}: frames with attributes are .obj or .ply")
+        raise InputError(f"cannot write {os.fspath(path)}: frames with attributes are .obj or .ply")
     with open(path, "wb") as f:
         f.write(data)

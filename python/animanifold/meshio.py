@@ -13,7 +13,7 @@ import os
 import numpy as np
 
 from . import _core
-from ._core import Error
+from ._core import Error, InputError
 from .atomic_file import replacing
 from .indices import as_indices
 
@@ -35,10 +35,10 @@ def write_mesh(path: str | os.PathLike, vertices: np.ndarray, faces: np.ndarray)
     """Writes a triangle mesh; the format comes from the extension (.obj, .ply, .off, .stl)."""
     vertices = np.ascontiguousarray(vertices, dtype=np.float64)
     if vertices.ndim != 2 or vertices.shape[1] != 3:
-        raise ValueError(f"vertices must be (k, 3), got shape {vertices.shape}")
+        raise InputError(f"vertices must be (k, 3), got shape {vertices.shape}")
     faces = as_indices(faces, "faces")
     if os.path.splitext(os.fspath(path))[1].lower() not in EXTENSIONS:
-        raise ValueError(f"cannot write mesh file {os.fspath(path)}: the extension must be one of {', '.join(EXTENSIONS)}")
+        raise InputError(f"cannot write mesh file {os.fspath(path)}: the extension must be one of {', '.join(EXTENSIONS)}")
     with replacing(path, keep_extension=True, many_per_folder=True) as temporary:
         try:
             _core.write_mesh(os.fspath(temporary), vertices, faces)

@@ -46,6 +46,7 @@ from .holes import (BooleanError, hole_space, inside_solid, intersect_solids, is
 from .cavities import shell_volumes
 from .manifold import AnimationManifold
 from .morph_surface import SurfaceAttributes, carry_surface_attributes, check_surface_attributes
+from ._core import InputError
 
 # The core's names (morph.hpp's tables, bound as enums): the seed's methods (§8.6, §8.5) and the
 # field method (morph_field.hpp); the seed's fills and perturbations.
@@ -145,19 +146,19 @@ def morph(
     enters it; `shared_hole_volume` still reports it).
     """
     if method not in METHODS:
-        raise ValueError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
+        raise InputError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
     arrays = _input_arrays(source, target)
     if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
-        raise ValueError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
+        raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
     if fill not in FILLS:
-        raise ValueError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
+        raise InputError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
     if perturbation not in PERTURBATIONS:
-        raise ValueError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
+        raise InputError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
     looks = (source_attributes, target_attributes)
     if any(look is not None for look in looks):
         if arrays[0].shape[1] != 3:
-            raise ValueError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
+            raise InputError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
         for name, mesh, look in (("source", source, source_attributes), ("target", target, target_attributes)):
             check_surface_attributes(name, mesh, look)  # before minutes of morphing
     manifold = (_field_morph(arrays, float(t0), float(t1), progress, interrupted, hold) if method == "field" else
@@ -177,9 +178,9 @@ def _input_arrays(source, target) -> list[np.ndarray]:
         v = np.ascontiguousarray(v, dtype=np.float64)
         f = np.asarray(f)
         if v.ndim != 2 or v.shape[1] not in (2, 3):
-            raise ValueError(f"the {name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
+            raise InputError(f"the {name}'s vertices must be (k, 3) or (k, 2), got shape {v.shape}")
         if f.ndim != 2 or f.shape[1] != v.shape[1] or (f.size and not np.issubdtype(f.dtype, np.integer)):
-            raise ValueError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
+            raise InputError(f"the {name}'s faces must be integer (l, {v.shape[1]}), got {f.dtype} {f.shape}")
         arrays += [v, _canonical_faces(as_indices(f, f"the {name}'s faces"))]
     return arrays
 

@@ -41,6 +41,7 @@ import numpy as np
 from . import _core
 from .barycentric import closest_in_triangles, plane_barycentric
 from .manifold import AnimationManifold
+from ._core import InputError
 
 # Corners within this share of the size of an input lie on it (the ends are exact to 1e-9).
 _ON_SURFACE = 1e-9
@@ -89,7 +90,7 @@ def carry_surface_attributes(manifold: AnimationManifold, source: tuple[np.ndarr
     seams added. Raises ValueError naming the input and face for attributes that do not fit."""
     start = time.perf_counter()
     if manifold.dimension != 4:
-        raise ValueError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
+        raise InputError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
     inputs = [_checked_input(name, mesh, attributes) for name, mesh, attributes in
               (("source", source, source_attributes), ("target", target, target_attributes))]
     points, simplices = manifold.points, manifold.simplices
@@ -142,20 +143,20 @@ def _checked_input(name: str, mesh: tuple[np.ndarray, np.ndarray], attributes: S
     if attributes.uv is not None:
         uv = np.asarray(attributes.uv, dtype=np.float64)
         if uv.shape != (len(faces), 3, 2):
-            raise ValueError(f"the {name}'s UV map must be (faces, 3, 2) = ({len(faces)}, 3, 2), got {uv.shape}")
+            raise InputError(f"the {name}'s UV map must be (faces, 3, 2) = ({len(faces)}, 3, 2), got {uv.shape}")
         bad = ~np.isfinite(uv).all(axis=(1, 2))
         if bad.any():
-            raise ValueError(f"the {name}'s UV map holds NaN or infinity at face {int(np.argmax(bad))}")
+            raise InputError(f"the {name}'s UV map holds NaN or infinity at face {int(np.argmax(bad))}")
     if attributes.material_index is not None:
         given = np.asarray(attributes.material_index)
         if given.shape != (len(faces),):
-            raise ValueError(f"the {name}'s material indices must be (faces,) = ({len(faces)},), got {given.shape}")
+            raise InputError(f"the {name}'s material indices must be (faces,) = ({len(faces)},), got {given.shape}")
         if given.size and not np.issubdtype(given.dtype, np.integer):
-            raise ValueError(f"the {name}'s material indices must be integers, got {given.dtype}")
+            raise InputError(f"the {name}'s material indices must be integers, got {given.dtype}")
         bad = (given < 0) | (given > _MATERIAL_LIMIT)
         if bad.any():
             f = int(np.argmax(bad))
-            raise ValueError(f"the {name}'s face {f} has material index {int(given[f])}, outside 0..{_MATERIAL_LIMIT}")
+            raise InputError(f"the {name}'s face {f} has material index {int(given[f])}, outside 0..{_MATERIAL_LIMIT}")
         material = given.astype(np.int32)
     return _Input(name, vertices, faces, uv, material)
 

@@ -4,6 +4,7 @@ scheme="linear"))`` and ``subdivide(m, scheme="linear")`` are the same call."""
 from __future__ import annotations
 
 from typing import TypeVar
+from ._core import InputError
 
 T = TypeVar("T")
 
@@ -17,7 +18,7 @@ def options_from(cls: type[T], options: T | None, **keywords) -> T:
     if options is None:
         return cls(**given)
     if not isinstance(options, cls):
-        raise ValueError(f"options must be a {cls.__name__}, got {options!r}")
+        raise InputError(f"options must be a {cls.__name__}, got {options!r}")
     if given:
-        raise ValueError(f"give options or the keywords {', '.join(sorted(given))}, not both")
+        raise InputError(f"give options or the keywords {', '.join(sorted(given))}, not both")
     return options

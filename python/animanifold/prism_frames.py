@@ -40,6 +40,7 @@ import numpy as np
 
 from .interval_frame import IntervalFrame
 from .slices import Slice, squeezed
+from ._core import InputError
 
 # Named arrays of the cache file (cache.py) holding a Prisms, in this order.
 CACHE_ARRAYS = ("prism_times", "prism_key_vertices", "prism_faces", "prism_face_simplices", "prism_gaps")
@@ -88,26 +89,26 @@ class Prisms:
         gaps = np.asarray(self.gaps).reshape(-1)
         m, k = key_vertices.shape
         if len(times) != m or m < 2:
-            raise ValueError(f"prism times hold {len(times)} keys, key_vertices {m} (at least 2)")
+            raise InputError(f"prism times hold {len(times)} keys, key_vertices {m} (at least 2)")
         if not np.all(np.isfinite(times)) or np.any(np.diff(times) <= 0):
-            raise ValueError("prism times must be finite and strictly increasing")
+            raise InputError("prism times must be finite and strictly increasing")
         if face_simplices.shape != (m - 1, len(faces)) or len(gaps) != m - 1:
-            raise ValueError(f"prism face_simplices {face_simplices.shape} and gaps ({len(gaps)},) must be "
+            raise InputError(f"prism face_simplices {face_simplices.shape} and gaps ({len(gaps)},) must be "
                              f"({m - 1}, {len(faces)}) and ({m - 1},)")
         if gaps.dtype != bool and not np.isin(gaps, (0, 1)).all():
-            raise ValueError("prism gaps must be 0 or 1")
+            raise InputError("prism gaps must be 0 or 1")
         _check_range(key_vertices, len(points), "prism key vertex")
         _check_range(faces, k, "prism face corner")
         _check_range(face_simplices, simplex_count, "prism face simplex")
         if key_vertices.size != len(points) or np.any(np.bincount(key_vertices.reshape(-1), minlength=len(points)) != 1):
-            raise ValueError(f"prism key_vertices must name each of the {len(points)} manifold vertices once")
+            raise InputError(f"prism key_vertices must name each of the {len(points)} manifold vertices once")
         if faces.shape[1] != points.shape[1] - 1:
-            raise ValueError(f"prism faces have {faces.shape[1]} corners; frames of this manifold have "
+            raise InputError(f"prism faces have {faces.shape[1]} corners; frames of this manifold have "
                              f"{points.shape[1] - 1}")
         gaps = gaps.astype(bool)
         broken = np.flatnonzero(gaps & ~_holding_gaps(points[key_vertices, -1], times))
         if len(broken):
-            raise ValueError(f"prism gap {broken[0]} ({times[broken[0]]:g} to {times[broken[0] + 1]:g}) does not hold: "
+            raise InputError(f"prism gap {broken[0]} ({times[broken[0]]:g} to {times[broken[0] + 1]:g}) does not hold: "
                              "a key's vertices are not all at its time, or another key's reach into the gap")
         arrays = [times, key_vertices.astype(np.int32), faces.astype(np.int32), face_simplices.astype(np.int32), gaps]
         for a in arrays:
@@ -222,7 +223,7 @@ class Prisms:
             return None
         if len(present) != len(CACHE_ARRAYS):
             missing = sorted(set(CACHE_ARRAYS) - set(present))
-            raise ValueError(f"the prism structure is incomplete: {', '.join(missing)} missing")
+            raise InputError(f"the prism structure is incomplete: {', '.join(missing)} missing")
         times, key_vertices, faces, face_simplices, gaps = (arrays[name] for name in CACHE_ARRAYS)
         return cls(np.asarray(times).reshape(-1), key_vertices, faces, face_simplices, np.asarray(gaps).reshape(-1))
 
@@ -298,14 +299,14 @@ def _space(points: np.ndarray, rows: np.ndarray) -> np.ndarray:
 def _int_table(values, what: str) -> np.ndarray:
     table = np.asarray(values)
     if table.ndim != 2:
-        raise ValueError(f"{what} must be a 2D table, got shape {table.shape}")
+        raise InputError(f"{what} must be a 2D table, got shape {table.shape}")
     if table.size and not np.issubdtype(table.dtype, np.integer):
-        raise ValueError(f"{what} must be integers, got {table.dtype}")
+        raise InputError(f"{what} must be integers, got {table.dtype}")
     return np.array(table, dtype=np.int64)
 
 
 def _check_range(table: np.ndarray, count: int, what: str) -> None:
     bad = np.flatnonzero((table < 0) | (table >= count))
     if len(bad):
-        raise ValueError(f"{what} {table.reshape(-1)[bad[0]]} (entry {bad[0]}) is outside 0..{count - 1}")
+        raise InputError(f"{what} {table.reshape(-1)[bad[0]]} (entry {bad[0]}) is outside 0..{count - 1}")
 

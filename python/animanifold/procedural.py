@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .frame_smoothing import subdivide_frame
+from ._core import InputError, MeshingError
 
 
 def icosahedron() -> tuple[np.ndarray, np.ndarray]:
@@ -66,7 +67,7 @@ def subdivide_midpoint(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndar
 def icosphere(subdivisions: int) -> tuple[np.ndarray, np.ndarray]:
     """A unit sphere of 20·4^subdivisions faces (subdivided icosahedron, projected)."""
     if subdivisions < 0:
-        raise ValueError(f"subdivisions must be >= 0, got {subdivisions}")
+        raise InputError(f"subdivisions must be >= 0, got {subdivisions}")
     vertices, faces = icosahedron()
     for _ in range(subdivisions):
         vertices, faces = subdivide_midpoint(vertices, faces)
@@ -198,7 +199,7 @@ def smooth_genus3(levels: int = 2) -> tuple[np.ndarray, np.ndarray]:
 def _count(n, name: str, minimum: int = 0) -> int:
     """`n` as an int >= minimum (bools and fractions refused)."""
     if isinstance(n, bool) or int(n) != n or n < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {n!r}")
+        raise InputError(f"{name} must be an integer >= {minimum}, got {n!r}")
     return int(n)
 
 
@@ -239,7 +240,7 @@ def ring_of_holes(holes: int = 4, levels: int = 2) -> tuple[np.ndarray, np.ndarr
     plate = (r2 <= m**2) & ((r2 > (m - 1.5) ** 2) | (r2 <= hub**2) | spokes)
     v, f = voxel_surface(_unpinch(plate)[:, :, None])
     if _genus(v, f) != holes:  # a guard on the digitisation: checked for 1..32 holes
-        raise RuntimeError(f"the voxel wheel for {holes} holes came out genus {_genus(v, f)}")
+        raise MeshingError(f"the voxel wheel for {holes} holes came out genus {_genus(v, f)}")
     v = (v - v.mean(0)) * np.array([0.3, 0.3, 0.6])
     s = subdivide_frame(v, f, levels=levels, crease_angle=180.0)
     return np.asarray(s.vertices, np.float64), np.asarray(s.faces, np.int32)

@@ -30,6 +30,7 @@ from . import _core
 from .choices import checked, names
 from .manifold import AnimationManifold
 from .option_keywords import options_from
+from ._core import InputError
 
 ORDERS = names(_core.RefineOrder)
 
@@ -87,7 +88,7 @@ class RefineOptions:
         object.__setattr__(self, "order", checked(self.order, _core.RefineOrder, "order"))
         if isinstance(self.epsilon, bool) or not isinstance(self.epsilon, (int, float, np.number)) \
                 or not 0.0 <= self.epsilon < 0.5:
-            raise ValueError(f"epsilon must be a number in [0, 0.5), got {self.epsilon!r}")
+            raise InputError(f"epsilon must be a number in [0, 0.5), got {self.epsilon!r}")
 
 
 def refine(
@@ -144,12 +145,12 @@ def refine_complex(
     options = options_from(RefineOptions, options, epsilon=epsilon, order=order)
     points = np.ascontiguousarray(points, dtype=np.float64)
     if points.ndim != 2 or points.shape[1] < 1:
-        raise ValueError(f"points must be (N, D), got shape {points.shape}")
+        raise InputError(f"points must be (N, D), got shape {points.shape}")
     simplices = np.asarray(simplices)
     if simplices.ndim != 2:
-        raise ValueError(f"simplices must be (M, k), got shape {simplices.shape}")
+        raise InputError(f"simplices must be (M, k), got shape {simplices.shape}")
     if simplices.size and not np.issubdtype(simplices.dtype, np.integer):
-        raise ValueError(f"simplices must be integer vertex indices, got {simplices.dtype}")
+        raise InputError(f"simplices must be integer vertex indices, got {simplices.dtype}")
     simplices = np.ascontiguousarray(simplices, dtype=np.int32)
     k = simplices.shape[1]
     ids, coords = _split_arrays(splits, k)
@@ -184,11 +185,11 @@ def _split_arrays(splits, k: int) -> tuple[np.ndarray, np.ndarray]:
     ):
         ids, coords = splits
         if ids.shape != coords.shape:
-            raise ValueError(f"split ids are {ids.shape} but barycentric coordinates are {coords.shape}")
+            raise InputError(f"split ids are {ids.shape} but barycentric coordinates are {coords.shape}")
         if ids.shape[1] > k:
-            raise ValueError(f"splits name up to {ids.shape[1]} vertices but the simplices have {k}")
+            raise InputError(f"splits name up to {ids.shape[1]} vertices but the simplices have {k}")
         if ids.size and not np.issubdtype(ids.dtype, np.integer):
-            raise ValueError(f"split ids must be integers, got {ids.dtype}")
+            raise InputError(f"split ids must be integers, got {ids.dtype}")
         padded_ids = np.full((len(ids), k), -1, dtype=np.int32)
         padded_coords = np.zeros((len(ids), k), dtype=np.float64)
         padded_ids[:, : ids.shape[1]] = ids
@@ -202,20 +203,20 @@ def _split_arrays(splits, k: int) -> tuple[np.ndarray, np.ndarray]:
         try:
             vertex_ids, barycentric = split
         except (TypeError, ValueError):
-            raise ValueError(f"split {t} must be a pair (vertex_ids, barycentric), got {split!r}") from None
+            raise InputError(f"split {t} must be a pair (vertex_ids, barycentric), got {split!r}") from None
         vertex_ids = np.asarray(vertex_ids).reshape(-1)
         barycentric = np.asarray(barycentric, dtype=np.float64).reshape(-1)
         if vertex_ids.size and not np.issubdtype(vertex_ids.dtype, np.integer):
-            raise ValueError(f"split {t}: vertex ids must be integers, got {vertex_ids.dtype}")
+            raise InputError(f"split {t}: vertex ids must be integers, got {vertex_ids.dtype}")
         if not 1 <= len(vertex_ids) <= k:
-            raise ValueError(f"split {t} names {len(vertex_ids)} vertices; a face of these simplices has 1..{k}")
+            raise InputError(f"split {t} names {len(vertex_ids)} vertices; a face of these simplices has 1..{k}")
         if len(barycentric) != len(vertex_ids):
-            raise ValueError(
+            raise InputError(
                 f"split {t} has {len(vertex_ids)} vertex ids but {len(barycentric)} barycentric coordinates"
             )
         if np.any(vertex_ids < 0) or np.any(vertex_ids >= 2**31):
             bad = int(vertex_ids[(vertex_ids < 0) | (vertex_ids >= 2**31)][0])
-            raise ValueError(f"split {t}: vertex {bad} is not a vertex index")
+            raise InputError(f"split {t}: vertex {bad} is not a vertex index")
         padded_ids[t, : len(vertex_ids)] = vertex_ids
         padded_coords[t, : len(vertex_ids)] = barycentric
     return padded_ids, padded_coords
@@ -231,9 +232,9 @@ def _tables(tables: Mapping[str, np.ndarray] | None, dtype, what: str) -> tuple[
             squeezed.add(name)
             table = table[:, None]
         if table.ndim != 2:
-            raise ValueError(f"{what} {name!r} must be 1D or 2D, got shape {table.shape}")
+            raise InputError(f"{what} {name!r} must be 1D or 2D, got shape {table.shape}")
         if dtype is np.int32 and table.size and not np.issubdtype(table.dtype, np.integer):
-            raise ValueError(f"{what} {name!r} must be integers, got {table.dtype}")
+            raise InputError(f"{what} {name!r} must be integers, got {table.dtype}")
         out[name] = np.ascontiguousarray(table, dtype=dtype)
     return squeezed, out
 

@@ -38,6 +38,7 @@ import numpy as np
 from .interrupting import InterruptedCallback, ProgressCallback, Span
 from .laplacian import Deformer, LaplacianOptions, _is_count, _vertex_list, solve
 from .refinement import refine_complex
+from ._core import InputError
 
 
 @dataclass(frozen=True)
@@ -60,13 +61,13 @@ class RegulariseOptions:
     def __post_init__(self):
         if self.epsilon is not None and (isinstance(self.epsilon, bool) or not np.isfinite(self.epsilon)
                                          or self.epsilon <= 0):
-            raise ValueError(f"epsilon must be a positive number, got {self.epsilon!r}")
+            raise InputError(f"epsilon must be a positive number, got {self.epsilon!r}")
         if not _is_count(self.max_iterations):
-            raise ValueError(f"max_iterations must be a non-negative integer, got {self.max_iterations!r}")
+            raise InputError(f"max_iterations must be a non-negative integer, got {self.max_iterations!r}")
         if self.axis_weights is not None:
             weights = np.asarray(self.axis_weights, dtype=np.float64).reshape(-1)
             if (weights < 0).any() or not np.isfinite(weights).all() or not weights.any():
-                raise ValueError(f"axis_weights must be finite non-negative numbers, not all zero, "
+                raise InputError(f"axis_weights must be finite non-negative numbers, not all zero, "
                                  f"got {self.axis_weights!r}")
             # A tuple keeps the options immutable and comparable.
             object.__setattr__(self, "axis_weights", tuple(float(w) for w in weights))
@@ -189,13 +190,13 @@ def regularise(
     """
     rest, S = _checked_complex(points, simplices)
     if (transform is None) == (handle_positions is None):
-        raise ValueError("give exactly one of transform ((D+1)x(D+1)) or handle_positions ((H, D))")
+        raise InputError("give exactly one of transform ((D+1)x(D+1)) or handle_positions ((H, D))")
     n, D = rest.shape
     weights = None
     if options.axis_weights is not None:
         weights = np.asarray(options.axis_weights, dtype=np.float64)
         if weights.shape != (D,):
-            raise ValueError(f"axis_weights must be {D} finite non-negative numbers, not all zero, "
+            raise InputError(f"axis_weights must be {D} finite non-negative numbers, not all zero, "
                              f"got {options.axis_weights!r}")
     state = _ConstraintState.of(n, D, anchors, handles, handle_positions)
     epsilon = _threshold(rest, S, weights, options.epsilon)
@@ -260,11 +261,11 @@ def _checked_complex(points, simplices) -> tuple[np.ndarray, np.ndarray]:
     rest = np.ascontiguousarray(points, dtype=np.float64)
     S = np.asarray(simplices)
     if rest.ndim != 2 or rest.shape[1] not in (3, 4):
-        raise ValueError(f"points must be (N, 3) or (N, 4), got shape {rest.shape}")
+        raise InputError(f"points must be (N, 3) or (N, 4), got shape {rest.shape}")
     if S.ndim != 2 or S.shape[1] != rest.shape[1]:
-        raise ValueError(f"simplices must be (M, {rest.shape[1]}) for {rest.shape[1]}D points, got shape {S.shape}")
+        raise InputError(f"simplices must be (M, {rest.shape[1]}) for {rest.shape[1]}D points, got shape {S.shape}")
     if S.size and not np.issubdtype(S.dtype, np.integer):
-        raise ValueError(f"simplices must be integer vertex indices, got {S.dtype}")
+        raise InputError(f"simplices must be integer vertex indices, got {S.dtype}")
     return rest, np.ascontiguousarray(S, dtype=np.int32)
 
 
@@ -274,7 +275,7 @@ def _threshold(rest: np.ndarray, S: np.ndarray, weights: np.ndarray | None, epsi
         return float(epsilon)
     lengths = manhattan_lengths(rest, edges_of(S, len(rest)), weights)
     if not len(lengths) or lengths.mean() <= 0:
-        raise ValueError("the complex has no edges of positive length: no default epsilon")
+        raise InputError("the complex has no edges of positive length: no default epsilon")
     return 2.0 * float(lengths.mean())
 
 
@@ -309,7 +310,7 @@ class _ConstraintState:
         if handle_positions is not None:
             P = np.asarray(handle_positions, dtype=np.float64)
             if P.shape != (len(handle_ids), D):
-                raise ValueError(f"handle_positions must be ({len(handle_ids)}, {D}), one row per handle, got {P.shape}")
+                raise InputError(f"handle_positions must be ({len(handle_ids)}, {D}), one row per handle, got {P.shape}")
             targets = np.zeros((n, D))
             targets[handle_ids] = P
         return cls(is_anchor, is_handle, targets)

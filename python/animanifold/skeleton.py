@@ -28,13 +28,17 @@ import numpy as np
 
 from . import _core
 from .choices import checked, names
+from ._core import InputError
 
 __all__ = [
+    "EmptySkeletonWarning",
     "SeparabilityWarning",
     "VoronoiSkeleton",
     "dihedral_test",
+    "empty_skeleton_reason",
     "encroachments",
     "faces_intersecting_mesh",
+    "is_convex",
     "make_voronoi_separable",
     "voronoi_skeleton",
     "wrap",
@@ -48,6 +52,10 @@ WRAP_SHAPES = names(_core.WrapShape)
 
 class SeparabilityWarning(RuntimeWarning):
     """The iteration cap was hit before the mesh became Voronoi separable."""
+
+
+class EmptySkeletonWarning(RuntimeWarning):
+    """The skeleton came out empty although the shape has one: its sampling is too regular."""
 
 
 @dataclass(frozen=True)
@@ -92,7 +100,7 @@ class VoronoiSkeleton:
     def select(self, side: str) -> tuple[np.ndarray, np.ndarray]:
         """(vertices, faces) of one side, re-indexed compactly."""
         if side not in (INTERNAL, EXTERNAL):
-            raise ValueError(f"side must be 'internal' or 'external', got {side!r}")
+            raise InputError(f"side must be 'internal' or 'external', got {side!r}")
         faces = self.faces[self.side == side]
         used, inverse = np.unique(faces, return_inverse=True)
         return self.vertices[used], inverse.reshape(faces.shape).astype(np.int32)
@@ -101,14 +109,14 @@ class VoronoiSkeleton:
 def _points(vertices, name: str = "vertices") -> np.ndarray:
     v = np.ascontiguousarray(vertices, dtype=np.float64)
     if v.ndim != 2 or v.shape[1] not in (2, 3):
-        raise ValueError(f"{name} must be (k, 2) or (k, 3), got shape {v.shape}")
+        raise InputError(f"{name} must be (k, 2) or (k, 3), got shape {v.shape}")
     return v
 
 
 def _simplices(faces, name: str = "faces") -> np.ndarray:
     f = np.asarray(faces)
     if f.ndim != 2 or (f.size and not np.issubdtype(f.dtype, np.integer)):
-        raise ValueError(f"{name} must be a 2D integer array, got shape {f.shape} and dtype {f.dtype}")
+        raise InputError(f"{name} must be a 2D integer array, got shape {f.shape} and dtype {f.dtype}")
     return np.ascontiguousarray(f, dtype=np.int32)
 
 
@@ -150,10 +158,10 @@ def voronoi_skeleton(
     side = checked(side, _core.SkeletonSide, "skeleton side")
     wrap = "none" if wrap is None else checked(wrap, _core.WrapShape, "wrap shape")
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)) or max_iterations < 0:
-        raise ValueError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
+        raise InputError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
     if isinstance(wrap_density, bool) or not isinstance(wrap_density, (int, np.integer)) or not (
             1 <= wrap_density <= MAX_WRAP_DENSITY):
-        raise ValueError(f"wrap_density must be an integer from 1 to {MAX_WRAP_DENSITY}, got {wrap_density!r} "
+        raise InputError(f"wrap_density must be an integer from 1 to {MAX_WRAP_DENSITY}, got {wrap_density!r} "
                          "(a box wrap has 6·density² + 2 sites)")
     v = _points(vertices)
     f = _simplices(faces)
@@ -188,7 +196,45 @@ def voronoi_skeleton(
     )
     if warn and not sk.separable:
         warnings.warn(separability_warning(sk, max_iterations), SeparabilityWarning, stacklevel=2)
+    if warn and len(sk.faces) == 0 and (reason := empty_skeleton_reason(side, v, f)):
+        warnings.warn(f"the {_side_name(side)} {reason}", EmptySkeletonWarning, stacklevel=2)
     return sk
+
+
+def _side_name(side: str) -> str:
+    return "skeleton" if side == "both" else f"{side} skeleton"
+
+
+def empty_skeleton_reason(side: str, vertices: np.ndarray, faces: np.ndarray) -> str | None:
+    """Why a skeleton of `side` came out empty, as the end of a sentence, or None where empty
+    is right: a convex shape has no external skeleton. Every solid has an internal one and any
+    other shape an external one, so the sampling is to blame: sites on common spheres, as a
+    regularly sampled torus or sphere has, give Voronoi cells the extraction cannot separate."""
+    convex = is_convex(vertices, faces)
+    if side != INTERNAL and convex:
+        return None
+    return (f"came out empty{'' if convex else ' although the shape is not convex'}: its vertices are probably "
+            "sampled too regularly (many on one sphere, as on a primitive torus); move them by a little noise "
+            "(1e-6 of the size) and try again")
+
+
+def is_convex(vertices: np.ndarray, faces: np.ndarray) -> bool:
+    """Every vertex lies on or behind every face's plane (to rounding): the closed, outward
+    oriented mesh is convex. Without scipy, which the package does not need at runtime."""
+    vertices = np.asarray(vertices, dtype=np.float64)
+    corners = vertices[faces]
+    chunk = max(1, (1 << 22) // max(len(vertices), 1))  # faces per pass: ~32 MB of heights
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    size = float(np.ptp(vertices, axis=0).max()) or 1.0
+    for i in range(0, len(faces), chunk):
+        n = normals[i:i + chunk]
+        lengths = np.linalg.norm(n, axis=1)
+        keep = lengths > 0
+        offsets = np.einsum("ij,ij->i", n[keep], corners[i:i + chunk, 0][keep])
+        heights = (vertices @ n[keep].T - offsets) / lengths[keep]
+        if heights.size and heights.max() > 1e-9 * size:
+            return False
+    return True
 
 
 def separability_warning(sk: VoronoiSkeleton, max_iterations: int) -> str | None:

@@ -16,6 +16,7 @@ from . import _core
 from .indices import as_indices
 from .manifold import AnimationManifold, as_table
 from .prism_frames import Prisms
+from ._core import InputError
 
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -129,16 +130,16 @@ def stitch(
     if isinstance(frames, np.ndarray):
         stacked = frames
         if stacked.ndim != 3:
-            raise ValueError(f"frames must be (m, k, d), got shape {stacked.shape}")
+            raise InputError(f"frames must be (m, k, d), got shape {stacked.shape}")
     else:
         frames = [np.asarray(f) for f in frames]
         if not frames:
-            raise ValueError("an animation manifold needs at least two keyframes, got 0")
+            raise InputError("an animation manifold needs at least two keyframes, got 0")
         for i, f in enumerate(frames):
             if f.ndim != 2:
-                raise ValueError(f"keyframe {i} must be (k, d), got shape {f.shape}")
+                raise InputError(f"keyframe {i} must be (k, d), got shape {f.shape}")
             if f.shape != frames[0].shape:
-                raise ValueError(
+                raise InputError(
                     f"keyframe {i} has {f.shape[0]} vertices of {f.shape[1]}D; keyframe 0 has "
                     f"{frames[0].shape[0]} of {frames[0].shape[1]}D: keyframes must correspond vertex for vertex"
                 )
@@ -146,21 +147,21 @@ def stitch(
     m, k, d = stacked.shape
     times = np.ascontiguousarray(times, dtype=np.float64).reshape(-1)
     if len(times) != m:
-        raise ValueError(f"{m} keyframes but {len(times)} times")
+        raise InputError(f"{m} keyframes but {len(times)} times")
     faces = np.asarray(faces)
     if faces.ndim != 2 or faces.shape[1] != d:
-        raise ValueError(f"faces must be (l, {d}) for {d}D keyframes, got shape {faces.shape}")
+        raise InputError(f"faces must be (l, {d}) for {d}D keyframes, got shape {faces.shape}")
     if faces.size and not np.issubdtype(faces.dtype, np.integer):
-        raise ValueError(f"faces must be integer vertex indices, got {faces.dtype}")
+        raise InputError(f"faces must be integer vertex indices, got {faces.dtype}")
     if faces.size and (faces.max() >= 2**31 or faces.min() < -(2**31)):
-        raise ValueError("face indices do not fit in 32 bits")
+        raise InputError("face indices do not fit in 32 bits")
 
     va = {}
     for name, values in (vertex_attributes or {}).items():
         table = np.asarray(values, dtype=np.float64)
         if table.ndim == 3:  # (m, k, c): per keyframe
             if table.shape[:2] != (m, k):
-                raise ValueError(f"vertex attribute {name!r} has shape {table.shape}; expected ({m}, {k}, c)")
+                raise InputError(f"vertex attribute {name!r} has shape {table.shape}; expected ({m}, {k}, c)")
             table = table.reshape(m * k, -1)
         elif table.ndim == 2 and table.shape == (m, k) and m != k:  # (m, k): per keyframe, one channel
             table = table.reshape(m * k, 1)

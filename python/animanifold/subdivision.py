@@ -19,6 +19,7 @@ from . import _core
 from .choices import checked, names
 from .manifold import AnimationManifold
 from .option_keywords import options_from
+from ._core import InputError
 
 MANIFOLD_SCHEMES = names(_core.ManifoldScheme)
 
@@ -45,11 +46,11 @@ class SubdivideOptions:
         # Frozen: the checked name replaces an enum member, a tuple any sequence of times.
         object.__setattr__(self, "scheme", checked(self.scheme, _core.ManifoldScheme, "scheme"))
         if not isinstance(self.keep_keyframe_times, (bool, np.bool_)):
-            raise ValueError(f"keep_keyframe_times must be True or False, got {self.keep_keyframe_times!r}")
+            raise InputError(f"keep_keyframe_times must be True or False, got {self.keep_keyframe_times!r}")
         if self.keyframe_times is not None:
             times = np.asarray(self.keyframe_times, dtype=np.float64).reshape(-1)
             if not np.isfinite(times).all():
-                raise ValueError(f"keyframe_times must be finite numbers, got {self.keyframe_times!r}")
+                raise InputError(f"keyframe_times must be finite numbers, got {self.keyframe_times!r}")
             object.__setattr__(self, "keyframe_times", tuple(float(t) for t in times))
 
 
@@ -89,7 +90,7 @@ def subdivide(
                            keyframe_times=keyframe_times)
     scheme, keep_keyframe_times = options.scheme, options.keep_keyframe_times
     if isinstance(levels, bool) or int(levels) != levels or levels < 0:
-        raise ValueError(f"levels must be a non-negative integer, got {levels!r}")
+        raise InputError(f"levels must be a non-negative integer, got {levels!r}")
     keyframe_times = options.keyframe_times
     if keyframe_times is None:
         keyframe_times = manifold.metadata.get("keyframe_times") or []

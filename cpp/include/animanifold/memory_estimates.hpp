@@ -40,6 +40,14 @@ MemoryEstimate frame_subdivision_memory(Eigen::Index vertices, Eigen::Index face
                                         Eigen::Index attribute_columns, int levels);
 
 // Inputs:
+//   vertices, faces    the frame and its faces (or segments), as subdivide_frame() takes them
+//   vertex_attributes  its vertex attribute tables
+//   levels             the options' levels
+// Outputs: the estimate above for that frame
+MemoryEstimate frame_subdivision_memory(const PointMatrix& vertices, const SimplexMatrix& faces,
+                                        const VertexAttributes& vertex_attributes, int levels);
+
+// Inputs:
 //   input           as refine() takes it
 //   split_vertices  T by m split faces, -1 padded
 // Outputs: refine()'s estimate: each split adds a vertex and splits the simplices around its

@@ -96,7 +96,7 @@ struct Refinement {
 //   options            sliver tolerance and order
 // Outputs:
 //   Refinement: the refined complex and how each split, vertex and simplex maps to the input
-// Throws: InputError (see below)
+// Throws: InputError (see below); MemoryLimitError when its estimate (memory_estimates.hpp) exceeds memory_limit()
 //
 // Applies the split tuples to `input` (validated: see Complex::validate).
 //

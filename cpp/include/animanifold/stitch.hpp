@@ -44,7 +44,7 @@ struct StitchInput {
 // Outputs:
 //   the manifold: (m*k) by d+1 points (time last), n*l*(m-1) by d+1 simplices,
 //   vertex attributes per point, face attributes per simplex
-// Throws: see below
+// Throws: see below; MemoryLimitError when its estimate (memory_estimates.hpp) exceeds memory_limit()
 //
 // Throws InputError naming the keyframe, vertex or face at fault: fewer than
 // two keyframes, frames not a multiple of the keyframe count, non-finite

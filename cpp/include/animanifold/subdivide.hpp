@@ -100,7 +100,8 @@ struct ManifoldSubdivision {
 // Outputs:
 //   ManifoldSubdivision: the refined manifold, each vertex's parents, each
 //   simplex's input simplex, the keyframe times used
-// Throws: InputError (see below); Cancelled when the interrupter says so
+// Throws: InputError (see below); Cancelled when the interrupter says so;
+//   MemoryLimitError when its estimate (memory_estimates.hpp) exceeds memory_limit()
 //
 // Subdivides a manifold of tetrahedra (4 columns) or triangles (3 columns)
 // embedded in R^D (D >= columns - 1; the last coordinate is time).
@@ -152,7 +153,8 @@ struct FrameSubdivision {
 //                      faces, normals) as it starts
 // Outputs:
 //   FrameSubdivision: refined vertices, faces, normals, attributes, face parents
-// Throws: InputError (see below); Cancelled when the interrupter says so
+// Throws: InputError (see below); Cancelled when the interrupter says so;
+//   MemoryLimitError when its estimate (memory_estimates.hpp) exceeds memory_limit()
 //
 // Refines a polygon mesh (#V by 3 points; #F by 3 triangles or #F by 4 quads)
 // with OpenSubdiv (Far::TopologyRefiner + PrimvarRefiner): Loop needs
@@ -172,7 +174,8 @@ FrameSubdivision subdivide_frame(const PointMatrix& vertices, const SimplexMatri
 //   interrupter         told each level (and the limit step) as it starts
 // Outputs:
 //   FrameSubdivision with segments as faces
-// Throws: InputError for segments out of range; Cancelled when the interrupter says so
+// Throws: InputError for segments out of range; Cancelled when the interrupter says so;
+//   MemoryLimitError when its estimate (memory_estimates.hpp) exceeds memory_limit()
 //
 // Frames of 2D animations are polylines, which OpenSubdiv does not refine:
 // cubic B-spline subdivision (midpoints, then 1/8, 3/4, 1/8 at old points;
@@ -192,7 +195,7 @@ FrameSubdivision subdivide_polyline(const PointMatrix& vertices, const SimplexMa
 //   options  as subdivide_frame
 // Outputs:
 //   the refined Slice (no vertex_edges: refined points are on no manifold edge)
-// Throws: InputError as subdivide_frame / subdivide_polyline
+// Throws: InputError and MemoryLimitError as subdivide_frame / subdivide_polyline
 //
 // A sliced frame refined by subdivide_frame (Loop on the triangles of a 3D
 // frame) or subdivide_polyline (the segments of a 2D animation's frame): the
