@@ -7,6 +7,7 @@ from __future__ import annotations
 import threading
 
 import numpy as np
+import pytest
 
 import animanifold as am
 from animanifold import _core
@@ -53,3 +54,48 @@ def test_an_input_the_core_refuses_is_the_jobs_error_not_raised_in_the_thread():
     job = am.CoreJob(am.voronoi_skeleton, v, f[1:])
     assert job.wait(30.0) and isinstance(job.error, _core.InputError) and "open" in str(job.error)
     assert not job.cancelled and job.result is None
+
+
+def _stitching_steps(log):
+    """Steps that stitch twice, with work of their own before, between and after (as Convert's
+    adaptive sampling does), logging what ran; their result is the two stitches' sizes."""
+    v, f = icosphere(1)
+    try:
+        log.append("before")
+        first = yield am.core_job.CoreCall(am.stitch, (np.stack([v, 1.1 * v]), f, [0.0, 1.0]))
+        log.append("between")
+        second = yield am.core_job.CoreCall(am.stitch, (np.stack([v, 1.2 * v, 1.3 * v]), f, [0.0, 1.0, 2.0]))
+        log.append("after")
+        return len(first.simplices), len(second.simplices)
+    finally:
+        log.append("finally")
+
+
+def test_steps_give_the_same_result_run_here_or_each_call_as_a_job():
+    """Steps.run makes the calls in the calling thread; driven call by call as CoreJobs (the add-on's
+    modal operators), the same generator gives the same result."""
+    log = []
+    here = am.core_job.Steps(_stitching_steps(log)).run()
+    assert log == ["before", "between", "after", "finally"]
+    log.clear()
+    steps = am.core_job.Steps(_stitching_steps(log))
+    call, jobs = steps.next(), 0
+    while call is not None:
+        job = call.job()
+        assert job.wait(60.0) and job.error is None
+        call, jobs = steps.next(job.result), jobs + 1
+    assert steps.result == here and jobs == 2 and log == ["before", "between", "after", "finally"]
+
+
+def test_a_calls_error_is_raised_where_the_steps_asked_for_it_and_a_cancel_runs_their_cleanup():
+    log = []
+    steps = am.core_job.Steps(_stitching_steps(log))
+    steps.next()
+    with pytest.raises(_core.InputError):
+        steps.next(error=_core.InputError("the stitch refused its input"))
+    assert log == ["before", "finally"]
+    log.clear()
+    steps = am.core_job.Steps(_stitching_steps(log))
+    steps.next()
+    steps.close()  # a cancelled job: nothing after it runs, the cleanup does
+    assert log == ["before", "finally"]

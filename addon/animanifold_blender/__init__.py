@@ -7,9 +7,9 @@ Modules by role (as Blender's own io_scene_gltf2 and bl_operators):
 * registration: this file; preferences (threads, frame cache budget); properties (every setting); handlers (every
   application handler, in order); ui, ui_tools (panels);
 * operators, thin (properties, poll, execute/invoke): operators (Convert, Bake,
-  Back to Live), ops_morph (Morph Selected; modal, the core in am.MorphJob's
-  worker thread, Esc cancels), ops_skeleton and ops_deform (modal likewise, in
-  am.CoreJob, through job_modal); `reporting` turns their
+  Back to Live), ops_morph (Morph Selected), ops_skeleton and ops_deform; from the
+  interface all but Back to Live are modal (job_modal: the core in a worker thread,
+  am.CoreJob or am.core_job.Steps, Esc cancels; progress maps its steps onto the bar); `reporting` turns their
   failures into reports, `polls` holds their shared poll checks;
 * what they run: convert, bake_object and bake, morph_object, deform_apply with
   deform_constraints, deform_handle and interactive_deform;

@@ -166,28 +166,20 @@ class _Refinement:
         if frames:
             self.samples.update(zip(frames, sampling.evaluate(self.context, self.obj, frames, triangulate_all=True)))
 
-    def stitch_and_measure(self) -> None:
+    def stitch_and_measure(self):
+        """Steps (am.core_job.Steps): the round's stitch and measure as one long call."""
         times = np.array(sorted(self.samples))
         self.keys = sampling.keyframes_from(self.obj, [self.samples[t] for t in times], times, check_motion=False)
-        self.manifold = sampling.stitch_keyframes(self.keys)
         # A slice at a sample's time is that sample exactly (the slicer reproduces keyframes):
         # nothing to measure there.
         sampled = np.isin(self.candidates, times)
         self.deviation[sampled] = 0.0
         dirty = np.flatnonzero(self.dirty & ~sampled)
-
-        def measure(i):
-            return frame_deviation(self.manifold, self.candidates[i], self.surfaces[i], self.matrix0)
-
-        if len(dirty):
-            self.deviation[dirty[0]] = measure(dirty[0])  # the first slice makes the manifold's slicer
-            # Slicing and distances run in the core without the GIL: one thread per core.
-            with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-                self.deviation[dirty[1:]] = list(pool.map(measure, dirty[1:]))
+        self.manifold, self.deviation[dirty] = yield am.core_job.CoreCall(
+            stitch_and_measure, (self.keys, [(self.candidates[i], self.surfaces[i]) for i in dirty], self.matrix0))
         self.dirty[:] = False
-        if self.progress is not None:
-            within = int(np.count_nonzero(self.deviation <= self.tolerance))
-            self.progress(len(self.candidates) + within)
+        within = int(np.count_nonzero(self.deviation <= self.tolerance))
+        self.progress.counter(2 * len(self.candidates) + 2)(len(self.candidates) + within)
 
     def refine_once(self, cap: int) -> bool:
         """Adds the worst candidates (one an interval, at most up to the cap); False when
@@ -207,26 +199,48 @@ class _Refinement:
         return True
 
 
-def sample_adaptively(context, obj, start: float, end: float, initial: np.ndarray,
-                      tolerance_percent: float = TOLERANCE_PERCENT, max_samples: int = MAX_SAMPLES,
-                      progress=None):
+def stitch_and_measure(keys, frames, matrix0, progress=None, interrupted=None):
+    """(manifold, deviations): the manifold stitched from `keys` and its deviation from the source at
+    each of `frames` ((frame, Surface) pairs). Reads no Blender data: a worker thread may run it."""
+    manifold = sampling.stitch_keyframes(keys, progress, interrupted)
+    deviation = np.zeros(len(frames))
+
+    def measure(i):
+        if interrupted is not None and interrupted():
+            raise am.Cancelled("cancelled measuring the deviations")
+        return frame_deviation(manifold, frames[i][0], frames[i][1], matrix0)
+
+    if len(frames):
+        deviation[0] = measure(0)  # the first slice makes the manifold's slicer
+        # Slicing and distances run in the core without the GIL: one thread per core.
+        with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+            deviation[1:] = list(pool.map(measure, range(1, len(frames))))
+    return manifold, deviation
+
+
+def adaptive_steps(context, obj, start: float, end: float, initial: np.ndarray,
+                   tolerance_percent: float, max_samples: int, progress):
     """Keyframes of `obj` over [start, end]: the `initial` frames (start and end among them)
-    and the frames refinement adds, with the Fidelity reached. `progress` is called with
-    0..2·candidates. Raises SamplingError when the source changes connectivity or nothing
-    moves, or the tolerance or cap is out of range."""
+    and the frames refinement adds, with the manifold and the Fidelity reached, as
+    am.core_job.Steps whose long calls are the rounds' stitches. The bar (`progress`,
+    progress.Progress) has 2·candidates + 2 parts: the candidates read, then those within the
+    tolerance, then Convert's saving and making; a stitch leaves it where it is. Raises
+    SamplingError when the source changes connectivity or nothing moves, or the tolerance or
+    cap is out of range."""
     if not tolerance_percent > 0:
         raise sampling.SamplingError(f"the tolerance must be above 0 % of the object's size, got {tolerance_percent:g} %")
     if max_samples < len(initial):
         raise sampling.SamplingError(f"'{obj.name}': the sample cap ({max_samples}) is below the {len(initial)} keyframes and range ends "
                          "that are always sampled")
     candidates = candidate_frames(start, end, initial)
-    surfaces = read_surfaces(context, obj, candidates, progress)
+    surfaces = read_surfaces(context, obj, candidates, progress.counter(2 * len(candidates) + 2))
     _check_motion(obj, candidates, surfaces)
     size = max(s.diagonal for s in surfaces)
     tolerance = tolerance_percent / 100.0 * size
     refinement = _Refinement(context, obj, candidates, surfaces, initial, tolerance, progress)
     while True:
-        refinement.stitch_and_measure()
+        progress.span(progress.value, progress.value)
+        yield from refinement.stitch_and_measure()
         if not refinement.refine_once(max_samples):
             break
     worst = int(np.argmax(refinement.deviation))

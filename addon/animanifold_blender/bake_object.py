@@ -13,21 +13,31 @@ import bpy
 
 from . import bake
 from .cache_paths import is_blend_relative
-from .object_manifold import manifold_for, shown_manifold
-from .progress import CoreProgress, Progress
+from ._lib import am
+from .object_manifold import manifold_for, shown_manifold_steps
+from .progress import Progress
 from .reporting import OperatorError
 
 
-def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alembic_wanted: bool,
-                use_cache: bool, export: str, directory: str) -> str:
-    """Bakes `obj` (see the module); the report's text."""
+def bake_object(context, obj, **options) -> str:
+    """Bakes `obj` (see bake_steps) here, blocking, with the progress bar; the report's text."""
+    progress = Progress(context.window_manager, where="subdividing the manifold")
+    try:
+        return am.core_job.Steps(bake_steps(context, progress, obj, **options)).run(progress)
+    finally:
+        progress.end()
+
+
+def bake_steps(context, progress, obj, use_scene_range: bool, start: int, end: int, alembic_wanted: bool,
+               use_cache: bool, export: str, directory: str):
+    """Bakes `obj` (see the module) as am.core_job.Steps whose long call is the manifold's
+    subdivision (when the object's Smooth settings ask for one not kept yet), made before
+    anything changes, so a cancel leaves the scene as it was. Its result is the report's
+    text; `progress` (progress.Progress) shows how far it is: the subdivision fills the
+    bar, then the frames fill it again."""
     scene = context.scene
     manifold_for(obj)  # validates the cache before anything changes
-    subdividing = CoreProgress(context.window_manager, where="subdividing the manifold")
-    try:
-        manifold = shown_manifold(obj, subdividing)  # and subdivides it (Smooth settings) before anything changes
-    finally:
-        subdividing.end()
+    manifold = yield from shown_manifold_steps(obj)  # and subdivides it (Smooth settings) before anything changes
     if use_scene_range:
         start, end = scene.frame_start, scene.frame_end
     t0, t1 = manifold.time_range
@@ -48,11 +58,12 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
     chunk = "" if (first, last) == (scene.frame_start, scene.frame_end) else f"_{first:06d}-{last:06d}"
     stem = bpy.path.clean_name(obj.name)
 
-    progress = Progress(context, 2 * len(frames) + 2)
+    count = progress.counter(2 * len(frames) + 2)
+    count(0)
     transaction = bake.NodeGroupBake(obj)
     written = []
     try:
-        transaction.apply(frames, progress)
+        transaction.apply(frames, count)
         notes = [f"{len(frames)} frames {first}–{last} (node group)"]
         if alembic:
             path = os.path.join(folder, f"{stem}{chunk}.abc")
@@ -66,9 +77,9 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
                 bake.use_mesh_sequence_cache(obj, path, stored, transaction.new_cache_files, parts,
                                              transaction.new_ids)
                 notes.append("shown by a Mesh Sequence Cache modifier")
-        progress(len(frames) + 1)
+        count(len(frames) + 1)
         if export != "NONE":
-            files = bake.export_sequence(obj, frames, folder, export, lambda i: progress(len(frames) + 1 + i),
+            files = bake.export_sequence(obj, frames, folder, export, lambda i: count(len(frames) + 1 + i),
                                              mtl_suffix=chunk)
             notes.append(f"{len(files)} {export} files in {folder}")
     except BaseException:
@@ -79,8 +90,6 @@ def bake_object(context, obj, use_scene_range: bool, start: int, end: int, alemb
             except OSError:
                 pass
         raise
-    finally:
-        progress.end()
     transaction.commit()
     notes[0] = f"{len(frames)} frames {first}–{last} in collection '{transaction.collection.name}' (node group)"
     if alembic_wanted and not bake.alembic_supported():

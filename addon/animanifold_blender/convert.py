@@ -39,10 +39,24 @@ class Converted:
 def convert_object(context, obj, start: int, end: int, mode: str, step: int, directory: str,
                    tolerance: float = adaptive_sampling.TOLERANCE_PERCENT,
                    max_samples: int = adaptive_sampling.MAX_SAMPLES) -> Converted:
+    """Converts `obj` (see convert_steps) here, blocking, with the progress bar."""
+    progress = Progress(context.window_manager)
+    try:
+        return am.core_job.Steps(convert_steps(context, progress, obj, start, end, mode, step, directory,
+                                               tolerance, max_samples)).run(progress)
+    finally:
+        progress.end()
+
+
+def convert_steps(context, progress, obj, start: int, end: int, mode: str, step: int, directory: str,
+                  tolerance: float = adaptive_sampling.TOLERANCE_PERCENT,
+                  max_samples: int = adaptive_sampling.MAX_SAMPLES):
     """Samples `obj` over frames start..end (`mode` ADAPTIVE: keyframes plus samples until
     every frame and half frame is within `tolerance` % of the object's size, at most
     `max_samples`; KEYFRAMES; or EVERY_N with `step`), saves the manifold to a cache (in
-    `directory`, else beside the .blend) and makes the object."""
+    `directory`, else beside the .blend) and makes the object: am.core_job.Steps whose long
+    calls are the stitches, so a cancel comes before anything is written or made. Its
+    result is the Converted; `progress` (progress.Progress) shows how far it is."""
     if obj.type != "MESH":
         raise OperatorError(f"'{obj.name}' is {messages.object_type(obj)}, not a mesh: only mesh objects can be converted")
     if is_manifold_object(obj):
@@ -57,36 +71,31 @@ def convert_object(context, obj, start: int, end: int, mode: str, step: int, dir
 
     fidelity = None
     if mode == "ADAPTIVE":
-        candidates = len(adaptive_sampling.candidate_frames(start, end, frames))
-        progress = Progress(context, 2 * candidates + 2)
+        units = 2 * len(adaptive_sampling.candidate_frames(start, end, frames)) + 2
+        keys, manifold, fidelity = yield from adaptive_sampling.adaptive_steps(
+            context, obj, start, end, frames, tolerance, max_samples, progress)
+        if not fidelity.reached:
+            notes.append(fidelity.warning(obj.name))
     else:
-        progress = Progress(context, len(frames) + 2)
+        units = len(frames) + 2
+        keys = sampling.sample_object(context, obj, frames, progress.counter(units))
+        progress.span(100.0 * len(frames) / units, 100.0 * (len(frames) + 1) / units)
+        manifold = yield am.core_job.CoreCall(sampling.stitch_keyframes, (keys,))
+    manifold.metadata.update(_metadata(obj, start, end, mode, step, keys, fidelity))
+    progress.at(100.0 * (units - 1) / units)
+    existed = os.path.exists(absolute)
+    am.save(manifold, absolute)
     try:
-        if mode == "ADAPTIVE":
-            keys, manifold, fidelity = adaptive_sampling.sample_adaptively(
-                context, obj, start, end, frames, tolerance, max_samples, progress)
-            if not fidelity.reached:
-                notes.append(fidelity.warning(obj.name))
-        else:
-            keys = sampling.sample_object(context, obj, frames, progress)
-            manifold = sampling.stitch_keyframes(keys, progress.core_steps(len(frames)))
-        manifold.metadata.update(_metadata(obj, start, end, mode, step, keys, fidelity))
-        progress(progress.total - 1)
-        existed = os.path.exists(absolute)
-        am.save(manifold, absolute)
-        try:
-            new = _create_object(context, obj, name, stored, absolute, manifold, keys, start, end, fidelity)
-        except BaseException:
-            if not existed:
-                try:
-                    os.unlink(absolute)
-                except OSError:
-                    pass
-            registry.forget(absolute)
-            raise
-        progress(progress.total)
-    finally:
-        progress.end()
+        new = _create_object(context, obj, name, stored, absolute, manifold, keys, start, end, fidelity)
+    except BaseException:
+        if not existed:
+            try:
+                os.unlink(absolute)
+            except OSError:
+                pass
+        registry.forget(absolute)
+        raise
+    progress.at(100.0)
     return Converted(new, manifold, len(keys.times), start, end, stored, notes, fidelity)
 
 

@@ -28,7 +28,7 @@ from .mesh_input import mesh_arrays
 from .mesh_writer import write_points
 from .object_manifold import is_manifold_object
 from .playback import update_object
-from .progress import CoreProgress
+from .progress import Progress
 from .reporting import OperatorError
 
 
@@ -103,11 +103,11 @@ def deform_object(context, obj, opt: dict, empty, report) -> set:
     plan, result = plan_deform(context, obj, opt, empty, report)
     if plan is None:
         return result
-    progress = CoreProgress(context.window_manager, 5.0, 90.0, where="reading the constraints")
+    progress = Progress(context.window_manager, 5.0, 90.0, where="reading the constraints")
     try:
-        progress.at("before the core's first step", 5.0)
+        progress.at(5.0, "before the core's first step")
         deformed = plan.compute(progress=progress)
-        progress.at("writing the result", 90.0)
+        progress.at(90.0, "writing the result")
         return finish_deform(context, obj, plan, deformed, report)
     finally:
         progress.end()

@@ -26,7 +26,7 @@ from .mesh_input import mesh_arrays
 from .mesh_writer import write_mesh, write_points
 from .object_manifold import is_manifold_object
 from .playback import update_object
-from .progress import CoreProgress
+from .progress import Progress
 from .reporting import OperatorError, ReportedError
 
 
@@ -79,7 +79,7 @@ def start(context, obj) -> None:
         anchors, handles = mesh_constraints(obj, opt, notes)
         manifold = None
         points, simplices = mesh_arrays(obj.data)
-    progress = CoreProgress(context.window_manager, where="factorising")  # the factorisation is what takes time
+    progress = Progress(context.window_manager, where="factorising")  # the factorisation is what takes time
     try:
         deformer = am.Deformer(points, simplices, anchors, handles, opt["method"], opt["boundary"], progress=progress)
     finally:

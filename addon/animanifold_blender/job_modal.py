@@ -1,7 +1,9 @@
-"""The modal half of an operator whose long core call runs in a worker thread (am.CoreJob):
-Add Voronoi Skeleton, Laplacian Deform and Morph Selected, invoked from the interface.
+"""The modal half of an operator whose long core calls run in a worker thread (am.CoreJob):
+Add Voronoi Skeleton, Laplacian Deform and Morph Selected (one call), Convert and Bake Frames
+(am.core_job.Steps: the scene work between the calls runs here, in the main thread), invoked
+from the interface.
 
-While the job runs, timer ticks move the progress bar, view events pass, everything else
+While a job runs, timer ticks move the progress bar, view events pass, everything else
 waits (so the operator's inputs are still there at the end) and Esc cancels the job at the
 core's next step. The result is made by `_finish(context, source, result)` in the main
 thread, as execute() makes it, so the operator's undo step is the same either way.
@@ -9,22 +11,71 @@ thread, as execute() makes it, so the operator's undo step is the same either wa
 
 from __future__ import annotations
 
-from .progress import VIEW_EVENTS
+from dataclasses import dataclass
+
+import bpy
+
+from . import preferences
+from .progress import VIEW_EVENTS, Progress
 from .reporting import reporting
 
 
-class CoreJobModal:
-    """Mixin for an Operator: `_start_job` from invoke(); the operator gives `_finish`,
-    `_cancelled_text(source)` (the report of a cancel) and `_failure_text(source)`, or
-    overrides `_tick` (what a timer tick shows) and `_job_done` (what the end makes)."""
+@dataclass
+class _Ended:
+    """How step-wise work ended, read by `_job_done` as it reads a single job."""
 
-    def _start_job(self, context, job, source) -> set:
+    result: object = None
+    error: BaseException | None = None
+    cancelled: bool = False
+
+
+class CoreJobModal:
+    """Mixin for an Operator: `_start_job` (one call) or `_start_steps` from invoke(); the
+    operator gives `_finish`, `_cancelled_text(source)` (the report of a cancel) and
+    `_failure_text(source)`, or overrides `_job_done` (what the end makes). `_job_progress`
+    gives its bar; `_status_label`, when set, names the job's stage in the status bar."""
+
+    _steps = None  # am.core_job.Steps driven here, or None for a single job
+    _status_label = None
+    _job_name = "animanifold job"
+
+    def invoke(self, context, event):
+        """From the interface: modal (the operator's `_start`, which starts a job); where no
+        window can run a modal operator (`blender -b`, bpy), as execute()."""
+        preferences.apply_threads(context)
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        return self._start(context)
+
+    def _job_progress(self, wm) -> Progress:
+        """The bar a job's fraction fills (all of it unless the operator says otherwise)."""
+        return Progress(wm)
+
+    def _start_job(self, context, job, source, progress: Progress | None = None) -> set:
         self._job, self._source = job, source
+        self._progress = progress or self._job_progress(context.window_manager)
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)
-        wm.progress_begin(0, 100)
         wm.modal_handler_add(self)
+        self._tick(context)
         return {"RUNNING_MODAL"}
+
+    def _start_steps(self, context, steps, source, progress: Progress) -> set:
+        """Runs `steps` here up to its first long call, then each call in a worker thread: its
+        result goes back to the steps in the main thread, which run on to the next call or to
+        their end, made by `_finish`. Without a long call to make it ends at once. The steps
+        keep the context invoke() was given: Blender's one context, whose members are the
+        operator's window's again whenever modal() runs them on."""
+        try:
+            call = steps.next()
+        except BaseException:
+            progress.end()
+            raise
+        if call is None:
+            progress.end()
+            return self._finish(context, source, steps.result)
+        self._steps = steps
+        return self._start_job(context, call.job(self._job_name), source, progress)
 
     def modal(self, context, event):
         job = self._job
@@ -35,12 +86,36 @@ class CoreJobModal:
                 self._tick(context)
             # only the view may change meanwhile: the inputs must still be there at the end
             return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
+        if self._steps is not None and self._next_job():
+            return {"RUNNING_MODAL"}
         self._stop_waiting(context)
         return self._job_done(context)
 
+    def _next_job(self) -> bool:
+        """The finished job's result (or error) goes back to the steps, which run on to their next
+        call, started as the next job: True; False once they ended (`_job` then says how)."""
+        job, steps = self._job, self._steps
+        if job.cancelled:
+            steps.close()  # nothing is made after a long call's cancel: there is nothing to undo
+            return False
+        try:
+            call = steps.next(job.result, job.error)
+        except BaseException as e:  # reported by _job_done, as a single job's error is
+            self._job = _Ended(error=e)
+            return False
+        if call is None:
+            self._job = _Ended(result=steps.result)
+            return False
+        self._job = call.job(self._job_name)
+        return True
+
     def _tick(self, context) -> None:
-        """A timer tick while the job runs: the bar follows the core's steps."""
-        context.window_manager.progress_update(100.0 * min(max(self._job.fraction, 0.0), 1.0))
+        """A timer tick while the job runs: the bar (and the status line) follow the core's steps."""
+        job = self._job
+        self._progress(job.stage, job.fraction)
+        if self._status_label:
+            context.workspace.status_text_set(self._progress.status(self._status_label, job.stage, job.fraction,
+                                                                    job.cancelling))
 
     def _job_done(self, context) -> set:
         """The job ended (finished, failed or cancelled): report it, or make its result."""
@@ -55,12 +130,15 @@ class CoreJobModal:
         return {"CANCELLED"}
 
     def _stop_waiting(self, context) -> None:
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
+        context.window_manager.event_timer_remove(self._timer)
+        self._progress.end()
+        if self._status_label:
+            context.workspace.status_text_set(None)
 
     def cancel(self, context):
         """Blender ends the modal operator itself (a file is opened, the window closes): the job
         is told to stop and left to end on its own (its thread touches no Blender data)."""
         self._job.cancel()
+        if self._steps is not None:
+            self._steps.close()
         self._stop_waiting(context)

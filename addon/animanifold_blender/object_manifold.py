@@ -41,13 +41,22 @@ def shown_manifold(obj, progress=None):
     kept; a failure (or a result that would not fit in memory) raises SmoothingError
     and is remembered until a setting changes. `progress(step, fraction)` follows the
     subdivision's steps when it is computed here (an operator's bar)."""
+    return am.core_job.Steps(shown_manifold_steps(obj)).run(progress)
+
+
+def shown_manifold_steps(obj):
+    """shown_manifold as am.core_job.Steps: a subdivision not kept yet is its long call, so an
+    operator may compute it in a worker thread (reads the object's settings first, here)."""
     base = manifold_for(obj)
     settings = obj.animanifold
     levels = int(settings.subdivision_levels)
     if levels <= 0:
         return base
-    return registry.subdivisions.subdivided(cache_paths.cache_abspath(obj), base, levels,
-                                            settings.keep_keyframe_times, obj.name, progress)
+    path, keep = cache_paths.cache_abspath(obj), bool(settings.keep_keyframe_times)
+    kept = registry.subdivisions.kept_manifold(path, base, levels, keep)
+    if kept is not None:
+        return kept
+    return (yield am.core_job.CoreCall(registry.subdivisions.subdivided, (path, base, levels, keep, obj.name)))
 
 
 def prune_subdivided() -> None:

@@ -3,6 +3,10 @@
 Their work is done by convert and bake_object, which check everything that can fail
 before touching the scene and remove whatever they created on a failure; `reporting`
 turns the failure into the operator's error report.
+
+Invoked from the interface, Convert and Bake are modal (job_modal): their long core calls
+(the stitches, the subdivision) run in a worker thread, Esc cancels, and the scene work
+between them runs in the main thread. Executed (a script, `blender -b`, redo), they block.
 """
 
 from __future__ import annotations
@@ -11,22 +15,27 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, St
 from bpy.types import Operator
 
 from . import bake, preferences
-from .bake_object import bake_object
+from ._lib import am
+from .bake_object import bake_object, bake_steps
 from .adaptive_sampling import MAX_SAMPLES, TOLERANCE_PERCENT
-from .convert import convert_object
+from .convert import convert_object, convert_steps
+from .job_modal import CoreJobModal
 from .object_manifold import is_manifold_object, manifold_for
 from .operator_defaults import option
 from .polls import active_object_is, in_object_mode
+from .progress import Progress
 from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 from .reporting import reporting
 
 
-class ANIMANIFOLD_OT_convert_action(Operator):
+class ANIMANIFOLD_OT_convert_action(CoreJobModal, Operator):
     """Turn the active object's keyframed animation into an animation manifold object"""
 
     bl_idname = "animanifold.convert_action"
     bl_label = "Convert to Manifold"
     bl_options = {"REGISTER", "UNDO"}
+    _status_label = "Convert to Manifold"
+    _job_name = "animanifold convert"
 
     sampling: EnumProperty(name="Sampling", items=SAMPLING_ITEMS, default="ADAPTIVE")
     step: IntProperty(name="N", default=5, min=1)
@@ -51,36 +60,62 @@ class ANIMANIFOLD_OT_convert_action(Operator):
             return False
         return True
 
+    def _arguments(self, context) -> tuple:
+        """convert_object's arguments after `context`: the source, the range and the options."""
+        scene = context.scene
+        settings = scene.animanifold
+        if option(self, settings, "use_scene_range"):
+            start, end = scene.frame_start, scene.frame_end
+        else:
+            start, end = option(self, settings, "frame_start"), option(self, settings, "frame_end")
+        return (context.active_object, start, end, option(self, settings, "sampling"), option(self, settings, "step"),
+                option(self, settings, "cache_directory"), option(self, settings, "tolerance"),
+                option(self, settings, "max_samples"))
+
     def execute(self, context):
+        """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
         preferences.apply_threads(context)
         with reporting(self, "Convert failed"):
-            scene = context.scene
-            settings = scene.animanifold
-            if option(self, settings, "use_scene_range"):
-                start, end = scene.frame_start, scene.frame_end
-            else:
-                start, end = option(self, settings, "frame_start"), option(self, settings, "frame_end")
-            done = convert_object(context, context.active_object, start, end, option(self, settings, "sampling"),
-                                  option(self, settings, "step"), option(self, settings, "cache_directory"),
-                                  option(self, settings, "tolerance"), option(self, settings, "max_samples"))
-            for note in done.notes:
-                self.report({"WARNING"}, note)
-            fit = done.fidelity
-            within = "" if fit is None else (f", largest deviation {fit.percent(fit.deviation):.3g} % of its size "
-                                             f"at frame {fit.frame:g}")
-            self.report({"INFO"}, f"'{done.obj.name}': {len(done.manifold.simplices)} tets from {done.samples} "
-                                  f"samples (frames {done.start}–{done.end}){within}, cache {done.stored}")
-            return {"FINISHED"}
+            return self._finish(context, None, convert_object(context, *self._arguments(context)))
         return {"CANCELLED"}
 
+    def _start(self, context) -> set:
+        """The stitches run in a worker thread (job_modal), Esc cancels before the cache is
+        written or the object made; the sampling and the object are made here."""
+        with reporting(self, "Convert failed"):
+            arguments = self._arguments(context)
+            progress = Progress(context.window_manager)
+            return self._start_steps(context, am.core_job.Steps(convert_steps(context, progress, *arguments)),
+                                     arguments[0], progress)
+        return {"CANCELLED"}
 
-class ANIMANIFOLD_OT_bake(Operator):
+    def _finish(self, context, source, done):
+        """Reports the Converted `done`."""
+        for note in done.notes:
+            self.report({"WARNING"}, note)
+        fit = done.fidelity
+        within = "" if fit is None else (f", largest deviation {fit.percent(fit.deviation):.3g} % of its size "
+                                         f"at frame {fit.frame:g}")
+        self.report({"INFO"}, f"'{done.obj.name}': {len(done.manifold.simplices)} tets from {done.samples} "
+                              f"samples (frames {done.start}–{done.end}){within}, cache {done.stored}")
+        return {"FINISHED"}
+
+    def _cancelled_text(self, obj) -> str:
+        return f"Convert of '{obj.name}' cancelled: nothing was added"
+
+    def _failure_text(self, obj) -> str:
+        return "Convert failed"
+
+
+class ANIMANIFOLD_OT_bake(CoreJobModal, Operator):
     """Bake the active manifold object's frames: a frames collection shown by a node group
     (plays and renders without the add-on), optionally Alembic and an OBJ/PLY sequence"""
 
     bl_idname = "animanifold.bake"
     bl_label = "Bake Frames"
     bl_options = {"REGISTER", "UNDO"}
+    _status_label = "Bake Frames"
+    _job_name = "animanifold bake"
 
     use_scene_range: BoolProperty(name="Scene Range", default=True)
     frame_start: IntProperty(name="Start", default=1, description="First frame (a farm bakes chunks)")
@@ -94,22 +129,43 @@ class ANIMANIFOLD_OT_bake(Operator):
     def poll(cls, context):
         return active_object_is(cls, context, is_manifold_object, "Select a manifold object (made by Convert)")
 
+    def _options(self, context) -> dict:
+        """bake_object's options."""
+        settings = context.scene.animanifold
+        return dict(use_scene_range=option(self, settings, "use_scene_range", "bake_use_scene_range"),
+                    start=option(self, settings, "frame_start", "bake_start"),
+                    end=option(self, settings, "frame_end", "bake_end"),
+                    alembic_wanted=option(self, settings, "alembic", "bake_alembic"),
+                    use_cache=option(self, settings, "use_mesh_cache", "bake_use_mesh_cache"),
+                    export=option(self, settings, "export", "bake_export"),
+                    directory=option(self, settings, "directory", "bake_directory"))
+
     def execute(self, context):
+        """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
         preferences.apply_threads(context)
         with reporting(self, "Bake failed"):
-            settings = context.scene.animanifold
-            report = bake_object(
-                context, context.active_object,
-                use_scene_range=option(self, settings, "use_scene_range", "bake_use_scene_range"),
-                start=option(self, settings, "frame_start", "bake_start"),
-                end=option(self, settings, "frame_end", "bake_end"),
-                alembic_wanted=option(self, settings, "alembic", "bake_alembic"),
-                use_cache=option(self, settings, "use_mesh_cache", "bake_use_mesh_cache"),
-                export=option(self, settings, "export", "bake_export"),
-                directory=option(self, settings, "directory", "bake_directory"))
-            self.report({"INFO"}, report)
-            return {"FINISHED"}
+            return self._finish(context, None, bake_object(context, context.active_object, **self._options(context)))
         return {"CANCELLED"}
+
+    def _start(self, context) -> set:
+        """The subdivision runs in a worker thread (job_modal), Esc cancels before anything is
+        baked; the frames are then built here."""
+        obj = context.active_object
+        with reporting(self, "Bake failed"):
+            progress = Progress(context.window_manager, where="subdividing the manifold")
+            steps = am.core_job.Steps(bake_steps(context, progress, obj, **self._options(context)))
+            return self._start_steps(context, steps, obj, progress)
+        return {"CANCELLED"}
+
+    def _finish(self, context, source, report):
+        self.report({"INFO"}, report)
+        return {"FINISHED"}
+
+    def _cancelled_text(self, obj) -> str:
+        return f"Bake of '{obj.name}' cancelled: nothing was baked"
+
+    def _failure_text(self, obj) -> str:
+        return "Bake failed"
 
 
 class ANIMANIFOLD_OT_make_live(Operator):

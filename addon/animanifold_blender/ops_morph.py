@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import time
 
-import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 from bpy.types import Operator
 
@@ -30,7 +29,7 @@ from ._lib import am
 from .mesh_input import morph_input, morph_looks, world_mesh  # noqa: F401  (world_mesh: the tests' reader)
 from .morph_object import BEST_METHOD, METHOD_ITEMS, METHODS, make_morph_object, report_validity  # noqa: F401
 from .job_modal import CoreJobModal
-from .progress import MorphStages
+from .progress import Progress
 from .polls import in_object_mode
 from .reporting import OperatorError, reporting
 
@@ -43,6 +42,7 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
     bl_idname = "animanifold.morph_selected"
     bl_label = "Morph Selected"
     bl_options = {"REGISTER", "UNDO"}
+    _status_label = "Morph Selected"
 
     method: EnumProperty(name="Method", items=METHOD_ITEMS, default=BEST_METHOD.upper(),
                          description="How the core builds the morph (the best available is the default)")
@@ -106,12 +106,12 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
         if inputs is None:
             return {"CANCELLED"}
         source, target, start, end, source_input, target_input = inputs
-        progress = MorphStages(context.window_manager)
+        progress = self._job_progress(context.window_manager)
         began = time.perf_counter()
         manifold = None
         with reporting(self, lambda: f"Morph failed {progress.where}", name_type=True):
             try:
-                progress.at("in the core's conforming and fill stages", 5.0)
+                progress.at(5.0, "in the core's conforming and fill stages")
                 manifold = am.morph(source_input.mesh, target_input.mesh, progress=progress,
                                     **self._options(start, end, source_input, target_input))
             except ValueError as e:  # the core names the input and what is wrong with it
@@ -134,32 +134,21 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
         return dict(t0=float(start), t1=float(end), method=self.method.lower(), max_push=self.transition,
                     source_attributes=source_look, target_attributes=target_look)
 
-    def invoke(self, context, event):
-        """From the interface: the morph runs in a worker thread (am.MorphJob), the status bar shows its
-        stage, Esc cancels; the interface keeps drawing and the view can be turned meanwhile."""
-        preferences.apply_threads(context)
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
+    def _start(self, context) -> set:
+        """From the interface (CoreJobModal.invoke): the morph runs in a worker thread (am.MorphJob),
+        the status bar shows its stage, Esc cancels; the interface keeps drawing and the view can be
+        turned meanwhile."""
         inputs = self._read_inputs(context)
         if inputs is None:
             return {"CANCELLED"}
         source, target, start, end, source_input, target_input = inputs
         job = MorphJob(source_input.mesh, target_input.mesh, **self._options(start, end, source_input, target_input))
-        running = self._start_job(context, job, inputs)
-        self._tick(context)
-        return running
+        return self._start_job(context, job, inputs)
 
-    def _tick(self, context) -> None:
-        """The status bar names the running stage; the bar follows its fraction."""
-        job = self._job
-        text = "cancelling…" if job.cancelling else f"{job.stage}, {job.fraction:.0%}"
-        context.workspace.status_text_set(f"Morph Selected: {text} ({time.perf_counter() - job.started:.0f} s) — "
-                                          "Esc to cancel")
-        context.window_manager.progress_update(5.0 + 80.0 * min(max(job.fraction, 0.0), 1.0))
-
-    def _stop_waiting(self, context) -> None:
-        CoreJobModal._stop_waiting(self, context)
-        context.workspace.status_text_set(None)
+    def _job_progress(self, wm) -> Progress:
+        """Reading the inputs (0–5), the core's stages (5–85: it reports each one as it finishes,
+        with the fraction of the whole done), saving the cache and making the object."""
+        return Progress(wm, 5.0, 85.0, words="after the core's {} stage")
 
     def _job_done(self, context) -> set:
         job = self._job

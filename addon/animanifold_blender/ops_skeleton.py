@@ -21,7 +21,7 @@ from .mesh_input import closed_triangle_mesh
 from .mesh_writer import write_mesh
 from .polls import active_object_is
 from .job_modal import CoreJobModal
-from .progress import CoreProgress
+from .progress import Progress
 from .reporting import reporting
 
 SIDE_ITEMS = enum_items(am._core.SkeletonSide, {
@@ -59,24 +59,22 @@ class ANIMANIFOLD_OT_skeleton(CoreJobModal, Operator):
         """Blocking: scripts, `blender -b`, and redo from the Adjust Last Operation panel."""
         preferences.apply_threads(context)
         obj = context.active_object
-        progress = CoreProgress(context.window_manager, 10.0, 90.0, where="reading the mesh")
+        progress = Progress(context.window_manager, 10.0, 90.0, where="reading the mesh")
         with reporting(self, f"No skeleton for '{obj.name}'"):
             try:
                 vertices, faces = closed_triangle_mesh(context, obj)
-                progress.at("before the core's first step", 10.0)
+                progress.at(10.0, "before the core's first step")
                 sk = am.voronoi_skeleton(vertices, faces, progress=progress, **self._options())
-                progress.at("making the skeleton object", 90.0)
+                progress.at(90.0, "making the skeleton object")
             finally:
                 progress.end()
             return self._finish(context, obj, sk)
         return {"CANCELLED"}
 
-    def invoke(self, context, event):
-        """From the interface: the skeleton is computed in a worker thread (am.CoreJob), the
-        progress bar follows its steps, Esc cancels; the view can be turned meanwhile."""
-        preferences.apply_threads(context)
-        if bpy.app.background or context.window is None:
-            return self.execute(context)
+    def _start(self, context) -> set:
+        """From the interface (CoreJobModal.invoke): the skeleton is computed in a worker thread
+        (am.CoreJob), the progress bar follows its steps, Esc cancels; the view can be turned
+        meanwhile."""
         obj = context.active_object
         with reporting(self, f"No skeleton for '{obj.name}'"):
             vertices, faces = closed_triangle_mesh(context, obj)

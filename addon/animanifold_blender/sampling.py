@@ -279,10 +279,11 @@ def _per_vertex(corner_values: list, first_corner: np.ndarray) -> np.ndarray:
     return np.stack([u[first_corner] for u in corner_values]).astype(np.float64)
 
 
-def stitch_keyframes(keys: Keyframes, progress=None):
+def stitch_keyframes(keys: Keyframes, progress=None, interrupted=None):
     """The animation manifold of `keys` (animanifold.stitch), carrying the source vertex,
     the smooth normals of a smooth-shaded source, UVs, materials and shading; `progress`
-    (step, fraction) hears the stitch's steps."""
+    (step, fraction) hears the stitch's steps and `interrupted()` can stop it (the core's
+    interrupter). Reads no Blender data: a worker thread may run it."""
     vertex_attributes = {"source_vertex": keys.source_vertex.astype(np.float64)}
     if keys.smooth.all():  # smooth-shaded: carry the source's vertex normals
         vertex_attributes["normal"] = keys.normals
@@ -292,5 +293,5 @@ def stitch_keyframes(keys: Keyframes, progress=None):
     return am.stitch(
         keys.positions, keys.faces, keys.times, vertex_attributes=vertex_attributes,
         face_attributes={"material_index": keys.material_index, "smooth": keys.smooth},
-        progress=progress,
+        progress=progress, interrupted=interrupted,
     )

@@ -8,13 +8,21 @@ main thread stays free. The thread touches no Blender data: the inputs are numpy
 beforehand, and the caller reads `stage`, `fraction` and, once `done`, `result` or `error`
 from a timer in the main thread. A cancel takes effect at the call's next step (a morph also
 polls about every 0.1 s while TetGen runs): the job then ends with `cancelled` and no result.
+
+An operation that mixes long core calls with work that must stay in the main thread (Blender's
+Convert samples the scene between stitches; Bake builds frames after the subdivision) is
+written once as :class:`Steps`: a generator that yields each long call as a :class:`CoreCall`
+and receives its result. `Steps.run` makes the calls in the calling thread (scripts,
+`blender -b`); a modal operator makes each one as a CoreJob instead, so Esc can stop it.
+Either way the generator runs the same code, so both give the same result.
 """
 
 from __future__ import annotations
 
 import threading
 import time
-from typing import Callable
+from dataclasses import dataclass, field
+from typing import Callable, Generator
 
 from . import _core
 
@@ -64,3 +72,58 @@ class CoreJob:
     def wait(self, timeout: float | None = None) -> bool:
         """Blocks until the job is done (or `timeout` seconds pass); whether it is done."""
         return self._done.wait(timeout)
+
+
+@dataclass
+class CoreCall:
+    """A long call that a :class:`Steps` generator asks its driver to make:
+    `call(*args, progress=..., interrupted=..., **kwargs)`."""
+
+    call: Callable
+    args: tuple = ()
+    kwargs: dict = field(default_factory=dict)
+
+    def __call__(self, progress=None, interrupted=None):
+        return self.call(*self.args, progress=progress, interrupted=interrupted, **self.kwargs)
+
+    def job(self, name: str = "animanifold job") -> CoreJob:
+        """The call in a worker thread, started at once."""
+        return CoreJob(self.call, *self.args, name=name, **self.kwargs)
+
+
+class Steps:
+    """An operation written as a generator that yields its long calls (:class:`CoreCall`) and
+    gets each one's result back, so that whoever drives it decides where the calls run (see
+    the module). Its return value is `result` once `next` has returned None."""
+
+    def __init__(self, generator: Generator):
+        self._generator = generator
+        self.result = None
+
+    def next(self, result=None, error: BaseException | None = None) -> CoreCall | None:
+        """Runs the operation on, in the calling thread, with the last call's `result` (or its
+        `error` raised where it was asked for) up to its next call; None once it has returned."""
+        try:
+            if error is not None:
+                return self._generator.throw(error)
+            return self._generator.send(result)
+        except StopIteration as end:
+            self.result = end.value
+            return None
+
+    def close(self) -> None:
+        """Drops a cancelled operation: its generator's `finally` blocks run, here."""
+        self._generator.close()
+
+    def run(self, progress=None, interrupted=None):
+        """The whole operation in the calling thread, each call given `progress` and
+        `interrupted`; its result."""
+        call = self.next()
+        while call is not None:
+            try:
+                value = call(progress, interrupted)
+            except BaseException as e:  # raised in the generator, where the call was asked for
+                call = self.next(error=e)
+            else:
+                call = self.next(value)
+        return self.result

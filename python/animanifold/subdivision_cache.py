@@ -10,7 +10,8 @@ not retry it on every frame; a settings change (prune) forgets the failures and 
 no object asks for any more.
 
 An operator that needs a subdivision (Bake Frames) passes a `progress(step, fraction)`
-that moves the window manager's bar through the core's levels. Playback cannot offer
+that moves the window manager's bar through the core's levels and, from the interface,
+computes it in a worker thread whose `interrupted()` answers Esc. Playback cannot offer
 Esc: a subdivision asked for by a frame-change handler or a property update runs in the
 main thread, which handles no events until it returns, and a cancelled one would be
 asked for again on the next frame. There only Ctrl-C in the terminal stops it (the
@@ -49,27 +50,36 @@ class SubdivisionCache:
     def __init__(self):
         self._entries: dict[str, _Subdivided] = {}
 
-    def subdivided(self, path: str, base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
+    def subdivided(self, path: str, base, levels: int, keep_keyframe_times: bool, name: str, progress=None,
+                   interrupted=None):
         """`base` (the manifold loaded from `path`) subdivided `levels` times, computed once and
         kept; raises SmoothingError (and remembers it) when it fails or would not fit in memory.
         `name` (the object's) words the errors; `progress(step, fraction)` follows the core's
-        steps when it computes (a Cancelled it raises is passed on, not remembered)."""
-        entry = self._entries.get(path)
-        if entry is None or entry.base is not base:  # a new file version: older subdivisions are stale
-            entry = self._entries[path] = _Subdivided(base, {}, {})
-        key = (levels, bool(keep_keyframe_times))
-        manifold = entry.manifolds.get(key)
+        steps when it computes and `interrupted()` can stop it (a Cancelled it raises is passed
+        on, not remembered). An operator's worker thread may compute it (Bake Frames): the
+        main thread meanwhile runs no playback (the operator holds its events)."""
+        manifold = self.kept_manifold(path, base, levels, keep_keyframe_times)
         if manifold is not None:
             return manifold
-        if key in entry.failed:
-            raise SmoothingError(entry.failed[key])
+        entry, key = self._entries[path], (levels, bool(keep_keyframe_times))
         try:
-            manifold = _subdivide(base, levels, key[1], name, progress)
+            manifold = _subdivide(base, levels, key[1], name, progress, interrupted)
         except SmoothingError as e:
             entry.failed[key] = str(e)
             raise
         entry.manifolds[key] = manifold
         return manifold
+
+    def kept_manifold(self, path: str, base, levels: int, keep_keyframe_times: bool):
+        """The subdivision `subdivided` would give if it is kept, else None; raises the
+        SmoothingError of one remembered as failed."""
+        entry = self._entries.get(path)
+        if entry is None or entry.base is not base:  # a new file version: older subdivisions are stale
+            entry = self._entries[path] = _Subdivided(base, {}, {})
+        key = (levels, bool(keep_keyframe_times))
+        if key in entry.failed:
+            raise SmoothingError(entry.failed[key])
+        return entry.manifolds.get(key)
 
     def kept(self, path: str) -> list[tuple[int, bool]]:
         """The (levels, keep_keyframe_times) kept for `path`."""
@@ -96,11 +106,12 @@ class SubdivisionCache:
                 del self._entries[path]
 
 
-def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str, progress=None):
+def _subdivide(base, levels: int, keep_keyframe_times: bool, name: str, progress=None, interrupted=None):
     tets = subdivision.subdivided_simplex_count(base, levels)
     try:
         return subdivision.subdivide(welding.weld(base), levels=levels, scheme="schaefer",
-                                     keep_keyframe_times=keep_keyframe_times, progress=progress)
+                                     keep_keyframe_times=keep_keyframe_times, progress=progress,
+                                     interrupted=interrupted)
     except MemoryLimitError as e:  # the package's limit (am.set_memory_limit), checked before allocating
         raise SmoothingError(f"{levels} subdivision levels of '{name}': {e}; use fewer levels") from None
     except MemoryError:

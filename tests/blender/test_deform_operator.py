@@ -440,7 +440,7 @@ def test_the_modal_deform_cancels_on_esc_leaving_the_mesh_and_writes_in_the_main
     def operator(call):
         plan, result = deform_apply.plan_deform(bpy.context, obj, opt, empty, lambda *a: None)
         assert plan is not None, result
-        return modal_stand_in(ops_deform.ANIMANIFOLD_OT_deform, _job=addon_am.CoreJob(call, plan), _source=obj,
+        return modal_stand_in(ops_deform.ANIMANIFOLD_OT_deform, calls, _job=addon_am.CoreJob(call, plan), _source=obj,
                               _plan=plan)
 
     reached, esc = threading.Event(), threading.Event()

@@ -350,15 +350,15 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
 
     stages = []
 
-    class Recording(ops_morph.MorphStages):
-        def __init__(self, wm):
-            super().__init__(bar)
+    class Recording(ops_morph.Progress):
+        def __init__(self, wm, *args, **kwargs):
+            super().__init__(bar, *args, **kwargs)
 
         def __call__(self, finished, fraction):
             stages.append(finished)
             return super().__call__(finished, fraction)
 
-    monkeypatch.setattr(ops_morph, "MorphStages", Recording)
+    monkeypatch.setattr(ops_morph, "Progress", Recording)
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1)
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_cube_add(size=1.5)
@@ -546,13 +546,13 @@ def test_morph_selected_invoked_without_a_window_runs_at_once(empty_scene):
 
 
 
-def _modal_operator(job, running):
+def _modal_operator(job, running, calls):
     """Morph Selected's modal state (what invoke() leaves on the operator) on a stand-in: Blender
     operators cannot be made outside an operator call, and modal() needs a window's events."""
     from animanifold_blender import ops_morph
 
     cls = ops_morph.ANIMANIFOLD_OT_morph_selected
-    modal, op = modal_stand_in(cls, _job=job, _source=running, method="SKELETON")
+    modal, op = modal_stand_in(cls, calls, _job=job, _source=running, method="SKELETON")
     op._input_message = cls._input_message
     return modal, op
 
@@ -579,7 +579,7 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     from helpers.held_morph import BEFORE_THE_HOLD, HOLD as hold
 
     slow = (icosphere(1), torus())  # held 30 s at its conforming stage (the core's test hold)
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow, calls)
     assert modal(ModalContext(calls), event("TIMER")) == {"RUNNING_MODAL"}
     assert any(c[0] == "status" and "Esc to cancel" in c[1] for c in calls), calls
     assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
@@ -592,14 +592,14 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
 
     # Blender ending the operator itself (File > Open meanwhile) stops the job too
     calls.clear()
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow, calls)
     op.cancel(ModalContext(calls))
     assert op._job.wait(120.0) and op._job.cancelled and ("timer removed", "the timer") in calls
     assert op._job.stage in BEFORE_THE_HOLD, op._job.stage
 
     inputs = (ops_morph.morph_input(bpy.context, source), ops_morph.morph_input(bpy.context, target))
     modal, op = _modal_operator(MorphJob(inputs[0].mesh, inputs[1].mesh, t0=1.0, t1=24.0),
-                                (source, target, 1, 24) + inputs)
+                                (source, target, 1, 24) + inputs, calls)
     assert until_done(modal, calls) == {"FINISHED"}, op.reports
     made = bpy.context.active_object
     assert made.name == "Icosphere_to_Cube" and made.animanifold.is_manifold

@@ -73,7 +73,7 @@ def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
 
     steps = []
 
-    class Recording(ops_skeleton.CoreProgress):
+    class Recording(ops_skeleton.Progress):
         def __init__(self, wm, *args, **kwargs):
             super().__init__(bar, *args, **kwargs)
 
@@ -81,7 +81,7 @@ def test_the_cores_steps_drive_the_progress_bar(empty_scene, monkeypatch):
             steps.append(step)
             return super().__call__(step, fraction)
 
-    monkeypatch.setattr(ops_skeleton, "CoreProgress", Recording)
+    monkeypatch.setattr(ops_skeleton, "Progress", Recording)
     bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)
     assert bpy.ops.animanifold.skeleton(side="INTERNAL") == {"FINISHED"}
     bar.assert_filled_once_in_order()
@@ -105,7 +105,7 @@ def test_the_modal_skeleton_passes_the_view_on_cancels_on_esc_and_builds_in_the_
     event = modal_event
 
     def operator(job, source):
-        return modal_stand_in(ops_skeleton.ANIMANIFOLD_OT_skeleton, _job=job, _source=source, side="INTERNAL",
+        return modal_stand_in(ops_skeleton.ANIMANIFOLD_OT_skeleton, calls, _job=job, _source=source, side="INTERNAL",
                               max_iterations=4, wrap="BOX")
 
     bpy.ops.mesh.primitive_torus_add(major_radius=1.0, minor_radius=0.3)

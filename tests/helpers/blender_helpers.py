@@ -229,16 +229,23 @@ class RecordingProgressBar:
         assert self.values == sorted(self.values) and 0 <= self.values[0] and self.values[-1] <= 100
 
 
-def modal_stand_in(cls, **state):
+def modal_stand_in(cls, calls=None, **state):
     """(modal, op): a modal operator's state (what invoke() leaves on it, given as `state`)
     on a stand-in with `cls`'s methods bound to it, since Blender operators cannot be made
     outside an operator call and modal() needs a window's events. `op.reports` records
-    what the operator reports."""
+    what the operator reports; the operator's bar (`_progress`, begun by invoke()) records
+    into `calls`."""
     op = SimpleNamespace(_timer="the timer", reports=[], **state)
     op.report = lambda kind, text: op.reports.append((set(kind), text))
-    for name in ("_tick", "_job_done", "_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text"):
+    for name in ("_tick", "_job_done", "_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text",
+                 "_next_job", "_job_progress", "_start_job", "_start_steps", "_start", "_arguments", "_options"):
         if hasattr(cls, name):
             setattr(op, name, functools.partial(getattr(cls, name), op))
+    for name in ("_steps", "_status_label", "_job_name"):
+        if name not in state and hasattr(cls, name):
+            setattr(op, name, getattr(cls, name))
+    if "_progress" not in state and hasattr(cls, "_job_progress"):
+        op._progress = op._job_progress(ModalWindowManager(calls if calls is not None else []))
     return functools.partial(cls.modal, op), op
 
 
@@ -248,6 +255,16 @@ class ModalWindowManager:
 
     def __init__(self, calls):
         self.calls = calls
+
+    def progress_begin(self, lo, hi):
+        pass  # begun by invoke(), before the stand-in's state is what the test looks at
+
+    def event_timer_add(self, step, window=None):
+        self.calls.append(("timer added", step))
+        return "the timer"
+
+    def modal_handler_add(self, operator):
+        self.calls.append(("modal handler added",))
 
     def event_timer_remove(self, timer):
         self.calls.append(("timer removed", timer))
@@ -260,11 +277,11 @@ class ModalWindowManager:
 
 
 def record_core_progress(module, monkeypatch) -> tuple[list, list]:
-    """(steps, ended): `module`'s CoreProgress replaced by one that records each (step,
+    """(steps, ended): `module`'s Progress replaced by one that records each (step,
     fraction) the core reports and each end() of the bar."""
     steps, ended = [], []
 
-    class Recording(module.CoreProgress):
+    class Recording(module.Progress):
         def __call__(self, step, fraction):
             steps.append((step, fraction))
             return super().__call__(step, fraction)
@@ -273,7 +290,7 @@ def record_core_progress(module, monkeypatch) -> tuple[list, list]:
             ended.append(True)
             super().end()
 
-    monkeypatch.setattr(module, "CoreProgress", Recording)
+    monkeypatch.setattr(module, "Progress", Recording)
     return steps, ended
 
 

@@ -11,14 +11,15 @@ Prints "WINDOW MORPH OK ..." as its last line and quits with status 0; on a fail
 import os
 import sys
 import time
-import traceback
 
 import addon_utils
 import bpy
 
 zip_path = sys.argv[sys.argv.index("--") + 1]
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # tests/, for helpers
+from helpers import window_script  # noqa: E402
 from helpers.blender_helpers import select_pair  # noqa: E402
+from helpers.window_script import view3d  # noqa: E402
 from helpers.held_morph import BEFORE_THE_HOLD, HOLD  # noqa: E402
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("animanifold_blender", default_set=True, handle_error=None)
@@ -41,17 +42,7 @@ ops_morph.MorphJob = WatchedJob
 
 
 def finish(ok: bool, message: str) -> None:
-    print(("WINDOW MORPH OK " if ok else "WINDOW MORPH FAILED: ") + message, flush=True)
-    os._exit(0 if ok else 1)
-
-
-def view3d():
-    window = bpy.context.window_manager.windows[0]
-    for area in window.screen.areas:
-        if area.type == "VIEW_3D":
-            region = next(r for r in area.regions if r.type == "WINDOW")
-            return window, area, region
-    raise RuntimeError("no 3D view in the window")
+    window_script.finish("MORPH", ok, message)
 
 
 def count_redraw(*_args):
@@ -66,13 +57,6 @@ def start_morph(source, target) -> None:
         result = bpy.ops.animanifold.morph_selected("INVOKE_DEFAULT")
     if result != {"RUNNING_MODAL"}:
         finish(False, f"invoked from the 3D view, Morph Selected returned {result}, not RUNNING_MODAL")
-
-
-def tick():
-    try:
-        return step()
-    except Exception:
-        finish(False, traceback.format_exc())
 
 
 def step():
@@ -123,9 +107,7 @@ def step():
         state["phase"], state["t"] = "cancelling", time.perf_counter()
         return 0.2
     if state["phase"] == "cancelling":
-        window, _area, _region = view3d()
-        window.event_simulate(type="ESC", value="PRESS")
-        window.event_simulate(type="ESC", value="RELEASE")
+        window_script.press("ESC")
         state["phase"], state["esc"] = "cancelled", time.perf_counter()
         return 0.05
     if state["phase"] == "cancelled":
@@ -153,4 +135,4 @@ def step():
 
 
 bpy.types.SpaceView3D.draw_handler_add(count_redraw, (), "WINDOW", "POST_PIXEL")
-bpy.app.timers.register(tick, first_interval=0.5)
+bpy.app.timers.register(window_script.ticking("MORPH", step), first_interval=0.5)
