@@ -29,7 +29,7 @@ set(_sanitized_test_names
   test_isolated test_laplacian test_memory_estimates test_memory_limit test_normals
   test_perturbation test_progress test_refine test_shelling test_simplex_qp test_slice
   test_stitch test_subdivide test_validation test_cgroup_memory test_enum_names test_threads
-  internal/test_zero_set)
+  internal/test_zero_set internal/test_isolated_boolean)
 set(_sanitized_test_sources "")
 foreach(name IN LISTS _sanitized_test_names)
   list(APPEND _sanitized_test_sources ${CMAKE_CURRENT_SOURCE_DIR}/cpp/tests/${name}.cpp)

@@ -236,6 +236,25 @@ def test_subtract_returns_the_frame_itself_when_the_hole_cannot_touch_it():
     assert len(swallowed[1]) == 0
 
 
+def test_a_boolean_stops_when_the_caller_asks_and_otherwise_gives_what_it_gives_without_asking():
+    """The Booleans run in a child process that the interrupter stops (cpp/tests/internal/
+    test_isolated_boolean.cpp stops one that never ends); asked before they start, none runs."""
+    v, f = torus()
+    H = am.hole_space(v, f)
+    cv, cf = cube()
+    slab = (cv * [1.5, 1.5, 0.2], cf)
+    for call in (lambda i: am.hole_space(v, f, interrupted=i), lambda i: am.subtract_solid(slab, H, interrupted=i),
+                 lambda i: am.intersect_solids(slab, H, interrupted=i)):
+        with pytest.raises(am.Cancelled):
+            call(lambda: True)
+        asked = []
+        result = call(lambda: asked.append(1) or False)
+        unasked = call(None)
+        assert asked, "the interrupter is polled"
+        np.testing.assert_array_equal(result[0], unasked[0])
+        np.testing.assert_array_equal(result[1], unasked[1])
+
+
 def test_bad_inputs_are_refused_with_the_problem_named():
     v, f = icosphere(1)
     with pytest.raises(am.BooleanError, match=r"the shape is not closed \(3 boundary edges\)"):

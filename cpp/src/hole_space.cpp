@@ -2,6 +2,7 @@
 
 #include "animanifold/errors.hpp"
 #include "hole_space_internal.hpp"
+#include "isolated_boolean.hpp"
 #include "signed_distance.hpp"
 
 #include <Eigen/Geometry>
@@ -89,41 +90,60 @@ Solid empty_like(const PointMatrix& V) {
   return s;
 }
 
+// Runs one of CGAL's Boolean operations (a ∩ b, a \ b) in a child process (isolated_boolean.hpp):
+// what it made, and whether that differs from a.
+holes::BooleanOutcome isolated_boolean_operation(holes::Operation operation, const holes::Operand& a,
+                                                 const holes::Operand& b, const std::string& doing,
+                                                 const Interrupter& interrupter) {
+  const auto work = [&] {
+    holes::BooleanOutcome outcome;
+    outcome.changed = translating_cgal_failures<BooleanError>(doing, [&] {
+      return a.V.cols() == 3 ? holes::boolean_3d(operation, a, b, outcome.solid)
+                             : holes::boolean_2d(operation, a, b, outcome.solid);
+    });
+    return outcome;
+  };
+  return holes::isolated_boolean(doing, work, holes::boolean_time_limit(a.F.rows() + b.F.rows()), interrupter);
+}
+
 }  // namespace
 
-Solid hole_space(const PointMatrix& V, const SimplexMatrix& F) {
+Solid hole_space(const PointMatrix& V, const SimplexMatrix& F, const Interrupter& interrupter) {
   const holes::Operand shape{V, F, "the shape"};
   check_arrays(shape);
   if (F.rows() == 0) fail<InputError>("the shape has no faces");
-  return canonical(translating_cgal_failures<BooleanError>("computing the hole space of the shape", [&] {
-    return V.cols() == 3 ? holes::hole_space_3d(shape) : holes::hole_space_2d(shape);
-  }));
+  const std::string doing = "computing the hole space of the shape";
+  const auto work = [&] {
+    return holes::BooleanOutcome{translating_cgal_failures<BooleanError>(doing, [&] {
+      return V.cols() == 3 ? holes::hole_space_3d(shape) : holes::hole_space_2d(shape);
+    })};
+  };
+  return canonical(holes::isolated_boolean(doing, work, holes::boolean_time_limit(F.rows()), interrupter).solid);
 }
 
 Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const PointMatrix& VB,
-                       const SimplexMatrix& FB) {
+                       const SimplexMatrix& FB, const Interrupter& interrupter) {
   const holes::Operand a{VA, FA, "the first solid"}, b{VB, FB, "the second solid"};
   check_pair(a, b);
   Solid out = empty_like(VA);
   if (FA.rows() == 0 || FB.rows() == 0 || !boxes_overlap(a, b)) return out;
-  translating_cgal_failures<BooleanError>("intersecting two solids", [&] {
-    return VA.cols() == 3 ? holes::boolean_3d(holes::Operation::Intersection, a, b, out)
-                          : holes::boolean_2d(holes::Operation::Intersection, a, b, out);
-  });
-  return canonical(std::move(out));
+  holes::BooleanOutcome outcome =
+      isolated_boolean_operation(holes::Operation::Intersection, a, b, "intersecting two solids", interrupter);
+  return outcome.changed ? canonical(std::move(outcome.solid)) : out;
 }
 
 Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& VH,
-                           const SimplexMatrix& FH) {
+                           const SimplexMatrix& FH, const Interrupter& interrupter) {
   const holes::Operand frame{V, F, "the frame"}, hole{VH, FH, "the subtracted solid"};
   check_pair(frame, hole);
   Subtraction result;
   bool changed = false;
-  if (F.rows() > 0 && FH.rows() > 0 && boxes_overlap(frame, hole))
-    changed = translating_cgal_failures<BooleanError>("subtracting a solid from the frame", [&] {
-      return V.cols() == 3 ? holes::boolean_3d(holes::Operation::Difference, frame, hole, result.solid)
-                           : holes::boolean_2d(holes::Operation::Difference, frame, hole, result.solid);
-    });
+  if (F.rows() > 0 && FH.rows() > 0 && boxes_overlap(frame, hole)) {
+    holes::BooleanOutcome outcome = isolated_boolean_operation(holes::Operation::Difference, frame, hole,
+                                                               "subtracting a solid from the frame", interrupter);
+    changed = outcome.changed;
+    result.solid = std::move(outcome.solid);
+  }
   result.solid = changed ? canonical(std::move(result.solid)) : Solid{V, F};
   result.unchanged = !changed;
   return result;

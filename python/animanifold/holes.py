@@ -14,6 +14,8 @@ loop that crosses itself) or a result that would not be a manifold raises
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
 from . import _core
@@ -23,6 +25,7 @@ from ._core import InputError
 BooleanError = _core.BooleanError
 
 Solid = tuple[np.ndarray, np.ndarray]
+Interrupted = Callable[[], bool] | None  # True stops a Boolean while CGAL runs (Cancelled)
 
 
 def _solid(solid, name: str) -> Solid:
@@ -45,30 +48,34 @@ def is_empty(solid: Solid | None) -> bool:
     return solid is None or len(solid[1]) == 0
 
 
-def hole_space(vertices: np.ndarray, faces: np.ndarray) -> Solid:
+def hole_space(vertices: np.ndarray, faces: np.ndarray, *, interrupted: Interrupted = None) -> Solid:
     """H_C = CH(C) \\ C for the closed outward shape C: the part of its convex
     hull it does not fill, as a closed outward solid (empty when C is convex).
     Slivers of rounding thickness where C lies on its hull (a planar quad
     split along the other diagonal) do not count; where dents of C's own
     triangulation would make the result non-manifold, they are flipped away
-    (see cpp/include/animanifold/hole_space.hpp for the retries)."""
-    return _core.hole_space(*_solid((vertices, faces), "the shape"))
+    (see cpp/include/animanifold/hole_space.hpp for the retries). CGAL runs in a child process:
+    `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and a loop in CGAL ends
+    in a BooleanError after a minute and more."""
+    return _core.hole_space(*_solid((vertices, faces), "the shape"), interrupted=interrupted)
 
 
-def intersect_solids(a: Solid, b: Solid) -> Solid:
-    """A ∩ B (both 3D or both 2D); empty when they do not overlap."""
-    return _core.intersect_solids(*_solid(a, "the first solid"), *_solid(b, "the second solid"))
+def intersect_solids(a: Solid, b: Solid, *, interrupted: Interrupted = None) -> Solid:
+    """A ∩ B (both 3D or both 2D); empty when they do not overlap. `interrupted` as in hole_space."""
+    return _core.intersect_solids(*_solid(a, "the first solid"), *_solid(b, "the second solid"),
+                                  interrupted=interrupted)
 
 
-def subtract_solid(frame: Solid, hole: Solid) -> Solid:
+def subtract_solid(frame: Solid, hole: Solid, *, interrupted: Interrupted = None) -> Solid:
     """frame \\ hole. When the hole cannot touch the frame (it is empty, the
     bounding boxes do not overlap, or the boundaries do not meet and neither
-    contains the other), returns the frame's own arrays, unchanged."""
+    contains the other), returns the frame's own arrays, unchanged. `interrupted` as in
+    hole_space."""
     v, f = _solid(frame, "the frame")
     if is_empty(hole):
         return frame
     hv, hf = _solid(hole, "the subtracted solid")
-    out_v, out_f, unchanged = _core.subtract_solid(v, f, hv, hf)
+    out_v, out_f, unchanged = _core.subtract_solid(v, f, hv, hf, interrupted=interrupted)
     return frame if unchanged else (out_v, out_f)
 
 

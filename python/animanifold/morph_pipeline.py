@@ -288,7 +288,7 @@ def _shared_holes_first(arrays: list[np.ndarray], progress, interrupted) -> _Sha
     `inputs_coincide`)."""
     start = time.perf_counter()
     try:
-        solid, error = _shared_hole_space(arrays), None
+        solid, error = _shared_hole_space(arrays, interrupted), None
     except BooleanError as e:
         if not _same_mesh(arrays):
             raise BooleanError(f"{e}. {_FIELD_NEEDS_NO_HOLES}") from None
@@ -341,8 +341,7 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
                                                      "validity": report},
                                  hole_space=cut)
     start = time.perf_counter()
-    poll = functools.partial(_check_interrupted, interrupted)
-    report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
+    report.update(_hole_validity(manifold, float(t0), float(t1), int(hole_checks), interrupted))
     if coincide and shared.solid is not None:
         report["shared_hole_volume"] = solid_measure(*shared.solid)
     if shared.error is not None:
@@ -419,18 +418,18 @@ def _field_morph(arrays: list[np.ndarray], t0: float, t1: float, progress, inter
                                                  "validity": report})
 
 
-def _shared_hole_space(arrays: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def _shared_hole_space(arrays: list[np.ndarray], interrupted) -> tuple[np.ndarray, np.ndarray]:
     """H_S ∩ H_T, or a BooleanError that says which input CGAL refused."""
     spaces = []
     for name, (v, f) in (("source", arrays[:2]), ("target", arrays[2:])):
         try:
-            spaces.append(hole_space(v, f))
+            spaces.append(hole_space(v, f, interrupted=interrupted))
         except BooleanError as e:
             raise BooleanError(f"the hole space of the {name} cannot be computed: {e}") from None
         if is_empty(spaces[-1]):  # a convex input: nothing is shared (the other's boolean is not needed)
             return spaces[-1]
     try:
-        return intersect_solids(*spaces)
+        return intersect_solids(*spaces, interrupted=interrupted)
     except BooleanError as e:
         raise BooleanError(f"the holes the source and target share cannot be computed: {e}") from None
 
@@ -464,9 +463,10 @@ def _crossing_validity(manifold: AnimationManifold, t0: float, t1: float, checks
 
 
 def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: int,
-                   poll: Callable[[], None]) -> dict:
-    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1); `poll()` before each
-    frame raises Cancelled when the caller asks to stop."""
+                   interrupted: Callable[[], bool] | None) -> dict:
+    """Validity 3 on `checks` frames evenly spaced strictly inside (t0, t1); `interrupted()`, polled
+    before each frame and while CGAL cuts it, stops the checks with Cancelled."""
+    poll = functools.partial(_check_interrupted, interrupted)
     hole = manifold.hole_space
     report = {"shared_hole_volume": 0.0, "hole_overlap_volume": 0.0, "holes_preserved": True,
               "hole_frames_checked": 0, "hole_frames_verified": 0, "hole_errors": [],
@@ -482,7 +482,7 @@ def _hole_validity(manifold: AnimationManifold, t0: float, t1: float, checks: in
         frame = (raw.vertices, raw.faces)
         report["hole_frames_checked"] += 1
         try:
-            cut = subtract_solid(frame, hole)
+            cut = subtract_solid(frame, hole, interrupted=interrupted)
         except (RuntimeError, ValueError) as e:
             report["holes_preserved"] = False
             report["hole_errors"].append(f"t={float(t):g}: the frame cannot be cut: {e}")

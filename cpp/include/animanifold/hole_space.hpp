@@ -35,9 +35,17 @@
 // non-simple loop) or a result that is not a manifold throws BooleanError,
 // whose message names the operand ("the frame", "the hole space", ...) and
 // the problem.
+//
+// The Boolean operations (hole_space, intersect_solids, subtract_solid) run in
+// a child process: CGAL's corefinement can loop for ever on some inputs, and a
+// loop must not hang Blender. The `interrupter` is polled before and about
+// every 0.1 s while the child runs (Cancelled stops it, as Esc or Ctrl-C do),
+// and a child that runs far past what a Boolean of its size takes (a minute
+// and more) is killed: BooleanError says so.
 #pragma once
 
 #include "animanifold/errors.hpp"
+#include "animanifold/progress.hpp"
 #include "animanifold/types.hpp"
 
 #include <stdexcept>
@@ -54,10 +62,12 @@ struct Solid {
 };
 
 // Inputs:
-//   V, F  the closed outward shape C: #V by d points, #F by d faces (d = 3 or 2)
+//   V, F         the closed outward shape C: #V by d points, #F by d faces (d = 3 or 2)
+//   interrupter  polled while CGAL runs (see above)
 // Outputs:
 //   Solid: the boundary of CH(C) \ C, empty when C is convex
-// Throws: InputError when C intersects itself; BooleanError when CGAL refuses it
+// Throws: InputError when C intersects itself; BooleanError when CGAL refuses it or runs past
+//   its time limit; Cancelled when the interrupter says so
 //
 // The hole space H_C = CH(C) \ C of the closed outward shape C = (V, F)
 // (3D mesh or 2D polygons), as a closed outward solid; empty (0 rows) when C
@@ -73,25 +83,29 @@ struct Solid {
 // about its centroid (slivers thinner than that disappear, and real holes
 // lose a layer about as thick under the hull; the result has features of
 // that size, which later Booleans may refuse after rounding).
-Solid hole_space(const PointMatrix& V, const SimplexMatrix& F);
+Solid hole_space(const PointMatrix& V, const SimplexMatrix& F, const Interrupter& interrupter = {});
 
 // Inputs:
 //   VA, FA, VB, FB  the two solids' boundaries
+//   interrupter     polled while CGAL runs
 // Outputs:
 //   Solid: A ∩ B
 // Throws: InputError for mismatched dimensions or invalid boundaries; BooleanError when CGAL refuses
+//   or runs past its time limit; Cancelled when the interrupter says so
 //
 // The solid A ∩ B (both 3D or both 2D). Empty when they do not overlap.
 Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const PointMatrix& VB,
-                       const SimplexMatrix& FB);
+                       const SimplexMatrix& FB, const Interrupter& interrupter = {});
 
 // subtract_solid:
 // Inputs:
-//   V, F    the frame (a closed outward boundary)
-//   VH, FH  the solid to subtract
+//   V, F         the frame (a closed outward boundary)
+//   VH, FH       the solid to subtract
+//   interrupter  polled while CGAL runs
 // Outputs:
 //   Subtraction: the result and whether the frame is unchanged
-// Throws: InputError for mismatched dimensions; BooleanError when CGAL refuses
+// Throws: InputError for mismatched dimensions; BooleanError when CGAL refuses or runs past its
+//   time limit; Cancelled when the interrupter says so
 //
 // The frame minus the solid H: (V, F) \ (VH, FH).
 struct Subtraction {
@@ -103,7 +117,7 @@ struct Subtraction {
   bool unchanged = false;
 };
 Subtraction subtract_solid(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& VH,
-                           const SimplexMatrix& FH);
+                           const SimplexMatrix& FH, const Interrupter& interrupter = {});
 
 // Inputs:
 //   V, F  a triangle mesh in R^3
