@@ -147,6 +147,7 @@ def test_a_cancelled_morph_is_an_error_but_no_runtime_error(sphere):
     ("IOError", "FileError", OSError),
     ("BooleanError", "BooleanError", RuntimeError),
     ("MeshingError", "MeshingError", RuntimeError),
+    ("TimeLimitError", "TimeLimitError", RuntimeError),
     ("MemoryLimitError", "MemoryLimitError", MemoryError),
 ])
 def test_each_core_exception_goes_through_the_translator_with_its_message(core_type, python_type, builtin):

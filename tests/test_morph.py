@@ -270,13 +270,57 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
     assert m.validity.get("perturbation_retried", False) == retried
 
 
+def test_a_time_limit_hit_in_the_second_opinion_fails_the_morph_rather_than_keep_the_first(monkeypatch):
+    """The first morph's frames ran through themselves, so "auto" morphs again with every point
+    perturbed. A mesher that refuses the second keeps the first; TetGen stopped by its time limit
+    does not (which one the user got would depend on the machine's speed): TimeLimitError.
+    Stand-in morphs: the decision is what is tested."""
+    morph_module = sys.modules["animanifold.morph_pipeline"]
+    calls = []
+
+    class Made:
+        validity = {"frames_cross_themselves": True, "crossing_frames": [0.5], "stage_seconds": [],
+                    "largest_bubble_fraction": 0.0}
+
+    def made_once(arrays, perturbation, **once):
+        calls.append(perturbation)
+        if perturbation == "position":
+            raise _core.TimeLimitError("TetGen ran past its time limit")
+        return Made()
+
+    monkeypatch.setattr(morph_module, "_morph_once", made_once)
+    with pytest.raises(_core.TimeLimitError):
+        am.morph(icosphere(1), icosphere(1))
+    assert calls == ["hull_faces", "position"]
+
+
+@pytest.mark.parametrize("method", ["skeleton", "field"])
+def test_tetgen_past_its_time_limit_fails_the_morph_at_the_first_perturbation(method):
+    """TetGen's time limit is a safety net against its looping, which a slow or loaded machine (or a
+    sanitizer) can reach too. A morph of an icosphere into a torus once came out with 1894 points
+    instead of 1899 in threads under AddressSanitizer: the first TetGen run was stopped, and the
+    morph silently took the next perturbation. Hitting the limit fails the morph with
+    TimeLimitError (a MeshingError) naming the input, at the first perturbation, with nothing
+    retried. The limit is made tiny here so that every run hits it, whatever the machine."""
+    with pytest.raises(_core.TimeLimitError, match="time limit") as caught:
+        am.morph(icosphere(1), torus(), method=method, mesher_time_limit=1e-9)
+    assert isinstance(caught.value, _core.MeshingError) and isinstance(caught.value, am.Error)
+    assert "source" in str(caught.value)
+    if method == "skeleton":
+        assert "at perturbation 1e-07" in str(caught.value)
+    with pytest.raises(ValueError, match="mesher_time_limit"):
+        am.morph(icosphere(1), torus(), mesher_time_limit=-1.0)
+
+
 @pytest.mark.parametrize("failure, falls_back", [(RuntimeError("TetGen failed"), True),
-                                                 (am.BooleanError("no hole space"), False)])
+                                                 (am.BooleanError("no hole space"), False),
+                                                 (_core.TimeLimitError("TetGen ran past its time limit"), False)])
 def test_the_auto_perturbation_falls_back_when_the_hulls_exact_points_fail(monkeypatch, failure, falls_back):
     """Keeping the hulls' points exact ("hull_faces", the first try) can leave a mesher or the fill
     a tie it cannot settle: "auto" then morphs with every point perturbed and says so, its first
     try's time included. A failure that is not the mesher's (the hole spaces' booleans, a cancel)
-    is not retried. Stand-in morphs: the decision is what is tested."""
+    is not retried, nor is TetGen's time limit hit (a loaded machine reaches it too: the result would
+    depend on its speed). Stand-in morphs: the decision is what is tested."""
     import sys
 
     morph_module = sys.modules["animanifold.morph_pipeline"]

@@ -39,6 +39,11 @@ void bind_errors(py::module_& m) {
   static py::handle meshing_error = derived("MeshingError", PyExc_RuntimeError,
                                             "A library the core calls (TetGen, Qhull, CGAL, CHOLMOD) failed; the "
                                             "message says on what, with the library's text at the end.").release();
+  static py::handle time_limit_error =
+      exception_class(m, "TimeLimitError", py::make_tuple(meshing_error),
+                      "A library call ran past the time limit kept against its looping (TetGen) and was stopped; "
+                      "nothing retried it another way, as the result would then depend on the machine's speed.")
+          .release();
   static py::handle cancelled = derived("Cancelled", nullptr,
                                         "The caller's progress or interrupt callback stopped a long call.").release();
   static py::handle memory_limit_error =
@@ -55,6 +60,8 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(file_error.ptr(), e.what());
     } catch (const BooleanError& e) {
       PyErr_SetString(boolean_error.ptr(), e.what());
+    } catch (const TimeLimitError& e) {
+      PyErr_SetString(time_limit_error.ptr(), e.what());
     } catch (const MeshingError& e) {
       PyErr_SetString(meshing_error.ptr(), e.what());
     } catch (const Cancelled& e) {
@@ -73,12 +80,14 @@ void bind_errors_testing(py::module_& testing) {
         if (type == "IOError") fail<IOError>(message);
         if (type == "BooleanError") fail<BooleanError>(message);
         if (type == "MeshingError") fail<MeshingError>(message);
+        if (type == "TimeLimitError") fail<TimeLimitError>(message);
         if (type == "Cancelled") throw Cancelled();
         if (type == "MemoryLimitError") fail<MemoryLimitError>(message);
         throw std::invalid_argument("unknown core error type '" + type + "'");
       },
       py::arg("type"), py::arg("message"),
-      "Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, Cancelled, "
+      "Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, TimeLimitError, "
+      "Cancelled, "
       "MemoryLimitError) "
       "with `message`, through the module's translator: what a core call raises in that case.");
 }

@@ -32,7 +32,8 @@ void bind_options_and_report(py::module_& m) {
       .def_readwrite("field_layers", &MorphOptions::field_layers)
       .def_readwrite("field_resolution", &MorphOptions::field_resolution)
       .def_readwrite("hold_stage", &MorphOptions::hold_stage)
-      .def_readwrite("hold_seconds", &MorphOptions::hold_seconds);
+      .def_readwrite("hold_seconds", &MorphOptions::hold_seconds)
+      .def_readwrite("mesher_time_limit", &MorphOptions::mesher_time_limit);
   py::class_<MorphReport>(m, "MorphReport", "What the morph's checks found and what each stage cost (morph.hpp).")
       .def("to_dict", &report_dict, "The report as a dict of plain values (what the cache stores).")
       .def("__getitem__", [](const MorphReport& r, const std::string& key) -> py::object {

@@ -39,7 +39,8 @@ struct TetgenSurface {
 // same marker, so the pieces of one input triangle are one facet again and
 // the edges between them constrain nothing. The refined constraints come
 // back as its subfaces with their markers.
-TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<void()>& while_meshing) {
+TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<void()>& while_meshing,
+                          double time_limit) {
   const PointMatrix& points = surface.points;
   const auto& faces = surface.faces;
   const Index n = static_cast<Index>(points.rows());
@@ -80,9 +81,12 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // with their skeletons (bench/bench_morph.py), and this allows 5 s + 0.5 ms a
   // face per run, several times that.
   // A longer allowance keeps Blender frozen that much longer on an input that
-  // loops (the fan cylinder -> torus tries three perturbations before its
-  // report).
-  const double timeout_seconds = 5.0 + 5e-4 * static_cast<double>(faces.size());
+  // loops. Hitting the limit fails the call with TimeLimitError, which no
+  // caller retries another way (another perturbation would give another,
+  // valid-looking result, chosen by the machine's speed: under a loaded CI
+  // machine or a sanitizer, an 80-face sphere's run was once stopped and the
+  // morph silently came out with 1894 points instead of 1899).
+  const double timeout_seconds = time_limit > 0 ? time_limit : 5.0 + 5e-4 * static_cast<double>(faces.size());
   const std::vector<char> bytes = [&] {
     try {
       return run_isolated([&] {
@@ -109,6 +113,11 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
         put(out.trifacemarkerlist, sizeof(int) * static_cast<size_t>(faces_with_markers));
         return packed;
       }, timeout_seconds, while_meshing);
+    } catch (const IsolatedTimeout& e) {
+      fail<TimeLimitError>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(),
+                           "): stopped by its time limit, a safety net against TetGen looping, which a slow or "
+                           "loaded machine can also reach; nothing is retried, as the result would then depend on "
+                           "the machine's speed");
     } catch (const IsolatedFailure& e) {
       fail<MeshingError>("TetGen could not build a conforming Delaunay tetrahedralization (", e.what(), ")");
     }
@@ -149,7 +158,7 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
 }  // namespace
 
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
-                                          const std::function<void()>& while_meshing) {
+                                          const std::function<void()>& while_meshing, double time_limit) {
   if (points.cols() != 3) fail<InputError>("conforming Delaunay in 3D needs 3D points, got ", points.cols(), "D");
   if (faces.cols() != 3) fail<InputError>("constraints in 3D must be triangles, got ", faces.cols(), " corners");
   const Index n = static_cast<Index>(points.rows());
@@ -185,7 +194,7 @@ ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const Simpl
   IndexVector missing;
   Index rounds = 0, mended = 0;
   for (;; ++rounds) {
-    tetgen = run_tetgen(surface, while_meshing);
+    tetgen = run_tetgen(surface, while_meshing, time_limit);
     dt = delaunay_exact(tetgen.points);
     missing = missing_facets(dt.simplices, tetgen.subfaces);
     if (missing.size() == 0 || rounds == kMaxMendingRounds) break;

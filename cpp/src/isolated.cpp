@@ -126,7 +126,7 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
   do waited = ::waitpid(pid, &status, 0);
   while (waited < 0 && errno == EINTR);
   if (timed_out)
-    throw IsolatedFailure("it did not finish within " + std::to_string(static_cast<long>(timeout_seconds)) +
+    throw IsolatedTimeout("it did not finish within " + std::to_string(static_cast<long>(timeout_seconds)) +
                           " s and was stopped");
   // (Where the host ignores SIGCHLD, children are reaped on their own and
   // waitpid fails with ECHILD: the message alone then says how it went.)

@@ -422,11 +422,17 @@ void conform_and_fill(SeedMorph& m) {
     const auto conform_start = Clock::now();
     const char* meshing = "source";
     try {
-      m.S = conform_with_points(perturbed(m.VS), m.VS, m.FS, m.KS, "source", while_meshing);
+      m.S = conform_with_points(perturbed(m.VS), m.VS, m.FS, m.KS, "source", while_meshing,
+                                m.options.mesher_time_limit);
       meshing = "target";
-      m.T = conform_with_points(perturbed(m.VT), m.VT, m.FT, m.KT, "target", while_meshing);
+      m.T = conform_with_points(perturbed(m.VT), m.VT, m.FT, m.KT, "target", while_meshing,
+                                m.options.mesher_time_limit);
     } catch (const Cancelled&) {
       throw;  // not a mesher's failure: no retry
+    } catch (const TimeLimitError& e) {
+      // Not the input's verdict: the next perturbation would give another
+      // result, chosen by the machine's speed. Fail, naming the input.
+      fail<TimeLimitError>("the ", meshing, " cannot be meshed at perturbation ", scale, ": ", e.what());
     } catch (const std::runtime_error& e) {
       m.conform_seconds += std::chrono::duration<double>(Clock::now() - conform_start).count();
       std::string error = e.what();

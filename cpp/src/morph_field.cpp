@@ -317,9 +317,11 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   const PointMatrix target_free = with_shell(lattice.target, surface_shell(VT, FT, dT));
 
   clock.begin("conforming", 0.1);
-  EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting());
+  EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting(),
+                          options.mesher_time_limit);
   clock.advance(0.2);
-  EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting());
+  EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting(),
+                          options.mesher_time_limit);
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
   report.source_conforming = report.target_conforming = true;
 

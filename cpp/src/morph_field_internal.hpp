@@ -63,9 +63,10 @@ struct EndMesh {
 
 // The conforming Delaunay tetrahedralization of one input with its free
 // points and the box corners (TetGen -D, in a child process). Throws
-// MeshingError naming the input (`name`) when it fails.
+// MeshingError naming the input (`name`) when it fails (TimeLimitError when
+// TetGen ran past `mesher_time_limit`, see conforming_delaunay_3d).
 EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& free, const PointMatrix& corners,
-                    const char* name, const std::function<void()>& while_meshing);
+                    const char* name, const std::function<void()>& while_meshing, double mesher_time_limit);
 
 // ---------------------------------------------------------------- slabs
 

@@ -142,14 +142,16 @@ PointMatrix surface_shell(const PointMatrix& V, const SimplexMatrix& F, const Si
 }
 
 EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& free, const PointMatrix& corners,
-                    const char* name, const std::function<void()>& while_meshing) {
+                    const char* name, const std::function<void()>& while_meshing, double mesher_time_limit) {
   PointMatrix points(V.rows() + free.rows() + corners.rows(), 3);
   points << V, free, corners;
   ConformingDelaunay c;
   try {
-    c = conforming_delaunay_3d(points, F, while_meshing);
+    c = conforming_delaunay_3d(points, F, while_meshing, mesher_time_limit);
   } catch (const Cancelled&) {
     throw;
+  } catch (const TimeLimitError& e) {
+    fail<TimeLimitError>("the ", name, " cannot be meshed: ", e.what());  // keeps its type: nothing retries it
   } catch (const std::exception& e) {
     fail<MeshingError>("the ", name, " cannot be meshed: ", e.what());
   }

@@ -32,8 +32,9 @@ namespace animanifold {
 
 namespace {
 
-ConformingDelaunay conform(const PointMatrix& V, const SimplexMatrix& F, const std::function<void()>& while_meshing) {
-  return V.cols() == 3 ? conforming_delaunay_3d(V, F, while_meshing) : conforming_delaunay_2d(V, F);
+ConformingDelaunay conform(const PointMatrix& V, const SimplexMatrix& F, const std::function<void()>& while_meshing,
+                           double time_limit) {
+  return V.cols() == 3 ? conforming_delaunay_3d(V, F, while_meshing, time_limit) : conforming_delaunay_2d(V, F);
 }
 
 // Keeps points at least `gap` apart, first come first kept, with a grid of
@@ -274,12 +275,12 @@ PointMatrix external_skeleton_points(const PointMatrix& V, const SimplexMatrix& 
 
 ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
                                     const PointMatrix& K, const std::string& name,
-                                    const std::function<void()>& while_meshing) {
+                                    const std::function<void()>& while_meshing, double mesher_time_limit) {
   const int d = static_cast<int>(V.cols());
   PointMatrix points(V.rows() + K.rows(), d);
   points << V, K;
   ConformingInput result;
-  result.fill = conform(points, F, while_meshing);
+  result.fill = conform(points, F, while_meshing, mesher_time_limit);
   if (!result.fill.is_delaunay)
     fail<MeshingError>("the mesher returned a constrained, not conforming, Delaunay fill of the ", name, ": ",
                              result.fill.non_delaunay_faces, " of its ", result.fill.constraints.rows(),

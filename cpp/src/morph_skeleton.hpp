@@ -89,11 +89,11 @@ struct ConformingInput {
 // general position, V_exact the shape itself (see morph.cpp). Throws
 // MeshingError naming the shape (`name`: "source", "target") and how
 // many faces failed when the mesher's result does not conform.
-// `while_meshing`: see conforming_delaunay_3d (3D only: CGAL's 2D mesher runs
-// in this process and is quick).
+// `while_meshing`, `mesher_time_limit`: see conforming_delaunay_3d (3D only:
+// CGAL's 2D mesher runs in this process and is quick).
 ConformingInput conform_with_points(const PointMatrix& V, const PointMatrix& V_exact, const SimplexMatrix& F,
                                     const PointMatrix& K, const std::string& name,
-                                    const std::function<void()>& while_meshing = {});
+                                    const std::function<void()>& while_meshing = {}, double mesher_time_limit = 0);
 
 // The points of the conforming fill `c` with its Steiner points (rows
 // `first` on: the mesher's and the mending's, on the input's edges and faces)

@@ -23,7 +23,7 @@ topology. ::
 """
 
 from ._core import Complex as _Complex  # noqa: F401  (import check: the native module is built)
-from ._core import Cancelled, Error, FileError, InputError, MeshingError
+from ._core import Cancelled, Error, FileError, InputError, MeshingError, TimeLimitError
 from .cache import CacheError, load, save
 from .deformation import DeformOptions, deform
 from .frame_smoothing import SmoothFrame, smooth_slice, subdivide_frame
@@ -64,6 +64,7 @@ __all__ = [
     "FileError",
     "InputError",
     "MeshingError",
+    "TimeLimitError",
     "SeparabilityWarning",
     "DeformOptions",
     "Deformer",

@@ -69,6 +69,7 @@ def morph(
     interrupted: Callable[[], bool] | None = None,
     fan_flat_polygons: bool = True,
     test_hold: tuple[str, float] | None = None,
+    mesher_time_limit: float = 0.0,
     source_attributes: SurfaceAttributes | None = None,
     target_attributes: SurfaceAttributes | None = None,
 ) -> AnimationManifold:
@@ -140,6 +141,11 @@ def morph(
     child process at the start of that stage ("conforming" for every method), under the same polling
     of `interrupted` and Ctrl-C as its mesher.
 
+    mesher_time_limit: seconds each TetGen run may take (0: 5 s + 0.5 ms a face), a safety net
+    against TetGen looping. A run past it raises animanifold._core.TimeLimitError (a
+    MeshingError) and nothing is retried at another perturbation: whether the limit is hit depends
+    on the machine's speed and load, and the result must not.
+
     Where the inputs coincide (`inputs_coincide`: the same shape, Figure 8.9),
     the skeleton method removes what lies outside both instead of pushing it,
     every frame is the input, and the result keeps no hole space (no frame
@@ -150,11 +156,15 @@ def morph(
     arrays = _input_arrays(source, target)
     if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
         raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
+    if isinstance(mesher_time_limit, bool) or not (float(mesher_time_limit) >= 0):
+        raise InputError(f"mesher_time_limit must be a number of seconds >= 0, got {mesher_time_limit!r}")
     if fill not in FILLS:
         raise InputError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
     if perturbation not in PERTURBATIONS:
         raise InputError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
+    if mesher_time_limit:  # the core's options beside the test hold (both passed to _core.morph as keywords)
+        hold["mesher_time_limit"] = float(mesher_time_limit)
     looks = (source_attributes, target_attributes)
     if any(look is not None for look in looks):
         if arrays[0].shape[1] != 3:
@@ -207,7 +217,8 @@ def _seed_morph(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     try:
         manifold = _morph_once(arrays, perturbation=mode, **once)
     except RuntimeError as e:  # a mesher or the fill refused the hulls' exact points: the plain perturbation
-        if perturbation != "auto" or isinstance(e, BooleanError):  # (a cancel is no RuntimeError)
+        # (a cancel is no RuntimeError; a time limit hit is the machine's speed, not the input's verdict)
+        if perturbation != "auto" or isinstance(e, (BooleanError, _core.TimeLimitError)):
             raise
         failed_seconds = time.perf_counter() - start
         manifold = _morph_once(arrays, perturbation="position", **once)
@@ -228,6 +239,8 @@ def _seed_morph(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     first_seconds = time.perf_counter() - start
     try:
         retry = _morph_once(arrays, perturbation="position", **once)
+    except _core.TimeLimitError:  # not a refusal: keeping the first would depend on the machine's speed
+        raise
     except (RuntimeError, ValueError):  # a mesher or the fill refused it: keep the first
         first["stage_seconds"].append(["retry, every point perturbed (failed)", time.perf_counter() - start - first_seconds])
         first["perturbation_retried"] = True

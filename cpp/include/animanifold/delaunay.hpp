@@ -112,6 +112,8 @@ struct ConformingDelaunay {
 //   points         #P by 3
 //   faces          #F by 3 constraint triangles
 //   while_meshing  optional poll while TetGen runs
+//   time_limit     seconds a TetGen run may take; <= 0: the default allowance
+//                  (5 s + 0.5 ms a face, see run_tetgen)
 // Outputs:
 //   ConformingDelaunay: points (input first), tets, refined constraints and their parents
 // Throws: InputError, MeshingError (see below); whatever while_meshing throws
@@ -122,9 +124,12 @@ struct ConformingDelaunay {
 // InputError for bad indices or coinciding points and MeshingError
 // naming TetGen's failure. TetGen runs in a child process (isolated.hpp);
 // `while_meshing` is called about every 0.1 s meanwhile, and what it throws
-// stops TetGen and leaves this call (a cancel, an interrupt).
+// stops TetGen and leaves this call (a cancel, an interrupt). A TetGen run
+// past its time limit (a safety net: TetGen 1.5 can loop for ever) throws
+// TimeLimitError, which callers let pass rather than retry another way:
+// whether the limit is hit depends on the machine, and a result must not.
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
-                                          const std::function<void()>& while_meshing = {});
+                                          const std::function<void()>& while_meshing = {}, double time_limit = 0);
 
 // Inputs:
 //   points  #P by 2

@@ -8,6 +8,7 @@
 //   IOError      -> _core.FileError(Error, OSError)
 //   BooleanError -> _core.BooleanError(Error, RuntimeError)
 //   MeshingError -> _core.MeshingError(Error, RuntimeError)
+//   TimeLimitError -> _core.TimeLimitError(MeshingError)
 //   Cancelled    -> _core.Cancelled(Error)
 //   MemoryLimitError -> _core.MemoryLimitError(Error, MemoryError)
 #pragma once
@@ -43,6 +44,15 @@ struct BooleanError : std::runtime_error {
 // which input, with the library's own text at the end.
 struct MeshingError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+// A library call ran past the time limit kept as a safety net against a
+// library that loops (TetGen on some inputs): it was stopped. Never a reason
+// to try again another way (another perturbation): whether the limit is hit
+// depends on the machine's speed and load, and a result must not. A
+// MeshingError, so that its handlers see it; retries let it pass.
+struct TimeLimitError : MeshingError {
+  using MeshingError::MeshingError;
 };
 
 // The caller's progress or interrupt callback asked a long call to stop.

@@ -22,6 +22,13 @@ struct IsolatedFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The child ran past `timeout_seconds` and was stopped: unlike the other
+// failures, not a property of the work alone (a loaded machine, a child that
+// hangs) — callers must not take it for the input's verdict.
+struct IsolatedTimeout : IsolatedFailure {
+  using IsolatedFailure::IsolatedFailure;
+};
+
 // Inputs:
 //   work             the call to isolate; returns bytes
 //   timeout_seconds  > 0: the child's time limit
@@ -37,7 +44,7 @@ struct IsolatedFailure : std::runtime_error {
 // nothing with the caller afterwards: what `work` changes in memory is lost,
 // only the bytes come back. Where fork() fails, `work` runs in this process.
 // `timeout_seconds` > 0: a child that has not finished by then is killed and
-// IsolatedFailure says so (TetGen 1.5 can loop for ever recovering the facets
+// IsolatedTimeout (an IsolatedFailure) says so (TetGen 1.5 can loop for ever recovering the facets
 // of a fan of cocircular points; a morph must fail, not hang Blender).
 // `while_waiting`, when given, is called about every kWaitTick seconds while
 // the child runs; what it throws (a Ctrl-C the caller noticed, a cancel) stops

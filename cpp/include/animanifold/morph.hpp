@@ -104,6 +104,12 @@ struct MorphOptions {
   // a child, whatever the input and the machine.
   std::string hold_stage;
   double hold_seconds = 0;
+  // Seconds each TetGen run may take (a safety net: TetGen can loop for
+  // ever); <= 0, the default allowance of 5 s + 0.5 ms a face. A run past it
+  // fails the morph with TimeLimitError, never a retry at another
+  // perturbation: the result must not depend on the machine's speed. Tests
+  // give a tiny limit to take that path whatever the machine.
+  double mesher_time_limit = 0;
 };
 
 // What the checks of §8.3 found, and what each stage cost.
