@@ -11,7 +11,7 @@ namespace {
 // CGAL runs in a child process (hole_space.hpp); the docstring sentence of the Booleans.
 constexpr const char* kBooleanInterrupterDoc =
     " CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and "
-    "one that runs far past its size's time (a minute and more) ends in BooleanError.";
+    "one that runs far past its size's time (a minute and more) ends in TimeLimitError.";
 
 }  // namespace
 

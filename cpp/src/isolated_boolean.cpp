@@ -106,6 +106,9 @@ BooleanOutcome isolated_boolean(const std::string& doing, const std::function<Bo
           }
         },
         time_limit_seconds, [&] { interrupter.poll(); });
+  } catch (const IsolatedTimeout& e) {
+    fail<TimeLimitError>("CGAL was stopped while ", doing, ": ", e.what(),
+                         " (a Boolean of this size takes far less: CGAL loops on these operands)");
   } catch (const IsolatedFailure& e) {
     fail<BooleanError>("CGAL failed while ", doing, " (", e.what(), ")");
   }

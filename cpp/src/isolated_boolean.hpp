@@ -5,7 +5,7 @@
 // leaves append_patches_to_triangle_mesh on inputs a release build finishes at once). In
 // Blender that would hang the artist's session with no way out, so every Boolean runs in a
 // child: Esc, Ctrl-C and the interrupter stop it while it runs, and a child past its time
-// limit is killed and reported. Our own errors raised in the child (InputError,
+// limit is killed and reported as such (TimeLimitError), never as a verdict on the operands. Our own errors raised in the child (InputError,
 // BooleanError) come back as themselves, with their messages.
 #pragma once
 
@@ -37,9 +37,10 @@ double boolean_time_limit(Index faces);
 //   time_limit_seconds  > 0: the child is killed after that long
 //   interrupter         polled before the child starts and about every 0.1 s while it runs
 // Outputs: what `work` returned
-// Throws: InputError or BooleanError that `work` threw, with its message; BooleanError naming
-//   `doing` when the child runs past its time limit, runs out of memory or ends any other way
-//   (a signal); Cancelled when the interrupter says so (the child is killed)
+// Throws: InputError or BooleanError that `work` threw, with its message; TimeLimitError naming
+//   `doing` when the child runs past its time limit (it is killed); BooleanError naming `doing`
+//   when it runs out of memory or ends any other way (a signal); Cancelled when the interrupter
+//   says so (the child is killed)
 BooleanOutcome isolated_boolean(const std::string& doing, const std::function<BooleanOutcome()>& work,
                                 double time_limit_seconds, const Interrupter& interrupter);
 

@@ -1240,11 +1240,11 @@ def frame_vertex_normals(vertices: typing.Annotated[numpy.typing.NDArray[numpy.f
     """
 def hole_space(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], *, interrupted: typing.Any = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
     """
-    (vertices, faces) of CH(C) \\ C for a closed outward mesh (triangles in R^3) or counter-clockwise polygons (edges in R^2); empty arrays when C is convex. Raises BooleanError naming what CGAL refused. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in BooleanError.
+    (vertices, faces) of CH(C) \\ C for a closed outward mesh (triangles in R^3) or counter-clockwise polygons (edges in R^2); empty arrays when C is convex. Raises BooleanError naming what CGAL refused. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in TimeLimitError.
     """
 def intersect_solids(vertices_a: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_a: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], vertices_b: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces_b: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], *, interrupted: typing.Any = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
     """
-    (vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons); raises BooleanError. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in BooleanError.
+    (vertices, faces) of A ∩ B for closed solids (both 3D meshes or both 2D polygons); raises BooleanError. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in TimeLimitError.
     """
 def make_voronoi_separable(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], max_iterations: typing.SupportsInt | typing.SupportsIndex = 4, neighbourhood: typing.SupportsInt | typing.SupportsIndex = 2, in_plane_angle: typing.SupportsFloat | typing.SupportsIndex = 0.3) -> SeparabilityResult:
     """
@@ -1312,7 +1312,7 @@ def subdivide_polyline(vertices: typing.Annotated[numpy.typing.NDArray[numpy.flo
     """
 def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], hole_vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], hole_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], *, interrupted: typing.Any = None) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], bool]:
     """
-    (vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame (the arrays are then a copy of the frame's). Raises BooleanError. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in BooleanError.
+    (vertices, faces, unchanged) of frame \\ H; `unchanged` is True when H cannot touch the frame (the arrays are then a copy of the frame's). Raises BooleanError. CGAL runs in a child process: `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and one that runs far past its size's time (a minute and more) ends in TimeLimitError.
     """
 def threads() -> int:
     """

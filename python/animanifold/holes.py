@@ -56,7 +56,7 @@ def hole_space(vertices: np.ndarray, faces: np.ndarray, *, interrupted: Interrup
     triangulation would make the result non-manifold, they are flipped away
     (see cpp/include/animanifold/hole_space.hpp for the retries). CGAL runs in a child process:
     `interrupted()` returning True, or Ctrl-C, stops it with Cancelled, and a loop in CGAL ends
-    in a BooleanError after a minute and more."""
+    in a TimeLimitError after a minute and more."""
     return _core.hole_space(*_solid((vertices, faces), "the shape"), interrupted=interrupted)
 
 

@@ -151,17 +151,8 @@ def morph(
     every frame is the input, and the result keeps no hole space (no frame
     enters it; `shared_hole_volume` still reports it).
     """
-    if method not in METHODS:
-        raise InputError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
+    _check_options(method, hole_checks, mesher_time_limit, fill, perturbation)
     arrays = _input_arrays(source, target)
-    if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
-        raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
-    if isinstance(mesher_time_limit, bool) or not (float(mesher_time_limit) >= 0):
-        raise InputError(f"mesher_time_limit must be a number of seconds >= 0, got {mesher_time_limit!r}")
-    if fill not in FILLS:
-        raise InputError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
-    if perturbation not in PERTURBATIONS:
-        raise InputError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
     if mesher_time_limit:  # the core's options beside the test hold (both passed to _core.morph as keywords)
         hold["mesher_time_limit"] = float(mesher_time_limit)
@@ -178,6 +169,20 @@ def morph(
         manifold = carry_surface_attributes(manifold, source, target, *looks)
         _stage_finished(progress, "surface attributes", 1.0)
     return manifold
+
+
+def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill: str, perturbation: str) -> None:
+    """InputError naming the first of morph()'s options that is not one it takes."""
+    if method not in METHODS:
+        raise InputError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
+    if isinstance(hole_checks, bool) or int(hole_checks) != hole_checks or hole_checks < 0:
+        raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
+    if isinstance(mesher_time_limit, bool) or not (float(mesher_time_limit) >= 0):
+        raise InputError(f"mesher_time_limit must be a number of seconds >= 0, got {mesher_time_limit!r}")
+    if fill not in FILLS:
+        raise InputError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
+    if perturbation not in PERTURBATIONS:
+        raise InputError(f"unknown perturbation {perturbation!r}: use one of {', '.join(PERTURBATIONS)}")
 
 
 def _input_arrays(source, target) -> list[np.ndarray]:

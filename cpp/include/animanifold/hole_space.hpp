@@ -41,7 +41,7 @@
 // loop must not hang Blender. The `interrupter` is polled before and about
 // every 0.1 s while the child runs (Cancelled stops it, as Esc or Ctrl-C do),
 // and a child that runs far past what a Boolean of its size takes (a minute
-// and more) is killed: BooleanError says so.
+// and more) is killed: TimeLimitError says so.
 #pragma once
 
 #include "animanifold/errors.hpp"
@@ -66,8 +66,8 @@ struct Solid {
 //   interrupter  polled while CGAL runs (see above)
 // Outputs:
 //   Solid: the boundary of CH(C) \ C, empty when C is convex
-// Throws: InputError when C intersects itself; BooleanError when CGAL refuses it or runs past
-//   its time limit; Cancelled when the interrupter says so
+// Throws: InputError when C intersects itself; BooleanError when CGAL refuses it; TimeLimitError
+//   when it runs past its time limit; Cancelled when the interrupter says so
 //
 // The hole space H_C = CH(C) \ C of the closed outward shape C = (V, F)
 // (3D mesh or 2D polygons), as a closed outward solid; empty (0 rows) when C
@@ -90,8 +90,8 @@ Solid hole_space(const PointMatrix& V, const SimplexMatrix& F, const Interrupter
 //   interrupter     polled while CGAL runs
 // Outputs:
 //   Solid: A ∩ B
-// Throws: InputError for mismatched dimensions or invalid boundaries; BooleanError when CGAL refuses
-//   or runs past its time limit; Cancelled when the interrupter says so
+// Throws: InputError for mismatched dimensions or invalid boundaries; BooleanError when CGAL refuses;
+//   TimeLimitError when it runs past its time limit; Cancelled when the interrupter says so
 //
 // The solid A ∩ B (both 3D or both 2D). Empty when they do not overlap.
 Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const PointMatrix& VB,
@@ -104,8 +104,8 @@ Solid intersect_solids(const PointMatrix& VA, const SimplexMatrix& FA, const Poi
 //   interrupter  polled while CGAL runs
 // Outputs:
 //   Subtraction: the result and whether the frame is unchanged
-// Throws: InputError for mismatched dimensions; BooleanError when CGAL refuses or runs past its
-//   time limit; Cancelled when the interrupter says so
+// Throws: InputError for mismatched dimensions; BooleanError when CGAL refuses; TimeLimitError
+//   when it runs past its time limit; Cancelled when the interrupter says so
 //
 // The frame minus the solid H: (V, F) \ (VH, FH).
 struct Subtraction {
