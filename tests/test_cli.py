@@ -364,7 +364,7 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path, sphe
 def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(capsys, tmp_path, monkeypatch):
     from helpers.shapes import torus
 
-    def refuse(vertices, faces):  # a stand-in for CGAL refusing a real model's hole space
+    def refuse(vertices, faces, *, interrupted=None):  # a stand-in for CGAL refusing a real model's hole space
         raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized "
                               "intersections of constraints")
 

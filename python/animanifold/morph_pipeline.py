@@ -367,7 +367,8 @@ def _morph_once(arrays: list[np.ndarray], t0: float, t1: float, method: str, pro
     if core_checked:
         report.update(_core_frame_checks(report))
     else:
-        report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks), poll))
+        report.update(_crossing_validity(manifold, float(t0), float(t1), int(hole_checks),
+                                         functools.partial(_check_interrupted, interrupted)))
         report.update({"bubble_frames": [], "bubble_frames_checked": 0, "largest_bubble_fraction": 0.0})  # 2D
     report["stage_seconds"].append(["hole validity", time.perf_counter() - start])
     _stage_finished(progress, "hole validity", 1.0)
