@@ -61,12 +61,6 @@ tail -3 "$logs/ctest.log"
 # The Python side, with its own logs (the script clears them), counted apart from ctest's.
 bash scripts/sanitized-pytest.sh "$python_dir" "$logs/python" "$SANITIZE" || status=1
 
-reports=$(find "$logs" -maxdepth 1 \( -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' \) | sort)
-if [ -n "$reports" ]; then
-  status=1
-  echo "sanitize: findings ($(echo "$reports" | wc -l) report files in $logs):"
-  # One line per distinct finding: the sanitizer's summary line.
-  cat $reports | grep -hE "^SUMMARY:|runtime error:" | sed -E 's/^[^:]*\/(cpp|python)\//\1\//' | sort | uniq -c | sort -rn
-fi
+bash scripts/sanitizer-findings.sh "$logs" sanitize || status=1
 [ "$status" = 0 ] && echo "sanitize: no findings, every test passed"
 exit "$status"

@@ -48,13 +48,6 @@ LD_PRELOAD="$runtime" PYTHONPATH="$python_dir" "$python" -c \
   "import animanifold._core as c, sys; sys.exit(0 if c.__file__.startswith('$python_dir') else 1)" \
   || { echo "sanitized pytest: python3 did not load the sanitized module" >&2; status=1; }
 
-reports=$(find "$logs" -name 'asan.*' -o -name 'ubsan.*' -o -name 'tsan.*' | sort)
-if [ -n "$reports" ]; then
-  status=1
-  echo "sanitized pytest: findings ($(echo "$reports" | wc -l) report files in $logs):"
-  # One line per distinct finding: the sanitizer's summary line.
-  # shellcheck disable=SC2086
-  cat $reports | grep -hE "^SUMMARY:|runtime error:" | sed -E 's/^[^:]*\/(cpp|python)\//\1\//' | sort | uniq -c | sort -rn
-fi
+bash scripts/sanitizer-findings.sh "$logs" "sanitized pytest" || status=1
 [ "$status" = 0 ] && echo "sanitized pytest: no findings, every test passed"
 exit "$status"
