@@ -7,7 +7,8 @@
 # SANITIZED_TESTS= leaves them out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SANITIZED_TESTS="${SANITIZED_TESTS-address,undefined}" bash scripts/build.sh
+export SANITIZED_TESTS="${SANITIZED_TESTS-address,undefined}"
+bash scripts/build.sh
 bash scripts/check-complexity.sh  # after the build, which installs lizard
 bash scripts/check-stubs.sh
 ctest --test-dir build --output-on-failure
