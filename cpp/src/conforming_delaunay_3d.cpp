@@ -82,10 +82,9 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   // face per run, several times that.
   // A longer allowance keeps Blender frozen that much longer on an input that
   // loops. Hitting the limit fails the call with TimeLimitError, which no
-  // caller retries another way (another perturbation would give another,
-  // valid-looking result, chosen by the machine's speed: under a loaded CI
-  // machine or a sanitizer, an 80-face sphere's run was once stopped and the
-  // morph silently came out with 1894 points instead of 1899).
+  // caller retries another way: another perturbation would give another,
+  // valid-looking result, chosen by the machine's speed (a loaded machine or
+  // a sanitized build can reach the limit on an input that meshes at once).
   const double timeout_seconds = time_limit > 0 ? time_limit : 5.0 + 5e-4 * static_cast<double>(faces.size());
   const std::vector<char> bytes = [&] {
     try {
