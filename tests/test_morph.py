@@ -94,6 +94,25 @@ def test_open_inside_out_and_non_manifold_inputs_are_refused():
         _core.morph(np.array([[0.0, 0], [1, 0], [0, 1]]), np.array([[0, 1], [1, 2]], np.int32), v[:, :2], f[:, :2])
 
 
+
+def test_coordinates_and_times_beyond_the_bound_are_refused_naming_them():
+    # Beyond 1e30 the stages' products overflow, and GMP stopped the process on the infinity
+    # (tests/fuzz/regressions/arrays/crash-morph-coordinate-8e306); every method is refused first.
+    v, f = icosphere(1)
+    far = v.copy()
+    far[3, 1] = 8.4e306
+    for method in ("skeleton", "strip", "field"):
+        with pytest.raises(am.InputError, match=r"the target's vertex 3 has a coordinate of 8\.4e\+306: a morph takes "
+                                                r"coordinates within \+-1e\+30"):
+            am.morph((v, f), (far, f), method=method)
+    with pytest.raises(am.InputError, match="the source's vertex 3 has a coordinate of -2e"):
+        _core.morph(np.where(np.arange(len(v))[:, None] == 3, -2e30, v), f, v, f)
+    for t0 in (-np.inf, -1e31):
+        with pytest.raises(am.InputError, match="the morph's t0 is .*: times must lie within"):
+            am.morph((v, f), (v * 0.5, f), t0=t0, method="strip")
+    m = am.morph((v * 1e29, f), (v * 0.5e29, f), method="strip")  # within the bound: morphed
+    assert m.check().is_oriented_manifold
+
 def test_self_intersecting_inputs_are_refused_naming_two_crossing_faces():
     v, f = icosphere(1)
     overlapping = np.vstack([v, v + [0.5, 0, 0]]), np.vstack([f, f + len(v)]).astype(np.int32)

@@ -1,6 +1,6 @@
 """The array entry points' fuzz target (stitch, slice and interval frames, refine, Deformer,
-voronoi_skeleton, morph's input check, hole_space, subdivide_frame), shared by fuzz_arrays.py and
-the pytest replay.
+voronoi_skeleton, morph's input check, hole_space, subdivide_frame, the morph with each method,
+manifold subdivision), shared by fuzz_arrays.py and the pytest replay.
 
 An input is decoded with atheris.FuzzedDataProvider: its first byte picks the entry point, the rest
 builds small arrays from a closed shape (a tetrahedron or an octahedron) — vertices moved by fuzzed
@@ -120,7 +120,25 @@ def subdivide_frame(fdp) -> None:
     am.subdivide_frame(vertices, faces, levels=1, limit=fdp.ConsumeBool())
 
 
-TARGETS = (stitch_and_slice, refine, deformer, voronoi_skeleton, morph_input, hole_space, subdivide_frame)
+def morph(fdp) -> None:
+    """The whole morph on two fuzzed shapes, every stage and its checks. The field method costs
+    ~0.2 s a call on these shapes (the others ~20 ms), so it is picked one time in sixteen."""
+    pick = fdp.ConsumeIntInRange(0, 15)
+    method = "field" if pick == 0 else "skeleton" if pick <= 8 else "strip"
+    source, target = _shape(fdp), _shape(fdp)
+    am.morph(source, target, t0=_double(fdp) if fdp.ConsumeIntInRange(0, 7) == 0 else 0.0, method=method)
+
+
+def subdivide_manifold(fdp) -> None:
+    manifold = _manifold(fdp)
+    scheme = "linear" if fdp.ConsumeBool() else "schaefer"
+    am.subdivide(manifold, 1, scheme=scheme, keep_keyframe_times=fdp.ConsumeBool())
+
+
+# Appended in this order: an input's first byte picks TARGETS[byte % len(TARGETS)], and the seeds'
+# first bytes are the index of their entry point, so a new entry point goes at the end.
+TARGETS = (stitch_and_slice, refine, deformer, voronoi_skeleton, morph_input, hole_space, subdivide_frame,
+           morph, subdivide_manifold)
 ALLOWED = (am.Error, ValueError, TypeError)
 
 
