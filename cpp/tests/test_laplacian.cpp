@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <thread>
+#include <vector>
 
 using namespace animanifold;
 
@@ -115,5 +117,42 @@ TEST(Deformer, DeformByATransformEqualsAFreshSolveToTheSamePositions) {
       EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-10) << method;
       for (int i = 0; i < 6; ++i) EXPECT_EQ(a.row(i), m.V.row(i)) << method;
     }
+  }
+}
+
+// laplacian.hpp: one Deformer may be shared; calls from several threads run one
+// after the other and each gives what it gives alone. ThreadSanitizer runs this
+// (ctest's "tsan." cases) to see what the threads share.
+TEST(Deformer, ThreadsSharingOneDeformerGetTheSerialResults) {
+  const Complex m = moving_octahedron(4);
+  IndexVector anchors(6), handles(6);
+  for (int i = 0; i < 6; ++i) {
+    anchors(i) = i;
+    handles(i) = 18 + i;
+  }
+  std::vector<Eigen::MatrixXd> transforms;
+  for (int k = 0; k < 4; ++k) {
+    Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
+    T(0, 3) = 0.25 * k;
+    T(1, 1) = 1.0 + 0.1 * k;
+    transforms.push_back(T);
+  }
+  DeformerOptions o;
+  o.laplacian.method = LaplacianMethod::Dual;
+  Deformer serial(m.V, m.S, anchors, handles, o);
+  std::vector<PointMatrix> expected;
+  for (const auto& T : transforms) expected.push_back(serial.deform(T));
+  for (int round = 0; round < 5; ++round) {
+    Deformer shared(m.V, m.S, anchors, handles, o);
+    std::vector<PointMatrix> got(transforms.size());
+    std::vector<std::thread> threads;
+    for (size_t k = 0; k < transforms.size(); ++k)
+      threads.emplace_back([&, k] {
+        got[k] = shared.deform(transforms[k]);
+        shared.points();  // a read beside the other threads' solves
+      });
+    for (auto& t : threads) t.join();
+    for (size_t k = 0; k < transforms.size(); ++k)
+      ASSERT_EQ(got[k], expected[k]) << "round " << round << ", transform " << k;
   }
 }
