@@ -35,8 +35,12 @@ foreach(name IN LISTS _sanitized_test_names)
   list(APPEND _sanitized_test_sources ${CMAKE_CURRENT_SOURCE_DIR}/cpp/tests/${name}.cpp)
 endforeach()
 
-# -O1: a short build and readable stacks; NDEBUG as in release builds, so the sanitizers
-# judge the code users run (Eigen's assertions would abort first).
+# -O1: a short build and readable stacks. -UNDEBUG: this is also CI's Debug build of our
+# units: Eigen's index and size assertions and our own asserts are on, so an out-of-range
+# access aborts where the release build would read past a buffer. CGAL's units are not
+# compiled here; CGAL_NDEBUG (animanifold_core_settings) keeps their assertions off in every
+# configuration, and tests/test_build_configuration.py checks that a Debug tree's CGAL units
+# get it.
 # Eigen allocates with its own aligned allocator under ASan and with plain malloc otherwise
 # (EIGEN_MALLOC_ALREADY_ALIGNED): a matrix allocated in a shared unit and freed in a checked
 # one would be freed wrongly. The checked units get the normal build's choice.
@@ -54,7 +58,7 @@ else()
   set(_eigen_malloc -DEIGEN_MALLOC_ALREADY_ALIGNED=0)
 endif()
 set(_sanitize_flags -fsanitize=${ANIMANIFOLD_SANITIZED_TESTS} -fno-omit-frame-pointer
-    -fno-sanitize-recover=all -O1 -g1 ${_eigen_malloc})
+    -fno-sanitize-recover=all -O1 -g1 -UNDEBUG ${_eigen_malloc})
 add_library(animanifold_core_sanitized STATIC ${ANIMANIFOLD_CHECKED_SOURCES}
             $<TARGET_OBJECTS:animanifold_shared_units>)
 animanifold_core_settings(animanifold_core_sanitized)
