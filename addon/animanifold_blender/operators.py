@@ -22,7 +22,7 @@ from .convert import convert_object, convert_steps
 from .job_modal import CoreJobModal
 from .object_manifold import is_manifold_object, manifold_for
 from .operator_defaults import option
-from .polls import active_object_is, in_object_mode
+from .polls import active_object_in_any_mode_is, active_object_is, in_object_mode
 from .progress import Progress
 from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 from .reporting import reporting
@@ -177,8 +177,7 @@ class ANIMANIFOLD_OT_make_live(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return is_manifold_object(obj) and obj.animanifold.mode == "BAKED"
+        return active_object_in_any_mode_is(cls, context, _is_baked, "Select a baked manifold object")
 
     def execute(self, context):
         obj = context.active_object
@@ -192,6 +191,10 @@ class ANIMANIFOLD_OT_make_live(Operator):
             obj.animanifold.mode = "LIVE"
             return {"FINISHED"}
         return {"CANCELLED"}
+
+
+def _is_baked(obj) -> bool:
+    return is_manifold_object(obj) and obj.animanifold.mode == "BAKED"
 
 
 classes = (ANIMANIFOLD_OT_convert_action, ANIMANIFOLD_OT_bake, ANIMANIFOLD_OT_make_live)
