@@ -148,8 +148,8 @@ class ANIMANIFOLD_OT_bake(CoreJobModal, Operator):
         return {"CANCELLED"}
 
     def _start(self, context) -> set:
-        """The subdivision runs in a worker thread (job_modal), Esc cancels before anything is
-        baked; the frames are then built here."""
+        """The subdivision runs in a worker thread (job_modal), then the frames and files are
+        made here a slice at a time; Esc cancels at any point and leaves nothing baked."""
         obj = context.active_object
         with reporting(self, "Bake failed"):
             progress = Progress(context.window_manager, where="subdividing the manifold")
