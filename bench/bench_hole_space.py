@@ -6,23 +6,20 @@ the figure tests/test_hole_space.py::test_torus_800_volume used to assert (under
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import sys
 import time
 from pathlib import Path
 
 import animanifold as am
-from figures import add_json_option, write_json
+from figures import bench_parser, write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=3)
+    parser = bench_parser(__doc__, repeat=3)
     parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
-    add_json_option(parser)
     args = parser.parse_args()
     path = args.data / "meshes" / "torus-800.off"
     if not path.is_file():

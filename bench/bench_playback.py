@@ -26,7 +26,6 @@ from a busy machine are lower and noisier than from an idle one.
 
 from __future__ import annotations
 
-import argparse
 import json
 import statistics
 import sys
@@ -41,7 +40,7 @@ for p in (str(ROOT / "python"), str(ROOT / "addon"), str(ROOT / "blender_scenes"
 import bpy  # noqa: E402
 
 from build_demo_scene import build_demo_scene  # noqa: E402
-from figures import add_json_option, write_json  # noqa: E402
+from figures import bench_parser, write_json  # noqa: E402
 
 
 def playback_fps(scene, frames, loops, probe=None, per_frame=None, started=None) -> list[float]:
@@ -89,12 +88,8 @@ def only_visible(obj, objects):
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser()
-    parser.add_argument("--segments", type=int, default=180)
-    parser.add_argument("--rings", type=int, default=140)
-    parser.add_argument("--loops", type=int, default=3)
+    parser = bench_parser(__doc__, segments=180, rings=140, loops=3)
     parser.add_argument("--no-handler-path", action="store_true", help="skip the handler-writes-every-frame path")
-    add_json_option(parser)
     args = parser.parse_args()
     import animanifold_blender
 

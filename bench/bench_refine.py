@@ -11,7 +11,6 @@ Splits pick a random tet, a random face of it with 2..4 vertices and random
 
 from __future__ import annotations
 
-import argparse
 import resource
 import time
 
@@ -19,7 +18,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold import _core
-from figures import add_json_option, write_json
+from figures import bench_parser, write_json
 
 
 def torus(u: int, v: int) -> tuple[np.ndarray, np.ndarray]:
@@ -38,15 +37,9 @@ def peak_mib() -> float:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = bench_parser(__doc__, splits=100_000, keyframes=35, u=100, v=50, seed=1)
     parser.add_argument("--order", choices=["degeneracy", "given"], default="degeneracy")
-    parser.add_argument("--splits", type=int, default=100_000)
-    parser.add_argument("--keyframes", type=int, default=35)
-    parser.add_argument("--u", type=int, default=100)
-    parser.add_argument("--v", type=int, default=50)
-    parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--check", action="store_true", help="also verify the result is an oriented manifold")
-    add_json_option(parser)
     args = parser.parse_args()
 
     V, F = torus(args.u, args.v)

@@ -15,7 +15,6 @@ Run:  PYTHONPATH=python:tests python3 bench/bench_subdivide.py [--json PATH]
 
 from __future__ import annotations
 
-import argparse
 import resource
 import sys
 import time
@@ -28,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import animanifold as am  # noqa: E402
 from helpers.shapes import icosphere  # noqa: E402
-from figures import add_json_option, write_json  # noqa: E402
+from figures import bench_parser, write_json  # noqa: E402
 
 
 def peak_mb() -> float:
@@ -88,8 +87,7 @@ def median_ms(call, runs: int = 5):
     return result, 1000 * float(np.median(seconds))
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    add_json_option(parser)
+    parser = bench_parser(__doc__)
     args = parser.parse_args()
     figures = {}
     # --- 1. manifold subdivision

@@ -99,3 +99,31 @@ def test_a_calls_error_is_raised_where_the_steps_asked_for_it_and_a_cancel_runs_
     steps.next()
     steps.close()  # a cancelled job: nothing after it runs, the cleanup does
     assert log == ["before", "finally"]
+
+
+def _piecewise_steps(made, log):
+    """Main-thread work in three pieces with a pause after each, rolled back (`made` emptied)
+    when it does not end."""
+    try:
+        for piece in range(3):
+            made.append(piece)
+            yield am.core_job.Pause("building")
+        return list(made)
+    except BaseException:
+        made.clear()
+        log.append("rolled back")
+        raise
+
+
+def test_run_passes_the_pauses_by_and_a_close_at_a_pause_rolls_the_work_back():
+    """Steps.run has no events to answer: it goes straight on at each pause. Driven step by step,
+    each pause comes back to the driver, and closing the steps there (Esc) runs their rollback."""
+    made, log = [], []
+    assert am.core_job.Steps(_piecewise_steps(made, log)).run() == [0, 1, 2] and log == []
+    made.clear()
+    steps = am.core_job.Steps(_piecewise_steps(made, log))
+    pause = steps.next()
+    assert pause == am.core_job.Pause("building") and made == [0]
+    assert isinstance(steps.next(), am.core_job.Pause) and made == [0, 1]
+    steps.close()
+    assert made == [] and log == ["rolled back"] and steps.result is None

@@ -47,6 +47,12 @@ def frame_object_name(obj_name: str, frame: int) -> str:
 def build_frames(obj, frames: list[int], collection_name: str, progress=None) -> bpy.types.Collection:
     """One mesh object per frame (the slice at that frame), in frame order, in a new
     collection that is not linked to any scene (the node group instances it)."""
+    return am.core_job.Steps(build_frames_steps(obj, frames, collection_name, progress)).run()
+
+
+def build_frames_steps(obj, frames: list[int], collection_name: str, progress=None):
+    """build_frames as am.core_job.Steps, pausing after each frame; stopped there (closed), it
+    removes what it made."""
     manifold = shown_manifold(obj)  # subdivided as the object's Smooth settings say
     settings = obj.animanifold
     smoothed = settings.smooth_levels > 0
@@ -69,6 +75,7 @@ def build_frames(obj, frames: list[int], collection_name: str, progress=None) ->
             mesh = None
             if progress is not None:
                 progress(i + 1)
+            yield am.core_job.Pause("building frames")
     except BaseException:
         if mesh is not None:  # made, not yet in an object
             bpy.data.meshes.remove(mesh)
@@ -188,13 +195,19 @@ class NodeGroupBake:
         self.group = None
         self.new_cache_files = []
         self.new_ids = []  # the Alembic parts' helper objects, meshes and node group
+        self.replaced = False  # whether apply got to replace the old bake's modifiers
 
     def apply(self, frames: list[int], progress=None, collection=None):
         """`collection`: frame objects made elsewhere (a farm's chunks), one per frame in order."""
+        am.core_job.Steps(self.apply_steps(frames, progress, collection)).run()
+
+    def apply_steps(self, frames: list[int], progress=None, collection=None):
+        """apply as am.core_job.Steps, pausing after each frame it builds (see rollback)."""
         obj = self.obj
         base = f"{obj.name}_bake"
-        self.collection = collection or build_frames(obj, frames, base + ".new", progress)
+        self.collection = collection or (yield from build_frames_steps(obj, frames, base + ".new", progress))
         self.group = build_node_group(base + ".new", self.collection, frames[0], len(frames))
+        self.replaced = True
         for name in BAKE_MODIFIERS:
             mod = obj.modifiers.get(name)
             if mod is not None:
@@ -222,10 +235,11 @@ class NodeGroupBake:
 
     def rollback(self):
         obj = self.obj
-        for name in BAKE_MODIFIERS:
-            mod = obj.modifiers.get(name)
-            if mod is not None:
-                obj.modifiers.remove(mod)
+        if self.replaced:  # else apply stopped before it touched the object (building the frames)
+            for name in BAKE_MODIFIERS:
+                mod = obj.modifiers.get(name)
+                if mod is not None:
+                    obj.modifiers.remove(mod)
         alembic_parts.remove_ids(self.new_ids)
         for cache in self.new_cache_files:
             if cache.users == 0:
@@ -234,6 +248,14 @@ class NodeGroupBake:
             bpy.data.node_groups.remove(self.group)
         if self.collection is not None:
             remove_collection(self.collection)
+        if self.replaced:
+            self._restore_old_modifiers()
+        obj.animanifold.bake_collection = self.old_collection
+        obj.animanifold.mode = self.old_mode
+
+    def _restore_old_modifiers(self):
+        """The old bake's modifiers again, in the old order."""
+        obj = self.obj
         for name, kind, group, cache, path, show_viewport, show_render in self.old_modifiers:
             mod = obj.modifiers.new(name, kind)
             if kind == "NODES":
@@ -246,8 +268,6 @@ class NodeGroupBake:
             current = [m.name for m in obj.modifiers].index(name)
             if current != index:
                 obj.modifiers.move(current, index)
-        obj.animanifold.bake_collection = self.old_collection
-        obj.animanifold.mode = self.old_mode
 
 
 # -- Alembic ----------------------------------------------------------------------
@@ -385,19 +405,32 @@ def export_sequence(obj, frames: list[int], directory: str, fmt: str, progress=N
                     mtl_suffix: str = "") -> list[str]:
     """One file per frame (frame_file_bytes) and, for OBJ with materials, one .mtl
     (<object><mtl_suffix>.mtl). `write(path, bytes)` writes each file (atomically on a farm)."""
+    return am.core_job.Steps(export_sequence_steps(obj, frames, directory, fmt, progress, write, mtl_suffix)).run()
+
+
+def export_sequence_steps(obj, frames: list[int], directory: str, fmt: str, progress=None, write=_write_file,
+                          mtl_suffix: str = "", new_files: list[str] | None = None):
+    """export_sequence as am.core_job.Steps, pausing after each frame's file. Each file it writes
+    that was not there before goes to `new_files` as it is written, so that a caller's rollback
+    can remove them, however far it got."""
     manifold = shown_manifold(obj)
     os.makedirs(directory, exist_ok=True)
     names, colours = material_table(obj)
     mtl_name = mtl_file_name(obj, mtl_suffix) if fmt == "OBJ" and names else None
     written = []
+
+    def write_new(path: str, data: bytes) -> None:
+        if new_files is not None and not os.path.exists(path):
+            new_files.append(path)
+        write(path, data)
+        written.append(path)
+
     if mtl_name:
-        path = os.path.join(directory, mtl_name)
-        write(path, am.mesh_export.mtl_bytes(names, colours))
-        written.append(path)
+        write_new(os.path.join(directory, mtl_name), am.mesh_export.mtl_bytes(names, colours))
     for i, frame in enumerate(frames):
-        path = os.path.join(directory, frame_file_name(obj, frame, fmt))
-        write(path, frame_file_bytes(obj, manifold, frame, fmt, mtl_name))
-        written.append(path)
+        write_new(os.path.join(directory, frame_file_name(obj, frame, fmt)),
+                  frame_file_bytes(obj, manifold, frame, fmt, mtl_name))
         if progress is not None:
             progress(i + 1)
+        yield am.core_job.Pause("writing the frame files")
     return written

@@ -1,7 +1,8 @@
 """Bake Frames: a manifold object's frames baked with bake's pieces in order (the node-group
 bake, then optionally Alembic, a Mesh Sequence Cache and an OBJ/PLY sequence). Everything
-that can fail on the settings is checked first; on a failure the node-group bake is rolled
-back and the files it wrote are removed.
+that can fail on the settings is checked first; on a failure, or when Esc stops a bake run
+from the interface between two frames or files (job_modal), the node-group bake is rolled back
+and the files it wrote are removed.
 """
 
 from __future__ import annotations
@@ -19,6 +20,21 @@ from .progress import Progress
 from .reporting import OperatorError
 
 
+def _remove_new_files(paths: list[str], new_folder: str | None) -> None:
+    """Removes the files a bake wrote that were not there before, and the folder it made (when
+    `new_folder` is given and nothing else is in it)."""
+    for path in paths:
+        try:
+            os.unlink(path)
+        except OSError:
+            pass
+    if new_folder is not None:
+        try:
+            os.rmdir(new_folder)
+        except OSError:  # not made after all, or holds something else
+            pass
+
+
 def bake_object(context, obj, **options) -> str:
     """Bakes `obj` (see bake_steps) here, blocking, with the progress bar; the report's text."""
     progress = Progress(context.window_manager, where="subdividing the manifold")
@@ -32,9 +48,10 @@ def bake_steps(context, progress, obj, use_scene_range: bool, start: int, end: i
                use_cache: bool, export: str, directory: str):
     """Bakes `obj` (see the module) as am.core_job.Steps whose long call is the manifold's
     subdivision (when the object's Smooth settings ask for one not kept yet), made before
-    anything changes, so a cancel leaves the scene as it was. Its result is the report's
-    text; `progress` (progress.Progress) shows how far it is: the subdivision fills the
-    bar, then the frames fill it again."""
+    anything changes, and which pause after each frame built, the Alembic export and each frame
+    file written: a cancel at any of these leaves the scene and the files as they were. Its
+    result is the report's text; `progress` (progress.Progress) shows how far it is: the
+    subdivision fills the bar, then the frames fill it again."""
     scene = context.scene
     manifold_for(obj)  # validates the cache before anything changes
     manifold = yield from shown_manifold_steps(obj)  # and subdivides it (Smooth settings) before anything changes
@@ -61,16 +78,17 @@ def bake_steps(context, progress, obj, use_scene_range: bool, start: int, end: i
     count = progress.counter(2 * len(frames) + 2)
     count(0)
     transaction = bake.NodeGroupBake(obj)
-    written = []
+    new_files = []  # the files written that were not there before, removed on a failure or a cancel
+    new_folder = not os.path.isdir(folder)
     try:
-        transaction.apply(frames, count)
+        yield from transaction.apply_steps(frames, count)
         notes = [f"{len(frames)} frames {first}–{last} (node group)"]
         if alembic:
             path = os.path.join(folder, f"{stem}{chunk}.abc")
-            existed = os.path.exists(path)
-            parts = bake.export_alembic(context, obj, path, first, last)
-            if not existed:
-                written.append(path)
+            if not os.path.exists(path):
+                new_files.append(path)
+            parts = bake.export_alembic(context, obj, path, first, last)  # Blender's exporter: one call
+            yield am.core_job.Pause("exporting Alembic")
             stored = bpy.path.relpath(path) if bpy.data.filepath and is_blend_relative(directory) else path
             notes.append(f"Alembic {stored}")
             if use_cache:
@@ -79,16 +97,13 @@ def bake_steps(context, progress, obj, use_scene_range: bool, start: int, end: i
                 notes.append("shown by a Mesh Sequence Cache modifier")
         count(len(frames) + 1)
         if export != "NONE":
-            files = bake.export_sequence(obj, frames, folder, export, lambda i: count(len(frames) + 1 + i),
-                                             mtl_suffix=chunk)
+            files = yield from bake.export_sequence_steps(obj, frames, folder, export,
+                                                          lambda i: count(len(frames) + 1 + i), mtl_suffix=chunk,
+                                                          new_files=new_files)
             notes.append(f"{len(files)} {export} files in {folder}")
-    except BaseException:
+    except BaseException:  # a failure, or Esc between two steps (GeneratorExit): the scene as it was
         transaction.rollback()
-        for path in written:
-            try:
-                os.unlink(path)
-            except OSError:
-                pass
+        _remove_new_files(new_files, folder if new_folder else None)
         raise
     transaction.commit()
     notes[0] = f"{len(frames)} frames {first}–{last} in collection '{transaction.collection.name}' (node group)"

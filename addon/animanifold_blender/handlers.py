@@ -1,16 +1,18 @@
-"""Application handlers, all registered here, in the order of _HANDLERS: live slicing
-on frame change (before and after the frame is evaluated) of the objects Blender
-evaluates, and of hidden ones once shown again (depsgraph update; renders slice what
-renders: render init/complete/cancel), caches copied beside the .blend on save
-(cache_follow), interactive deformation
-(solving when its Empty moves, and its preview shown over the frame the slicer
-wrote), re-attach after load, forget what was written after undo/redo.
+"""Application handlers, all registered here, each naming its handler lists with @on and
+registered in the order they are defined: live slicing on frame change (before and after the
+frame is evaluated) of the objects Blender evaluates, and of hidden ones once shown again
+(depsgraph update; renders slice what renders: render init/complete/cancel), caches copied
+beside the .blend on save (cache_follow), interactive deformation (solving when its Empty
+moves, and its preview shown over the frame the slicer wrote), re-attach after load, forget
+what was written after undo/redo.
 
-All are @persistent so they stay registered across file loads, and are found by
+All are @persistent (through @on) so they stay registered across file loads, and are found by
 name on register so reloading the add-on never doubles them.
 """
 
 from __future__ import annotations
+
+from typing import Callable
 
 import bpy
 from bpy.app.handlers import persistent
@@ -18,41 +20,55 @@ from bpy.app.handlers import persistent
 from . import cache_follow, interactive_deform, live, visibility
 from .live_registry import registry
 
+# (name of a bpy.app.handlers list, handler), in the order the handlers are defined below: they are
+# appended in it, so handlers on the same list run in it.
+_HANDLERS: list[tuple[str, Callable]] = []
 
-@persistent
+
+def on(*list_names: str):
+    """Makes the decorated function a handler on each of Blender's handler lists `list_names`,
+    persistent so that it stays registered across file loads."""
+    def add(fn):
+        fn = persistent(fn)
+        _HANDLERS.extend((name, fn) for name in list_names)
+        return fn
+    return add
+
+
+@on("frame_change_pre")
 def animanifold_frame_change_pre(scene, *_args):
     # Before the new frame is evaluated: a cut written here (playback entering a
     # topology interval or a keyframe) is evaluated once, in the same pass.
     live.update_scene(scene)
 
 
-@persistent
+@on("frame_change_post")
 def animanifold_frame_change_post(scene, depsgraph=None):
     # After evaluation: animated settings (a keyframed sweep value, say) have their
     # new values now; objects without animation were shown at this frame already.
     live.update_scene(scene, after_evaluation=True)
 
 
-@persistent
+@on("frame_change_post")
 def animanifold_interactive_deform_frame_post(scene, depsgraph=None):
-    # After the slicer's post-frame handler (later in _HANDLERS): an object being
+    # After the slicer's post-frame handler (defined, so registered, later): an object being
     # deformed interactively shows its preview, not its cache's frame.
     interactive_deform.on_frame_change(scene)
 
 
-@persistent
+@on("depsgraph_update_post")
 def animanifold_interactive_deform_depsgraph_post(scene, depsgraph=None):
     interactive_deform.on_depsgraph_update(scene)
 
 
-@persistent
+@on("depsgraph_update_post")
 def animanifold_show_revealed(scene, depsgraph=None):
     # An object the frame handlers skipped as hidden is shown at the current frame
     # once Blender evaluates it again (unhidden, its collection included).
     live.show_revealed(scene)
 
 
-@persistent
+@on("render_init")
 def animanifold_render_init(scene=None, *_args):
     # While rendering, what renders is sliced, whatever the viewport hides; an object
     # skipped as hidden in the viewport is shown at the frame now (a still has no frame change).
@@ -61,12 +77,12 @@ def animanifold_render_init(scene=None, *_args):
         live.show_revealed(scene)
 
 
-@persistent
+@on("render_complete", "render_cancel")
 def animanifold_render_done(*_args):
     visibility.set_rendering(False)
 
 
-@persistent
+@on("save_pre")
 def animanifold_save_pre(filepath=None, *_args):
     # Caches follow the .blend to its new folder (cache_follow); a failure is printed, the
     # save goes on (the panel then shows the missing cache).
@@ -75,13 +91,13 @@ def animanifold_save_pre(filepath=None, *_args):
             print(f"animanifold: {note}")
 
 
-@persistent
+@on("save_post")
 def animanifold_save_post(filepath=None, *_args):
     if isinstance(filepath, str) and filepath:
         cache_follow.after_save(filepath)
 
 
-@persistent
+@on("load_post")
 def animanifold_load_post(*_args):
     # A new file: forget caches and errors of the previous one, then show every
     # live manifold at its scene's current frame (its cache may have changed).
@@ -91,29 +107,11 @@ def animanifold_load_post(*_args):
         live.update_scene(scene, force=True)
 
 
-@persistent
+@on("undo_post", "redo_post")
 def animanifold_undo_post(*_args):
     # Undo and redo restore meshes and modifiers together: what the add-on remembers
     # having written may be stale, so the next frame change writes in full.
     registry.forget_shown()
-
-
-# Appended in this order: handlers on the same list run in it.
-_HANDLERS = (
-    (bpy.app.handlers.frame_change_pre, animanifold_frame_change_pre),
-    (bpy.app.handlers.frame_change_post, animanifold_frame_change_post),
-    (bpy.app.handlers.frame_change_post, animanifold_interactive_deform_frame_post),
-    (bpy.app.handlers.depsgraph_update_post, animanifold_interactive_deform_depsgraph_post),
-    (bpy.app.handlers.depsgraph_update_post, animanifold_show_revealed),
-    (bpy.app.handlers.render_init, animanifold_render_init),
-    (bpy.app.handlers.render_complete, animanifold_render_done),
-    (bpy.app.handlers.render_cancel, animanifold_render_done),
-    (bpy.app.handlers.save_pre, animanifold_save_pre),
-    (bpy.app.handlers.save_post, animanifold_save_post),
-    (bpy.app.handlers.load_post, animanifold_load_post),
-    (bpy.app.handlers.undo_post, animanifold_undo_post),
-    (bpy.app.handlers.redo_post, animanifold_undo_post),
-)
 
 
 def _remove_by_name(handler_list, name):
@@ -123,14 +121,14 @@ def _remove_by_name(handler_list, name):
 
 
 def register_handlers():
-    for handler_list, fn in _HANDLERS:
-        _remove_by_name(handler_list, fn.__name__)  # leftovers of an earlier load of the add-on
-    for handler_list, fn in _HANDLERS:
-        handler_list.append(fn)
+    for list_name, fn in _HANDLERS:
+        _remove_by_name(getattr(bpy.app.handlers, list_name), fn.__name__)  # leftovers of an earlier load
+    for list_name, fn in _HANDLERS:
+        getattr(bpy.app.handlers, list_name).append(fn)
 
 
 def unregister_handlers():
-    for handler_list, fn in _HANDLERS:
-        _remove_by_name(handler_list, fn.__name__)
+    for list_name, fn in _HANDLERS:
+        _remove_by_name(getattr(bpy.app.handlers, list_name), fn.__name__)
     registry.clear()
     visibility.set_rendering(False)

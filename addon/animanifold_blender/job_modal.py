@@ -5,19 +5,30 @@ from the interface.
 
 While a job runs, timer ticks move the progress bar, view events pass, everything else
 waits (so the operator's inputs are still there at the end) and Esc cancels the job at the
-core's next step. The result is made by `_finish(context, source, result)` in the main
-thread, as execute() makes it, so the operator's undo step is the same either way.
+core's next step. The steps' own work in the main thread (Bake's frames and files) runs a
+slice of pieces per event, up to each am.core_job.Pause; Esc between two slices closes the
+steps, whose rollback removes what they made. The result is made by `_finish(context, source,
+result)` in the main thread, as execute() makes it, so the operator's undo step is the same
+either way.
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import bpy
 
 from . import preferences
+from ._lib import am
 from .progress import VIEW_EVENTS, Progress
 from .reporting import reporting
+
+# Seconds between the timer's events while a job runs.
+TIMER_STEP = 0.1
+# Seconds of the steps' main-thread work made per event: a timer step, so that the timer is due
+# again when a slice ends (no idle wait between slices) and the interface answers as often.
+MAIN_THREAD_SLICE = TIMER_STEP
 
 
 @dataclass
@@ -27,6 +38,23 @@ class _Ended:
     result: object = None
     error: BaseException | None = None
     cancelled: bool = False
+
+
+class _Between:
+    """The steps paused between two pieces of their main-thread work (am.core_job.Pause), in the
+    place of a job: done at once, so the next event runs them on, unless Esc cancelled it."""
+
+    done = True
+    result = None
+    error = None
+    cancelling = False
+
+    def __init__(self, stage: str, fraction: float):
+        self.stage, self.fraction = stage, fraction
+        self.cancelled = False
+
+    def cancel(self) -> None:
+        self.cancelled = True
 
 
 class CoreJobModal:
@@ -55,17 +83,18 @@ class CoreJobModal:
         self._job, self._source = job, source
         self._progress = progress or self._job_progress(context.window_manager)
         wm = context.window_manager
-        self._timer = wm.event_timer_add(0.1, window=context.window)
+        self._timer = wm.event_timer_add(TIMER_STEP, window=context.window)
         wm.modal_handler_add(self)
         self._tick(context)
         return {"RUNNING_MODAL"}
 
     def _start_steps(self, context, steps, source, progress: Progress) -> set:
-        """Runs `steps` here up to its first long call, then each call in a worker thread: its
-        result goes back to the steps in the main thread, which run on to the next call or to
-        their end, made by `_finish`. Without a long call to make it ends at once. The steps
-        keep the context invoke() was given: Blender's one context, whose members are the
-        operator's window's again whenever modal() runs them on."""
+        """Runs `steps` here up to its first long call or pause, then each call in a worker
+        thread: its result goes back to the steps in the main thread, which run on to the next
+        call or to their end, made by `_finish`; at a pause they wait for the next event. Without
+        a call or a pause it ends at once. The steps keep the context invoke() was given:
+        Blender's one context, whose members are the operator's window's again whenever modal()
+        runs them on."""
         try:
             call = steps.next()
         except BaseException:
@@ -74,8 +103,14 @@ class CoreJobModal:
         if call is None:
             progress.end()
             return self._finish(context, source, steps.result)
-        self._steps = steps
-        return self._start_job(context, call.job(self._job_name), source, progress)
+        self._steps, self._progress = steps, progress
+        return self._start_job(context, self._job_for(call), source, progress)
+
+    def _job_for(self, call):
+        """What modal() waits on for the steps' `call`: a long call's job, or a pause's stand-in."""
+        if isinstance(call, am.core_job.Pause):
+            return _Between(call.stage, self._progress.value / 100.0)
+        return call.job(self._job_name)
 
     def modal(self, context, event):
         job = self._job
@@ -87,32 +122,38 @@ class CoreJobModal:
             # only the view may change meanwhile: the inputs must still be there at the end
             return {"PASS_THROUGH"} if event.type in VIEW_EVENTS else {"RUNNING_MODAL"}
         if self._steps is not None and self._next_job():
+            self._tick(context)
             return {"RUNNING_MODAL"}
         self._stop_waiting(context)
         return self._job_done(context)
 
     def _next_job(self) -> bool:
         """The finished job's result (or error) goes back to the steps, which run on to their next
-        call, started as the next job: True; False once they ended (`_job` then says how)."""
+        call, started as the next job, or through their pauses for a slice of time and wait at
+        the last: True; False once they ended (`_job` then says how)."""
         job, steps = self._job, self._steps
         if job.cancelled:
-            steps.close()  # nothing is made after a long call's cancel: there is nothing to undo
+            steps.close()  # the steps' rollback runs: what they made before the cancel goes
             return False
+        slice_end = time.perf_counter() + MAIN_THREAD_SLICE
         try:
             call = steps.next(job.result, job.error)
+            while isinstance(call, am.core_job.Pause) and time.perf_counter() < slice_end:
+                call = steps.next()
         except BaseException as e:  # reported by _job_done, as a single job's error is
             self._job = _Ended(error=e)
             return False
         if call is None:
             self._job = _Ended(result=steps.result)
             return False
-        self._job = call.job(self._job_name)
+        self._job = self._job_for(call)
         return True
 
     def _tick(self, context) -> None:
         """A timer tick while the job runs: the bar (and the status line) follow the core's steps."""
         job = self._job
-        self._progress(job.stage, job.fraction)
+        if not isinstance(job, _Between):  # the steps' own work sets the bar itself
+            self._progress(job.stage, job.fraction)
         if self._status_label:
             context.workspace.status_text_set(self._progress.status(self._status_label, job.stage, job.fraction,
                                                                     job.cancelling))

@@ -22,7 +22,7 @@ from .convert import convert_object, convert_steps
 from .job_modal import CoreJobModal
 from .object_manifold import is_manifold_object, manifold_for
 from .operator_defaults import option
-from .polls import active_object_is, in_object_mode
+from .polls import active_object_in_any_mode_is, active_object_is, in_object_mode
 from .progress import Progress
 from .properties import BLEND_RELATIVE, EXPORT_ITEMS, SAMPLING_ITEMS
 from .reporting import reporting
@@ -148,8 +148,8 @@ class ANIMANIFOLD_OT_bake(CoreJobModal, Operator):
         return {"CANCELLED"}
 
     def _start(self, context) -> set:
-        """The subdivision runs in a worker thread (job_modal), Esc cancels before anything is
-        baked; the frames are then built here."""
+        """The subdivision runs in a worker thread (job_modal), then the frames and files are
+        made here a slice at a time; Esc cancels at any point and leaves nothing baked."""
         obj = context.active_object
         with reporting(self, "Bake failed"):
             progress = Progress(context.window_manager, where="subdividing the manifold")
@@ -177,8 +177,7 @@ class ANIMANIFOLD_OT_make_live(Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return is_manifold_object(obj) and obj.animanifold.mode == "BAKED"
+        return active_object_in_any_mode_is(cls, context, _is_baked, "Select a baked manifold object")
 
     def execute(self, context):
         obj = context.active_object
@@ -192,6 +191,10 @@ class ANIMANIFOLD_OT_make_live(Operator):
             obj.animanifold.mode = "LIVE"
             return {"FINISHED"}
         return {"CANCELLED"}
+
+
+def _is_baked(obj) -> bool:
+    return is_manifold_object(obj) and obj.animanifold.mode == "BAKED"
 
 
 classes = (ANIMANIFOLD_OT_convert_action, ANIMANIFOLD_OT_bake, ANIMANIFOLD_OT_make_live)

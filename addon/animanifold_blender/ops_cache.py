@@ -16,6 +16,7 @@ from . import cache_paths, live
 from ._lib import am
 from .live_registry import registry
 from .object_manifold import is_manifold_object
+from .polls import active_object_in_any_mode_is
 from .reporting import OperatorError, reporting
 
 
@@ -35,10 +36,7 @@ class ANIMANIFOLD_OT_relink_cache(Operator):
 
     @classmethod
     def poll(cls, context):
-        if not _is_manifold(context.active_object):
-            cls.poll_message_set("Select a manifold object (made by Convert)")
-            return False
-        return True
+        return active_object_in_any_mode_is(cls, context, _is_manifold, "Select a manifold object (made by Convert)")
 
     def invoke(self, context, _event):
         context.window_manager.fileselect_add(self)

@@ -21,7 +21,7 @@ from .job_modal import CoreJobModal
 from .live import scene_frame
 from .object_manifold import is_manifold_object
 from .operator_defaults import option
-from .polls import active_object_is
+from .polls import active_object_in_any_mode_is, active_object_is
 from .properties import BOUNDARY_ITEMS, ENDPOINT_ITEMS, METHOD_ITEMS
 from .reporting import OperatorError, reporting
 
@@ -144,7 +144,8 @@ class ANIMANIFOLD_OT_deform_clear(Operator):
 
     @classmethod
     def poll(cls, context):
-        return bool(_stored_keys(context.active_object))
+        return active_object_in_any_mode_is(cls, context, lambda obj: bool(_stored_keys(obj)),
+                                            "The active object stores no anchors, handles or rest")
 
     def execute(self, context):
         obj = context.active_object

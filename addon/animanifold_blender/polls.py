@@ -1,5 +1,5 @@
-"""The poll checks the operators share: Object Mode, and an active object of the right kind,
-each refusal worded for the button's tooltip (poll_message_set)."""
+"""The poll checks the operators share: Object Mode, and an active object of the right kind
+(in Object Mode or in any), each refusal worded for the button's tooltip (poll_message_set)."""
 
 from __future__ import annotations
 
@@ -17,8 +17,12 @@ def in_object_mode(cls, context) -> bool:
 def active_object_is(cls, context, accepts: Callable[[object], bool], message: str) -> bool:
     """Whether the operator `cls` may run: Object Mode and an active object that `accepts`;
     otherwise it says what to select (`message`)."""
-    if not in_object_mode(cls, context):
-        return False
+    return in_object_mode(cls, context) and active_object_in_any_mode_is(cls, context, accepts, message)
+
+
+def active_object_in_any_mode_is(cls, context, accepts: Callable[[object], bool], message: str) -> bool:
+    """Whether the active object is one that `accepts`, in whatever mode (for operators that touch
+    only its settings, not its mesh); otherwise the operator `cls` says what to select (`message`)."""
     obj = context.active_object
     if obj is None or not accepts(obj):
         cls.poll_message_set(message)

@@ -5,7 +5,8 @@ between two closed meshes; subdivide (cli_subdivide.py) and deform (cli_deform.p
 one, printing the core's steps on stderr; skeleton (cli_skeleton.py) writes a mesh's Voronoi
 skeleton; farm (cli_farm.py) runs the render-farm steps that need no Blender.
 
-Each sub-command is a small function from parsed arguments to an exit code.
+Each sub-command is a small function from parsed arguments to an exit code, whose docstring
+is the command's help (cli_common.add_command).
 Anything the user can get wrong — a missing or unreadable file, a damaged
 cache, keyframes that do not correspond, times that do not increase, a value
 outside the manifold, a count beyond MAX_FRAMES, an output that cannot be written
@@ -26,7 +27,7 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Sequence
 
 import numpy as np
 
@@ -122,6 +123,12 @@ def read_keyframes(files: Sequence[str]) -> tuple[list[np.ndarray], np.ndarray]:
 
 
 def run_stitch(args: argparse.Namespace) -> int:
+    """keyframe meshes -> animation manifold (.amf)
+
+    Reads keyframe meshes (OBJ/PLY/OFF; not STL, which keeps no vertex order) with the same vertices
+    and faces in the same order, stitches them into an animation manifold of 3·faces·(keyframes-1)
+    tets and saves it.
+    """
     files = list(args.keyframes)
     if len(files) < 2:
         raise UserError(f"an animation manifold needs at least two keyframe files, got {len(files)}")
@@ -163,6 +170,11 @@ def check_mesh_extension(path: str, formats: Sequence[str]) -> None:
 
 
 def run_slice(args: argparse.Namespace) -> int:
+    """one frame (or sweep view) -> mesh file
+
+    Slices a manifold at a value along t (a frame) or x/y/z (a sweep view, whose vertices are the
+    remaining coordinates, e.g. (y, z, t) for --axis x) and writes the mesh.
+    """
     check_mesh_extension(args.output, MESH_FORMATS)
     manifold = load_manifold(args.manifold)
     low, high = axis_range(manifold, args.axis)
@@ -188,6 +200,11 @@ def frame_path(folder: Path, number: int, count: int, extension: str) -> Path:
 
 
 def run_frames(args: argparse.Namespace) -> int:
+    """N evenly spaced frames -> folder of meshes
+
+    Slices N frames evenly spaced from the first to the last time (both included) and writes them as
+    frame_0000.obj, frame_0001.obj, ... Progress goes to stderr.
+    """
     check_count("-n", args.count, 1)
     manifold = load_manifold(args.manifold)
     folder = Path(args.output)
@@ -261,6 +278,11 @@ def format_info(info: dict) -> str:
 
 
 def run_info(args: argparse.Namespace) -> int:
+    """counts, time range, bounding box, validity
+
+    Describes a cache file: point and simplex counts, time range, bounding box, manifold validity
+    (interior, boundary, non-manifold and misoriented facets), keyframes and attributes.
+    """
     info = manifold_info(args.manifold, load(args.manifold))
     print(json.dumps(info, indent=2) if args.json else format_info(info))
     return 0
@@ -270,6 +292,12 @@ def run_info(args: argparse.Namespace) -> int:
 
 
 def run_demo(args: argparse.Namespace) -> int:
+    """the built-in main job: procedural keyframes -> manifold -> frames + picture
+
+    Stitches a procedural keyframe animation (a lobed icosphere that squashes, stretches, twists and
+    travels through 6 keyframes at non-uniform times), saves OUTPUT/demo.amf, writes frames to
+    OUTPUT/frames/*.obj and a contact sheet of several frames to OUTPUT/contact_sheet.png.
+    """
     check_count("--frames", args.frames, 1)
     if not args.no_picture:
         try:
@@ -302,81 +330,37 @@ def build_parser() -> argparse.ArgumentParser:
     )
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    def command(name: str, run: Callable[[argparse.Namespace], int], help: str, description: str):
-        return add_command(commands, name, run, help, description)
-
-    p = command(
-        "stitch",
-        run_stitch,
-        "keyframe meshes -> animation manifold (.amf)",
-        "Reads keyframe meshes (OBJ/PLY/OFF; not STL, which keeps no vertex order) with the same vertices and faces in the same order, "
-        "stitches them into an animation manifold of 3·faces·(keyframes-1) tets and saves it.",
-    )
+    p = add_command(commands, "stitch", run_stitch)
     p.add_argument("keyframes", nargs="+", metavar="KEYFRAME", help="keyframe mesh files, in time order")
     when = p.add_mutually_exclusive_group()
     when.add_argument("--times", nargs="+", type=float, metavar="T", help="strictly increasing keyframe times")
     when.add_argument("--fps", type=float, help="keyframe i at time i/FPS (default: evenly spaced over 0..1)")
     p.add_argument("-o", "--output", required=True, help="the cache file to write (.amf)")
 
-    p = command(
-        "slice",
-        run_slice,
-        "one frame (or sweep view) -> mesh file",
-        "Slices a manifold at a value along t (a frame) or x/y/z (a sweep view, whose vertices are "
-        "the remaining coordinates, e.g. (y, z, t) for --axis x) and writes the mesh.",
-    )
+    p = add_command(commands, "slice", run_slice)
     p.add_argument("manifold", help="cache file (.amf)")
     p.add_argument("-t", "--t", "--value", dest="value", type=float, required=True, help="where to slice")
     p.add_argument("--axis", choices=list(AXES), default="t", help="slicing axis (default t)")
     p.add_argument("-o", "--output", required=True, help=f"mesh file: {', '.join('.' + f for f in MESH_FORMATS)}")
 
-    p = command(
-        "frames",
-        run_frames,
-        "N evenly spaced frames -> folder of meshes",
-        "Slices N frames evenly spaced from the first to the last time (both included) and writes "
-        "them as frame_0000.obj, frame_0001.obj, ... Progress goes to stderr.",
-    )
+    p = add_command(commands, "frames", run_frames)
     p.add_argument("manifold", help="cache file (.amf)")
     p.add_argument("-n", "--count", type=int, required=True, help="number of frames")
     p.add_argument("-o", "--output", required=True, help="output folder (created if needed)")
     p.add_argument("--format", choices=FRAME_FORMATS, default="obj", help="mesh format (default obj)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
 
-    p = command(
-        "info",
-        run_info,
-        "counts, time range, bounding box, validity",
-        "Describes a cache file: point and simplex counts, time range, bounding box, manifold "
-        "validity (interior, boundary, non-manifold and misoriented facets), keyframes and attributes.",
-    )
+    p = add_command(commands, "info", run_info)
     p.add_argument("manifold", help="cache file (.amf)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
 
-    p = command(
-        "demo",
-        run_demo,
-        "the built-in main job: procedural keyframes -> manifold -> frames + picture",
-        "Stitches a procedural keyframe animation (a lobed icosphere that squashes, stretches, twists "
-        "and travels through 6 keyframes at non-uniform times), saves OUTPUT/demo.amf, writes frames "
-        "to OUTPUT/frames/*.obj and a contact sheet of several frames to OUTPUT/contact_sheet.png.",
-    )
+    p = add_command(commands, "demo", run_demo)
     p.add_argument("-o", "--output", default="out", help="output folder (default out)")
     p.add_argument("--frames", type=int, default=12, help="number of frames (default 12)")
     p.add_argument("--small", action="store_true", help="a coarse sphere (320 faces) for a quick check")
     p.add_argument("--no-picture", action="store_true", help="skip the contact sheet (no matplotlib needed)")
 
-    p = command(
-        "morph",
-        run_morph,
-        "two closed meshes -> a morph manifold (and frames)",
-        "Builds an animation manifold that is SOURCE at t0 and TARGET at t1 by filling the space between "
-        "them with a Delaunay triangulation (chapters 5 and 8): with the skeleton method (default) the "
-        "shapes' external skeletons are pushed into time, so shapes of any genus morph through closed "
-        "surfaces; 'strip' only removes what lies outside them; 'field' takes the zero set of a blended "
-        "signed-distance field over space-time (smooth in-betweens, ends exact). Saves it, and with --frames writes N "
-        "frames. Prints the validity report of §8.3.",
-    )
+    p = add_command(commands, "morph", run_morph)
     p.add_argument("source", help="closed, outward-oriented triangle mesh at t0")
     p.add_argument("target", help="closed, outward-oriented triangle mesh at t1")
     p.add_argument("-o", "--output", required=True, help="output folder: morph.amf, frames/ (created if needed)")
@@ -399,6 +383,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def run_morph(args: argparse.Namespace) -> int:
+    """two closed meshes -> a morph manifold (and frames)
+
+    Builds an animation manifold that is SOURCE at t0 and TARGET at t1 by filling the space between
+    them with a Delaunay triangulation (chapters 5 and 8): with the skeleton method (default) the
+    shapes' external skeletons are pushed into time, so shapes of any genus morph through closed
+    surfaces; 'strip' only removes what lies outside them; 'field' takes the zero set of a blended
+    signed-distance field over space-time (smooth in-betweens, ends exact). Saves it, and with
+    --frames writes N frames. Prints the validity report of §8.3.
+    """
     check_count("--frames", args.frames, 0)
     source, target = read_mesh(args.source), read_mesh(args.target)
     if not 0 < args.max_push < 0.5:

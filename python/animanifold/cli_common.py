@@ -11,6 +11,7 @@ nothing.
 from __future__ import annotations
 
 import argparse
+import inspect
 import sys
 from typing import Callable, TextIO
 
@@ -29,18 +30,25 @@ def check_count(option: str, value: int, low: int, high: int = MAX_FRAMES) -> No
         raise UserError(f"{option} must be from {low} to {high:,}, got {value:,}")
 
 
-def add_command(commands, name: str, run: Callable[[argparse.Namespace], int], help: str,
-                description: str) -> argparse.ArgumentParser:
-    """A sub-command's parser, dispatching to `run(args)` (its exit code)."""
-    sub = commands.add_parser(name, help=help, description=description)
+def command_help(run: Callable[[argparse.Namespace], int]) -> tuple[str, str]:
+    """A sub-command's help, written once as the docstring of its `run`: the first line is its
+    summary in ``animanifold --help``, the rest its description in ``animanifold NAME --help``
+    (argparse folds the lines)."""
+    summary, _, description = inspect.cleandoc(run.__doc__ or "").partition("\n")
+    return summary, description.strip()
+
+
+def add_command(commands, name: str, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """A sub-command's parser, dispatching to `run(args)` (its exit code), its help from `run`'s docstring."""
+    summary, description = command_help(run)
+    sub = commands.add_parser(name, help=summary, description=description)
     sub.set_defaults(run=run)
     return sub
 
 
-def add_manifold_command(commands, name: str, run: Callable[[argparse.Namespace], int], help: str,
-                         description: str) -> argparse.ArgumentParser:
+def add_manifold_command(commands, name: str, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
     """A long call from one cache file to another: MANIFOLD -o OUTPUT, its steps on stderr unless -q."""
-    sub = add_command(commands, name, run, help, description)
+    sub = add_command(commands, name, run)
     sub.add_argument("manifold", help="cache file (.amf)")
     sub.add_argument("-o", "--output", required=True, help="the cache file to write (.amf)")
     sub.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")

@@ -22,17 +22,8 @@ from .manifold import AnimationManifold, axis_index
 from .regularisation import RegulariseOptions
 
 
-SUMMARY = "Laplacian deformation: anchors stay, handles move -> .amf"
-DESCRIPTION = (
-    "Deforms an animation manifold through space and time (chapter 4): the anchor vertices stay, the handle "
-    "vertices move by --translate and/or --rotate, and the rest follows smoothly. Vertices are chosen by "
-    "coordinate ranges AXIS:LOW:HIGH (an empty bound is open; ranges joined by commas must all hold), e.g. "
-    "--anchors t::0 --handles t:1:,z:0.5: . The core's steps go to stderr; Ctrl-C stops it, writing nothing."
-)
-
-
 def add_parser(commands) -> argparse.ArgumentParser:
-    p = add_manifold_command(commands, "deform", run, SUMMARY, DESCRIPTION)
+    p = add_manifold_command(commands, "deform", run)
     p.add_argument("--anchors", required=True, metavar="RANGES", help="vertices that stay, e.g. t::0")
     p.add_argument("--handles", required=True, metavar="RANGES", help="vertices that move, e.g. t:1:")
     p.add_argument("--translate", type=float, nargs="+", metavar="D",
@@ -118,6 +109,14 @@ def _lengths(vectors: np.ndarray) -> np.ndarray:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Laplacian deformation: anchors stay, handles move -> .amf
+
+    Deforms an animation manifold through space and time (chapter 4): the anchor vertices stay, the
+    handle vertices move by --translate and/or --rotate, and the rest follows smoothly. Vertices are
+    chosen by coordinate ranges AXIS:LOW:HIGH (an empty bound is open; ranges joined by commas must
+    all hold), e.g. --anchors t::0 --handles t:1:,z:0.5: . The core's steps go to stderr; Ctrl-C
+    stops it, writing nothing.
+    """
     manifold = load(args.manifold)
     anchors = parse_ranges("--anchors", args.anchors, manifold)
     handles = parse_ranges("--handles", args.handles, manifold)

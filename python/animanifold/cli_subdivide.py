@@ -12,17 +12,8 @@ from .subdivision import MANIFOLD_SCHEMES, SubdivideOptions, subdivide
 MAX_LEVELS = 8  # each level multiplies the tets by 8; the memory limit refuses most inputs long before
 
 
-SUMMARY = "smooth shape and motion together: LEVELS of subdivision -> .amf"
-DESCRIPTION = (
-    "Subdivides an animation manifold with the tetrahedral scheme of Schaefer, Hakenberg and Warren (2004): "
-    "each level multiplies the tets by 8 (a 2D animation's triangles by 4) and smooths shape and motion paths "
-    "together. The first and last keyframe stay on their time hyperplanes. The core's steps go to stderr; "
-    "Ctrl-C stops it, writing nothing."
-)
-
-
 def add_parser(commands) -> argparse.ArgumentParser:
-    p = add_manifold_command(commands, "subdivide", run, SUMMARY, DESCRIPTION)
+    p = add_manifold_command(commands, "subdivide", run)
     p.add_argument("--levels", type=int, default=1, help=f"levels of subdivision, 1 to {MAX_LEVELS} (default 1)")
     p.add_argument("--scheme", choices=MANIFOLD_SCHEMES, default="schaefer",
                    help="schaefer (split and average: smooth; default) or linear (split only)")
@@ -32,6 +23,13 @@ def add_parser(commands) -> argparse.ArgumentParser:
 
 
 def run(args: argparse.Namespace) -> int:
+    """smooth shape and motion together: LEVELS of subdivision -> .amf
+
+    Subdivides an animation manifold with the tetrahedral scheme of Schaefer, Hakenberg and Warren
+    (2004): each level multiplies the tets by 8 (a 2D animation's triangles by 4) and smooths shape
+    and motion paths together. The first and last keyframe stay on their time hyperplanes. The
+    core's steps go to stderr; Ctrl-C stops it, writing nothing.
+    """
     check_count("--levels", args.levels, 1, MAX_LEVELS)
     manifold = load(args.manifold)
     options = SubdivideOptions(scheme=args.scheme, keep_keyframe_times=args.keep_keyframe_times)

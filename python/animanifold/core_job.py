@@ -12,9 +12,12 @@ polls about every 0.1 s while TetGen runs): the job then ends with `cancelled` a
 An operation that mixes long core calls with work that must stay in the main thread (Blender's
 Convert samples the scene between stitches; Bake builds frames after the subdivision) is
 written once as :class:`Steps`: a generator that yields each long call as a :class:`CoreCall`
-and receives its result. `Steps.run` makes the calls in the calling thread (scripts,
-`blender -b`); a modal operator makes each one as a CoreJob instead, so Esc can stop it.
-Either way the generator runs the same code, so both give the same result.
+and receives its result. Between two pieces of its main-thread work (a frame built, a file
+written) it may yield a :class:`Pause`: a modal operator hands the interface its events there,
+so Esc can stop the operation between pieces too (the generator is closed: its rollback runs).
+`Steps.run` makes the calls in the calling thread (scripts, `blender -b`) and passes the pauses
+by; a modal operator makes each call as a CoreJob instead, so Esc can stop it. Either way the
+generator runs the same code, so both give the same result.
 """
 
 from __future__ import annotations
@@ -91,6 +94,15 @@ class CoreCall:
         return CoreJob(self.call, *self.args, name=name, **self.kwargs)
 
 
+@dataclass
+class Pause:
+    """A point between two pieces of a :class:`Steps` generator's main-thread work where its
+    driver may stop it (by closing it) or let the interface run before going on; `stage` names
+    the work, for the status line."""
+
+    stage: str
+
+
 class Steps:
     """An operation written as a generator that yields its long calls (:class:`CoreCall`) and
     gets each one's result back, so that whoever drives it decides where the calls run (see
@@ -100,9 +112,10 @@ class Steps:
         self._generator = generator
         self.result = None
 
-    def next(self, result=None, error: BaseException | None = None) -> CoreCall | None:
+    def next(self, result=None, error: BaseException | None = None) -> CoreCall | Pause | None:
         """Runs the operation on, in the calling thread, with the last call's `result` (or its
-        `error` raised where it was asked for) up to its next call; None once it has returned."""
+        `error` raised where it was asked for) up to its next call or pause; None once it has
+        returned."""
         try:
             if error is not None:
                 return self._generator.throw(error)
@@ -112,7 +125,8 @@ class Steps:
             return None
 
     def close(self) -> None:
-        """Drops a cancelled operation: its generator's `finally` blocks run, here."""
+        """Drops a cancelled operation: its generator's `except`/`finally` blocks (its rollback)
+        run, here."""
         self._generator.close()
 
     def run(self, progress=None, interrupted=None):
@@ -120,6 +134,9 @@ class Steps:
         `interrupted`; its result."""
         call = self.next()
         while call is not None:
+            if isinstance(call, Pause):  # no events to answer here: straight on
+                call = self.next()
+                continue
             try:
                 value = call(progress, interrupted)
             except BaseException as e:  # raised in the generator, where the call was asked for

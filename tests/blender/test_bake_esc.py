@@ -1,10 +1,11 @@
-"""Bake Frames from the interface: modal, the manifold's subdivision in a worker thread, Esc
-cancels before anything is baked.
+"""Bake Frames from the interface: modal, the manifold's subdivision in a worker thread, then the
+frames and files made a slice at a time; Esc cancels at any point and leaves nothing baked.
 
 The operator's modal half runs on a stand-in (Blender operators cannot be made outside an
 operator call, and modal() needs a window's events). The subdivision is held at one of its
 steps until the test has pressed Esc, so the cancel lands inside it however fast the machine
-is; nothing here waits on a clock."""
+is; the frames and files are made one per event (job_modal.MAIN_THREAD_SLICE set to 0), so Esc
+lands between two of them. Nothing here waits on a clock."""
 
 from __future__ import annotations
 
@@ -127,16 +128,97 @@ def test_the_modal_bake_makes_what_the_blocking_one_makes(smoothed):
     assert man.animanifold.mode == "BAKED" and ("progress end",) in calls
 
 
-def test_a_bake_with_nothing_to_subdivide_ends_at_once(smoothed):
-    """The subdivision kept already: there is no long call to wait for, so the bake is made at
-    once, without going modal."""
+def test_a_bake_with_nothing_to_subdivide_makes_its_frames_and_files_between_events(smoothed):
+    """The subdivision kept already: no long call to wait for, but the frames and files are still
+    made a slice per event, so the bar moves and Esc can stop them; the end is the same bake."""
     man, folder = smoothed
     assert bpy.ops.animanifold.bake() == {"FINISHED"}  # computes and keeps the subdivision
     calls = []
     modal, op, started = _bake_stand_in(calls)
-    assert started == {"FINISHED"}, op.reports
-    assert not any(c[0] == "timer added" for c in calls) and ("progress end",) in calls
-    assert man.animanifold.mode == "BAKED"
+    assert started == {"RUNNING_MODAL"}, op.reports
+    assert until_done(modal, calls) == {"FINISHED"}, op.reports
+    assert op.reports[-1][1].startswith("Baked 'Blob_manifold': 3 frames 10–12"), op.reports
+    assert man.animanifold.mode == "BAKED" and ("progress end",) in calls
+    assert len(list(folder.iterdir())) == 4  # 3 frames and the .mtl
+
+
+@pytest.fixture()
+def one_step_per_event(smoothed, monkeypatch):
+    """`smoothed` with its subdivision kept (baked once more, into another folder) and the bake's
+    main-thread work made one frame or file per event; the bake's folder is new."""
+    from animanifold_blender import job_modal
+
+    man, folder = smoothed
+    assert bpy.ops.animanifold.bake() == {"FINISHED"}
+    for path in folder.iterdir():
+        path.unlink()
+    folder.rmdir()
+    monkeypatch.setattr(job_modal, "MAIN_THREAD_SLICE", 0.0)
+    return man, folder
+
+
+def _esc_state(man) -> dict:
+    """What an Esc during the bake must leave as it was: the scene and the previous bake, the
+    object's mode (Blender's and the manifold's) and the cache files."""
+    return {**_bake_state(man), "context mode": bpy.context.mode,
+            "cache files": sorted(c.name for c in bpy.data.cache_files)}
+
+
+def _bake_cancelled_by_esc(ready) -> list:
+    """Bake started as invoke() starts it, given timer events until `ready()` (each event makes one
+    frame or file), then Esc: it is cancelled with its warning, its bar and status line ended.
+    The calls recorded."""
+    calls = []
+    modal, op, started = _bake_stand_in(calls)
+    assert started == {"RUNNING_MODAL"}, op.reports
+    for _ in range(100):
+        if ready():
+            break
+        assert modal(ModalContext(calls), modal_event("TIMER")) == {"RUNNING_MODAL"}, op.reports
+    else:
+        pytest.fail("the bake never got to the point where Esc is pressed")
+    assert modal(ModalContext(calls), modal_event("ESC", "PRESS")) == {"CANCELLED"}
+    assert op.reports == [({"WARNING"}, "Bake of 'Blob_manifold' cancelled: nothing was baked")]
+    assert ("timer removed", "the timer") in calls and ("progress end",) in calls and ("status", None) in calls
+    return calls
+
+
+def _new_frames() -> list[str]:
+    """The frame objects of the bake being built (its collection's name until the commit)."""
+    collection = bpy.data.collections.get("Blob_manifold_bake.new")
+    return [] if collection is None else sorted(o.name for o in collection.objects)
+
+
+def test_esc_while_the_frames_are_built_removes_them_and_leaves_the_previous_bake(one_step_per_event):
+    """Esc after two of the three frames are built (one per event, the first before the first
+    event): they are removed, the previous bake, the object's modifiers and the scene are as they
+    were, and no file is written."""
+    man, folder = one_step_per_event
+    before, seen = _esc_state(man), []
+    _bake_cancelled_by_esc(lambda: seen.append(len(_new_frames())) or seen[-1] == 2)
+    assert seen == [1, 2]
+    assert _esc_state(man) == before and _new_frames() == [] and not folder.exists()
+
+
+def test_esc_while_the_files_are_written_removes_them_and_the_new_bake(one_step_per_event):
+    """Esc after the frames are built and the first frame file is written: the files and the
+    folder made for them are removed, and so is the new bake; everything is as it was."""
+    man, folder = one_step_per_event
+    before = _esc_state(man)
+    _bake_cancelled_by_esc(lambda: folder.is_dir() and len(list(folder.glob("*.obj"))) == 1)
+    assert _esc_state(man) == before and _new_frames() == [] and not folder.exists()
+
+
+@pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
+def test_esc_after_the_alembic_export_removes_the_archive_and_its_cache(one_step_per_event):
+    """Blender's Alembic exporter is one call: Esc pressed meanwhile is answered right after it,
+    before the Mesh Sequence Cache is made; the archive goes with the rest of the bake."""
+    man, folder = one_step_per_event
+    settings = bpy.context.scene.animanifold
+    settings.bake_alembic, settings.bake_use_mesh_cache, settings.bake_export = True, True, "NONE"
+    before = _esc_state(man)
+    _bake_cancelled_by_esc(lambda: folder.is_dir() and len(list(folder.glob("*.abc"))) == 1)
+    assert _esc_state(man) == before and _new_frames() == [] and not folder.exists()
 
 
 def test_invoked_without_a_window_bake_runs_at_once(smoothed):

@@ -238,7 +238,8 @@ def modal_stand_in(cls, calls=None, **state):
     op = SimpleNamespace(_timer="the timer", reports=[], **state)
     op.report = lambda kind, text: op.reports.append((set(kind), text))
     for name in ("_tick", "_job_done", "_finish", "_stop_waiting", "cancel", "_cancelled_text", "_failure_text",
-                 "_next_job", "_job_progress", "_start_job", "_start_steps", "_start", "_arguments", "_options"):
+                 "_next_job", "_job_for", "_job_progress", "_start_job", "_start_steps", "_start", "_arguments",
+                 "_options"):
         if hasattr(cls, name):
             setattr(op, name, functools.partial(getattr(cls, name), op))
     for name in ("_steps", "_status_label", "_job_name"):

@@ -163,7 +163,10 @@ def converting():
 
 def baking():
     made = bpy.data.objects[state["made"]]
-    if made.animanifold.mode != "BAKED":
+    collection = made.animanifold.bake_collection
+    # The object is BAKED once its frames are built; the bake has ended (committed) once its
+    # collection has its own name (".new" while the files are still written).
+    if made.animanifold.mode != "BAKED" or collection is None or collection.name.endswith(".new"):
         return 0.1
     if not os.listdir(bakes):
         finish(False, "the second Bake wrote no files")
