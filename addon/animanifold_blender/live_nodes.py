@@ -369,6 +369,21 @@ def release(obj, shown: tuple[float, float] | None = None) -> None:
         _set(obj, mod, {"Active": False, "Shown From": float(low), "Shown To": float(high)})
 
 
+# What release() changes: a bake rolled back must leave them as they were (setting the
+# object's mode back to LIVE drives the modifier again).
+RELEASED_INPUTS = ("Active", "Shown From", "Shown To")
+
+
+def released_inputs(obj) -> dict | None:
+    """The inputs release() would change, as they are now; None where the object has no
+    live modifier of ours."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None or mod.type != "NODES" or not _is_ours(mod.node_group):
+        return None
+    ids = _identifiers(mod.node_group)
+    return {name: mod.get(ids[name]) for name in RELEASED_INPUTS}
+
+
 def drives(obj, start: float, end: float, frame: float | None = None, cut_frame: float | None = None) -> bool:
     """Whether the object's modifier is on, ours, enabled, and plays the interval (start, end)
     from the cut at `cut_frame` with the mesh at `frame` (when given)."""

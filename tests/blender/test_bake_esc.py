@@ -160,8 +160,11 @@ def one_step_per_event(smoothed, monkeypatch):
 def _esc_state(man) -> dict:
     """What an Esc during the bake must leave as it was: the scene and the previous bake, the
     object's mode (Blender's and the manifold's) and the cache files."""
+    from animanifold_blender import live_nodes
+
     return {**_bake_state(man), "context mode": bpy.context.mode,
-            "cache files": sorted(c.name for c in bpy.data.cache_files)}
+            "cache files": sorted(c.name for c in bpy.data.cache_files),
+            "live modifier": live_nodes.released_inputs(man)}
 
 
 def _bake_cancelled_by_esc(ready) -> list:
@@ -207,6 +210,49 @@ def test_esc_while_the_files_are_written_removes_them_and_the_new_bake(one_step_
     before = _esc_state(man)
     _bake_cancelled_by_esc(lambda: folder.is_dir() and len(list(folder.glob("*.obj"))) == 1)
     assert _esc_state(man) == before and _new_frames() == [] and not folder.exists()
+
+
+def test_esc_on_a_live_object_leaves_it_playing_live(demo, tmp_path, monkeypatch):
+    """A first bake of a live object, cancelled after its first file: the live modifier, which the
+    bake had released when it put its own in place, plays the manifold again as before."""
+    from animanifold_blender import job_modal, live_nodes
+
+    settings = bpy.context.scene.animanifold
+    settings.cache_directory = str(tmp_path)
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
+    man = bpy.data.objects["Blob_manifold"]
+    settings.bake_alembic, settings.bake_export = False, "OBJ"
+    settings.bake_use_scene_range, settings.bake_start, settings.bake_end = False, 10, 12
+    folder = tmp_path / "objs"
+    settings.bake_directory = str(folder)
+    monkeypatch.setattr(job_modal, "MAIN_THREAD_SLICE", 0.0)
+    bpy.context.scene.frame_set(11)
+    before = {**scene_state(), "mode": man.animanifold.mode, "live modifier": live_nodes.released_inputs(man),
+              "modifiers": [(m.name, m.show_viewport, m.show_render) for m in man.modifiers]}
+    assert man.animanifold.mode == "LIVE" and before["live modifier"]["Active"], before
+    _bake_cancelled_by_esc(lambda: folder.is_dir() and len(list(folder.glob("*.obj"))) == 1)
+    after = {**scene_state(), "mode": man.animanifold.mode, "live modifier": live_nodes.released_inputs(man),
+             "modifiers": [(m.name, m.show_viewport, m.show_render) for m in man.modifiers]}
+    assert after == before and _new_frames() == [] and not folder.exists()
+
+
+def test_a_rolled_back_bake_gives_the_live_modifier_its_inputs_back_at_once(demo, tmp_path):
+    """The bake releases the live modifier when it puts its own in place; its rollback sets the
+    object's mode back to LIVE, which drives the modifier again at once, not at the next frame."""
+    from animanifold_blender import live_nodes
+    from animanifold_blender.bake import NodeGroupBake
+
+    bpy.context.scene.animanifold.cache_directory = str(tmp_path)
+    assert bpy.ops.animanifold.convert_action(sampling="KEYFRAMES") == {"FINISHED"}
+    man = bpy.data.objects["Blob_manifold"]
+    bpy.context.scene.frame_set(11)
+    before = live_nodes.released_inputs(man)
+    assert before["Active"], before
+    bake = NodeGroupBake(man)
+    bake.apply([10, 11, 12])
+    assert not live_nodes.released_inputs(man)["Active"]
+    bake.rollback()
+    assert live_nodes.released_inputs(man) == before and man.animanifold.mode == "LIVE"
 
 
 @pytest.mark.skipif(not bpy.app.alembic.supported, reason="this bpy has no Alembic")
