@@ -52,6 +52,14 @@ std::string signal_name(int signal) {
   }
 }
 
+// The crash handlers the parent installed (Blender's crash log, Python's faulthandler, a
+// fuzzer's or a sanitizer's report) are not the child's to run: a crash of the library in
+// the child must end it by its signal, which the parent reads and reports, without writing
+// the parent's crash files or messages.
+void restore_default_crash_handlers() {
+  for (int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(signal, SIG_DFL);
+}
+
 }  // namespace
 
 std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds,
@@ -66,6 +74,7 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
   }
   if (pid == 0) {  // the child
     ::close(fds[0]);
+    restore_default_crash_handlers();
     try {
       const std::vector<char> result = work();
       send_and_exit(fds[1], kResult, result.data(), result.size());

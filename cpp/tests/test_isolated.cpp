@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <cstdlib>
@@ -35,6 +36,25 @@ TEST(Isolated, AnAbortFailsTheCallNotTheProcess) {
   }
   // and this process goes on: a second call works
   EXPECT_EQ(run_isolated([] { return std::vector<char>{'o', 'k'}; }).size(), 2u);
+}
+
+// A handler of the parent's (Blender's crash log, a fuzzer's report) does not run in the
+// child: its crash ends it by the signal, as if no handler were installed.
+TEST(Isolated, TheParentsCrashHandlersDoNotRunInTheChild) {
+  const auto exit_42 = [](int) { std::_Exit(42); };
+  for (int signal : {SIGABRT, SIGSEGV}) {
+    const auto previous = std::signal(signal, +exit_42);
+    try {
+      run_isolated([signal]() -> std::vector<char> {
+        std::raise(signal);
+        return {};
+      });
+      ADD_FAILURE() << "no failure reported";
+    } catch (const IsolatedFailure& e) {
+      EXPECT_NE(std::string(e.what()).find(signal == SIGABRT ? "SIGABRT" : "SIGSEGV"), std::string::npos) << e.what();
+    }
+    std::signal(signal, previous);
+  }
 }
 
 TEST(Isolated, ACrashAndAnExitAreReported) {
