@@ -7,7 +7,9 @@
 #include <poll.h>
 #include <csignal>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <string>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -60,6 +62,17 @@ void restore_default_crash_handlers() {
   for (int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL}) std::signal(signal, SIG_DFL);
 }
 
+// What the library prints on the way (TetGen's "Found two facets intersect each other" and
+// the like) is not for the user's console: the child's failure comes back as our message.
+// No flush first: what stdout's buffer holds is the parent's, and the parent writes it.
+void silence_standard_output() {
+  const int null = ::open("/dev/null", O_WRONLY);
+  if (null >= 0) {
+    ::dup2(null, STDOUT_FILENO);
+    ::close(null);
+  }
+}
+
 }  // namespace
 
 std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds,
@@ -75,6 +88,7 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
   if (pid == 0) {  // the child
     ::close(fds[0]);
     restore_default_crash_handlers();
+    silence_standard_output();
     try {
       const std::vector<char> result = work();
       send_and_exit(fds[1], kResult, result.data(), result.size());

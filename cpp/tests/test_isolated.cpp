@@ -57,6 +57,21 @@ TEST(Isolated, TheParentsCrashHandlersDoNotRunInTheChild) {
   }
 }
 
+// A library's chatter in the child (TetGen prints what it found) stays out of the console;
+// the parent's own output is untouched.
+TEST(Isolated, WhatTheChildPrintsDoesNotReachStandardOutput) {
+  testing::internal::CaptureStdout();
+  std::printf("parent before; ");
+  const auto bytes = run_isolated([] {
+    std::printf("chatter from the library\n");
+    std::fflush(stdout);
+    return std::vector<char>{'o', 'k'};
+  });
+  std::printf("parent after");
+  EXPECT_EQ(testing::internal::GetCapturedStdout(), "parent before; parent after");
+  EXPECT_EQ(bytes.size(), 2u);
+}
+
 TEST(Isolated, ACrashAndAnExitAreReported) {
   EXPECT_THROW(run_isolated([]() -> std::vector<char> {
                  volatile int* nowhere = nullptr;
