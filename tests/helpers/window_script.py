@@ -5,9 +5,22 @@ last line "WINDOW <NAME> OK ..." or "WINDOW <NAME> FAILED: <why>"."""
 from __future__ import annotations
 
 import os
+import time
 import traceback
 
 import bpy
+
+
+# A bound against a hang, not a speed bar: every phase of the scripts takes seconds, and one
+# still waiting after this long is stuck. Below run_blender_in_window's 300 s, so that the
+# script's verdict names the phase rather than the subprocess timing out.
+HANG_SECONDS = 240.0
+
+
+def stuck(since: float) -> bool:
+    """Whether HANG_SECONDS have passed since `since`, a time.perf_counter() reading: the one
+    wall-clock comparison the tests make (tests/test_fresh_machine.py)."""
+    return time.perf_counter() - since > HANG_SECONDS
 
 
 def finish(name: str, ok: bool, message: str) -> None:
