@@ -27,10 +27,10 @@ if [ "$SCOPE" = own ]; then
   python_dir="$build/sanitized/python"
   ctest_filter='^sanitized\.'
 else
-  # -O1 keeps the stacks readable and the build short; NDEBUG as in release builds, so the
-  # sanitizers judge the code users run (Eigen's assertions would abort first).
-  scope_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DANIMANIFOLD_SANITIZE="$SANITIZE"
-               -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
+  # CMakePresets.json's asan or tsan preset: -O1 keeps the stacks readable and the build
+  # short; NDEBUG as in release builds, so the sanitizers judge the code users run.
+  if [ "$SANITIZE" = thread ]; then preset=tsan; else preset=asan; fi
+  scope_flags=(--preset "$preset" -DANIMANIFOLD_SANITIZE="$SANITIZE")
   python_dir="$build/python"
   ctest_filter=''
 fi

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <thread>
+#include <utility>
 #include <vector>
 
 using namespace animanifold;
@@ -35,6 +36,17 @@ Complex moving_octahedron(int keyframes) {
   }
   in.faces = F;
   return stitch(in);
+}
+
+// Anchors on the first keyframe's vertices and handles on the last one's, of
+// moving_octahedron(keyframes) (six vertices a keyframe).
+std::pair<IndexVector, IndexVector> first_and_last_keyframe(int keyframes) {
+  IndexVector anchors(6), handles(6);
+  for (int i = 0; i < 6; ++i) {
+    anchors(i) = i;
+    handles(i) = 6 * (keyframes - 1) + i;
+  }
+  return {anchors, handles};
 }
 
 }  // namespace
@@ -96,11 +108,7 @@ TEST(Deformer, RefusesCotangentOnTetsAndOverlappingConstraints) {
 // deform(T) combines the responses (deformer_response.hpp); deform_to solves afresh.
 TEST(Deformer, DeformByATransformEqualsAFreshSolveToTheSamePositions) {
   const Complex m = moving_octahedron(4);
-  IndexVector anchors(6), handles(6);
-  for (int i = 0; i < 6; ++i) {
-    anchors(i) = i;
-    handles(i) = 18 + i;
-  }
+  const auto [anchors, handles] = first_and_last_keyframe(4);
   Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
   T.topLeftCorner(4, 4) << 0.9, -0.3, 0, 0.1, 0.3, 0.9, 0, 0, 0, 0.2, 1.1, 0, 0, 0, 0, 1;
   T.topRightCorner(4, 1) << 0.5, -1, 2, -0.25;
@@ -125,11 +133,7 @@ TEST(Deformer, DeformByATransformEqualsAFreshSolveToTheSamePositions) {
 // (ctest's "tsan." cases) to see what the threads share.
 TEST(Deformer, ThreadsSharingOneDeformerGetTheSerialResults) {
   const Complex m = moving_octahedron(4);
-  IndexVector anchors(6), handles(6);
-  for (int i = 0; i < 6; ++i) {
-    anchors(i) = i;
-    handles(i) = 18 + i;
-  }
+  const auto [anchors, handles] = first_and_last_keyframe(4);
   std::vector<Eigen::MatrixXd> transforms;
   for (int k = 0; k < 4; ++k) {
     Eigen::MatrixXd T = Eigen::MatrixXd::Identity(5, 5);
