@@ -112,6 +112,11 @@ def test_coordinates_and_times_beyond_the_bound_are_refused_naming_them():
             am.morph((v, f), (v * 0.5, f), t0=t0, method="strip")
     m = am.morph((v * 1e29, f), (v * 0.5e29, f), method="strip")  # within the bound: morphed
     assert m.check().is_oriented_manifold
+    # The distance queries behind the morph refuse such points themselves.
+    for call in (lambda: _core.closest_points(far.copy(), far, f), lambda: _core.closest_points(far.copy(), v, f),
+                 lambda: _core.points_inside_solid(far, f, v)):
+        with pytest.raises(am.InputError, match=r"(the surface's vertex|query point) 3 has a coordinate of 8\.4e\+306"):
+            call()
 
 def test_self_intersecting_inputs_are_refused_naming_two_crossing_faces():
     v, f = icosphere(1)

@@ -1,5 +1,6 @@
 #include "animanifold/morph.hpp"
 
+#include "animanifold/coordinate_bound.hpp"
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/flat_polygons.hpp"
@@ -210,9 +211,9 @@ void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::
   for (Index v = 0; v < V.rows(); ++v)
     for (int c = 0; c < d; ++c) {
       if (!std::isfinite(V(v, c))) fail<InputError>("the ", name, "'s vertex ", v, " is not finite");
-      if (std::abs(V(v, c)) > kMaxMorphCoordinate)
+      if (std::abs(V(v, c)) > kMaxCoordinate)
         fail<InputError>("the ", name, "'s vertex ", v, " has a coordinate of ", V(v, c), ": a morph takes coordinates within +-",
-                         kMaxMorphCoordinate, " (scale the shape down)");
+                         kMaxCoordinate, " (scale the shape down)");
     }
   double volume = 0.0;
   if (d == 3) {
@@ -628,8 +629,8 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   check_morph_input(target_points, target_faces, "target");
   if (source_points.cols() != target_points.cols()) fail<InputError>("source and target must both be 2D or both 3D");
   for (const auto& [label, t] : {std::pair{"t0", options.t0}, std::pair{"t1", options.t1}})
-    if (!(std::abs(t) <= kMaxMorphCoordinate))
-      fail<InputError>("the morph's ", label, " is ", t, ": times must lie within +-", kMaxMorphCoordinate);
+    if (!(std::abs(t) <= kMaxCoordinate))
+      fail<InputError>("the morph's ", label, " is ", t, ": times must lie within +-", kMaxCoordinate);
   if (!(options.t1 > options.t0))
     fail<InputError>("the morph must run forward in time: t1 (", options.t1, ") <= t0 (", options.t0, ")");
   if (options.method == MorphMethod::Field)

@@ -1,5 +1,6 @@
 #include "signed_distance.hpp"
 
+#include "animanifold/coordinate_bound.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/threads.hpp"
 #include "cgal_failures.hpp"
@@ -39,6 +40,7 @@ struct SignedDistance::Tree {
 
 SignedDistance::SignedDistance(const PointMatrix& V, const SimplexMatrix& F) : tree_(std::make_unique<Tree>()) {
   if (V.cols() != 3 || F.cols() != 3) fail<InputError>("signed distance needs a triangle mesh in R^3");
+  check_coordinates(V, "the surface's vertex");
   Tree& t = *tree_;
   t.V = V, t.F = F;
   std::vector<Mesh::Vertex_index> vertex(V.rows());
@@ -128,6 +130,7 @@ std::vector<Index> morton_order(const PointMatrix& points) {
 }  // namespace
 
 SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
+  check_coordinates(points, "query point");
   const Tree& t = *tree_;
   const Index n = static_cast<Index>(points.rows());
   SurfaceProjection out = sized(n);
@@ -143,6 +146,7 @@ SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
 }
 
 ClosestPoints SignedDistance::closest(const PointMatrix& points) const {
+  check_coordinates(points, "query point");
   const Tree& t = *tree_;
   const Index n = static_cast<Index>(points.rows());
   ClosestPoints out = sized(n);
@@ -173,13 +177,13 @@ ClosestPoints closest_points(const PointMatrix& points, const PointMatrix& verti
     for (int c = 0; c < 3; ++c)
       if (faces(f, c) < 0 || faces(f, c) >= vertices.rows())
         fail<InputError>("face ", f, " refers to vertex ", faces(f, c), ", outside 0..", vertices.rows() - 1);
-  if (!points.allFinite()) fail<InputError>("closest points: the query points hold NaN or infinity");
   return SignedDistance(vertices, faces).closest(points);
 }
 
 Eigen::VectorXd SignedDistance::distances(const PointMatrix& points) const { return (*this)(points).distance; }
 
 Eigen::Array<bool, Eigen::Dynamic, 1> SignedDistance::inside(const PointMatrix& points) const {
+  check_coordinates(points, "query point");
   const Tree& t = *tree_;
   Eigen::Array<bool, Eigen::Dynamic, 1> out(points.rows());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())

@@ -4,7 +4,9 @@
 // Inputs: the mesh (#V by 3 points, #F by 3 triangles), closed and
 // consistently oriented (the morph checks its inputs first). Outputs, for
 // each query point: the distance to the surface, negative inside; the face
-// the closest point lies on; its barycentric coordinates there.
+// the closest point lies on; its barycentric coordinates there. Throws:
+// InputError when a vertex or a query point is not finite or lies beyond
+// kMaxCoordinate (coordinate_bound.hpp), whose squares CGAL cannot take.
 //
 // The magnitude is CGAL's AABB-tree closest point; the side is CGAL's
 // Side_of_triangle_mesh (ray shooting through the same tree), which is exact

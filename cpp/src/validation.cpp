@@ -1,7 +1,9 @@
 #include "animanifold/validation.hpp"
+#include "animanifold/coordinate_bound.hpp"
 
 #include "animanifold/errors.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace animanifold {
@@ -23,6 +25,18 @@ Index checked_index_count(std::int64_t count, const char* what) {
   if (count < 0 || count > largest)
     fail<InputError>(what, ": ", count, " is more than a 32-bit index can address (at most ", largest, ")");
   return static_cast<Index>(count);
+}
+
+void check_coordinates(const Eigen::Ref<const PointMatrix>& points, const char* what) {
+  // The usual case in one vectorised pass (NaN fails it too); the loop below names the offender.
+  if (points.size() == 0 || points.cwiseAbs().maxCoeff() <= kMaxCoordinate) return;
+  for (Eigen::Index p = 0; p < points.rows(); ++p)
+    for (Eigen::Index c = 0; c < points.cols(); ++c) {
+      const double x = points(p, c);
+      if (!std::isfinite(x)) fail<InputError>(what, " ", p, " is not finite");
+      if (std::abs(x) > kMaxCoordinate)
+        fail<InputError>(what, " ", p, " has a coordinate of ", x, ", beyond +-", kMaxCoordinate);
+    }
 }
 
 }  // namespace animanifold

@@ -57,12 +57,6 @@ inline constexpr NameTable<FillTriangulation, 2> kFillTriangulationNames{
 inline constexpr NameTable<Perturbation, 2> kPerturbationNames{
     {{Perturbation::HullFaces, "hull_faces"}, {Perturbation::Position, "position"}}};
 
-// The largest coordinate (and time) a morph takes. Its stages multiply four
-// coordinate differences (4D orientations and volumes) and square distances;
-// beyond this bound those overflow to infinity, which the exact predicates'
-// conversion to rationals cannot take (GMP stops the process).
-inline constexpr double kMaxMorphCoordinate = 1e30;
-
 struct MorphOptions {
   // The times of the source and the target. The morph is solved over a span
   // proportional to the shapes' size and mapped onto t0..t1 (see morph.cpp),
@@ -270,7 +264,7 @@ struct Morph {
 // shape (`name`: "source", "target") and the face or vertex when it is not a
 // closed, consistently outward-oriented manifold without self-intersections
 // (2D: closed counter-clockwise polygons), has non-finite points, points
-// beyond kMaxMorphCoordinate or faces out of range.
+// beyond kMaxCoordinate (coordinate_bound.hpp) or faces out of range.
 void check_morph_input(const PointMatrix& V, const SimplexMatrix& F, const std::string& name);
 
 // Inputs:
