@@ -28,7 +28,7 @@ set(_sanitized_test_names
   test_complex test_conforming_mend test_delaunay test_errors test_flat_polygons
   test_isolated test_laplacian test_memory_estimates test_memory_limit test_normals
   test_perturbation test_progress test_refine test_shelling test_simplex_qp test_slice
-  test_stitch test_subdivide test_validation test_cgroup_memory test_enum_names test_threads
+  test_stitch test_subdivide test_validation test_cgroup_memory test_enum_names test_threads test_coordinate_bound
   internal/test_zero_set internal/test_isolated_boolean)
 set(_sanitized_test_sources "")
 foreach(name IN LISTS _sanitized_test_names)

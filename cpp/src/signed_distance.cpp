@@ -40,7 +40,7 @@ struct SignedDistance::Tree {
 
 SignedDistance::SignedDistance(const PointMatrix& V, const SimplexMatrix& F) : tree_(std::make_unique<Tree>()) {
   if (V.cols() != 3 || F.cols() != 3) fail<InputError>("signed distance needs a triangle mesh in R^3");
-  check_coordinates(V, "the surface's vertex");
+  check_coordinates(V, "the surface's vertex", kMaxDerivedCoordinate);
   Tree& t = *tree_;
   t.V = V, t.F = F;
   std::vector<Mesh::Vertex_index> vertex(V.rows());
@@ -130,7 +130,7 @@ std::vector<Index> morton_order(const PointMatrix& points) {
 }  // namespace
 
 SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
-  check_coordinates(points, "query point");
+  check_coordinates(points, "query point", kMaxDerivedCoordinate);
   const Tree& t = *tree_;
   const Index n = static_cast<Index>(points.rows());
   SurfaceProjection out = sized(n);
@@ -146,7 +146,7 @@ SurfaceProjection SignedDistance::operator()(const PointMatrix& points) const {
 }
 
 ClosestPoints SignedDistance::closest(const PointMatrix& points) const {
-  check_coordinates(points, "query point");
+  check_coordinates(points, "query point", kMaxDerivedCoordinate);
   const Tree& t = *tree_;
   const Index n = static_cast<Index>(points.rows());
   ClosestPoints out = sized(n);
@@ -183,7 +183,7 @@ ClosestPoints closest_points(const PointMatrix& points, const PointMatrix& verti
 Eigen::VectorXd SignedDistance::distances(const PointMatrix& points) const { return (*this)(points).distance; }
 
 Eigen::Array<bool, Eigen::Dynamic, 1> SignedDistance::inside(const PointMatrix& points) const {
-  check_coordinates(points, "query point");
+  check_coordinates(points, "query point", kMaxDerivedCoordinate);
   const Tree& t = *tree_;
   Eigen::Array<bool, Eigen::Dynamic, 1> out(points.rows());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())

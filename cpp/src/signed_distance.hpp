@@ -6,7 +6,7 @@
 // each query point: the distance to the surface, negative inside; the face
 // the closest point lies on; its barycentric coordinates there. Throws:
 // InputError when a vertex or a query point is not finite or lies beyond
-// kMaxCoordinate (coordinate_bound.hpp), whose squares CGAL cannot take.
+// kMaxDerivedCoordinate (coordinate_bound.hpp), whose powers CGAL cannot take.
 //
 // The magnitude is CGAL's AABB-tree closest point; the side is CGAL's
 // Side_of_triangle_mesh (ray shooting through the same tree), which is exact

@@ -27,15 +27,15 @@ Index checked_index_count(std::int64_t count, const char* what) {
   return static_cast<Index>(count);
 }
 
-void check_coordinates(const Eigen::Ref<const PointMatrix>& points, const char* what) {
-  // The usual case in one vectorised pass (NaN fails it too); the loop below names the offender.
-  if (points.size() == 0 || points.cwiseAbs().maxCoeff() <= kMaxCoordinate) return;
+void check_coordinates(const Eigen::Ref<const PointMatrix>& points, const char* what, double bound) {
+  // The usual case in one vectorised pass (a NaN compares false, so it fails it too); the loop
+  // below names the offender.
+  if ((points.array().abs() <= bound).all()) return;
   for (Eigen::Index p = 0; p < points.rows(); ++p)
     for (Eigen::Index c = 0; c < points.cols(); ++c) {
       const double x = points(p, c);
       if (!std::isfinite(x)) fail<InputError>(what, " ", p, " is not finite");
-      if (std::abs(x) > kMaxCoordinate)
-        fail<InputError>(what, " ", p, " has a coordinate of ", x, ", beyond +-", kMaxCoordinate);
+      if (std::abs(x) > bound) fail<InputError>(what, " ", p, " has a coordinate of ", x, ", beyond +-", bound);
     }
 }
 
