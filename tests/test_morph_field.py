@@ -199,3 +199,24 @@ def test_the_field_morphs_report_says_what_it_checked():
     for t in report["crossing_frames"]:
         frame = manifold.slice(t)
         assert _core.self_intersections(np.asarray(frame.vertices), np.asarray(frame.faces), 1, ENDS * size), t
+
+
+@pytest.mark.slow
+def test_frames_at_an_animators_frame_times_are_closed_surfaces():
+    """Frame 25 of 49 is t = 0.5, the middle of the fill slab. There the two halves can hold the
+    same point with opposite signs; held at exactly opposite values, the zero set had edges lying in
+    the plane t = 0.5, and the frame there was pinched along them (edges of four faces, on this
+    pair). Every frame of a 49-frame range is an oriented closed surface."""
+    from animanifold import procedural
+
+    def normalised_shape(mesh):
+        v, f = np.asarray(mesh[0], dtype=np.float64), mesh[1]
+        low, high = v.min(axis=0), v.max(axis=0)
+        return np.ascontiguousarray((v - (low + high) / 2) * (2 / np.linalg.norm(high - low))), f
+
+    manifold = am.morph(normalised_shape(procedural.icosphere(4)), normalised_shape(procedural.ring_of_holes()),
+                        method="field")
+    for k in range(1, 48):
+        faces = np.ascontiguousarray(manifold.slice(k / 48).faces, dtype=np.int32)
+        report = _core.check_manifold(faces)
+        assert report.is_oriented_manifold and report.boundary_facets == 0, (f"frame {k + 1} of 49", report)

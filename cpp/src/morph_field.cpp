@@ -43,12 +43,6 @@ constexpr double kFillSlab = 0.5;
 // otherwise make pieces of the zero set whose corners are cut at one time,
 // flat, and a value near zero pieces a rounding wide.
 constexpr double kCollarLift = 0.01;
-// Field values are scaled by 1 + kValueJitter * jitter(point, layer): inputs
-// with symmetries (a torus's planar quads, points mirrored in a plane, equal
-// values around a ring) would otherwise put the corners of a piece of the
-// zero set on parallel edges at equal shares, a flat tet. The jitter moves
-// the zero set by a ten-thousandth of the distance to the nearest input.
-constexpr double kValueJitter = 1e-4;
 
 double size_of(const PointMatrix& A, const PointMatrix& B) {
   return std::max((A.colwise().maxCoeff() - A.colwise().minCoeff()).norm(),
@@ -57,9 +51,6 @@ double size_of(const PointMatrix& A, const PointMatrix& B) {
 
 double floored(double value, double floor) { return value < 0 ? std::min(value, -floor) : std::max(value, floor); }
 
-double jittered(double value, Index point, int layer) {
-  return value * (1.0 + kValueJitter * jitter(point, layer, 0x5eed, 0));
-}
 
 // One input's half of the space-time triangulation, end first: its points
 // (the conforming end's, then the refinement's), the cells of its stack, the

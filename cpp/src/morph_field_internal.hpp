@@ -20,6 +20,18 @@ using Simplex4 = std::array<Index, 5>;
 // point sets and field values general without randomness.
 double jitter(std::int64_t i, std::int64_t j, std::int64_t k, int axis);
 
+// Field values are scaled by 1 + kValueJitter * jitter(point, layer): inputs
+// with symmetries (a torus's planar quads, points mirrored in a plane, equal
+// values around a ring) would otherwise put the corners of a piece of the
+// zero set on parallel edges at equal shares, a flat tet. The jitter moves
+// the zero set by a ten-thousandth of the distance to the nearest input.
+constexpr double kValueJitter = 1e-4;
+
+// `value` scaled by 1 + kValueJitter * jitter(point, layer, salt).
+inline double jittered(double value, Index point, int layer, std::int64_t salt = 0x5eed) {
+  return value * (1.0 + kValueJitter * jitter(point, layer, salt, 0));
+}
+
 // Per vertex, the largest circumradius of the triangles around it.
 Eigen::VectorXd vertex_circumradius(const PointMatrix& V, const SimplexMatrix& F);
 

@@ -246,7 +246,14 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
         if (made) now = next, chi += step;
         else negative[v] = !negative[v];
       }
-      if (!made) value(v) = negative[v] ? -floor : floor, ++held;
+      // A held value is jittered like the blend's, salted by its sign: the
+      // two halves can hold the same point with opposite signs on their fill
+      // layers, and exactly opposite values there would cut the fill's
+      // edges at its middle time (0.5), where the zero set would then hold
+      // edges lying in the frame's plane: a frame pinched along them.
+      if (!made)
+        value(v) = jittered(negative[v] ? -floor : floor, v, static_cast<int>(layer), negative[v] ? 0x401d : 0x401e),
+        ++held;
     }
   }
   return held;
