@@ -144,6 +144,7 @@ def test_a_cancelled_morph_is_an_error_but_no_runtime_error(sphere):
 
 @pytest.mark.parametrize("core_type, python_type, builtin", [
     ("InputError", "InputError", ValueError),
+    ("NotManifoldError", "NotManifoldError", ValueError),
     ("IOError", "FileError", OSError),
     ("BooleanError", "BooleanError", RuntimeError),
     ("MeshingError", "MeshingError", RuntimeError),

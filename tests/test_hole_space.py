@@ -181,6 +181,25 @@ def test_inside_solid_agrees_with_the_winding_number():
     assert (am.holes.inside_solid(v, f, points) == expected).all()
 
 
+def test_inside_solid_counts_pinched_solids_by_winding_numbers_and_refuses_other_bad_input():
+    """Two cubes touching at one corner are no 2-manifold surface, which CGAL's side test needs: the
+    winding numbers count them. Any other refusal of the core's test (here a coordinate beyond the
+    bound it computes with) is the caller's error, not a reason to count another way."""
+    v, f = cube()
+    v = np.asarray(v, float)
+    v = (v - v.min(axis=0)) / 2  # the unit cube [0, 1]^3, whose corner (1, 1, 1) the second one shares
+    both = np.vstack([v, v + 1.0])
+    pinched_v, welded = np.unique(both, axis=0, return_inverse=True)  # one vertex at the shared corner
+    pinched_f = welded.reshape(-1)[np.vstack([f, np.asarray(f) + len(v)])].astype(np.int32)
+    assert len(pinched_v) == 15
+    with pytest.raises(_core.NotManifoldError, match="cannot join the surface"):
+        _core.points_inside_solid(pinched_v, pinched_f, np.zeros((1, 3)))
+    points = np.array([[0.5, 0.5, 0.5], [1.5, 1.5, 1.5], [1.5, 0.5, 0.5], [3.0, 3.0, 3.0]])
+    assert am.holes.inside_solid(pinched_v, pinched_f, points).tolist() == [True, True, False, False]
+    with pytest.raises(am.InputError, match="beyond"):
+        am.holes.inside_solid(v, f, np.array([[1e61, 0.0, 0.0]]))
+
+
 # --- Booleans --------------------------------------------------------------------------------
 
 def test_subtracting_the_tunnel_from_a_slab_around_the_torus_leaves_genus_one():

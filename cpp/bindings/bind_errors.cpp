@@ -31,6 +31,11 @@ void bind_errors(py::module_& m) {
   // as long as the module.
   static py::handle input_error = derived("InputError", PyExc_ValueError,
                                           "The caller's data is invalid; the message names the element.").release();
+  static py::handle not_manifold_error =
+      exception_class(m, "NotManifoldError", py::make_tuple(input_error),
+                      "The faces do not form an oriented 2-manifold surface where the call needs one; the message "
+                      "names the first face that cannot join it.")
+          .release();
   static py::handle file_error = derived("FileError", PyExc_OSError,
                                          "A file could not be read or written, or its contents are damaged.").release();
   static py::handle boolean_error = derived("BooleanError", PyExc_RuntimeError,
@@ -54,6 +59,8 @@ void bind_errors(py::module_& m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const NotManifoldError& e) {
+      PyErr_SetString(not_manifold_error.ptr(), e.what());
     } catch (const InputError& e) {
       PyErr_SetString(input_error.ptr(), e.what());
     } catch (const IOError& e) {
@@ -77,6 +84,7 @@ void bind_errors_testing(py::module_& testing) {
       "raise_error",
       [](const std::string& type, const std::string& message) {
         if (type == "InputError") fail<InputError>(message);
+        if (type == "NotManifoldError") fail<NotManifoldError>(message);
         if (type == "IOError") fail<IOError>(message);
         if (type == "BooleanError") fail<BooleanError>(message);
         if (type == "MeshingError") fail<MeshingError>(message);
@@ -86,7 +94,7 @@ void bind_errors_testing(py::module_& testing) {
         throw std::invalid_argument("unknown core error type '" + type + "'");
       },
       py::arg("type"), py::arg("message"),
-      "Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, TimeLimitError, "
+      "Throws the core exception named `type` (InputError, NotManifoldError, IOError, BooleanError, MeshingError, TimeLimitError, "
       "Cancelled, "
       "MemoryLimitError) "
       "with `message`, through the module's translator: what a core call raises in that case.");

@@ -97,7 +97,7 @@ std::vector<std::pair<Index, Index>> triangle_pairs(const PointMatrix& V, const 
   std::vector<Index> face_id;
   for (Index f = 0; f < F.rows(); ++f) {
     if (mesh.add_face(vertex[F(f, 0)], vertex[F(f, 1)], vertex[F(f, 2)]) == Mesh::null_face())
-      fail<InputError>("face ", f, " cannot join the surface (the shape is not a manifold there)");
+      fail<NotManifoldError>("face ", f, " cannot join the surface (the shape is not a manifold there)");
     face_id.push_back(f);
   }
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;

@@ -47,7 +47,7 @@ SignedDistance::SignedDistance(const PointMatrix& V, const SimplexMatrix& F) : t
   for (Index v = 0; v < V.rows(); ++v) vertex[v] = t.mesh.add_vertex(Kernel::Point_3(V(v, 0), V(v, 1), V(v, 2)));
   for (Index f = 0; f < F.rows(); ++f)
     if (t.mesh.add_face(vertex[F(f, 0)], vertex[F(f, 1)], vertex[F(f, 2)]) == Mesh::null_face())
-      fail<InputError>("face ", f, " cannot join the surface (not a manifold, or inconsistently oriented)");
+      fail<NotManifoldError>("face ", f, " cannot join the surface (not a manifold, or inconsistently oriented)");
   translating_cgal_failures("building the distance tree of a surface of " + std::to_string(F.rows()) + " faces", [&] {
     t.tree = std::make_unique<AabbTree>(faces(t.mesh).first, faces(t.mesh).second, t.mesh);
     // Built now, not at the first query: queries run in parallel.

@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'MAX_THREADS', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'TimeLimitError', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'set_threads', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'threads', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'MAX_THREADS', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'NotManifoldError', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'TimeLimitError', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'set_threads', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'threads', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -16,6 +16,10 @@ class Error(Exception):
 class InputError(Error, ValueError):
     """
     The caller's data is invalid; the message names the element.
+    """
+class NotManifoldError(InputError):
+    """
+    The faces do not form an oriented 2-manifold surface where the call needs one; the message names the first face that cannot join it.
     """
 class FileError(Error, OSError):
     """
@@ -1464,7 +1468,7 @@ class _testing:
     @staticmethod
     def raise_error(type: str, message: str) -> None:
         """
-        Throws the core exception named `type` (InputError, IOError, BooleanError, MeshingError, TimeLimitError, Cancelled, MemoryLimitError) with `message`, through the module's translator: what a core call raises in that case.
+        Throws the core exception named `type` (InputError, NotManifoldError, IOError, BooleanError, MeshingError, TimeLimitError, Cancelled, MemoryLimitError) with `message`, through the module's translator: what a core call raises in that case.
         """
     @staticmethod
     def signed_volumes(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:

@@ -94,7 +94,7 @@ def inside_solid(vertices: np.ndarray, faces: np.ndarray, points: np.ndarray) ->
     if v.shape[1] == 3:
         try:
             return np.asarray(_core.points_inside_solid(v, f, points), dtype=bool)
-        except ValueError:  # pinched where two parts touch: the solid angles still count it right
+        except _core.NotManifoldError:  # pinched where two parts touch: the solid angles still count it right
             pass
     return winding_numbers(v, f, points) > 0.5
 

@@ -27,6 +27,14 @@ struct InputError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// Faces that do not form an oriented 2-manifold surface where a call needs
+// one (two parts pinched at a vertex, an edge of three faces, a flipped
+// face): an InputError that callers with another way (winding numbers) can
+// tell from the rest.
+struct NotManifoldError : InputError {
+  using InputError::InputError;
+};
+
 // A file could not be read or written, or its contents are damaged.
 struct IOError : std::runtime_error {
   using std::runtime_error::runtime_error;
