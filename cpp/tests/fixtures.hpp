@@ -1,13 +1,27 @@
 // Small shapes and helpers shared by the C++ tests (cpp/tests and cpp/tests/internal).
 #pragma once
 
+#include "animanifold/errors.hpp"
 #include "animanifold/stitch.hpp"
 
 #include <Eigen/Geometry>
 #include <array>
 #include <random>
+#include <string>
 
 namespace animanifold::fixtures {
+
+// The message of the InputError that `call()` throws, or "(no InputError)":
+// tests compare what a refusal names.
+template <class Call>
+std::string input_error_message(Call&& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
+}
 
 // A closed octahedron (vertices on the axes, outward faces): #V 6 by 3, #F 8 by 3.
 inline void octahedron(PointMatrix& V, SimplexMatrix& F) {

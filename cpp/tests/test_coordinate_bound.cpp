@@ -2,6 +2,7 @@
 // not finite or beyond it is named, a NaN among ordinary rows included.
 #include "animanifold/coordinate_bound.hpp"
 #include "animanifold/errors.hpp"
+#include "fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,12 +15,7 @@ using namespace animanifold;
 namespace {
 
 std::string refusal(const PointMatrix& points, double bound = kMaxCoordinate) {
-  try {
-    check_coordinates(points, "vertex", bound);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
+  return fixtures::input_error_message([&] { check_coordinates(points, "vertex", bound); });
 }
 
 }  // namespace

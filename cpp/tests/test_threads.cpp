@@ -5,6 +5,7 @@
 #include "animanifold/threads.hpp"
 
 #include "animanifold/errors.hpp"
+#include "fixtures.hpp"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -29,12 +30,7 @@ class Threads : public ::testing::Test {
 };
 
 std::string input_error_of(int count) {
-  try {
-    set_thread_count(count);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
+  return fixtures::input_error_message([&] { set_thread_count(count); });
 }
 
 }  // namespace

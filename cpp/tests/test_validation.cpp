@@ -2,6 +2,7 @@
 #include "animanifold/validation.hpp"
 
 #include "animanifold/errors.hpp"
+#include "fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,14 +14,7 @@ using namespace animanifold;
 
 namespace {
 
-std::string message_of(const std::function<void()>& call) {
-  try {
-    call();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
-}
+std::string message_of(const std::function<void()>& call) { return fixtures::input_error_message(call); }
 
 }  // namespace
 
