@@ -17,6 +17,12 @@
 // loops touch appears once per loop), numbered canonically: vertices in
 // lexicographic order, faces sorted (equal results are equal arrays, which
 // CGAL's own numbering does not guarantee). An empty solid has no rows.
+// Not bit-for-bit reproducible in 3D: where faces of the two operands share
+// coordinates exactly (a shape's faces on its own hull), CGAL's corefinement
+// breaks ties between their bounding boxes by the boxes' addresses, so how
+// such flat regions are triangulated (and which points the corefinement adds
+// there) can differ between calls, processes and thread counts; every result
+// bounds the same solid (volumes agree to rounding).
 //
 // The operations are exact: CGAL's convex hulls, polygon-mesh corefinement
 // (3D) and Boolean set operations on polygons (2D) with an exact-constructions
