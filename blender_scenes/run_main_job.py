@@ -49,6 +49,9 @@ def _args():
     parser.add_argument("--step", type=int, default=3)
     parser.add_argument("--segments", type=int, default=48, help="density of the demo sphere")
     parser.add_argument("--no-morph", dest="morph", action="store_false", help="leave out the sphere → torus morph")
+    parser.add_argument("--morph-method", default=None,
+                        help="Morph Selected's Method for the sphere → torus morph (skeleton, strip, field; "
+                             "default: the add-on's default)")
     return parser.parse_args(argv)
 
 
@@ -68,19 +71,21 @@ def _activate(*objects):
     view_layer.objects.active = objects[-1]
 
 
-def morph_demo(bake_kwargs) -> dict:
-    """Morph Selected from the sphere to the torus over the scene range, then Bake; the report."""
+def morph_demo(bake_kwargs, method: str | None = None) -> dict:
+    """Morph Selected from the sphere to the torus over the scene range (with `method`, else the
+    add-on's default), then Bake; the report."""
     import animanifold_blender
     from animanifold_blender import ops_morph
 
+    method = (method or ops_morph.BEST_METHOD).lower()
     source, target = bpy.data.objects[MORPH_SOURCE], bpy.data.objects[MORPH_TARGET]
     t = time.perf_counter()
     _activate(source, target)
-    _run(bpy.ops.animanifold.morph_selected, method=ops_morph.BEST_METHOD.upper())
+    _run(bpy.ops.animanifold.morph_selected, method=method.upper())
     morph = bpy.context.active_object
     manifold = animanifold_blender.object_manifold.manifold_for(morph)
     validity = manifold.validity
-    report = {"seconds": round(time.perf_counter() - t, 3), "object": morph.name, "method": ops_morph.BEST_METHOD,
+    report = {"seconds": round(time.perf_counter() - t, 3), "object": morph.name, "method": method,
               "cache": morph.animanifold.cache_path, "tets": int(len(manifold.simplices)),
               "inputs": {o.name: {"vertices": len(o.data.vertices), "faces": len(o.data.polygons)} for o in (source, target)},
               "stage_seconds": dict(validity.get("stage_seconds", [])),
@@ -149,7 +154,11 @@ def main() -> int:
     frames = [int(f) for f in args.frames.split(",") if f]
     w, h = (int(v) for v in args.resolution.lower().split("x"))
     import animanifold_blender
+    from animanifold_blender import ops_morph
 
+    if args.morph_method and args.morph_method.lower() not in ops_morph.METHODS:
+        raise SystemExit(f"run_main_job: unknown --morph-method {args.morph_method!r}; "
+                         f"use one of {', '.join(ops_morph.METHODS)}")
     report = {"blender": bpy.app.version_string}
     began = time.perf_counter()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -181,7 +190,7 @@ def main() -> int:
                           "collection": man.animanifold.bake_collection.name, "alembic": bake_kwargs["alembic"]}
 
         if args.morph:
-            report["morph"] = morph_demo(bake_kwargs)
+            report["morph"] = morph_demo(bake_kwargs, args.morph_method)
         bpy.ops.wm.save_mainfile()
         report["blend"] = str(blend)
 

@@ -143,3 +143,22 @@ def test_the_readme_main_job_runs_end_to_end(tmp_path):
     morph = report["morph"]
     assert morph["ends_reproduced"] and morph["oriented_manifold"] and morph["inverted_simplices"] == 0
     assert (tmp_path / "contact_sheet.png").stat().st_size > 0 and (tmp_path / "animanifold_demo.blend").is_file()
+
+
+@pytest.mark.slow
+def test_the_main_job_morphs_with_the_method_asked_and_refuses_an_unknown_one(tmp_path):
+    """`--morph-method field` renders the demo's morph with the field method (the report says which
+    ran); an unknown method stops the job before it builds anything, naming the choices."""
+    import json
+
+    common = [sys.executable, str(SCENES / "run_main_job.py"), "--frames", "1,48", "--samples", "1",
+              "--resolution", "64x48", "--segments", "16"]
+    bad = subprocess.run(common + ["--out", str(tmp_path / "bad"), "--morph-method", "magic"],
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode != 0 and "unknown --morph-method 'magic'; use one of" in bad.stderr, bad.stderr[-2000:]
+    assert not (tmp_path / "bad" / "animanifold_demo.blend").exists()
+    done = subprocess.run(common + ["--out", str(tmp_path), "--morph-method", "field"],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    morph = json.loads((tmp_path / "main_job.json").read_text())["morph"]
+    assert morph["method"] == "field" and morph["ends_reproduced"] and morph["oriented_manifold"]
