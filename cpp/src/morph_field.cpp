@@ -51,7 +51,6 @@ double size_of(const PointMatrix& A, const PointMatrix& B) {
 
 double floored(double value, double floor) { return value < 0 ? std::min(value, -floor) : std::max(value, floor); }
 
-
 // One input's half of the space-time triangulation, end first: its points
 // (the conforming end's, then the refinement's), the cells of its stack, the
 // times of its layers and the field at its points on each. The last layer
