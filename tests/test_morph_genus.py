@@ -513,6 +513,49 @@ def test_bubbles_in_frames_are_reported_as_a_direct_count_finds_them():
     assert _core._testing.check_morph_frames(complex_, 0.0, 1.0, *shell, v, f)["bubble_frames"] == []
 
 
+def shrinking_spheres(apexes: list[float]) -> _core.Complex:
+    """A manifold in R^4 whose frames are spheres, side by side, each shrinking from its size at
+    t = 0 to a point at its apex time and gone after it: each sphere's faces coned to its apex."""
+    v, f = icosphere(1)
+    points, tets = [], []
+    for i, apex in enumerate(apexes):
+        offset = np.array([3.0 * i, 0.0, 0.0])
+        tets.append(np.hstack([f[:, ::-1], np.full((len(f), 1), len(v))]) + i * (len(v) + 1))
+        points += [np.hstack([v + offset, np.zeros((len(v), 1))]), [[*offset, apex]]]
+    return _core.Complex(np.vstack(points), np.vstack(tets).astype(np.int32), {}, {})
+
+
+def test_the_frame_checks_bisect_towards_a_change_of_topology():
+    """One sphere that vanishes at t = 0.613, between the spread frames 0.6 and 0.64: five rounds
+    of bisection close in on it (0.62, 0.61, 0.615, 0.6125, 0.61375), and every empty frame is
+    noise (Euler characteristic 0 where both inputs have 2)."""
+    v, f = icosphere(1)
+    report = _core._testing.check_morph_frames(shrinking_spheres([0.613]), 0.0, 1.0, v, f, v, f).to_dict()
+    assert report["frames_checked"] == 24 + 5 and not report["frames_capped"]
+    assert report["topology_changes"] == 1
+    empty = [0.61375, 0.615, 0.62] + [i / 25 for i in range(16, 25)]
+    assert report["noise_frames"] == pytest.approx(empty)
+    assert report["bubble_frames"] == [] and report["crossing_frames"] == []
+
+
+def test_the_frame_checks_stop_bisecting_at_their_limit_whatever_the_threads():
+    """Twenty spheres vanishing in twenty different gaps between spread frames: the first round
+    of bisection adds twenty frames and the second stops at the limit of 24 in all. The frames
+    checked depend on the manifold only: the same report on one thread and on two."""
+    v, f = icosphere(1)
+    manifold = shrinking_spheres([(i + 2.5) / 25 for i in range(20)])
+    pieces = [np.vstack([v + [3.0 * i, 0, 0] for i in range(20)]), np.vstack([f + i * len(v) for i in range(20)])]
+    reports, previous = [], am.threads()
+    try:
+        for threads in (1, 2):
+            am.set_threads(threads)
+            reports.append(_core._testing.check_morph_frames(manifold, 0.0, 1.0, *pieces, v, f).to_dict())
+    finally:
+        am.set_threads(previous)
+    assert reports[0]["frames_checked"] == 24 + 24 and reports[0]["frames_capped"]
+    assert reports[0] == reports[1]
+
+
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):
     """Sphere -> 3holes: the report's bubble check agrees with a count made here with scipy's
     connected components, and both find none — until the push moved into layers, free vertices

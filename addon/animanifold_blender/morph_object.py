@@ -152,7 +152,7 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
                       or validity["inverted_simplices"] or validity["degenerate_simplices"])
         report({"WARNING"} if not passed or validity["frames_capped"] else {"INFO"},
                     f"'{new.name}': {validity['frames_checked']} frames checked"
-                    f"{' (cut short by the time budget)' if validity['frames_capped'] else ''}, the topology "
+                    f"{' (changes left unbisected at the frame limit)' if validity['frames_capped'] else ''}, the topology "
                     f"changes {validity['topology_changes']} times between them; all checks passed: "
                     f"{'yes' if passed else 'no'} ({len(validity['crossing_frames'])} crossing, "
                     f"{len(validity['bubble_frames'])} with bubbles, {len(validity['noise_frames'])} with "

@@ -73,14 +73,13 @@ void bind_morph(py::module_& m, py::module_& testing) {
       "other, cancels (raises Cancelled). Raises InputError naming a bad input, MeshingError when a mesher fails.");
   testing.def(
       "check_morph_frames",
-      [](const Complex& manifold, double t0, double t1, PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT,
-         double budget_seconds) {
+      [](const Complex& manifold, double t0, double t1, PointsRef VS, SimplicesRef FS, PointsRef VT, SimplicesRef FT) {
         MorphReport report;
-        without_gil([&] { check_frames(manifold, t0, t1, VS, FS, VT, FT, budget_seconds, report); });
+        without_gil([&] { check_frames(manifold, t0, t1, VS, FS, VT, FT, report); });
         return report;
       },
       py::arg("manifold"), py::arg("t0"), py::arg("t1"), py::arg("source_points"), py::arg("source_faces"),
-      py::arg("target_points"), py::arg("target_faces"), py::arg("budget_seconds") = 60.0,
+      py::arg("target_points"), py::arg("target_faces"),
       "The morph's frame checks (morph_validity.hpp) on a manifold (tets in R^4) that should run from the "
       "source at t0 to the target at t1: a MorphReport with frames_checked, frames_capped, topology_changes, "
       "crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.");

@@ -40,11 +40,6 @@ namespace {
 // (bounding-box diagonal).
 constexpr double kSolveSpan = 0.1;
 
-// The frames' checks may take this share of the morph's own time, and no
-// more than kValidityCap seconds (morph_validity.hpp).
-constexpr double kValidityShare = 0.25;
-constexpr double kValidityCap = 60.0;
-
 // The perturbations tried, as fractions of the size (see morph()): the first
 // one under which the mesher and the fill conform is used.
 constexpr std::array<double, 3> kPerturbations{1e-7, 1e-6, 1e-5};
@@ -612,10 +607,7 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
   end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report);
-  double spent = 0;
-  for (const auto& [name, seconds] : clock.seconds) spent += seconds;
-  check_frames(result.manifold, options.t0, options.t1, VS, FS, VT, FT, std::min(kValidityShare * spent, kValidityCap),
-               result.report);
+  check_frames(result.manifold, options.t0, options.t1, VS, FS, VT, FT, result.report);
   clock.finish();
   result.report.stage_seconds = clock.seconds;
   return result;
@@ -700,12 +692,9 @@ Morph morph(const PointMatrix& source_points, const SimplexMatrix& source_faces,
   result.manifold = lateral_boundary(m);
   stage("boundary", 0.9);
   end_distances(result.manifold, source_points, source_faces, target_points, target_faces, options, m.size, report);
-  if (d == 3) {  // the frames' checks, under the same budget as the field method's (2D: the Python morph's own)
-    double spent = 0;
-    for (const auto& [name, seconds] : report.stage_seconds) spent += seconds;
+  if (d == 3)  // the frames' checks, as the field method's (2D: the Python morph's own)
     check_frames(result.manifold, options.t0, options.t1, source_points, source_faces, target_points, target_faces,
-                 std::min(kValidityShare * spent, kValidityCap), report);
-  }
+                 report);
   stage("validity", 1.0);
   return result;
 }

@@ -7,7 +7,6 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -20,8 +19,10 @@ namespace {
 
 // Evenly spread frames checked first.
 constexpr int kSpreadFrames = 24;
-// Bisections towards each change of topology between checked frames.
+// Rounds of bisection towards each change of topology between checked
+// frames, and the most frames they may add in all.
 constexpr int kBisections = 5;
+constexpr int kBisectionFrames = 24;
 // Crossings shallower than this share of the size are rounding (see
 // self_intersection.hpp).
 constexpr double kCrossingTolerance = 1e-9;
@@ -74,10 +75,7 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
 }  // namespace
 
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
-                  const PointMatrix& VT, const SimplexMatrix& FT, double budget_seconds, MorphReport& report) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report) {
   const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
   const Index least_euler = std::min(source.euler, target.euler), most_euler = std::max(source.euler, target.euler);
   const Index most_pieces = std::max(source.pieces, target.pieces);
@@ -92,12 +90,13 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     FrameTopology topology;
     bool crossing = false;
   };
-  auto examine = [&](double t) {
+  auto examine = [&](double t, bool look_for_crossings) {
     Frame out;
     const Slice frame = slicer.slice(axis, t);
     out.topology = topology_of(frame.vertices, frame.faces);
     try {
-      out.crossing = !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
+      out.crossing =
+          look_for_crossings && !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
     } catch (const std::exception&) {
       out.crossing = true;  // not even a closed manifold there
     }
@@ -119,36 +118,37 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     if (frame.crossing) report.crossing_frames.push_back(t);
   };
   // Frames are independent: examined on all cores, each into its own slot,
-  // recorded in time order. With `within_budget`, a frame not started within
-  // the budget is skipped.
-  auto check_all = [&](const std::vector<double>& times, bool within_budget) {
+  // recorded in time order.
+  auto check_all = [&](const std::vector<double>& times, bool look_for_crossings) {
     std::vector<Frame> frames(times.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-    for (long i = 0; i < static_cast<long>(times.size()); ++i)
-      if (!within_budget || elapsed() <= budget_seconds) frames[i] = examine(times[i]);
-    for (size_t i = 0; i < times.size(); ++i)
-      if (frames[i].examined) record(times[i], frames[i]);
+    for (long i = 0; i < static_cast<long>(times.size()); ++i) frames[i] = examine(times[i], look_for_crossings);
+    for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
   };
-  // The spread frames are always all checked, whatever the budget (which
-  // bounds only the bisections below): what they report must not depend on
-  // how fast the machine is. Coarse to fine (the middle, the quarters, ...).
+  // Coarse to fine (the middle, the quarters, ...), so the costly frames
+  // come first to the cores.
   std::vector<int> order(kSpreadFrames);
   std::iota(order.begin(), order.end(), 1);
   auto coarseness = [](int i) { return i == 0 ? 32 : __builtin_ctz(static_cast<unsigned>(i)); };
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
   std::vector<double> spread;
   for (const int i : order) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
-  check_all(spread, false);
-  // Towards every change of topology between neighbouring checked frames.
-  for (int round = 0; round < kBisections && elapsed() <= budget_seconds; ++round) {
+  check_all(spread, true);
+  // Towards every change of topology between neighbouring checked frames,
+  // in time order, up to kBisectionFrames in all.
+  int bisection_frames = 0;
+  for (int round = 0; round < kBisections && !report.frames_capped; ++round) {
     std::vector<double> middles;
-    if (checked.size() < 2) break;
     for (auto it = checked.begin(); std::next(it) != checked.end(); ++it)
       if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
     if (middles.empty()) break;
-    check_all(middles, true);
+    if (bisection_frames + static_cast<int>(middles.size()) > kBisectionFrames) {
+      middles.resize(static_cast<size_t>(kBisectionFrames - bisection_frames));
+      report.frames_capped = true;
+    }
+    bisection_frames += static_cast<int>(middles.size());
+    check_all(middles, false);
   }
-  report.frames_capped = report.frames_checked < kSpreadFrames || elapsed() > budget_seconds;
   for (auto it = checked.begin(); it != checked.end() && std::next(it) != checked.end(); ++it)
     if (it->second != std::next(it)->second) ++report.topology_changes;
   for (auto* times : {&report.noise_frames, &report.crossing_frames}) std::sort(times->begin(), times->end());

@@ -1396,7 +1396,7 @@ class _testing:
         Whether each of the vertex_count vertices lies on a boundary facet of the simplices (#V bool vector).
         """
     @staticmethod
-    def check_morph_frames(manifold: Complex, t0: typing.SupportsFloat | typing.SupportsIndex, t1: typing.SupportsFloat | typing.SupportsIndex, source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], budget_seconds: typing.SupportsFloat | typing.SupportsIndex = 60.0) -> MorphReport:
+    def check_morph_frames(manifold: Complex, t0: typing.SupportsFloat | typing.SupportsIndex, t1: typing.SupportsFloat | typing.SupportsIndex, source_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], source_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], target_points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], target_faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> MorphReport:
         """
         The morph's frame checks (morph_validity.hpp) on a manifold (tets in R^4) that should run from the source at t0 to the target at t1: a MorphReport with frames_checked, frames_capped, topology_changes, crossing_frames, bubble_frames, largest_bubble_fraction and noise_frames filled in.
         """

@@ -444,7 +444,7 @@ def _method_summary(method: str, report: dict) -> str:
         parts.append(f"{report['source_free_vertices']} + {report['target_free_vertices']} free vertices pushed "
                      f"(mean {report['source_push'][1]:.3f}, {report['target_push'][1]:.3f} of the span)")
     if "frames_checked" in report:
-        capped = " (cut short by the time budget)" if report["frames_capped"] else ""
+        capped = " (changes left unbisected at the frame limit)" if report["frames_capped"] else ""
         parts.append(f"{report['frames_checked']} frames checked{capped}, the topology changes "
                      f"{report['topology_changes']} times between them; topological noise at "
                      f"{len(report['noise_frames'])} of them")

@@ -1,22 +1,23 @@
 // The morph's checks on its frames (§8.3 validity 1 beyond positive
-// simplices, and the frames' topology), under one cost budget.
+// simplices, and the frames' topology).
 //
 // Inputs: the manifold (tets in R^4), its range, the inputs (for their
-// topology and size), and the budget in seconds. Outputs, into the report:
-// which checked frames run through themselves (beyond 1e-9 of the size),
-// hold more cavities than either input, or leave the inputs' topology
-// (Euler characteristic outside the ends', more pieces than the ends');
-// how many frames were checked and whether the budget cut the checks short.
+// topology and size). Outputs, into the report: which checked frames run
+// through themselves (beyond 1e-9 of the size), hold more cavities than
+// either input, or leave the inputs' topology (Euler characteristic outside
+// the ends', more pieces than the ends'); how many frames were checked and
+// whether the bisections below stopped at their limit.
 //
-// Frames: 24 evenly spread inside the range, always all of them (what they
-// report does not depend on the machine's speed), then, between two checked
-// frames whose topology differs, frames bisecting towards the change, so
-// that the frames where the topology changes are looked at too: up to 5
-// rounds, as many as the budget allows (a deterministic sequence, cut short
-// by time: `frames_capped` then says so).
-// Each frame is sliced once and given every check; frames are checked on
-// all cores (the slicer's index is built first, then only read). morph()
-// runs it on every 3D morph; the binding exposes it for any manifold.
+// Frames: 24 evenly spread inside the range, each given every check. Then,
+// between two checked frames whose topology differs, frames bisecting
+// towards the change, so that the frames where the topology changes are
+// looked at too: up to 5 rounds and 24 frames in all (`frames_capped` when
+// changes were left), each checked for topology, cavities included, but not
+// for crossings, which cost several times a frame's slicing and topology.
+// The frames checked depend only on the manifold, never on the machine's
+// speed or thread count. Frames are checked on all cores (the slicer's index
+// is built first, then only read). morph() runs it on every 3D morph; the
+// binding exposes it for any manifold.
 #pragma once
 
 #include "animanifold/morph.hpp"
@@ -27,11 +28,10 @@ namespace animanifold {
 //   manifold        tets in R^4
 //   t0, t1          its range
 //   VS, FS, VT, FT  the morph's inputs
-//   budget_seconds  time for the bisection rounds
 // Outputs:
 //   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
 // Throws: nothing of its own
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
-                  const PointMatrix& VT, const SimplexMatrix& FT, double budget_seconds, MorphReport& report);
+                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report);
 
 }  // namespace animanifold
