@@ -4,8 +4,9 @@
 #
 # adds animanifold_tests_tsan and its ctest cases "tsan.<Suite>.<Test>": the tests of the
 # objects threads may share (laplacian.hpp's Deformer, slice.hpp's Slicer with its lazy
-# index), built with -fsanitize=thread. Only the units those objects
-# live in are compiled again with the sanitizer; every other unit comes uninstrumented from
+# index) and of field morphs run at once from several threads, built with
+# -fsanitize=thread. Only the units those objects and morphs live in are compiled again
+# with the sanitizer; every other unit (CGAL's among them) comes uninstrumented from
 # the normal core (the linker takes an archive member only for a symbol no listed object
 # defines), so the build costs a few units, not a tree.
 #
@@ -18,8 +19,11 @@ if(NOT ANIMANIFOLD_THREAD_SANITIZED_TESTS)
   return()
 endif()
 
-set(_tsan_units slice slice_cut slice_weld interval_index interval_frame laplacian deformer_response)
-set(_tsan_tests test_slice test_laplacian)
+set(_tsan_units slice slice_cut slice_weld interval_index interval_frame laplacian deformer_response
+    # the field morph's own stages, the TetGen runner and its child process, and the frame checks
+    morph morph_stages morph_field morph_field_points morph_field_refine morph_field_slabs morph_field_timing
+    morph_field_topology morph_validity zero_set conforming_delaunay_3d conforming_mend isolated complex)
+set(_tsan_tests test_slice test_laplacian test_morph_threads)
 set(_tsan_sources "")
 foreach(unit IN LISTS _tsan_units)
   list(APPEND _tsan_sources ${CMAKE_CURRENT_SOURCE_DIR}/cpp/src/${unit}.cpp)
