@@ -86,7 +86,6 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
   const int axis = manifold.ambient_dimension() - 1;
   slicer.index(axis);  // built once here: the frames below only read it, from several threads
   struct Frame {
-    bool examined = false;
     FrameTopology topology;
     bool crossing = false;
   };
@@ -100,7 +99,6 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
     } catch (const std::exception&) {
       out.crossing = true;  // not even a closed manifold there
     }
-    out.examined = true;
     return out;
   };
   std::map<double, FrameTopology> checked;
