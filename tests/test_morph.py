@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import signal
 import sys
 import threading
@@ -117,6 +118,39 @@ def test_coordinates_and_times_beyond_the_bound_are_refused_naming_them():
                  lambda: _core.points_inside_solid(far, f, v)):
         with pytest.raises(am.InputError, match=r"(the surface's vertex|query point) 3 has a coordinate of 8\.4e\+306"):
             call()
+
+# The fuzzed octahedron of tests/fuzz/regressions/arrays/timeout-morph-fold-0.0072deg: its faces at the
+# edge between vertices 3 and 4 fold onto each other at 0.0072 degrees (vertex 0 lies 1.4e-4 from
+# the plane of face (1, 3, 4), 3.9 away from vertex 3). The fuzzer morphed it into the tetrahedron
+# below with the strip method.
+THIN_FOLD = (np.array([[1.41119643800418, 0.8706035671577572, 0.5491393530247684],
+                       [-1.7048372180974551, -0.7137254901960783, -0.8235277362898283],
+                       [-1.4404688746242968, 2.286274510333704, 1.708899096625336],
+                       [-1.9999999999987632, -1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]),
+             np.array([[0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5]]))
+TETRAHEDRON = (np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]),
+               np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
+
+
+@pytest.mark.parametrize("method", ["strip", "skeleton", "field"])
+def test_a_fold_the_mending_cannot_conform_fails_the_morph_once_the_mending_cascades(method):
+    """Points the mending adds on one face of a thin fold encroach on the other, so each round
+    leaves about twice the non-Delaunay faces and twice the surface of the last. Bounded by its
+    rounds only, the mending grew this source from 26 faces to 33,000 before it gave up (46 s over
+    the perturbations). It stops once the refined surface outgrows the first refinement,
+    naming the input, the fold's edge and its angle, and the stage that failed never finishes."""
+    stages = []
+    with pytest.raises(_core.MeshingError, match=r"^the source.*the mending cascades") as caught:
+        am.morph(THIN_FOLD, TETRAHEDRON, method=method, progress=lambda stage, fraction: stages.append(stage) or True)
+    message = str(caught.value)
+    assert "the two faces at the edge between vertices 3 and 4, which meet there at 0.0072 degrees" in message
+    rounds = [int(r) for r in re.findall(r"\((\d+) rounds grew the refined surface from \d+ to \d+ faces", message)]
+    assert rounds and max(rounds) < 24  # stopped by the cascade, well before the cap on rounds
+    if method == "field":
+        assert stages[-1] == "conforming"  # the field method names a stage as it begins: the one that failed
+    else:
+        assert not {"conforming", "fill"} & set(stages)  # the seed's methods name a stage once it is done
+
 
 def test_self_intersecting_inputs_are_refused_naming_two_crossing_faces():
     v, f = icosphere(1)

@@ -47,7 +47,8 @@ void bind_delaunay(py::module_& m, py::module_& testing) {
           return without_gil([&] { return conforming_delaunay_3d(points, faces, raise_pending_python_signals); });
         },
         py::arg("points"), py::arg("faces"), "Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles "
-        "(#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails.");
+        "(#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails or "
+        "its mending cascades.");
   testing.def("conforming_delaunay_2d",
         [](PointsRef points, SimplicesRef edges) {
           return without_gil([&] { return conforming_delaunay_2d(points, edges); });

@@ -12,6 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iomanip>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -24,8 +27,26 @@ namespace {
 // Delaunay. Most inputs conform at once or after one; the decimated knight's
 // sharp creases (dihedral angles of 9° and 17°), where a point added on one
 // side encroaches on the other, take up to 13. A run costs about as much as
-// the first, so the cap bounds the stage at a fixed multiple of one run.
+// the first while the surface grows little (kMaxMendingGrowth), so the cap
+// bounds the stage at a fixed multiple of one run.
 constexpr Index kMaxMendingRounds = 24;
+
+// How far the mending may grow the refined surface: to kMaxMendingGrowth
+// times the faces of TetGen's first refinement, plus kMendingSlack faces.
+// Mending that converges adds little: the knight 37 %, the bunny 2 %, every
+// morph in the tests at most 115 % (a small input's first refinement,
+// 152 -> 326 faces). Past the bound the mending cascades: the points it
+// adds on one side of a thin fold (two faces at a dihedral angle of
+// hundredths of a degree) encroach on the other side, so each round leaves
+// about twice the non-Delaunay faces of the last and twice the surface, and
+// the cost of a run grows with it, which the cap on rounds does not bound.
+// Unbounded, the mending of a fuzzed octahedron folded to 0.007°
+// (tests/test_morph.py) takes 24 rounds to 33,000 faces, 46 s over the
+// morph's perturbations, and does not conform. The slack keeps small inputs
+// from being judged by a ratio: runs on a few thousand faces take
+// milliseconds.
+constexpr double kMaxMendingGrowth = 4.0;
+constexpr Index kMendingSlack = 2000;
 
 struct TetgenSurface {
   PointMatrix points;            // the points given, in order, then TetGen's Steiner points
@@ -154,6 +175,56 @@ TetgenSurface run_tetgen(const ConstraintSurface& surface, const std::function<v
   return result;
 }
 
+// The vertices the input faces `f` and `g` share.
+std::vector<Index> shared_corners(const SimplexMatrix& faces, Index f, Index g) {
+  std::vector<Index> shared;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (faces(f, i) == faces(g, j)) shared.push_back(faces(f, i));
+  return shared;
+}
+
+// The angle in degrees between the half-planes of faces f and g about
+// their shared edge (a, b): near 0 where they fold onto each other.
+double fold_angle(const PointMatrix& points, const SimplexMatrix& faces, Index f, Index g, Index a, Index b) {
+  const Eigen::Vector3d p = points.row(a), axis = (Eigen::Vector3d(points.row(b)) - p).normalized();
+  auto away = [&](Index face) {
+    Index apex = -1;
+    for (int c = 0; c < 3; ++c)
+      if (faces(face, c) != a && faces(face, c) != b) apex = faces(face, c);
+    const Eigen::Vector3d u = Eigen::Vector3d(points.row(apex)) - p;
+    return Eigen::Vector3d(u - u.dot(axis) * axis).normalized();
+  };
+  return std::acos(std::clamp(away(f).dot(away(g)), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+}
+
+// Where a cascading mending works, for its message: the input face that
+// holds the most refined faces still not Delaunay and, when the runner-up
+// shares an edge with it, the angle the two meet at there.
+std::string cascade_site(const PointMatrix& points, const SimplexMatrix& faces, const IndexVector& missing,
+                         const IndexVector& parent) {
+  std::map<Index, Index> count;
+  for (const Index r : missing) ++count[parent(r)];
+  std::vector<std::pair<Index, Index>> ranked;  // (pieces, input face), most first
+  for (const auto& [face, pieces] : count) ranked.emplace_back(pieces, face);
+  std::sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  if (ranked.empty()) return "";
+  const Index f = ranked[0].second;
+  std::ostringstream out;
+  if (ranked.size() > 1) {
+    const Index g = ranked[1].second;
+    const std::vector<Index> edge = shared_corners(faces, f, g);
+    if (edge.size() == 2 && edge[0] != edge[1]) {
+      out << ", most on the two faces at the edge between vertices " << std::min(edge[0], edge[1]) << " and "
+          << std::max(edge[0], edge[1]) << ", which meet there at " << std::setprecision(2)
+          << fold_angle(points, faces, f, g, edge[0], edge[1]) << " degrees";
+      return out.str();
+    }
+  }
+  out << ", most on the face with vertices " << faces(f, 0) << ", " << faces(f, 1) << " and " << faces(f, 2);
+  return out.str();
+}
+
 }  // namespace
 
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
@@ -191,12 +262,19 @@ ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const Simpl
   TetgenSurface tetgen;
   DelaunayTriangulation dt;
   IndexVector missing;
-  Index rounds = 0, mended = 0;
+  Index rounds = 0, mended = 0, first_faces = 0;
   for (;; ++rounds) {
     tetgen = run_tetgen(surface, while_meshing, time_limit);
     dt = delaunay_exact(tetgen.points);
     missing = missing_facets(dt.simplices, tetgen.subfaces);
     if (missing.size() == 0 || rounds == kMaxMendingRounds) break;
+    if (rounds == 0) first_faces = tetgen.subfaces.rows();
+    if (tetgen.subfaces.rows() > kMaxMendingGrowth * static_cast<double>(first_faces) + kMendingSlack)
+      fail<MeshingError>("TetGen's fill cannot be made to conform: the mending cascades (", rounds,
+                         " rounds grew the refined surface from ", first_faces, " to ", tetgen.subfaces.rows(),
+                         " faces, past ", kMaxMendingGrowth, " times the first plus ", kMendingSlack, ", with ",
+                         missing.size(), " still not Delaunay)",
+                         cascade_site(points, faces, missing, tetgen.subface_parent));
     surface.points = tetgen.points;
     surface.faces.resize(tetgen.subfaces.rows());
     surface.parent.resize(tetgen.subfaces.rows());

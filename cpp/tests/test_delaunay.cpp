@@ -3,11 +3,13 @@
 // morph's two planes.
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <array>
+#include <string>
 
 #include "fixtures.hpp"
 
@@ -48,6 +50,39 @@ TEST(ConformingDelaunay3d, MendsTheFaceTetgenLeavesNonDelaunay) {
     area_out += 0.5 * normal(c.points, t).norm();
   }
   EXPECT_NEAR(area_out, area_in, 1e-12 * area_in);
+}
+
+// The fuzzed octahedron of tests/test_morph.py: its faces at the edge
+// between vertices 3 and 4 fold onto each other at 0.0072°. Points the
+// mending adds on one face encroach on the other, each round doubles the
+// surface, and the mending stops at its bound on growth, long before its cap
+// on rounds, naming the fold. A fold alone is no reason: a flat tetrahedron
+// whose faces meet at 0.009° is its own Delaunay tetrahedralization.
+TEST(ConformingDelaunay3d, StopsWhereTheMendingCascadesOnAThinFoldOnly) {
+  PointMatrix P(6, 3);
+  P << 1.41119643800418, 0.8706035671577572, 0.5491393530247684,  //
+      -1.7048372180974551, -0.7137254901960783, -0.8235277362898283,  //
+      -1.4404688746242968, 2.286274510333704, 1.708899096625336,  //
+      -1.9999999999987632, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0;
+  SimplexMatrix F(8, 3);
+  F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+  std::string message = "(no MeshingError)";
+  try {
+    conforming_delaunay_3d(P, F);
+  } catch (const MeshingError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("the mending cascades ("), std::string::npos) << message;
+  EXPECT_NE(message.find("the edge between vertices 3 and 4, which meet there at 0.0072 degrees"), std::string::npos)
+      << message;
+
+  PointMatrix flat(4, 3);
+  flat << 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, -0.4, 1e-4;
+  SimplexMatrix faces(4, 3);
+  faces << 0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3;
+  const ConformingDelaunay c = conforming_delaunay_3d(flat, faces);
+  EXPECT_TRUE(c.is_delaunay);
+  EXPECT_EQ(c.mending_rounds, 0);
 }
 
 TEST(DelaunayExact, TwoPlanesGiveNoFlatCellAndKeepEachPlanesTriangulation) {

@@ -1408,7 +1408,7 @@ class _testing:
     @staticmethod
     def conforming_delaunay_3d(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], faces: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> ConformingDelaunay:
         """
-        Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles (#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails.
+        Conforming Delaunay tetrahedralization (TetGen -pD) of points (#P by 3) and constraint triangles (#F by 3): a ConformingDelaunay; raises InputError for bad indices, MeshingError when TetGen fails or its mending cascades.
         """
     @staticmethod
     def delaunay(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"]) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"], int, typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:

@@ -12,7 +12,8 @@
 //    the input triangle it lies in), checked against the exact Delaunay
 //    triangulation of its points (delaunay_exact); where TetGen returned a
 //    constrained but not conforming result, points are added on the input
-//    surface there and TetGen runs again (conforming_mend.hpp).
+//    surface there and TetGen runs again (conforming_mend.hpp), until it
+//    conforms, a cap on the rounds, or a refinement that cascades.
 //  - conforming_delaunay_2d(): the same for constraint segments in R^2
 //    through CGAL (make_conforming_Delaunay_2).
 //  - missing_facets(): Theorem 5.2.1's check, which constraint faces are not
@@ -122,7 +123,12 @@ struct ConformingDelaunay {
 // belong to no face (skeleton vertices, say) are inserted too. `simplices`
 // are CGAL's exact Delaunay triangulation of the result's points. Throws
 // InputError for bad indices or coinciding points and MeshingError
-// naming TetGen's failure. TetGen runs in a child process (isolated.hpp);
+// naming TetGen's failure. The mending rounds (conforming_mend.hpp) stop at
+// a cap, returning a result that is not Delaunay, or sooner with a
+// MeshingError once they cascade — the refined surface grown past a few
+// times TetGen's first refinement (a fold of hundredths of a degree, where
+// points added on one face encroach on the other) — naming the edge or face
+// where most non-Delaunay faces lie. TetGen runs in a child process (isolated.hpp);
 // `while_meshing` is called about every 0.1 s meanwhile, and what it throws
 // stops TetGen and leaves this call (a cancel, an interrupt). A TetGen run
 // past its time limit (a safety net: TetGen 1.5 can loop for ever) throws
