@@ -150,7 +150,7 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
     if "frames_checked" in validity:  # the core's frame checks of 3D morphs (morph_validity.hpp)
         passed = not (validity["crossing_frames"] or validity["bubble_frames"] or validity["noise_frames"]
                       or validity["inverted_simplices"] or validity["degenerate_simplices"])
-        report({"WARNING"} if not passed or validity["frames_capped"] else {"INFO"},
+        report({"INFO"} if passed else {"WARNING"},
                     f"'{new.name}': {validity['frames_checked']} frames checked"
                     f"{' (changes left unbisected at the frame limit)' if validity['frames_capped'] else ''}, the topology "
                     f"changes {validity['topology_changes']} times between them; all checks passed: "
