@@ -110,7 +110,7 @@ class Prisms:
         if len(broken):
             raise InputError(f"prism gap {broken[0]} ({times[broken[0]]:g} to {times[broken[0] + 1]:g}) does not hold: "
                              "a key's vertices are not all at its time, or another key's reach into the gap")
-        arrays = [times, key_vertices.astype(np.int32), faces.astype(np.int32), face_simplices.astype(np.int32), gaps]
+        arrays = [times, *(table.astype(np.int32, copy=False) for table in (key_vertices, faces, face_simplices)), gaps]
         for a in arrays:
             a.flags.writeable = False
         return Prisms(*arrays)
@@ -302,7 +302,9 @@ def _int_table(values, what: str) -> np.ndarray:
         raise InputError(f"{what} must be a 2D table, got shape {table.shape}")
     if table.size and not np.issubdtype(table.dtype, np.integer):
         raise InputError(f"{what} must be integers, got {table.dtype}")
-    return np.array(table, dtype=np.int64)
+    # A copy the caller cannot change; int32 (what Prisms keeps, and what a stitch gives) stays
+    # int32, any other integer type is widened so its range check sees its values.
+    return np.array(table, dtype=np.int32 if table.dtype == np.int32 else np.int64)
 
 
 def _check_range(table: np.ndarray, count: int, what: str) -> None:
