@@ -77,8 +77,8 @@ def assert_the_bar(source, target, pop_ratio=POP_RATIO, manifold=None):
     # every simplex positive (none flat at the exact coordinates), and a clean oriented manifold
     assert report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0, report
     assert manifold.check().is_oriented_manifold
-    # the core's own checks saw nothing either on its 24 spread frames, which it always checks (how many
-    # frames it adds bisecting towards topology changes depends on its time budget, so on the machine)
+    # the core's own checks saw nothing either on its 24 spread frames (the frames it adds bisecting
+    # towards topology changes may land in the fill slab, whose noise is a known defect)
     spread = {round(i / 25, 9) for i in range(1, 25)}
     seen = report["crossing_frames"] + report["noise_frames"] + [t for t, _ in report["bubble_frames"]]
     assert report["frames_checked"] >= 24 and not [t for t in seen if round(t, 9) in spread], report
