@@ -119,6 +119,7 @@ def test_coordinates_and_times_beyond_the_bound_are_refused_naming_them():
         with pytest.raises(am.InputError, match=r"(the surface's vertex|query point) 3 has a coordinate of 8\.4e\+306"):
             call()
 
+
 # The fuzzed octahedron of tests/fuzz/regressions/arrays/timeout-morph-fold-0.0072deg: its faces at the
 # edge between vertices 3 and 4 fold onto each other at 0.0072 degrees (vertex 0 lies 1.4e-4 from
 # the plane of face (1, 3, 4), 3.9 away from vertex 3). The fuzzer morphed it into the tetrahedron
