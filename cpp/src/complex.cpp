@@ -33,28 +33,12 @@ void Complex::validate() const {
       fail<InputError>("simplex attribute '", name, "' has ", table.rows(), " rows for ", S.rows(), " simplices");
 }
 
-void facet(const Index* simplex, int k, int i, Index* out) {
-  int j = 0;
-  for (int c = 0; c < k; ++c)
-    if (c != i) out[j++] = simplex[c];
-  // §2.4 counts facets from 1: facet i+1 swaps its first two vertices when even.
-  if ((i + 1) % 2 == 0 && k - 1 >= 2) std::swap(out[0], out[1]);
-}
-
 SimplexMatrix facets(const SimplexMatrix& S) {
   const int k = static_cast<int>(S.cols());
   SimplexMatrix F(S.rows() * k, k - 1);
   for (Index s = 0; s < S.rows(); ++s)
     for (int i = 0; i < k; ++i) facet(S.row(s).data(), k, i, F.row(s * k + i).data());
   return F;
-}
-
-int permutation_parity(const Index* ids, int k) {
-  int inversions = 0;
-  for (int a = 0; a < k; ++a)
-    for (int b = a + 1; b < k; ++b)
-      if (ids[a] > ids[b]) ++inversions;
-  return inversions % 2 == 0 ? 1 : -1;
 }
 
 namespace {

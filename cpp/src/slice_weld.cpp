@@ -27,18 +27,40 @@ int owner(Index a, int teams) {
   return static_cast<int>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(a) * 0x9E3779B9u) * teams) >> 32);
 }
 
+// Per chunk, its keys' positions grouped by the thread that owns them (each
+// group in chunk order), and where each thread's group starts: a thread then
+// walks only its own keys, with no branch on the owner per key.
+struct Owned {
+  std::vector<std::uint32_t> positions;
+  std::vector<std::uint32_t> start;  // teams + 1 entries
+};
+
+void group_by_owner(std::span<const std::uint64_t> chunk, int teams, Owned& out) {
+  out.start.assign(teams + 1, 0);
+  out.positions.resize(chunk.size());
+  std::vector<int> owners(chunk.size());
+  for (size_t i = 0; i < chunk.size(); ++i) {
+    owners[i] = owner(static_cast<Index>(chunk[i] >> 32), teams);
+    ++out.start[owners[i] + 1];
+  }
+  for (int t = 0; t < teams; ++t) out.start[t + 1] += out.start[t];
+  std::vector<std::uint32_t> next(out.start.begin(), out.start.end() - 1);
+  for (size_t i = 0; i < chunk.size(); ++i) out.positions[next[owners[i]]++] = static_cast<std::uint32_t>(i);
+}
+
 // One thread's share: the keys it owns. Writes the position of each such
 // key's first key (its own for a first key) into `first_of`, and lists its
 // points in `links`. `head` (an entry per vertex a) is -1 before and after.
-void weld_share(const std::vector<std::span<const std::uint64_t>>& keys, const std::vector<size_t>& offset, int team,
-                int teams, std::vector<Index>& head, std::vector<Link>& links, Index* first_of) {
+void weld_share(const std::vector<std::span<const std::uint64_t>>& keys, const std::vector<size_t>& offset,
+                const std::vector<Owned>& owned, int team, Index* head, std::vector<Link>& links, Index* first_of) {
   links.clear();
   try {
     for (size_t c = 0; c < keys.size(); ++c) {
       const std::span<const std::uint64_t> chunk = keys[c];
-      for (size_t i = 0; i < chunk.size(); ++i) {
+      const Owned& mine = owned[c];
+      for (std::uint32_t o = mine.start[team]; o < mine.start[team + 1]; ++o) {
+        const std::uint32_t i = mine.positions[o];
         const Index a = static_cast<Index>(chunk[i] >> 32), b = static_cast<Index>(chunk[i] & 0xffffffffu);
-        if (owner(a, teams) != team) continue;
         const Index g = static_cast<Index>(offset[c] + i);
         Index& list = head[a];
         Index id = list;
@@ -69,18 +91,34 @@ void weld(const Complex& m, int axis, double value, const std::vector<std::span<
   // Per key: the position of its point's first key, then (below) for a first key -1 - its point.
   // Every entry is written by the thread owning its key, so none is initialised.
   const std::unique_ptr<Index[]> first_of(new Index[total]);
+  std::vector<Owned> owned(chunks);
   std::exception_ptr failure;
+  auto record = [&failure] {
+#pragma omp critical(slice_weld_failure)
+    if (!failure) failure = std::current_exception();
+  };
 #pragma omp parallel num_threads(thread_count()) if (total > kParallelKeys)
   {
+    const int teams = omp_get_num_threads(), team = omp_get_thread_num();
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      try {
+        group_by_owner(keys[c], teams, owned[c]);
+      } catch (...) {
+        record();
+      }
+    }
+    // (The loop's closing barrier makes a failure in it seen by every thread.)
     // Per thread and kept between slices, at -1 but while a weld runs.
     thread_local std::vector<Index> head;
     thread_local std::vector<Link> links;
-    try {
-      if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
-      weld_share(keys, offset, omp_get_thread_num(), omp_get_num_threads(), head, links, first_of.get());
-    } catch (...) {
-#pragma omp critical(slice_weld_failure)
-      if (!failure) failure = std::current_exception();
+    if (!failure) {
+      try {
+        if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
+        weld_share(keys, offset, owned, team, head.data(), links, first_of.get());
+      } catch (...) {
+        record();
+      }
     }
   }
   if (failure) std::rethrow_exception(failure);

@@ -11,6 +11,7 @@
 #include "animanifold/types.hpp"
 
 #include <array>
+#include <utility>
 #include <cstdint>
 #include <vector>
 
@@ -45,7 +46,14 @@ struct Complex {
 // Outputs:
 //   out  k-1 vertex indices: facet i, oriented by §2.4's rule
 // Throws: nothing (nothing is checked: i must lie in 0..k-1)
-void facet(const Index* simplex, int k, int i, Index* out);
+// Inline: slicing calls it for every simplex it cuts.
+inline void facet(const Index* simplex, int k, int i, Index* out) {
+  int j = 0;
+  for (int c = 0; c < k; ++c)
+    if (c != i) out[j++] = simplex[c];
+  // §2.4 counts facets from 1: facet i+1 swaps its first two vertices when even.
+  if ((i + 1) % 2 == 0 && k - 1 >= 2) std::swap(out[0], out[1]);
+}
 
 // Inputs:
 //   S  #S by k simplices (vertex indices)
@@ -160,6 +168,13 @@ VertexStar vertex_star(const SimplexMatrix& S, Index vertex_count);
 //   k    how many
 // Outputs: the parity of the permutation that sorts `ids`: +1 even, -1 odd
 // Throws: nothing
-int permutation_parity(const Index* ids, int k);
+// Inline: slicing calls it for every simplex it cuts in a quad.
+inline int permutation_parity(const Index* ids, int k) {
+  int inversions = 0;
+  for (int a = 0; a < k; ++a)
+    for (int b = a + 1; b < k; ++b)
+      if (ids[a] > ids[b]) ++inversions;
+  return inversions % 2 == 0 ? 1 : -1;
+}
 
 }  // namespace animanifold
