@@ -92,21 +92,22 @@ bool IntervalIndex::has_vertex_value_near(double value, double tolerance) const 
 }
 
 void IntervalIndex::stab_candidates(double value, std::vector<Index>& out) const {
-  // Explicit stack of ranges: depth is log2(#S) + 1.
-  std::pair<size_t, size_t> stack[64];
-  int top = 0;
-  stack[top++] = {0, nodes_.size()};
-  while (top > 0) {
-    const auto [lo, hi] = stack[--top];
-    if (lo >= hi) continue;
+  stab_range(0, nodes_.size(), value, out);
+}
+
+void IntervalIndex::stab_range(size_t lo, size_t hi, double value, std::vector<Index>& out) const {
+  // In order: left subtree, root, right subtree, so hits come out in the
+  // nodes' order (by low, then simplex), and a stitched manifold's hits
+  // (one slab, one low) in the order of its table. The recursion goes as
+  // deep as the tree (log2 #S); the right subtree is this loop's next turn.
+  while (lo < hi) {
     const size_t mid = lo + (hi - lo) / 2;
     const Node& node = nodes_[mid];
-    if (node.subtree_high < value) continue;  // nothing in this range reaches the value
-    stack[top++] = {lo, mid};
-    if (node.low <= value) {  // ranges right of mid start at or after node.low
-      out.push_back(node.simplex);
-      stack[top++] = {mid + 1, hi};
-    }
+    if (node.subtree_high < value) return;  // nothing in this range reaches the value
+    stab_range(lo, mid, value, out);
+    if (node.low > value) return;  // the right subtree starts at or after node.low
+    out.push_back(node.simplex);
+    lo = mid + 1;
   }
 }
 

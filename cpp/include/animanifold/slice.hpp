@@ -69,7 +69,7 @@ class IntervalIndex {
   //   value  where to stab
   //   out    hits are appended to it
   // Outputs: out with the simplices whose extent along the axis contains `value`
-  //   appended, in an order that depends only on the index and the set of hits
+  //   appended, in the index's order: by lowest coordinate along the axis, then by simplex
   // Throws: InputError when V or S do not have the counts the index was built on
   void stab(const PointMatrix& V, const SimplexMatrix& S, double value, std::vector<Index>& out) const;
   // Inputs:
@@ -120,6 +120,9 @@ class IntervalIndex {
   Index vertex_count_;
   int axis_;
   double lowest_, highest_;
+
+  // stab_candidates() over the nodes [lo, hi), a subtree of the implicit tree.
+  void stab_range(size_t lo, size_t hi, double value, std::vector<Index>& out) const;
 };
 
 // Seconds the stages of one slice took: the benchmark's breakdown.
