@@ -2,10 +2,12 @@
 // simplices' extents along one axis, 12 bytes a simplex.
 #include "animanifold/errors.hpp"
 #include "animanifold/slice.hpp"
+#include "animanifold/threads.hpp"
 #include "slice_points.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 
 namespace animanifold {
@@ -91,8 +93,68 @@ bool IntervalIndex::has_vertex_value_near(double value, double tolerance) const 
   return above != vertex_values_.begin() && value - *(above - 1) <= tolerance;
 }
 
+namespace {
+
+// Subtrees of at most this many nodes are stabbed as one piece of work.
+constexpr size_t kPieceNodes = 16384;
+
+}  // namespace
+
+// A piece of a parallel stab, in the in-order sequence: a root above the
+// pieces (one hit) or a subtree [lo, hi) to stab.
+struct IntervalIndex::StabPiece {
+  size_t lo, hi;
+  Index hit;  // the root's simplex, when hi == lo
+};
+
 void IntervalIndex::stab_candidates(double value, std::vector<Index>& out) const {
-  stab_range(0, nodes_.size(), value, out);
+  if (nodes_.size() <= kPieceNodes || thread_count() == 1) {
+    stab_range(0, nodes_.size(), value, out);
+    return;
+  }
+  // The roots above the pieces are visited here, in order; the pieces, each
+  // into its own list, on OpenMP's threads. Joined in order, the hits are
+  // those of the serial walk, in its order, for any thread count.
+  std::vector<StabPiece> pieces;
+  plan_stab(0, nodes_.size(), value, pieces);
+  std::vector<std::vector<Index>> hits(pieces.size());
+  const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(pieces.size());
+  std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count()) if (count > 1)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    if (pieces[i].hi == pieces[i].lo) continue;
+    try {
+      stab_range(pieces[i].lo, pieces[i].hi, value, hits[i]);
+    } catch (...) {
+#pragma omp critical(interval_stab_failure)
+      if (!failure) failure = std::current_exception();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  size_t total = out.size();
+  for (std::ptrdiff_t i = 0; i < count; ++i) total += pieces[i].hi == pieces[i].lo ? 1 : hits[i].size();
+  out.reserve(total);
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    if (pieces[i].hi == pieces[i].lo) out.push_back(pieces[i].hit);
+    else out.insert(out.end(), hits[i].begin(), hits[i].end());
+  }
+}
+
+void IntervalIndex::plan_stab(size_t lo, size_t hi, double value, std::vector<StabPiece>& pieces) const {
+  // stab_range()'s walk, down to subtrees of kPieceNodes.
+  while (lo < hi) {
+    if (hi - lo <= kPieceNodes) {
+      pieces.push_back({lo, hi, -1});
+      return;
+    }
+    const size_t mid = lo + (hi - lo) / 2;
+    const Node& node = nodes_[mid];
+    if (node.subtree_high < value) return;
+    plan_stab(lo, mid, value, pieces);
+    if (node.low > value) return;
+    pieces.push_back({mid, mid, node.simplex});
+    lo = mid + 1;
+  }
 }
 
 void IntervalIndex::stab_range(size_t lo, size_t hi, double value, std::vector<Index>& out) const {

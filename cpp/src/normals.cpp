@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <omp.h>
+#include <algorithm>
 #include <cstdint>
 #include <cmath>
 #include <vector>
@@ -126,7 +127,7 @@ namespace {
 constexpr Index kParallelFaces = 16384;
 
 // Each face's normal, twice its area (3D) or its length (2D), summed onto
-// its corners' rows of N in face order, then each row made unit length.
+// its corners' rows of N (sized, not yet set) in face order, then each row made unit length.
 // Fixed-size: this runs for every frame a slice writes.
 //
 // Each thread owns a range of rows and walks every face, adding only onto
@@ -145,6 +146,7 @@ void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix&
   {
     const std::int64_t rows = N.rows(), teams = omp_get_num_threads(), team = omp_get_thread_num();
     const Index lo = static_cast<Index>(rows * team / teams), hi = static_cast<Index>(rows * (team + 1) / teams);
+    std::fill(normals + static_cast<std::int64_t>(lo) * d, normals + static_cast<std::int64_t>(hi) * d, 0.0);
     for (Index f = 0; f < faces; ++f) {
       const Index* corner = corners + static_cast<std::int64_t>(f) * d;
       bool mine = false;
@@ -186,9 +188,13 @@ void add_face_normals(const PointMatrix& V, const SimplexMatrix& F, PointMatrix&
 }  // namespace
 
 PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
+  check_indices(F, V.rows(), "face");
+  return frame_vertex_normals_unchecked(V, F);
+}
+
+PointMatrix frame_vertex_normals_unchecked(const PointMatrix& V, const SimplexMatrix& F) {
   const int d = static_cast<int>(V.cols());
   if (F.cols() != d) fail<InputError>("frame faces must have ", d, " corners in R^", d, ", got ", F.cols());
-  check_indices(F, V.rows(), "face");
   if (F.rows() && d != 2 && d != 3) fail<InputError>("frames are 2D or 3D, got ", d, "D");
   // The products of tiny or huge coordinates need scaling (scaled_for_products); others are used as they are.
   const double largest = V.size() ? V.cwiseAbs().maxCoeff() : 0.0;
@@ -196,9 +202,10 @@ PointMatrix frame_vertex_normals(const PointMatrix& V, const SimplexMatrix& F) {
   PointMatrix scaled;
   if (!as_is) scaled = scaled_for_products(V);
   const PointMatrix& points = as_is ? V : scaled;
-  PointMatrix N = PointMatrix::Zero(V.rows(), d);
+  if (d != 2 && d != 3) return PointMatrix::Zero(V.rows(), d);  // no faces
+  PointMatrix N(V.rows(), d);
   if (d == 3) add_face_normals<3>(points, F, N);
-  else if (d == 2) add_face_normals<2>(points, F, N);
+  else add_face_normals<2>(points, F, N);
   return N;
 }
 

@@ -202,7 +202,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   // turned, so keyframes keep their orientation.
   if ((D - 1 - axis) % 2 == 1) out.faces.col(0).swap(out.faces.col(1));
   clock.lap(&SliceStages::output);
-  out.normals = frame_vertex_normals(out.vertices, out.faces);
+  out.normals = frame_vertex_normals_unchecked(out.vertices, out.faces);
   clock.lap(&SliceStages::normals);
   return out;
 }

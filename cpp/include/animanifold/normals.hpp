@@ -70,5 +70,8 @@ PointMatrix drop_component(const PointMatrix& normals, int axis);
 // own faces keeps normals smooth across the frame without blending in the
 // shape at other times. #P by d; zero for an unused vertex.
 PointMatrix frame_vertex_normals(const PointMatrix& vertices, const SimplexMatrix& faces);
+// As frame_vertex_normals(), without check_indices: for faces whose indices
+// are in range by construction (a slice's own, from its cut).
+PointMatrix frame_vertex_normals_unchecked(const PointMatrix& vertices, const SimplexMatrix& faces);
 
 }  // namespace animanifold

@@ -123,6 +123,9 @@ class IntervalIndex {
 
   // stab_candidates() over the nodes [lo, hi), a subtree of the implicit tree.
   void stab_range(size_t lo, size_t hi, double value, std::vector<Index>& out) const;
+  // The same walk over [lo, hi), cut into pieces for threads (interval_index.cpp).
+  struct StabPiece;
+  void plan_stab(size_t lo, size_t hi, double value, std::vector<StabPiece>& pieces) const;
 };
 
 // Seconds the stages of one slice took: the benchmark's breakdown.
