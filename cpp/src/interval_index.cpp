@@ -3,6 +3,7 @@
 #include "animanifold/errors.hpp"
 #include "animanifold/slice.hpp"
 #include "animanifold/threads.hpp"
+#include "huge_pages.hpp"
 #include "slice_points.hpp"
 
 #include <algorithm>
@@ -25,6 +26,14 @@ std::pair<double, double> extent(const PointMatrix& V, const SimplexMatrix& S, I
   return {low, high};
 }
 
+// Room for `count` items in a fresh vector, on huge pages where the kernel
+// grants them: the index of a large manifold is walked at random.
+template <typename T>
+void reserve_huge(std::vector<T>& items, Index count) {
+  items.reserve(count);
+  advise_huge_pages(items.data(), sizeof(T) * items.capacity());
+}
+
 // The nearest float at or below (above) x: the tree's bounds hold the exact ones.
 float float_below(double x) {
   const float f = static_cast<float>(x);
@@ -42,8 +51,10 @@ IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int a
   if (axis < 0 || axis >= V.cols()) fail<InputError>("axis ", axis, " is outside 0..", V.cols() - 1);
   // Sorted by exact low (then simplex), as the tree's order decides the
   // order stab() reports hits in, and with it the order of a slice's output.
-  std::vector<std::pair<double, Index>> by_low(S.rows());
-  std::vector<float> high(S.rows());
+  std::vector<std::pair<double, Index>> by_low;
+  std::vector<float> high;
+  reserve_huge(by_low, S.rows()), reserve_huge(high, S.rows()), reserve_huge(nodes_, S.rows());
+  by_low.resize(S.rows()), high.resize(S.rows());
   lowest_ = std::numeric_limits<double>::infinity();
   highest_ = -lowest_;
   for (Index s = 0; s < S.rows(); ++s) {

@@ -4,6 +4,7 @@
 #include "animanifold/memory_estimates.hpp"
 #include "animanifold/threads.hpp"
 #include "animanifold/validation.hpp"
+#include "huge_pages.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -188,6 +189,7 @@ Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
 
   Complex out;
   out.V.resize(static_cast<Eigen::Index>(m) * k, d + 1);
+  advise_huge_pages(out.V.data(), sizeof(double) * out.V.size());
   for (Index i = 0; i < m; ++i) {
     out.V.block(static_cast<Eigen::Index>(i) * k, 0, k, d) = in.frames.block(static_cast<Eigen::Index>(i) * k, 0, k, d);
     out.V.block(static_cast<Eigen::Index>(i) * k, d, k, 1).setConstant(in.times(i));
@@ -209,6 +211,7 @@ Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   }
   const Eigen::Index prism_count = static_cast<Eigen::Index>(m - 1) * l;
   out.S.resize(prism_count * n, d + 1);
+  advise_huge_pages(out.S.data(), sizeof(Index) * out.S.size());
   for (Index i = 0; i + 1 < m; ++i) {
     interrupter.step("prisms", loop_fraction(0.1, 0.9, i, m - 1));
     // Each prism writes its own rows (stitched_simplex), so any thread count gives the same simplices.
@@ -232,6 +235,7 @@ Complex stitch(const StitchInput& in, const Interrupter& interrupter) {
   }
   for (const auto& [name, table] : in.face_attributes) {
     SimplexMatrix carried(out.S.rows(), table.cols());
+    advise_huge_pages(carried.data(), sizeof(Index) * carried.size());
 #pragma omp parallel for schedule(static) num_threads(thread_count())
     for (Eigen::Index p = 0; p < prism_count; ++p)
       for (int r = 0; r < n; ++r) carried.row(p * n + r) = table.row(p % l);
