@@ -3,6 +3,7 @@
 #include "animanifold/threads.hpp"
 #include "slice_points.hpp"
 
+#include <atomic>
 #include <exception>
 #include <memory>
 #include <omp.h>
@@ -92,8 +93,10 @@ void weld(const Complex& m, int axis, double value, const std::vector<std::span<
   // Every entry is written by the thread owning its key, so none is initialised.
   const std::unique_ptr<Index[]> first_of(new Index[total]);
   std::vector<Owned> owned(chunks);
-  std::exception_ptr failure;
-  auto record = [&failure] {
+  std::exception_ptr failure;  // read once the threads are done
+  std::atomic<bool> failed{false};
+  auto record = [&] {
+    failed = true;
 #pragma omp critical(slice_weld_failure)
     if (!failure) failure = std::current_exception();
   };
@@ -108,11 +111,11 @@ void weld(const Complex& m, int axis, double value, const std::vector<std::span<
         record();
       }
     }
-    // (The loop's closing barrier makes a failure in it seen by every thread.)
+    // Past the loop's closing barrier every thread sees a failure in it.
     // Per thread and kept between slices, at -1 but while a weld runs.
     thread_local std::vector<Index> head;
     thread_local std::vector<Link> links;
-    if (!failure) {
+    if (!failed) {
       try {
         if (head.size() < static_cast<size_t>(m.V.rows())) head.resize(m.V.rows(), -1);
         weld_share(keys, offset, owned, team, head.data(), links, first_of.get());

@@ -7,9 +7,11 @@
 // what one thread walking the keys in order would give, for any thread count.
 //
 // Threads: each owns the keys of some lower vertices a (a hash of a picks the
-// thread) and walks every chunk in order, finding its keys through a
-// per-vertex list of its points (a handful each) instead of a global hash.
-// The first keys of points are then ranked in order, chunk by chunk.
+// thread). Each chunk's keys are first grouped by owner (on the threads, chunk
+// by chunk); then each thread walks its own keys, chunk by chunk in order,
+// finding them through a per-vertex list of its points (a handful each)
+// instead of a global hash. The first keys of points are then ranked in order,
+// chunk by chunk.
 #pragma once
 
 #include "animanifold/complex.hpp"
