@@ -1,7 +1,7 @@
 """Slicing at production scale (issue 24): the cut that runs on OpenMP's threads and welds
 without a hash gives the points and faces the serial implementation gave, in an order pinned
-bit for bit, the same for any thread count; frames of a sequence that reuse their interval's cut equal fresh slices; and the
-interval index reports its size."""
+bit for bit, the same for any thread count; frames of a sequence that reuse their interval's
+cut equal fresh slices; and the interval index reports its size."""
 
 from __future__ import annotations
 

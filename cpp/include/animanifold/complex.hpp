@@ -11,8 +11,8 @@
 #include "animanifold/types.hpp"
 
 #include <array>
-#include <utility>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace animanifold {
