@@ -2,6 +2,7 @@
 
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/threads.hpp"
 #include "morph_field_internal.hpp"
 #include "zero_set.hpp"
 
@@ -9,8 +10,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <tuple>
 #include <cstdlib>
+#include <exception>
+#include <tuple>
 
 namespace animanifold {
 
@@ -154,6 +156,24 @@ void slave_chord_points(Half& half) {
     for (const Index v : half.refined.splits[j]) sum += value(v);
     value(half.plain + static_cast<Index>(j)) = sum / static_cast<double>(half.refined.splits[j].size());
   }
+}
+
+// Runs work(source) and work(target), each on a thread of its own when the
+// thread setting allows two: the halves share nothing they write, and each
+// half's work is the same serial work either way, so the bits are too.
+template <class Work>
+void on_both_halves(Half& source, Half& target, Work&& work) {
+  std::exception_ptr failure[2];
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(2, thread_count()))
+  for (int side = 0; side < 2; ++side) {
+    try {
+      work(side == 0 ? source : target);
+    } catch (...) {
+      failure[side] = std::current_exception();
+    }
+  }
+  for (const std::exception_ptr& e : failure)
+    if (e) std::rethrow_exception(e);
 }
 
 // A half from its conforming end and its cells in the fill: its chords
@@ -360,14 +380,16 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   clock.begin("topology", 0.55);
   // Each half's topology only sheds, from its end towards the middle, what
   // the other end does not have.
-  const std::array<Index, 3> source_betti = betti_numbers(source.refined.cells, source.field.front());
-  const std::array<Index, 3> target_betti = betti_numbers(target.refined.cells, target.field.front());
+  std::array<Index, 3> source_betti, target_betti;
+  on_both_halves(source, target, [&](const Half& half) {
+    (&half == &source ? source_betti : target_betti) = betti_numbers(half.refined.cells, half.field.front());
+  });
   std::array<Index, 3> least;
   for (int i = 0; i < 3; ++i) least[i] = std::min(source_betti[i], target_betti[i]);
-  source.held = preserve_topology(source.refined.cells, source.field, 2, floor, least);
-  target.held = preserve_topology(target.refined.cells, target.field, 2, floor, least);
-  slave_chord_points(source);
-  slave_chord_points(target);
+  on_both_halves(source, target, [&](Half& half) {
+    half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least);
+    slave_chord_points(half);
+  });
   for (const Half* half : {&source, &target}) report.split_faces += static_cast<Index>(half->refined.splits.size());
 
   clock.begin("shape", 0.6);
