@@ -603,11 +603,14 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
   StageClock clock(options);
   Morph result = field_morph(VS, FS, VT, FT, options, clock);
   clock.begin("validity", 0.9);
-  zero_set_validity(result.manifold, result.report);
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
-  end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report);
-  check_frames(result.manifold, options.t0, options.t1, VS, FS, VT, FT, result.report);
+  // The checks of the simplices and of the ends write other fields of the
+  // report than the frames' checks, which they run beside.
+  check_frames(result.manifold, options.t0, options.t1, VS, FS, VT, FT, result.report, [&] {
+    zero_set_validity(result.manifold, result.report);
+    end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report);
+  });
   clock.finish();
   result.report.stage_seconds = clock.seconds;
   return result;

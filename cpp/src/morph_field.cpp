@@ -158,16 +158,17 @@ void slave_chord_points(Half& half) {
   }
 }
 
-// Runs work(source) and work(target), each on a thread of its own when the
-// thread setting allows two: the halves share nothing they write, and each
-// half's work is the same serial work either way, so the bits are too.
+// Runs work(0) and work(1) (the source's side and the target's), each on a
+// thread of its own when the thread setting allows two: the sides share
+// nothing they write, and each side's work is the same serial work either
+// way (OpenMP inside it runs on its one thread), so the bits are too.
 template <class Work>
-void on_both_halves(Half& source, Half& target, Work&& work) {
+void on_both_sides(Work&& work) {
   std::exception_ptr failure[2];
 #pragma omp parallel for schedule(static, 1) num_threads(std::min(2, thread_count()))
   for (int side = 0; side < 2; ++side) {
     try {
-      work(side == 0 ? source : target);
+      work(side);
     } catch (...) {
       failure[side] = std::current_exception();
     }
@@ -380,13 +381,15 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   clock.begin("topology", 0.55);
   // Each half's topology only sheds, from its end towards the middle, what
   // the other end does not have.
-  std::array<Index, 3> source_betti, target_betti;
-  on_both_halves(source, target, [&](const Half& half) {
-    (&half == &source ? source_betti : target_betti) = betti_numbers(half.refined.cells, half.field.front());
+  std::array<Index, 3> betti[2];
+  on_both_sides([&](int side) {
+    const Half& half = side == 0 ? source : target;
+    betti[side] = betti_numbers(half.refined.cells, half.field.front());
   });
   std::array<Index, 3> least;
-  for (int i = 0; i < 3; ++i) least[i] = std::min(source_betti[i], target_betti[i]);
-  on_both_halves(source, target, [&](Half& half) {
+  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]);
+  on_both_sides([&](int side) {
+    Half& half = side == 0 ? source : target;
     half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least);
     slave_chord_points(half);
   });

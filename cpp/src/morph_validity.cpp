@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -75,7 +77,8 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
 }  // namespace
 
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
-                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report) {
+                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
+                  const std::function<void()>& alongside) {
   const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
   const Index least_euler = std::min(source.euler, target.euler), most_euler = std::max(source.euler, target.euler);
   const Index most_pieces = std::max(source.pieces, target.pieces);
@@ -117,10 +120,24 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
   };
   // Frames are independent: examined on all cores, each into its own slot,
   // recorded in time order.
-  auto check_all = [&](const std::vector<double>& times, bool look_for_crossings) {
+  // `work`, when given, is one more item of the loop, taken first.
+  auto check_all = [&](const std::vector<double>& times, bool look_for_crossings, const std::function<void()>& work) {
     std::vector<Frame> frames(times.size());
+    std::exception_ptr failure;  // only the work's item writes it
+    const long first = work ? -1 : 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-    for (long i = 0; i < static_cast<long>(times.size()); ++i) frames[i] = examine(times[i], look_for_crossings);
+    for (long i = first; i < static_cast<long>(times.size()); ++i) {
+      if (i >= 0) {
+        frames[i] = examine(times[i], look_for_crossings);
+        continue;
+      }
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
     for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
   };
   // Coarse to fine (the middle, the quarters, ...), so the costly frames
@@ -131,7 +148,7 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
   std::vector<double> spread;
   for (const int i : order) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
-  check_all(spread, true);
+  check_all(spread, true, alongside);
   // Towards every change of topology between neighbouring checked frames,
   // in time order, up to kBisectionFrames in all.
   int bisection_frames = 0;
@@ -145,7 +162,7 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
       report.frames_capped = true;
     }
     bisection_frames += static_cast<int>(middles.size());
-    check_all(middles, false);
+    check_all(middles, false, {});
   }
   for (auto it = checked.begin(); it != checked.end() && std::next(it) != checked.end(); ++it)
     if (it->second != std::next(it)->second) ++report.topology_changes;

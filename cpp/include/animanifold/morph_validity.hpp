@@ -22,16 +22,25 @@
 
 #include "animanifold/morph.hpp"
 
+#include <functional>
+
 namespace animanifold {
 
 // Inputs:
 //   manifold        tets in R^4
 //   t0, t1          its range
 //   VS, FS, VT, FT  the morph's inputs
+//   alongside       optional work run on one of the threads that check the
+//                   24 spread frames, before its first frame (the morph's
+//                   checks of its simplices and ends: a core would otherwise
+//                   idle while they run); it must not write the report's
+//                   frame checks
 // Outputs:
 //   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
-// Throws: nothing of its own
+// Throws: what `alongside` throws, once the spread frames are checked;
+// nothing else of its own
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
-                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report);
+                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
+                  const std::function<void()>& alongside = {});
 
 }  // namespace animanifold
