@@ -14,8 +14,10 @@ fallback is icosphere(6), 40,962 vertices). --mesh character (default 20 keyfram
 tets) is a 43.6k-vertex, 87k-face geodesic sphere with a UV map (vertex attribute "uv"), the
 size of a game character.
 
-Prints: stitch time and tets/s end to end (am.stitch: the first call, then the
-best of --repeat) and the C++ stitch alone (_core.stitch with the seam order
+Prints: stitch time and tets/s end to end (am.stitch: the first call, on memory faulted in just
+before (machine.fresh_memory_seconds, whose time is printed: this VM's host takes back memory the
+guest leaves free, and faulting it in again is ~20x slower), then the best of --repeat) and the
+C++ stitch alone (_core.stitch with the seam order
 given), the stitch's peak memory (the process's resident high-water mark,
 reset before the call) against the output's size; the interval index's build time and size
 (bytes a tet); the first slice (cold caches); per-frame slice time (frames between keyframes) with the index
@@ -49,10 +51,15 @@ import animanifold as am  # noqa: E402
 from animanifold import _core, stitching  # noqa: E402
 from animanifold.procedural import geodesic_sphere, icosphere, subdivide_midpoint, wobble  # noqa: E402
 from figures import add_json_option, write_json  # noqa: E402
+from machine import fresh_memory_seconds  # noqa: E402
 
 DATA = REPO.parent / "shared" / "data" / "meshes"
 TIME_AXIS = 3
 BYTES_PER_CUT_TET = 4 * 4 + 4 * 4 * 8  # 4 int32 indices + 4 points of (x, y, z, t) doubles
+# Fresh memory faulted in before the first stitch: more than the 16.8 M-tet stitch's peak (~0.5 GiB).
+WARM_GIB = 1.0
+# Faulting WARM_GIB in takes about 0.1 s on warm pages and 2 s on pages the host took back.
+COLD_SECONDS = 0.5
 
 
 def normalised(vertices: np.ndarray, offset_x: float) -> np.ndarray:
@@ -137,7 +144,10 @@ def timed(function, *args):
 
 def stitch_figures(keyframes: np.ndarray, faces: np.ndarray, times: np.ndarray, repeat: int, attributes=None):
     """(manifold, figures): am.stitch timed end to end (first call, best of `repeat`), its
-    peak memory against the output's size, and the C++ stitch alone on the same input."""
+    peak memory against the output's size, and the C++ stitch alone on the same input. Fresh
+    memory is faulted in first (machine.fresh_memory_seconds): the first call is timed on
+    warm pages, and the time the warming took is printed with it."""
+    warming = fresh_memory_seconds(WARM_GIB)
     (manifold, first), peak = peak_bytes_of(timed, am.stitch, keyframes, faces, times, attributes)
     tets, points = len(manifold.simplices), len(manifold.points)
     assert tets == 3 * len(faces) * (len(keyframes) - 1)
@@ -162,11 +172,13 @@ def stitch_figures(keyframes: np.ndarray, faces: np.ndarray, times: np.ndarray, 
           f"numpy copy of the output {copy:.3f} s = {tets / copy / 1e6:.1f} M tets/s")
     print(f"            peak memory {peak / 2**20:.0f} MiB for an output of {output / 2**20:.0f} MiB "
           f"({peak / output:.2f}x)")
+    state = "cold: the host had taken the guest's free memory back" if warming > COLD_SECONDS else "warm"
+    print(f"            fresh memory: {WARM_GIB:g} GiB faulted in {warming:.3f} s just before the first call ({state})")
     figures = {"tets": tets, "points": points, "stitch_first_s": first, "stitch_best_s": best, "stitch_core_s": core,
                "stitch_mtets_per_s": tets / best / 1e6, "stitch_first_mtets_per_s": tets / first / 1e6,
                "stitch_core_mtets_per_s": tets / core / 1e6,
                "output_copy_s": copy, "output_copy_mtets_per_s": tets / copy / 1e6, "stitch_peak_bytes": peak, "output_bytes": output,
-               "stitch_peak_over_output": peak / output}
+               "stitch_peak_over_output": peak / output, "fresh_memory_s": warming}
     return manifold, figures
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import platform
 import subprocess
+import time
 from pathlib import Path
 
 import numpy as np
@@ -62,6 +63,25 @@ def bpy_version() -> str:
     except ImportError as error:
         return f"not importable ({error})"
     return bpy.app.version_string
+
+
+def fresh_memory_seconds(gib: float = 1.0) -> float:
+    """Seconds to fault in `gib` GiB of fresh memory (a numpy array of ones), freed at once.
+
+    On this kind of virtual machine the guest hands memory that stayed free for a while back
+    to its host (virtio-balloon free page reporting), and faulting it in again costs many
+    times a warm page fault: measured here, 512 MiB took 1,165 ms after 25 s idle and 55 ms
+    right after. A benchmark's first large allocation then runs at the host's pace, not the
+    code's: the slow processes of earlier runs, where even the C++ stitch alone ran at half
+    speed. Touching a buffer this size and freeing it leaves the pages warm (in the guest's
+    free lists, not yet reported) for the allocations that follow within seconds, and the
+    time it took says whether the process started cold.
+    """
+    start = time.perf_counter()
+    buffer = np.ones(int(gib * 2**30) // 8)
+    seconds = time.perf_counter() - start
+    del buffer
+    return seconds
 
 
 def describe_machine() -> dict:
