@@ -21,7 +21,8 @@ response's dense combination; Solve = one fresh sparse solve (deform to handle p
 what every restore iteration costs); Restore = the dual method's feature restoration from
 a one-step deform until motion < 1e-6 (cap 50; 30 for tets). The tets case also prints the
 initialise breakdown from Deformer.info (weights and L, normal matrix, CHOLMOD analyse and
-factorise) and the factorisation's flops.
+factorise), the factorisation's flops, and how many of its BLAS calls ran by tiles on every
+thread (cpp/src/tiled_blas.hpp; 0 where CHOLMOD binds to another BLAS).
 """
 
 from __future__ import annotations
@@ -190,12 +191,14 @@ def bench_tets(methods=("uniform", "graph", "dual")):
         i = d.info
         phases = [i.laplacian_seconds, i.normal_seconds, i.analyse_seconds, i.factorise_seconds]
         figures[method].update(laplacian_s=phases[0], normal_s=phases[1], analyse_s=phases[2], factorise_s=phases[3],
-                               factor_flops=i.factor_flops, factor_nonzeros=i.factor_nonzeros)
+                               factor_flops=i.factor_flops, factor_nonzeros=i.factor_nonzeros,
+                               factor_tiled_blas_calls=i.factor_tiled_blas_calls)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         breakdown = " + ".join(f"{p:.2f}" for p in phases + [init - sum(phases)])
         print(f"{method:10s} {init:10.2f}s {first:7.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} {fresh:7.2f}s "
               f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {i.factor_nonzeros:11d} | "
-              f"{breakdown} s; {i.factor_flops / 1e9:.0f} GFlop", flush=True)
+              f"{breakdown} s; {i.factor_flops / 1e9:.0f} GFlop; {i.factor_tiled_blas_calls} BLAS calls by tiles "
+              f"on {am.threads()} threads", flush=True)
     return figures
 
 

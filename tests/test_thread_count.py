@@ -188,6 +188,26 @@ def test_deformation_is_the_same_on_one_and_two_threads():
     assert_same_on_one_and_two_threads(lambda: am.deform(m, anchors, handles, transform))
 
 
+def test_a_factorisation_large_enough_for_tiled_blas_is_the_same_on_one_and_two_threads():
+    """Its largest supernodes go through the tiled BLAS layer (cpp/src/tiled_blas.hpp) on
+    every thread; the factor, and so the solves, keep their bits."""
+    m = walking_sphere(subdivisions=3, keyframes=12)
+    x = m.points[:, 0]
+    anchors = np.flatnonzero(x < np.quantile(x, 0.15))
+    handles = np.flatnonzero(x > np.quantile(x, 0.85))
+    moved = m.points[handles] + [0.2, 0.1, 0.0, 0.3]
+
+    def solve():
+        d = am.Deformer(m.points, m.simplices, anchors, handles)
+        assert d.info.factor_tiled_blas_calls > 0
+        return [d.deform(handle_positions=moved), d.points]
+
+    assert_same_on_one_and_two_threads(solve)
+    out = on_threads(2, solve)[0]
+    np.testing.assert_allclose(out[handles], moved, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(out[anchors], m.points[anchors], rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize("method", ["dual", "uniform", "graph", "cotangent"])
 def test_laplacian_weights_are_the_same_on_one_and_two_threads(method):
     """The per-vertex (primal) and per-simplex (dual) weight loops run in parallel."""

@@ -525,6 +525,7 @@ Index Deformer::Impl::build_and_factor() {
   info.rcond = positive ? cholesky.rcond() : 0;
   info.factor_nonzeros = cholesky.factor_nonzeros();
   info.factor_flops = cholesky.factor_flops();
+  info.factor_tiled_blas_calls += cholesky.tiled_blas_calls();
   if (positive && info.rcond > 1e-12) return 0;
   // Possibly rank-deficient: count the (numerically) zero eigenvalues.
   const double tau = 1e-10 * N_lower.diagonal().cwiseAbs().maxCoeff();

@@ -1,6 +1,7 @@
 #include "sparse_cholesky.hpp"
 
 #include "animanifold/errors.hpp"
+#include "tiled_blas.hpp"
 
 #include <cholmod.h>
 #include <omp.h>
@@ -13,9 +14,11 @@ namespace {
 
 // OpenBLAS's threaded kernels split some sums by the thread count (dpotrf,
 // dgemm, dsyrk and dtrsm each change the factor's last bits on 2 threads, see
-// threads.hpp), so CHOLMOD's calls run BLAS on the calling thread
-// alone (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()),
-// and the Laplacian gives the same bits for any thread count (threads.hpp).
+// threads.hpp), so CHOLMOD's calls run BLAS on the calling thread alone
+// (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()). The
+// factorisation's large calls still use every core: they reach the tiled
+// layer of tiled_blas.hpp, whose tiles do not depend on the thread count. So
+// the Laplacian gives the same bits for any thread count (threads.hpp).
 struct SerialBlas {
   int before = omp_get_max_threads();
   SerialBlas() { omp_set_num_threads(1); }
@@ -32,6 +35,7 @@ struct SparseCholesky::Impl {
   cholmod_factor* factor = nullptr;
   Eigen::Index n = 0;
   double analyse_seconds = 0, factorise_seconds = 0;
+  std::int64_t tiled_calls = 0;
 
   Impl() {
     cholmod_start(&common);
@@ -77,6 +81,7 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   A.packed = 1;
   d.n = lower.rows();
   using Clock = std::chrono::steady_clock;
+  const std::int64_t tiled_before = animanifold::tiled_blas_calls().tiled;
   const auto start = Clock::now();
   d.factor = cholmod_analyze(&A, &d.common);
   if (!d.factor) fail<MeshingError>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
@@ -84,6 +89,7 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   cholmod_factorize(&A, d.factor, &d.common);
   d.analyse_seconds = std::chrono::duration<double>(analysed - start).count();
   d.factorise_seconds = std::chrono::duration<double>(Clock::now() - analysed).count();
+  d.tiled_calls = animanifold::tiled_blas_calls().tiled - tiled_before;
   if (d.common.status == CHOLMOD_NOT_POSDEF || d.factor->minor < d.factor->n) return false;
   if (d.common.status < CHOLMOD_OK)
     fail<MeshingError>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
@@ -100,6 +106,7 @@ std::int64_t SparseCholesky::factor_nonzeros() const {
 }
 
 double SparseCholesky::factor_flops() const { return impl_->factor ? impl_->common.fl : 0; }
+std::int64_t SparseCholesky::tiled_blas_calls() const { return impl_->tiled_calls; }
 double SparseCholesky::analyse_seconds() const { return impl_->analyse_seconds; }
 double SparseCholesky::factorise_seconds() const { return impl_->factorise_seconds; }
 

@@ -31,6 +31,10 @@ class SparseCholesky {
   // and computing the numbers (cholmod_factorize): for reports only.
   double analyse_seconds() const;
   double factorise_seconds() const;
+  // BLAS calls of the last factor() that ran by tiles on thread_count()
+  // threads (tiled_blas.hpp): 0 for a small matrix, or in a process where
+  // CHOLMOD binds to another BLAS.
+  std::int64_t tiled_blas_calls() const;
   // Solves A X = B for all columns of B at once.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
 

@@ -1108,6 +1108,11 @@ class DeformerInfo:
         Non-zeros of the factor.
         """
     @property
+    def factor_tiled_blas_calls(self) -> int:
+        """
+        BLAS calls of the factorisation run by tiles on every thread (0: small, or another BLAS).
+        """
+    @property
     def factorise_seconds(self) -> float:
         """
         Seconds in CHOLMOD's numerical factorisation (for reports).

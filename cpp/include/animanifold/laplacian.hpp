@@ -244,6 +244,10 @@ struct DeformerInfo {
   double rcond = 0;            // CHOLMOD's reciprocal condition estimate of the factor
   std::int64_t factor_nonzeros = 0;
   double factor_flops = 0;     // floating-point operations of the factorisation
+  // BLAS calls of the factorisation that ran by tiles on thread_count()
+  // threads: 0 when every supernode is small, or where CHOLMOD binds to
+  // another BLAS than the core's tiled layer (Debian's blender 3.4 binary)
+  std::int64_t factor_tiled_blas_calls = 0;
   // Seconds of the constructor's phases (summed over the boundary rule's
   // attempts), for reports and benchmarks only:
   double laplacian_seconds = 0;  // weights and L (laplacian_system)

@@ -24,8 +24,10 @@
 //   dsyrk and dtrsm: a factor made with any one of the four on 2 threads
 //   (the other three on 1) differs in the last bits from one made on 1, so
 //   keeping only dpotrf serial is not enough. SparseCholesky therefore runs
-//   all of CHOLMOD's BLAS calls on the calling thread alone
-//   (sparse_cholesky.cpp), and the Laplacian gives the same bits for any count. CHOLMOD's only
+//   OpenBLAS on the calling thread alone (sparse_cholesky.cpp), and the large
+//   calls of the factorisation are cut into tiles of fixed size spread over
+//   thread_count() threads (cpp/src/tiled_blas.hpp), so the Laplacian uses
+//   every core and gives the same bits for any count. CHOLMOD's only
 //   OpenMP loops of its own (the integer row maps of supernodes taller than
 //   128 rows) ask for a team of CHOLMOD_OMP_NUM_THREADS = 4 compiled into the
 //   library, which no setting reaches; they move no floating-point values.
