@@ -51,10 +51,12 @@ const SystemBlas& system_blas() {
 
 std::atomic<std::int64_t> tiled_count{0}, forwarded_count{0};
 
-// Calls below this many flops (a 256 x 256 update of rank 64) run as they
-// came: a tile's call overhead and the lost packing reuse would cost more
-// than a second core gains.
-constexpr double kMinTiledFlops = 8.0e6;
+// Calls below this many flops run as they came: a tile's call overhead, the
+// lost packing reuse and the barrier cost more than a second core gains. On
+// the 102k-vertex manifold of bench/bench_laplacian.py (2 threads) the
+// factorisation took 9.3-10.0 s with 8e6, 8.6-8.7 s with 3.4e7, 8.2-8.8 s
+// with 1e8 and 8.2-8.5 s with 3e8.
+constexpr double kMinTiledFlops = 1.0e8;
 
 bool is(const char* flag, char letter) { return std::toupper(static_cast<unsigned char>(*flag)) == letter; }
 

@@ -40,8 +40,9 @@ TiledBlasCalls tiled_blas_calls();
 // each tile runs the system BLAS near its serial peak and the tiles need few
 // barriers, small enough that the largest supernodes of a Laplacian in R^4
 // (thousands of columns) give both cores work until the last tiles. Measured
-// on the 102k-vertex manifold of bench/bench_laplacian.py (2 threads), the
-// factorisation took 9.0-9.7 s with 256, 8.4-8.6 s with 384, 8.0-8.1 s with 512.
+// on the 102k-vertex manifold of bench/bench_laplacian.py (2 threads, calls
+// under 128·T² flops forwarded), the factorisation took 9.0-9.7 s with T = 256,
+// 8.4-8.6 s with 384 and 8.0-8.1 s with 512 (one thread, untiled: 11.4 s).
 constexpr int kBlasTile = 512;
 
 }  // namespace animanifold
