@@ -4,30 +4,17 @@
 #include "tiled_blas.hpp"
 
 #include <cholmod.h>
-#include <omp.h>
 #include <chrono>
 #include <cstring>
 
 namespace animanifold {
 
-namespace {
-
 // OpenBLAS's threaded kernels split some sums by the thread count (dpotrf,
 // dgemm, dsyrk and dtrsm each change the factor's last bits on 2 threads, see
 // threads.hpp), so CHOLMOD's calls run BLAS on the calling thread alone
-// (OpenBLAS's OpenMP build follows the caller's omp_get_max_threads()). The
-// factorisation's large calls still use every core: they reach the tiled
-// layer of tiled_blas.hpp, whose tiles do not depend on the thread count. So
-// the Laplacian gives the same bits for any thread count (threads.hpp).
-struct SerialBlas {
-  int before = omp_get_max_threads();
-  SerialBlas() { omp_set_num_threads(1); }
-  ~SerialBlas() { omp_set_num_threads(before); }
-  SerialBlas(const SerialBlas&) = delete;
-  SerialBlas& operator=(const SerialBlas&) = delete;
-};
-
-}  // namespace
+// (OneBlasThread). The factorisation's large calls still use every core: they
+// reach the tiled layer of tiled_blas.hpp, whose tiles do not depend on the
+// thread count. So the Laplacian gives the same bits for any thread count.
 
 struct SparseCholesky::Impl {
   // cholmod_common is used by const solves too (workspace, status): mutable.
@@ -63,7 +50,7 @@ SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& lower) {
   Impl& d = *impl_;
   if (!lower.isCompressed()) fail<InputError>("SparseCholesky: matrix must be compressed");
-  const SerialBlas serial;
+  const OneBlasThread one_blas_thread;
   if (d.factor) cholmod_free_factor(&d.factor, &d.common);
   cholmod_sparse A;
   std::memset(&A, 0, sizeof A);
@@ -114,7 +101,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
   const Impl& d = *impl_;
   if (!d.factor) fail<MeshingError>("SparseCholesky: solve before factor");
   if (B.rows() != d.n) fail<InputError>("SparseCholesky: right-hand side has ", B.rows(), " rows for ", d.n);
-  const SerialBlas serial;
+  const OneBlasThread one_blas_thread;
   cholmod_dense b;
   std::memset(&b, 0, sizeof b);
   b.nrow = static_cast<size_t>(B.rows());

@@ -160,24 +160,15 @@ int tiled_potrf_lower(int n, double* A, int lda) {
 // Whether a call of `flops` over a tile grid of `tiles` tiles is cut up.
 bool worth_tiling(double flops, int tiles) { return tiles > 1 && flops >= kMinTiledFlops; }
 
-// OpenBLAS's OpenMP build sizes a call's team by the calling thread's
-// omp_get_max_threads() (outside a parallel region): each entry point sets it
-// to 1 while it runs, so that every system call, on a tile or forwarded,
-// runs on the thread that makes it.
-struct OneBlasThread {
-  int before = omp_get_max_threads();
-  OneBlasThread() { omp_set_num_threads(1); }
-  ~OneBlasThread() { omp_set_num_threads(before); }
-  OneBlasThread(const OneBlasThread&) = delete;
-  OneBlasThread& operator=(const OneBlasThread&) = delete;
-};
-
 bool count(bool tiled) {
   (tiled ? tiled_count : forwarded_count).fetch_add(1, std::memory_order_relaxed);
   return tiled;
 }
 
 }  // namespace
+
+OneBlasThread::OneBlasThread() : before_(omp_get_max_threads()) { omp_set_num_threads(1); }
+OneBlasThread::~OneBlasThread() { omp_set_num_threads(before_); }
 
 TiledBlasCalls tiled_blas_calls() {
   return {tiled_count.load(std::memory_order_relaxed), forwarded_count.load(std::memory_order_relaxed)};

@@ -36,6 +36,23 @@ struct TiledBlasCalls {
 // Throws: nothing
 TiledBlasCalls tiled_blas_calls();
 
+// While one lives, BLAS calls from this thread run on it alone: OpenBLAS's
+// OpenMP build sizes a call's team by the calling thread's
+// omp_get_max_threads() (outside a parallel region), which this sets to 1
+// and restores. Each tiled entry point holds one, so that every system call,
+// on a tile or forwarded, runs on the thread that makes it; SparseCholesky
+// holds one around CHOLMOD's solves.
+class OneBlasThread {
+ public:
+  OneBlasThread();
+  ~OneBlasThread();
+  OneBlasThread(const OneBlasThread&) = delete;
+  OneBlasThread& operator=(const OneBlasThread&) = delete;
+
+ private:
+  int before_;
+};
+
 // The tile edge of every tiled call, in rows and columns: large enough that
 // each tile runs the system BLAS near its serial peak and the tiles need few
 // barriers, small enough that the largest supernodes of a Laplacian in R^4
