@@ -1,9 +1,9 @@
 """How many threads the core's parallel work uses (docs/ARCHITECTURE.md, "Threads").
 
 One setting for the core's OpenMP loops (stitch, subdivision, the morph's per-simplex
-loops, distance queries) and for OpenBLAS under CHOLMOD (the Laplacian's factorisation
-and solves): `cpp/include/animanifold/threads.hpp`. Results are bit for bit the same
-for any count.
+loops, distance queries) and for the tiles of the Laplacian's factorisation, which run
+OpenBLAS under CHOLMOD one tile per thread: `cpp/include/animanifold/threads.hpp`,
+`cpp/src/tiled_blas.hpp`. Results are bit for bit the same for any count.
 """
 
 from __future__ import annotations
