@@ -270,7 +270,8 @@ def machine() -> str:
     import os
 
     blas = _core._testing.openblas_threads()
-    blas_text = f"OpenBLAS on {blas} threads" if blas else "BLAS: not OpenBLAS (reference?)"
+    blas_text = (f"OpenBLAS (set to {blas} threads; under CHOLMOD one thread per tile, cpp/src/tiled_blas.hpp)"
+                 if blas else "BLAS: not OpenBLAS (reference?)")
     return f"{os.cpu_count()} cores, {am.threads()} threads (am.threads()), {blas_text}"
 
 
