@@ -126,6 +126,38 @@ void tiled_trsm(const char* side, const char* uplo, const char* transa, const ch
   });
 }
 
+// op(L) X = B for a lower-triangular L of many rows and a B of few columns
+// (CHOLMOD's solves): a blocked substitution over row tiles of L. Each step
+// solves one diagonal tile, then subtracts its part from the tiles still to
+// come, one tile per thread; each tile takes those updates in step order.
+// Forward (op(L) = L) runs the tiles down, backward (op(L) = Lᵀ) up.
+void tiled_substitution(const char* transa, const char* diag, int m, int n, double alpha, const double* L, int lda,
+                        double* B, int ldb) {
+  const auto at = [&](int row, int column) { return L + row + static_cast<std::ptrdiff_t>(column) * lda; };
+  const auto rows_of = [&](int tile) { return B + tile * kBlasTile; };
+  const int tiles = tiles_along(m);
+  const double one = 1, minus_one = -1;
+  if (alpha != 1)
+    for_each_tile(n, [&](int column) {
+      for (int row = 0; row < m; ++row) B[row + static_cast<std::ptrdiff_t>(column) * ldb] *= alpha;
+    });
+  const bool forward = is(transa, 'N');
+  for (int done = 0; done < tiles; ++done) {
+    const int step = forward ? done : tiles - 1 - done, k0 = step * kBlasTile, kb = tile_extent(m, step);
+    system_blas().trsm("L", "L", transa, diag, &kb, &n, &one, at(k0, k0), &lda, rows_of(step), &ldb);
+    const int remaining = tiles - 1 - done;
+    for_each_tile(remaining, [&](int item) {
+      const int tile = forward ? step + 1 + item : item, i0 = tile * kBlasTile, ib = tile_extent(m, tile);
+      if (forward)  // B_i -= L_ij X_j
+        system_blas().gemm("N", "N", &ib, &n, &kb, &minus_one, at(i0, k0), &lda, rows_of(step), &ldb, &one,
+                           rows_of(tile), &ldb);
+      else  // B_i -= L_jiᵀ X_j
+        system_blas().gemm("T", "N", &ib, &n, &kb, &minus_one, at(k0, i0), &lda, rows_of(step), &ldb, &one,
+                           rows_of(tile), &ldb);
+    });
+  }
+}
+
 // Right-looking Cholesky A = L Lᵀ of the lower triangle by tiles: factor the
 // diagonal tile, solve the tiles below it, update the trailing tiles; each
 // trailing tile takes its updates in the order of the steps.
@@ -160,6 +192,21 @@ int tiled_potrf_lower(int n, double* A, int lda) {
 // Whether a call of `flops` over a tile grid of `tiles` tiles is cut up.
 bool worth_tiling(double flops, int tiles) { return tiles > 1 && flops >= kMinTiledFlops; }
 
+// A call with at most this many right-hand-side columns (a solve's) streams
+// its matrix through once: its time is the bytes it reads, not its flops.
+constexpr int kStreamingColumns = 16;
+// Streaming calls whose matrix is at least this many entries (2 MiB) are cut
+// into row tiles, so that both cores read it. On the 102k-vertex manifold of
+// bench/bench_laplacian.py a fresh solve (4 columns) took 0.27 s on one
+// thread, 0.22-0.27 s on two with 8 MiB and 0.21-0.22 s with 2 MiB: OpenBLAS
+// packs each tile of the factor before using it, so the solve stays far from
+// reading the factor at the machine's bandwidth.
+constexpr double kMinStreamedEntries = 1 << 18;
+
+bool worth_streaming(int columns, double matrix_entries, int row_tiles) {
+  return columns <= kStreamingColumns && row_tiles > 1 && matrix_entries >= kMinStreamedEntries;
+}
+
 bool count(bool tiled) {
   (tiled ? tiled_count : forwarded_count).fetch_add(1, std::memory_order_relaxed);
   return tiled;
@@ -185,7 +232,8 @@ extern "C" __attribute__((visibility("default"))) void dgemm_(const char* transa
                                                               const int* ldb, const double* beta, double* C,
                                                               const int* ldc) {
   const OneBlasThread one_blas_thread;
-  if (count(worth_tiling(2.0 * *m * *n * *k, tiles_along(*m) * tiles_along(*n))))
+  if (count(worth_tiling(2.0 * *m * *n * *k, tiles_along(*m) * tiles_along(*n)) ||
+            worth_streaming(*n, 1.0 * *m * *k, tiles_along(*m))))
     tiled_gemm(transa, transb, *m, *n, *k, *alpha, A, *lda, B, *ldb, *beta, C, *ldc);
   else
     system_blas().gemm(transa, transb, m, n, k, alpha, A, lda, B, ldb, beta, C, ldc);
@@ -209,7 +257,12 @@ extern "C" __attribute__((visibility("default"))) void dtrsm_(const char* side, 
   const OneBlasThread one_blas_thread;
   const bool left = is(side, 'L');
   const double flops = left ? 1.0 * *m * *m * *n : 1.0 * *m * *n * *n;
-  if (count(worth_tiling(flops, tiles_along(left ? *n : *m))))
+  const bool substitution = left && is(uplo, 'L') && worth_streaming(*n, 0.5 * *m * *m, tiles_along(*m));
+  const bool tiled = !substitution && worth_tiling(flops, tiles_along(left ? *n : *m));
+  count(substitution || tiled);
+  if (substitution)
+    tiled_substitution(transa, diag, *m, *n, *alpha, A, *lda, B, *ldb);
+  else if (tiled)
     tiled_trsm(side, uplo, transa, diag, *m, *n, *alpha, A, *lda, B, *ldb);
   else
     system_blas().trsm(side, uplo, transa, diag, m, n, alpha, A, lda, B, ldb);

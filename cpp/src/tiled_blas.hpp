@@ -1,11 +1,12 @@
-// Private: CHOLMOD's supernodal factorisation on every core, with the same
-// bits for any thread count.
+// Private: CHOLMOD's supernodal factorisation and solves on every core, with
+// the same bits for any thread count.
 //
 // Why: OpenBLAS's threaded kernels divide their work by the thread count, so
 // a factor made on 2 threads differs in the last bits from one made on 1
 // (threads.hpp). The BLAS calls CHOLMOD makes for large supernodes are cut
 // here into tiles instead, whose bounds depend only on the call's sizes,
-// never on the thread count. Each tile is one call of the system BLAS on one
+// never on the thread count (a solve's calls, with few right-hand sides,
+// into row tiles: they are bound by reading the factor). Each tile is one call of the system BLAS on one
 // thread, and the updates of a tile run in a fixed order, so the result is
 // the tiling's, however many threads share the tiles (thread_count()).
 //

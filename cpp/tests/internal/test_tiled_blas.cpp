@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 #include <random>
 
@@ -134,6 +135,46 @@ TEST(TiledBlas, TrsmSolvesOnTheRightAndOnTheLeft) {
       },
       1);
   EXPECT_LT((L * Y - alpha * W).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// A well-conditioned lower-triangular matrix: a dominant diagonal.
+Eigen::MatrixXd lower_triangular(int n, unsigned seed) {
+  Eigen::MatrixXd L = random_matrix(n, n, seed).triangularView<Eigen::StrictlyLower>();
+  L /= std::sqrt(static_cast<double>(n));
+  L.diagonal().array() += 2;
+  return L;
+}
+
+TEST(TiledBlas, SolvesWithFewRightHandSidesRunByRowTiles) {
+  const int m = 1600, n = 4;  // a triangle of 1.3 M entries, four row tiles, the last one short
+  const Eigen::MatrixXd L = lower_triangular(m, 11);
+  const Eigen::MatrixXd B = random_matrix(m, n, 12);
+  for (const char* transa : {"N", "T"})
+    for (const double alpha : {1.0, 2.0}) {
+      const Eigen::MatrixXd X = same_on_one_and_two_threads(
+          [&] {
+            Eigen::MatrixXd out = B;
+            dtrsm_("L", "L", transa, "N", &m, &n, &alpha, L.data(), &m, out.data(), &m);
+            return out;
+          },
+          1);
+      const Eigen::MatrixXd opL = *transa == 'N' ? L : Eigen::MatrixXd(L.transpose());
+      EXPECT_LT((opL * X - alpha * B).cwiseAbs().maxCoeff(), 1e-12) << transa << " alpha " << alpha;
+    }
+}
+
+TEST(TiledBlas, AProductWithFewColumnsRunsByRowTiles) {
+  const int m = 1300, n = 4, k = 1000;  // 10 MFlop, but 1.3 M entries of A to read
+  const Eigen::MatrixXd A = random_matrix(m, k, 13), B = random_matrix(k, n, 14), C0 = random_matrix(m, n, 15);
+  const double alpha = -1, beta = 1;
+  const Eigen::MatrixXd C = same_on_one_and_two_threads(
+      [&] {
+        Eigen::MatrixXd out = C0;
+        dgemm_("N", "N", &m, &n, &k, &alpha, A.data(), &m, B.data(), &k, &beta, out.data(), &m);
+        return out;
+      },
+      1);
+  EXPECT_LT((C - (alpha * A * B + beta * C0)).cwiseAbs().maxCoeff(), 1e-12 * k);
 }
 
 TEST(TiledBlas, PotrfFactorsByTiles) {
