@@ -12,9 +12,10 @@ namespace animanifold {
 // OpenBLAS's threaded kernels split some sums by the thread count (dpotrf,
 // dgemm, dsyrk and dtrsm each change the factor's last bits on 2 threads, see
 // threads.hpp), so CHOLMOD's calls run BLAS on the calling thread alone
-// (OneBlasThread). The factorisation's large calls still use every core: they
-// reach the tiled layer of tiled_blas.hpp, whose tiles do not depend on the
-// thread count. So the Laplacian gives the same bits for any thread count.
+// (OneBlasThread). The large calls of the factorisation and of the solves
+// still use every core: they reach the tiled layer of tiled_blas.hpp, whose
+// tiles do not depend on the thread count. So the Laplacian gives the same
+// bits for any thread count.
 
 struct SparseCholesky::Impl {
   // cholmod_common is used by const solves too (workspace, status): mutable.

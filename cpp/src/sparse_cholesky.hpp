@@ -1,7 +1,8 @@
 // Private: a thin RAII wrapper over CHOLMOD's supernodal Cholesky, used by the
 // Deformer (factor LᵀL once, solve all coordinates as one multi-column
-// right-hand side, one cholmod_solve for x, y, z and t), its BLAS on the
-// calling thread alone (same bits for any thread count: threads.hpp). Kept
+// right-hand side, one cholmod_solve for x, y, z and t), its BLAS by tiles of
+// fixed size, one thread per tile (same bits for any thread count:
+// tiled_blas.hpp). Kept
 // out of the public headers so that nothing outside cpp/src needs cholmod.h.
 #pragma once
 
