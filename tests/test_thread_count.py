@@ -207,6 +207,15 @@ def test_a_factorisation_large_enough_for_tiled_blas_is_the_same_on_one_and_two_
     np.testing.assert_allclose(out[handles], moved, rtol=0, atol=1e-12)
     np.testing.assert_allclose(out[anchors], m.points[anchors], rtol=0, atol=1e-12)
 
+    # Handles left where they are: the rest points satisfy every row of the
+    # system exactly, so a right factor and solve give them back.
+    def rest():
+        d = am.Deformer(m.points, m.simplices, anchors, handles)
+        return [d.deform(handle_positions=m.points[handles])]
+
+    diagonal = np.linalg.norm(np.ptp(m.points, axis=0))
+    np.testing.assert_allclose(on_threads(2, rest)[0], m.points, rtol=0, atol=1e-9 * diagonal)
+
 
 @pytest.mark.parametrize("method", ["dual", "uniform", "graph", "cotangent"])
 def test_laplacian_weights_are_the_same_on_one_and_two_threads(method):

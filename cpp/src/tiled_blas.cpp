@@ -63,12 +63,12 @@ bool is(const char* flag, char letter) { return std::toupper(static_cast<unsigne
 int tiles_along(int extent) { return (extent + kBlasTile - 1) / kBlasTile; }
 int tile_extent(int extent, int tile) { return std::min(kBlasTile, extent - tile * kBlasTile); }
 
-// Runs work(0..count-1) on thread_count() threads. Each item writes only its
+// Runs work(0..items-1) on thread_count() threads. Each item writes only its
 // own tile, so the order the threads take them in cannot change a bit.
 template <class Work>
-void for_each_tile(int count, const Work& work) {
+void for_each_tile(int items, const Work& work) {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-  for (int item = 0; item < count; ++item) work(item);
+  for (int item = 0; item < items; ++item) work(item);
 }
 
 // Tile (row, column) pairs of the lower triangle of a grid of `tiles` x `tiles`.

@@ -6,9 +6,10 @@
 // (threads.hpp). The BLAS calls CHOLMOD makes for large supernodes are cut
 // here into tiles instead, whose bounds depend only on the call's sizes,
 // never on the thread count (a solve's calls, with few right-hand sides,
-// into row tiles: they are bound by reading the factor). Each tile is one call of the system BLAS on one
-// thread, and the updates of a tile run in a fixed order, so the result is
-// the tiling's, however many threads share the tiles (thread_count()).
+// into row tiles: they are bound by reading the factor). Each tile is one
+// call of the system BLAS on one thread, and the updates of a tile run in a
+// fixed order, so the result is the tiling's, however many threads share the
+// tiles (thread_count()).
 //
 // How CHOLMOD reaches it: libcholmod imports dgemm_, dsyrk_, dtrsm_ and
 // dpotrf_, and tiled_blas.cpp defines and exports those four symbols. The
