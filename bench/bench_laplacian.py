@@ -192,13 +192,15 @@ def bench_tets(methods=("uniform", "graph", "dual")):
         phases = [i.laplacian_seconds, i.normal_seconds, i.analyse_seconds, i.factorise_seconds]
         figures[method].update(laplacian_s=phases[0], normal_s=phases[1], analyse_s=phases[2], factorise_s=phases[3],
                                factor_flops=i.factor_flops, factor_nonzeros=i.factor_nonzeros,
-                               factor_tiled_blas_calls=i.factor_tiled_blas_calls)
+                               factor_tiled_blas_calls=i.factor_tiled_blas_calls,
+                               factor_openmp_teams_capped=i.factor_openmp_teams_capped)
         its = f"{statuses[0].iterations}{'' if statuses[0].converged else '!'}" if statuses else "---"
         breakdown = " + ".join(f"{p:.2f}" for p in phases + [init - sum(phases)])
         print(f"{method:10s} {init:10.2f}s {first:7.2f}s {deform * 1e3:7.1f}ms {1 / deform:9.1f} {fresh:7.2f}s "
               f"{(f'{restore:.1f}s' if restore is not None else '---'):>9s} {its:>5s} {i.factor_nonzeros:11d} | "
               f"{breakdown} s; {i.factor_flops / 1e9:.0f} GFlop; {i.factor_tiled_blas_calls} BLAS calls by tiles "
-              f"on {am.threads()} threads", flush=True)
+              f"on {am.threads()} threads; {i.factor_openmp_teams_capped} CHOLMOD OpenMP teams held to "
+              f"{am.threads()} threads", flush=True)
     return figures
 
 

@@ -190,7 +190,8 @@ def test_deformation_is_the_same_on_one_and_two_threads():
 
 def test_a_factorisation_large_enough_for_tiled_blas_is_the_same_on_one_and_two_threads():
     """Its largest supernodes go through the tiled BLAS layer (cpp/src/tiled_blas.hpp) on
-    every thread; the factor, and so the solves, keep their bits."""
+    every thread, and CHOLMOD's own OpenMP loops, which ask for 4 threads, are held to the
+    thread count (cpp/src/openmp_team_cap.hpp); the factor, and so the solves, keep their bits."""
     m = walking_sphere(subdivisions=3, keyframes=12)
     x = m.points[:, 0]
     anchors = np.flatnonzero(x < np.quantile(x, 0.15))
@@ -200,6 +201,7 @@ def test_a_factorisation_large_enough_for_tiled_blas_is_the_same_on_one_and_two_
     def solve():
         d = am.Deformer(m.points, m.simplices, anchors, handles)
         assert d.info.factor_tiled_blas_calls > 0
+        assert d.info.factor_openmp_teams_capped > 0
         return [d.deform(handle_positions=moved), d.points]
 
     assert_same_on_one_and_two_threads(solve)

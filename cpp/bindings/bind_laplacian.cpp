@@ -116,6 +116,8 @@ static void bind_deformer(py::module_& m) {
       .def_readonly("factor_flops", &DeformerInfo::factor_flops, "Floating-point operations of the factorisation.")
       .def_readonly("factor_tiled_blas_calls", &DeformerInfo::factor_tiled_blas_calls,
                     "BLAS calls of the factorisation run by tiles on every thread (0: small, or another BLAS).")
+      .def_readonly("factor_openmp_teams_capped", &DeformerInfo::factor_openmp_teams_capped,
+                    "CHOLMOD's OpenMP teams held to the thread count (0: none asked for more, or another libgomp).")
       .def_readonly("laplacian_seconds", &DeformerInfo::laplacian_seconds,
                     "Seconds building the weights and L (for reports).")
       .def_readonly("normal_seconds", &DeformerInfo::normal_seconds,

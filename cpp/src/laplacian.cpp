@@ -526,6 +526,7 @@ Index Deformer::Impl::build_and_factor() {
   info.factor_nonzeros = cholesky.factor_nonzeros();
   info.factor_flops = cholesky.factor_flops();
   info.factor_tiled_blas_calls += cholesky.tiled_blas_calls();
+  info.factor_openmp_teams_capped += cholesky.openmp_teams_capped();
   if (positive && info.rcond > 1e-12) return 0;
   // Possibly rank-deficient: count the (numerically) zero eigenvalues.
   const double tau = 1e-10 * N_lower.diagonal().cwiseAbs().maxCoeff();

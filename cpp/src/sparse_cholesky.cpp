@@ -1,6 +1,7 @@
 #include "sparse_cholesky.hpp"
 
 #include "animanifold/errors.hpp"
+#include "openmp_team_cap.hpp"
 #include "tiled_blas.hpp"
 
 #include <cholmod.h>
@@ -15,7 +16,9 @@ namespace animanifold {
 // (OneBlasThread). The large calls of the factorisation and of the solves
 // still use every core: they reach the tiled layer of tiled_blas.hpp, whose
 // tiles do not depend on the thread count. So the Laplacian gives the same
-// bits for any thread count.
+// bits for any thread count. CHOLMOD's own OpenMP loops, which ask for 4
+// threads whatever the setting, are held to thread_count() too
+// (openmp_team_cap.hpp).
 
 struct SparseCholesky::Impl {
   // cholmod_common is used by const solves too (workspace, status): mutable.
@@ -23,7 +26,7 @@ struct SparseCholesky::Impl {
   cholmod_factor* factor = nullptr;
   Eigen::Index n = 0;
   double analyse_seconds = 0, factorise_seconds = 0;
-  std::int64_t tiled_calls = 0;
+  std::int64_t tiled_calls = 0, teams_capped = 0;
 
   Impl() {
     cholmod_start(&common);
@@ -70,6 +73,7 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   d.n = lower.rows();
   using Clock = std::chrono::steady_clock;
   const std::int64_t tiled_before = animanifold::tiled_blas_calls().tiled;
+  const std::int64_t capped_before = animanifold::openmp_teams_capped();
   const auto start = Clock::now();
   d.factor = cholmod_analyze(&A, &d.common);
   if (!d.factor) fail<MeshingError>("CHOLMOD could not analyse the normal matrix (status ", d.common.status, ")");
@@ -78,6 +82,7 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double, Eigen::ColMajor, i
   d.analyse_seconds = std::chrono::duration<double>(analysed - start).count();
   d.factorise_seconds = std::chrono::duration<double>(Clock::now() - analysed).count();
   d.tiled_calls = animanifold::tiled_blas_calls().tiled - tiled_before;
+  d.teams_capped = animanifold::openmp_teams_capped() - capped_before;
   if (d.common.status == CHOLMOD_NOT_POSDEF || d.factor->minor < d.factor->n) return false;
   if (d.common.status < CHOLMOD_OK)
     fail<MeshingError>("CHOLMOD failed to factor the normal matrix (status ", d.common.status, ")");
@@ -95,6 +100,7 @@ std::int64_t SparseCholesky::factor_nonzeros() const {
 
 double SparseCholesky::factor_flops() const { return impl_->factor ? impl_->common.fl : 0; }
 std::int64_t SparseCholesky::tiled_blas_calls() const { return impl_->tiled_calls; }
+std::int64_t SparseCholesky::openmp_teams_capped() const { return impl_->teams_capped; }
 double SparseCholesky::analyse_seconds() const { return impl_->analyse_seconds; }
 double SparseCholesky::factorise_seconds() const { return impl_->factorise_seconds; }
 

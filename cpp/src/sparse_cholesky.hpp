@@ -36,6 +36,9 @@ class SparseCholesky {
   // threads (tiled_blas.hpp): 0 for a small matrix, or in a process where
   // CHOLMOD binds to another BLAS.
   std::int64_t tiled_blas_calls() const;
+  // OpenMP teams of the last factor() that asked for more than thread_count()
+  // threads and got thread_count() (openmp_team_cap.hpp).
+  std::int64_t openmp_teams_capped() const;
   // Solves A X = B for all columns of B at once.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
 

@@ -1108,6 +1108,11 @@ class DeformerInfo:
         Non-zeros of the factor.
         """
     @property
+    def factor_openmp_teams_capped(self) -> int:
+        """
+        CHOLMOD's OpenMP teams held to the thread count (0: none asked for more, or another libgomp).
+        """
+    @property
     def factor_tiled_blas_calls(self) -> int:
         """
         BLAS calls of the factorisation run by tiles on every thread (0: small, or another BLAS).

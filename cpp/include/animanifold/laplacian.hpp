@@ -248,6 +248,10 @@ struct DeformerInfo {
   // threads: 0 when every supernode is small, or where CHOLMOD binds to
   // another BLAS than the core's tiled layer (Debian's blender 3.4 binary)
   std::int64_t factor_tiled_blas_calls = 0;
+  // OpenMP teams of the factorisation (CHOLMOD's own loops ask for 4 threads)
+  // held to thread_count(): 0 where CHOLMOD binds to the process's libgomp
+  // directly (Debian's blender 3.4 binary) or when thread_count() >= 4
+  std::int64_t factor_openmp_teams_capped = 0;
   // Seconds of the constructor's phases (summed over the boundary rule's
   // attempts), for reports and benchmarks only:
   double laplacian_seconds = 0;  // weights and L (laplacian_system)

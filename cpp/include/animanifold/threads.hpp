@@ -27,10 +27,12 @@
 //   OpenBLAS on the calling thread alone (sparse_cholesky.cpp), and the large
 //   calls of the factorisation are cut into tiles of fixed size spread over
 //   thread_count() threads (cpp/src/tiled_blas.hpp), so the Laplacian uses
-//   every core and gives the same bits for any count. CHOLMOD's only
-//   OpenMP loops of its own (the integer row maps of supernodes taller than
-//   128 rows) ask for a team of CHOLMOD_OMP_NUM_THREADS = 4 compiled into the
-//   library, which no setting reaches; they move no floating-point values.
+//   every core and gives the same bits for any count. CHOLMOD's
+//   OpenMP loops of its own (clearing supernodes, row maps, the assembly of
+//   updates) ask for a team of CHOLMOD_OMP_NUM_THREADS = 4 compiled into the
+//   library, which no setting reaches: the core caps every OpenMP team at
+//   thread_count() where it is requested (cpp/src/openmp_team_cap.hpp).
+//   Those loops move each value once, so the cap does not change the bits.
 //
 // Every parallel loop of the core writes each item's result to that item's
 // own slot (precomputed offsets), and no loop reduces floating-point values
