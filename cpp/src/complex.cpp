@@ -5,8 +5,10 @@
 #include "animanifold/validation.hpp"
 
 #include <Eigen/Dense>
+#include <omp.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace animanifold {
 
@@ -52,30 +54,76 @@ struct FacetRecord {
   std::int8_t parity;
 };
 
+FacetRecord facet_record(const SimplexMatrix& S, Index s, int i) {
+  const int k = static_cast<int>(S.cols());
+  Index f[5];
+  facet(S.row(s).data(), k, i, f);
+  FacetRecord r;
+  r.key.fill(-1);
+  std::copy(f, f + k - 1, r.key.begin());
+  // A vertex facet of an edge carries its orientation as a sign: the rule's
+  // "swap" of facet i+1 even (the edge's start) has nothing to swap, so it
+  // negates instead (the end of an edge is +, its start is -).
+  r.parity = static_cast<std::int8_t>(k == 2 ? (i % 2 == 0 ? 1 : -1) : permutation_parity(f, k - 1));
+  std::sort(r.key.begin(), r.key.begin() + (k - 1));
+  r.simplex = s;
+  r.index = static_cast<std::int8_t>(i);
+  return r;
+}
+
+// The smallest vertex of facet i of simplex s (its key's first entry).
+Index smallest_facet_vertex(const SimplexMatrix& S, Index s, int i) {
+  Index smallest = std::numeric_limits<Index>::max();
+  for (int c = 0; c < S.cols(); ++c)
+    if (c != i) smallest = std::min(smallest, S(s, c));
+  return smallest;
+}
+
+// Every facet's record, sorted by key. A comparison sort of all records
+// (tens of millions for a morph's manifold) is slow and serial; instead the
+// records are placed in buckets by their smallest vertex (a counting sort,
+// which keeps simplex order) and each bucket, a few dozen records, is sorted
+// by key on all threads. The buckets and their contents do not depend on the
+// thread count, so neither does the result. Indices spread far wider than
+// the records (never a valid complex's) fall back to one sort.
 std::vector<FacetRecord> sorted_facet_records(const SimplexMatrix& S) {
   const int k = static_cast<int>(S.cols());
   if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
-  std::vector<FacetRecord> records;
-  records.reserve(static_cast<size_t>(S.rows()) * k);
-  Index f[5];
-  for (Index s = 0; s < S.rows(); ++s) {
-    for (int i = 0; i < k; ++i) {
-      facet(S.row(s).data(), k, i, f);
-      FacetRecord r;
-      r.key.fill(-1);
-      std::copy(f, f + k - 1, r.key.begin());
-      // A vertex facet of an edge carries its orientation as a sign: the rule's
-      // "swap" of facet i+1 even (the edge's start) has nothing to swap, so it
-      // negates instead (the end of an edge is +, its start is -).
-      r.parity = static_cast<std::int8_t>(k == 2 ? (i % 2 == 0 ? 1 : -1) : permutation_parity(f, k - 1));
-      std::sort(r.key.begin(), r.key.begin() + (k - 1));
-      r.simplex = s;
-      r.index = static_cast<std::int8_t>(i);
-      records.push_back(r);
-    }
+  const size_t count = static_cast<size_t>(S.rows()) * k;
+  const auto by_key = [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; };
+  std::vector<FacetRecord> records(count);
+  const Index lowest = S.size() ? S.minCoeff() : 0, highest = S.size() ? S.maxCoeff() : 0;
+  const double spread = static_cast<double>(highest) - static_cast<double>(lowest) + 1;
+  if (spread > 2.0 * static_cast<double>(count) + 1024) {
+    for (Index s = 0; s < S.rows(); ++s)
+      for (int i = 0; i < k; ++i) records[static_cast<size_t>(s) * k + i] = facet_record(S, s, i);
+    std::sort(records.begin(), records.end(), by_key);
+    return records;
   }
-  std::sort(records.begin(), records.end(),
-            [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; });
+  const size_t buckets = static_cast<size_t>(spread);
+  std::vector<size_t> start(buckets + 1, 0);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int i = 0; i < k; ++i) ++start[static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest) + 1];
+  for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+#pragma omp parallel num_threads(thread_count())
+  {
+    // Each thread owns a run of buckets holding about its share of the
+    // records, and scans every simplex for the facets that go there.
+    const size_t team = static_cast<size_t>(omp_get_num_threads()), me = static_cast<size_t>(omp_get_thread_num());
+    const auto first_bucket = [&](size_t part) {
+      return static_cast<size_t>(std::lower_bound(start.begin(), start.end(), count * part / team) - start.begin());
+    };
+    const size_t low = me == 0 ? 0 : first_bucket(me), high = me + 1 == team ? buckets : first_bucket(me + 1);
+    for (Index s = 0; s < S.rows(); ++s)
+      for (int i = 0; i < k; ++i) {
+        const size_t bucket = static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest);
+        if (bucket >= low && bucket < high) records[next[bucket]++] = facet_record(S, s, i);
+      }
+    for (size_t b = low; b < high; ++b)
+      std::sort(records.begin() + static_cast<std::ptrdiff_t>(start[b]),
+                records.begin() + static_cast<std::ptrdiff_t>(start[b + 1]), by_key);
+  }
   return records;
 }
 

@@ -1,6 +1,7 @@
 #include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/normals.hpp"
+#include "animanifold/threads.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -73,4 +74,86 @@ TEST(Complex, PolygonOrientationUsesVertexSigns) {
   SimplexMatrix flipped(3, 2);
   flipped << 0, 1, 2, 1, 2, 0;  // edge 1 runs backwards
   EXPECT_EQ(check_manifold(flipped).misoriented_facets, 2);
+}
+
+namespace {
+
+// The Kuhn triangulation of a side^3 grid of cubes: each cube cut into six
+// tets along its main diagonal, all positively oriented, so the complex is a
+// consistently oriented 3-manifold with a closed boundary.
+SimplexMatrix kuhn_grid(int side) {
+  const int n = side + 1;
+  auto vertex = [n](int x, int y, int z) { return static_cast<Index>((z * n + y) * n + x); };
+  const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  const bool odd[6] = {false, true, true, false, false, true};
+  SimplexMatrix S(side * side * side * 6, 4);
+  Index row = 0;
+  for (int z = 0; z < side; ++z)
+    for (int y = 0; y < side; ++y)
+      for (int x = 0; x < side; ++x)
+        for (int p = 0; p < 6; ++p) {
+          int corner[3] = {x, y, z};
+          Index tet[4];
+          tet[0] = vertex(corner[0], corner[1], corner[2]);
+          for (int step = 0; step < 3; ++step) {
+            ++corner[orders[p][step]];
+            tet[step + 1] = vertex(corner[0], corner[1], corner[2]);
+          }
+          if (odd[p]) std::swap(tet[2], tet[3]);
+          S.row(row++) << tet[0], tet[1], tet[2], tet[3];
+        }
+  return S;
+}
+
+}  // namespace
+
+TEST(Complex, FacetChecksOfAGridAreRightAndTheSameOnAnyThreadCount) {
+  const SimplexMatrix S = kuhn_grid(7);
+  const int before = thread_count();
+  set_thread_count(1);
+  const ManifoldReport one = check_manifold(S);
+  const FacetAdjacency adjacency_one = facet_adjacency(S);
+  const SimplexMatrix boundary_one = boundary_facets(S);
+  for (int count : {2, 3}) {
+    set_thread_count(count);
+    const ManifoldReport other = check_manifold(S);
+    EXPECT_EQ(other.interior_facets, one.interior_facets);
+    EXPECT_EQ(other.boundary_facets, one.boundary_facets);
+    EXPECT_EQ(other.misoriented_facets, one.misoriented_facets);
+    const FacetAdjacency adjacency = facet_adjacency(S);
+    EXPECT_EQ(adjacency.neighbour, adjacency_one.neighbour);
+    EXPECT_EQ(adjacency.opposite, adjacency_one.opposite);
+    EXPECT_EQ(boundary_facets(S), boundary_one);
+  }
+  set_thread_count(before);
+  EXPECT_TRUE(one.is_oriented_manifold());
+  EXPECT_EQ(one.boundary_facets, 6 * 7 * 7 * 2);  // two triangles per boundary square
+  EXPECT_EQ(one.interior_facets, (4 * S.rows() - one.boundary_facets) / 2);
+  const ManifoldReport surface = check_manifold(boundary_one);
+  EXPECT_TRUE(surface.is_oriented_manifold());
+  EXPECT_EQ(surface.boundary_facets, 0);
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int i = 0; i < 4; ++i) {
+      const Index across = adjacency_one.neighbour(s, i);
+      if (across >= 0) EXPECT_EQ(adjacency_one.neighbour(across, adjacency_one.opposite(s, i)), s);
+    }
+}
+
+TEST(Complex, FacetChecksDoNotDependOnHowWidelyTheIndicesSpread) {
+  // The same two tets with indices far apart (the records are then sorted
+  // whole rather than bucketed by their smallest vertex).
+  SimplexMatrix S(2, 4), spread(2, 4);
+  S << 0, 1, 2, 3, 4, 2, 1, 3;
+  for (Index s = 0; s < 2; ++s)
+    for (int c = 0; c < 4; ++c) spread(s, c) = S(s, c) * 400000000 + 5;
+  const ManifoldReport compact = check_manifold(S), wide = check_manifold(spread);
+  EXPECT_TRUE(wide.is_oriented_manifold());
+  EXPECT_EQ(wide.interior_facets, compact.interior_facets);
+  EXPECT_EQ(wide.boundary_facets, compact.boundary_facets);
+  EXPECT_EQ(facet_adjacency(spread).neighbour, facet_adjacency(S).neighbour);
+  EXPECT_EQ(facet_adjacency(spread).opposite, facet_adjacency(S).opposite);
+  SimplexMatrix boundary = boundary_facets(spread);
+  for (Index r = 0; r < boundary.rows(); ++r)
+    for (int c = 0; c < 3; ++c) boundary(r, c) = (boundary(r, c) - 5) / 400000000;
+  EXPECT_EQ(boundary, boundary_facets(S));
 }
