@@ -1,6 +1,8 @@
 // run_isolated (isolated.hpp): fork, a pipe, poll and waitpid.
 #include "animanifold/isolated.hpp"
 
+#include "animanifold/threads.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -95,6 +97,10 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
     ::close(fds[0]);
     restore_default_crash_handlers();
     silence_standard_output();
+    // The parent's OpenMP threads do not exist in the child, and libgomp would
+    // wait for ever on a team that reuses them: the child's loops run on its
+    // one thread (their results do not depend on the count).
+    set_thread_count(1);
     try {
       const std::vector<char> result = work();
       send_and_exit(fds[1], kResult, result.data(), result.size());

@@ -1,6 +1,7 @@
 // run_isolated (isolated.hpp): the work's bytes come back; an abort, a crash,
 // an exit or an exception in it fail the call and leave this process running.
 #include "animanifold/isolated.hpp"
+#include "animanifold/threads.hpp"
 
 #include <gtest/gtest.h>
 
@@ -164,6 +165,20 @@ TEST(Isolated, WhatTheWorkChangesStaysInTheChild) {
     return std::vector<char>{};
   });
   EXPECT_EQ(counter, 0);
+}
+
+TEST(Isolated, TheChildsParallelLoopsRunAfterTheParentsTeamsHaveRun) {
+  // libgomp's threads of the parent are not in the child: a team of two there
+  // would wait for them for ever, so the child runs its loops on one thread.
+  const int before = thread_count();
+  set_thread_count(2);
+  ASSERT_EQ(parallel_team_size(), 2);
+  const std::vector<char> child = run_isolated([] { return std::vector<char>{static_cast<char>(parallel_team_size())}; },
+                                               30.0);
+  EXPECT_EQ(thread_count(), 2) << "the child's setting leaked into the parent";
+  set_thread_count(before);
+  ASSERT_EQ(child.size(), 1u);
+  EXPECT_EQ(child[0], 1);
 }
 
 }  // namespace
