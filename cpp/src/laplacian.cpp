@@ -7,6 +7,7 @@
 #include "animanifold/simplex_qp.hpp"
 #include "animanifold/threads.hpp"
 #include "deformer_response.hpp"
+#include "normal_equations.hpp"
 #include "sparse_cholesky.hpp"
 
 #include <Eigen/Dense>
@@ -486,27 +487,18 @@ Index Deformer::Impl::build_and_factor() {
       free_vertices.push_back(v);
     }
 
-  ColMatrix N;
+  ColMatrix N_lower;
   if (soft) {
     A_free_t = A.transpose();
-    N = A_free_t * A_free_t.transpose();
+    N_lower = normal_matrix_lower(A_free_t);
     const double w2 = options.constraint_weight * options.constraint_weight;
-    for (Index v : constrained) N.coeffRef(v, v) += w2;
+    for (Index v : constrained) N_lower.coeffRef(v, v) += w2;
+    N_lower.makeCompressed();
     info.unknowns = vertex_count;
     info.rows += static_cast<Index>(constrained.size());
   } else {
-    std::vector<Eigen::Triplet<double>> free_triplets, fixed_triplets;
-    free_triplets.reserve(A.nonZeros());
-    for (Index r = 0; r < A.rows(); ++r)
-      for (SparseRowMatrix::InnerIterator it(A, r); it; ++it) {
-        const Index c = column[it.col()];
-        if (c >= 0) free_triplets.emplace_back(c, r, it.value());
-        else fixed_triplets.emplace_back(r, -c - 2, it.value());
-      }
-    A_free_t.resize(static_cast<Index>(free_vertices.size()), A.rows());
-    A_free_t.setFromTriplets(free_triplets.begin(), free_triplets.end());
-    A_constrained.resize(A.rows(), static_cast<Index>(constrained.size()));
-    A_constrained.setFromTriplets(fixed_triplets.begin(), fixed_triplets.end());
+    split_columns(A, column, static_cast<Index>(free_vertices.size()), static_cast<Index>(constrained.size()),
+                  A_free_t, A_constrained);
     info.unknowns = static_cast<Index>(free_vertices.size());
     if (free_vertices.empty()) {
       info.rcond = 1;
@@ -514,10 +506,8 @@ Index Deformer::Impl::build_and_factor() {
       info.normal_seconds += seconds_since(assembly_start);
       return 0;
     }
-    N = A_free_t * A_free_t.transpose();
+    N_lower = normal_matrix_lower(A_free_t);
   }
-  ColMatrix N_lower = N.triangularView<Eigen::Lower>();
-  N_lower.makeCompressed();
   info.normal_seconds += seconds_since(assembly_start);
   const bool positive = cholesky.factor(N_lower);
   info.analyse_seconds += cholesky.analyse_seconds();
