@@ -8,6 +8,7 @@
 #include "animanifold/threads.hpp"
 #include "deformer_response.hpp"
 #include "normal_equations.hpp"
+#include "sparse_rows.hpp"
 #include "sparse_cholesky.hpp"
 
 #include <Eigen/Dense>
@@ -224,21 +225,24 @@ DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count) {
       }
     }
   dual.ghost_facets.resize(static_cast<Index>(ghosts.size()), 2);
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<size_t>(simplex_count + ghosts.size()) * k);
-  for (Index s = 0; s < simplex_count; ++s)
-    for (int c = 0; c < k; ++c) triplets.emplace_back(s, S(s, c), 1.0 / k);
+  for (size_t g = 0; g < ghosts.size(); ++g) {
+    dual.ghost_facets(static_cast<Index>(g), 0) = ghosts[g].first;
+    dual.ghost_facets(static_cast<Index>(g), 1) = ghosts[g].second;
+  }
   const double facet_weight = double(n + 2) / (double(n) * (n + 1));
   const double opposite_weight = -1.0 / (n + 1);
-  for (size_t g = 0; g < ghosts.size(); ++g) {
-    const auto [s, i] = ghosts[g];
-    dual.ghost_facets(static_cast<Index>(g), 0) = s;
-    dual.ghost_facets(static_cast<Index>(g), 1) = i;
-    const Index row = simplex_count + static_cast<Index>(g);
-    for (int c = 0; c < k; ++c) triplets.emplace_back(row, S(s, c), c == i ? opposite_weight : facet_weight);
-  }
-  dual.D.resize(simplex_count + static_cast<Index>(ghosts.size()), vertex_count);
-  dual.D.setFromTriplets(triplets.begin(), triplets.end());
+  // A simplex's row: its centroid; a ghost's: the reflection of the simplex's
+  // opposite vertex through the facet's centroid.
+  dual.D = rows_of_width(simplex_count + static_cast<Index>(ghosts.size()), vertex_count, k,
+                         [&](Index row, Index* columns, double* values) {
+                           const bool ghost = row >= simplex_count;
+                           const Index s = ghost ? ghosts[row - simplex_count].first : row;
+                           const int i = ghost ? ghosts[row - simplex_count].second : -1;
+                           for (int c = 0; c < k; ++c) {
+                             columns[c] = S(s, c);
+                             values[c] = !ghost ? 1.0 / k : c == i ? opposite_weight : facet_weight;
+                           }
+                         });
   return dual;
 }
 
@@ -337,16 +341,11 @@ void dual_system(const PointMatrix& V, const SimplexMatrix& S, const LaplacianOp
     weights(s, 0) = -(1.0 - a.sum());
     for (int j = 1; j < k; ++j) weights(s, j) = -a(j - 1);
   }
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<size_t>(simplex_count) * (k + 1));
-  for (Index s = 0; s < simplex_count; ++s) {
-    triplets.emplace_back(s, s, 1.0);
-    for (int j = 0; j < k; ++j) triplets.emplace_back(s, dual.neighbours(s, j), weights(s, j));
-  }
-  system.dual_weights.resize(simplex_count, dual_count);
-  system.dual_weights.setFromTriplets(triplets.begin(), triplets.end());
-  system.L = system.dual_weights * dual.D;
-  system.L.makeCompressed();
+  system.dual_weights = rows_of_width(simplex_count, dual_count, k + 1, [&](Index s, Index* columns, double* values) {
+    columns[0] = s, values[0] = 1.0;
+    for (int j = 0; j < k; ++j) columns[j + 1] = dual.neighbours(s, j), values[j + 1] = weights(s, j);
+  });
+  system.L = product_by_row_blocks(system.dual_weights, dual.D);
   system.delta = system.L * V;
 
   const PointMatrix normals = dual_hyperplane_normals(C, dual.neighbours);
