@@ -5,6 +5,7 @@
 #include "animanifold/stitch.hpp"
 
 #include <Eigen/Geometry>
+#include <Eigen/SparseCore>
 #include <array>
 #include <random>
 #include <string>
@@ -21,6 +22,18 @@ std::string input_error_message(Call&& call) {
     return e.what();
   }
   return "(no InputError)";
+}
+
+// Whether two compressed sparse matrices have the same size, pattern and
+// values, bit for bit (thread-count tests).
+template <class Sparse>
+bool same_sparse_bits(const Sparse& a, const Sparse& b) {
+  if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  for (Eigen::Index o = 0; o <= a.outerSize(); ++o)
+    if (a.outerIndexPtr()[o] != b.outerIndexPtr()[o]) return false;
+  for (Eigen::Index e = 0; e < a.nonZeros(); ++e)
+    if (a.innerIndexPtr()[e] != b.innerIndexPtr()[e] || a.valuePtr()[e] != b.valuePtr()[e]) return false;
+  return true;
 }
 
 // A closed octahedron (vertices on the axes, outward faces): #V 6 by 3, #F 8 by 3.

@@ -6,6 +6,8 @@
 #include "animanifold/threads.hpp"
 
 #include <Eigen/Dense>
+#include "../fixtures.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -28,15 +30,6 @@ RowSparse random_rows(int rows, int columns, unsigned seed) {
   A.setFromTriplets(entries.begin(), entries.end());
   A.makeCompressed();
   return A;
-}
-
-bool same_bits(const ColumnSparse& a, const ColumnSparse& b) {
-  if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows() || a.cols() != b.cols()) return false;
-  for (Eigen::Index j = 0; j <= a.cols(); ++j)
-    if (a.outerIndexPtr()[j] != b.outerIndexPtr()[j]) return false;
-  for (Eigen::Index e = 0; e < a.nonZeros(); ++e)
-    if (a.innerIndexPtr()[e] != b.innerIndexPtr()[e] || a.valuePtr()[e] != b.valuePtr()[e]) return false;
-  return true;
 }
 
 }  // namespace
@@ -77,9 +70,9 @@ TEST(NormalEquations, TheNormalMatrixIsTheLowerTriangleOfAtAOnAnyThreadCount) {
   const ColumnSparse one = normal_matrix_lower(free_t);
   for (int count : {2, 3}) {
     set_thread_count(count);
-    EXPECT_TRUE(same_bits(normal_matrix_lower(free_t), one)) << count << " threads";
+    EXPECT_TRUE(fixtures::same_sparse_bits(normal_matrix_lower(free_t), one)) << count << " threads";
   }
   set_thread_count(before);
   const ColumnSparse reference = ColumnSparse(free_t * free_t.transpose()).triangularView<Eigen::Lower>();
-  EXPECT_TRUE(same_bits(one, reference)) << "not Eigen's product, bit for bit";
+  EXPECT_TRUE(fixtures::same_sparse_bits(one, reference)) << "not Eigen's product, bit for bit";
 }

@@ -6,6 +6,8 @@
 
 #include "animanifold/threads.hpp"
 
+#include "../fixtures.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -14,15 +16,6 @@
 using namespace animanifold;
 
 namespace {
-
-bool same_bits(const RowSparseMatrix& a, const RowSparseMatrix& b) {
-  if (a.nonZeros() != b.nonZeros() || a.rows() != b.rows() || a.cols() != b.cols()) return false;
-  for (Eigen::Index r = 0; r <= a.rows(); ++r)
-    if (a.outerIndexPtr()[r] != b.outerIndexPtr()[r]) return false;
-  for (Eigen::Index e = 0; e < a.nonZeros(); ++e)
-    if (a.innerIndexPtr()[e] != b.innerIndexPtr()[e] || a.valuePtr()[e] != b.valuePtr()[e]) return false;
-  return true;
-}
 
 // Row r's entries: columns (7 r + 3 e) mod columns, some repeated within the row.
 void entries_of(Index r, Index columns, int width, Index* column, double* value) {
@@ -58,7 +51,7 @@ TEST(SparseRows, RowsOfAWidthAreWhatSetFromTripletsGives) {
       entries_of(r, columns, width, c, v);
     });
     EXPECT_TRUE(built.isCompressed());
-    EXPECT_TRUE(same_bits(built, expected)) << count << " threads";
+    EXPECT_TRUE(fixtures::same_sparse_bits(built, expected)) << count << " threads";
   }
   set_thread_count(before);
   EXPECT_EQ(expected.nonZeros(), rows * 4);
@@ -70,7 +63,7 @@ TEST(SparseRows, TheProductByRowBlocksIsEigensProductOnAnyThreadCount) {
   const int before = thread_count();
   for (int count : {1, 2, 3}) {
     set_thread_count(count);
-    EXPECT_TRUE(same_bits(product_by_row_blocks(A, B), expected)) << count << " threads";
+    EXPECT_TRUE(fixtures::same_sparse_bits(product_by_row_blocks(A, B), expected)) << count << " threads";
   }
   set_thread_count(before);
 }
