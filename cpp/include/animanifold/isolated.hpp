@@ -42,7 +42,8 @@ struct IsolatedTimeout : IsolatedFailure {
 // signal (an assertion's SIGABRT, a SIGSEGV), exiting on its own, or by an
 // exception thrown in `work` (its message is carried over). The child shares
 // nothing with the caller afterwards: what `work` changes in memory is lost,
-// only the bytes come back. Where fork() fails, and in a ThreadSanitizer
+// only the bytes come back. The child's own parallel loops run on one
+// thread (the parent's OpenMP threads are not copied into it). Where fork() fails, and in a ThreadSanitizer
 // build (whose forked children can deadlock), `work` runs in this process.
 // `timeout_seconds` > 0: a child that has not finished by then is killed and
 // IsolatedTimeout (an IsolatedFailure) says so (TetGen 1.5 can loop for ever recovering the facets
