@@ -214,7 +214,13 @@ bool count(bool tiled) {
 
 }  // namespace
 
-OneBlasThread::OneBlasThread() : before_(omp_get_max_threads()) { omp_set_num_threads(1); }
+OneBlasThread::OneBlasThread() : before_(omp_get_max_threads()) {
+  // thread_count() takes OpenMP's default when first asked: ask it before
+  // this thread's setting drops to 1, or a first ask below (a tile loop, a
+  // team held by openmp_team_cap) would keep 1 for the whole process.
+  thread_count();
+  omp_set_num_threads(1);
+}
 OneBlasThread::~OneBlasThread() { omp_set_num_threads(before_); }
 
 TiledBlasCalls tiled_blas_calls() {
