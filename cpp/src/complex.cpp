@@ -85,7 +85,8 @@ Index smallest_facet_vertex(const SimplexMatrix& S, Index s, int i) {
 // which keeps simplex order) and each bucket, a few dozen records, is sorted
 // by key on all threads. The buckets and their contents do not depend on the
 // thread count, so neither does the result. Indices spread far wider than
-// the records (never a valid complex's) fall back to one sort.
+// the records (a few simplices of a large mesh) fall back to one sort, which
+// needs no counter per index.
 std::vector<FacetRecord> sorted_facet_records(const SimplexMatrix& S) {
   const int k = static_cast<int>(S.cols());
   if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");

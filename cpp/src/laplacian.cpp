@@ -231,8 +231,8 @@ DualOperator dual_operator(const SimplexMatrix& S, Index vertex_count) {
   }
   const double facet_weight = double(n + 2) / (double(n) * (n + 1));
   const double opposite_weight = -1.0 / (n + 1);
-  // A simplex's row: its centroid; a ghost's: the reflection of the simplex's
-  // opposite vertex through the facet's centroid.
+  // A simplex's row: its centroid; a ghost's: the reflection of the
+  // simplex's centroid through the centroid of its boundary facet.
   dual.D = rows_of_width(simplex_count + static_cast<Index>(ghosts.size()), vertex_count, k,
                          [&](Index row, Index* columns, double* values) {
                            const bool ghost = row >= simplex_count;

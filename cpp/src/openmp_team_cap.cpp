@@ -3,6 +3,7 @@
 #include "animanifold/threads.hpp"
 
 #include <dlfcn.h>
+#include <omp.h>
 
 #include <atomic>
 #include <cstdio>
@@ -37,11 +38,12 @@ std::int64_t openmp_teams_capped() { return capped_count.load(std::memory_order_
 
 // libgomp's entry point for a parallel region (see openmp_team_cap.hpp).
 // num_threads 0 asks for the calling thread's default (omp_set_num_threads),
-// which the core already keeps at thread_count() or below.
+// which a thread the core never set keeps at OpenMP's own default.
 extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data,
                                                                      unsigned num_threads, unsigned flags) {
   const unsigned cap = static_cast<unsigned>(animanifold::thread_count());
-  if (num_threads > cap) {
+  const unsigned asked = num_threads != 0 ? num_threads : static_cast<unsigned>(omp_get_max_threads());
+  if (asked > cap) {
     num_threads = cap;
     animanifold::capped_count.fetch_add(1, std::memory_order_relaxed);
   }

@@ -63,6 +63,22 @@ TEST_F(OpenmpTeamCap, ATeamAskingForMoreThreadsGetsTheThreadCount) {
   }
 }
 
+TEST_F(OpenmpTeamCap, ATeamOfTheThreadsDefaultSizeIsHeldToo) {
+  set_thread_count(2);
+  const int setting = omp_get_max_threads();
+  omp_set_num_threads(4);  // as a thread the core never set could have it
+  const std::int64_t start = openmp_teams_capped();
+  int size = 0;
+#pragma omp parallel
+  {
+#pragma omp single
+    size = omp_get_num_threads();
+  }
+  omp_set_num_threads(setting);
+  EXPECT_EQ(size, 2);
+  EXPECT_EQ(openmp_teams_capped() - start, 1);
+}
+
 TEST_F(OpenmpTeamCap, ATeamWithinTheThreadCountIsLeftAsAsked) {
   set_thread_count(4);
   const std::int64_t start = openmp_teams_capped();
