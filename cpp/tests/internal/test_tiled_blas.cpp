@@ -109,31 +109,31 @@ TEST(TiledBlas, SyrkFillsTheLowerTriangleAndLeavesTheUpperAlone) {
   }
 }
 
+// dtrsm_ with the lower-triangular L (non-unit diagonal) on a copy of B, on 1
+// and on 2 threads (one tiled call each): the solution X.
+Eigen::MatrixXd triangular_solve(const char* side, const char* transa, const Eigen::MatrixXd& L, double alpha,
+                                 const Eigen::MatrixXd& B) {
+  const int rows = static_cast<int>(B.rows()), columns = static_cast<int>(B.cols()), n = static_cast<int>(L.rows());
+  return same_on_one_and_two_threads(
+      [&] {
+        Eigen::MatrixXd out = B;
+        dtrsm_(side, "L", transa, "N", &rows, &columns, &alpha, L.data(), &n, out.data(), &rows);
+        return out;
+      },
+      1);
+}
+
 TEST(TiledBlas, TrsmSolvesOnTheRightAndOnTheLeft) {
   const int n = 300;
   const Eigen::MatrixXd L = positive_definite(n, 6).llt().matrixL();
   const double alpha = 2;
   // X Lᵀ = alpha B, B tall (CHOLMOD's call): the rows are tiled.
-  const int rows = 1300;
-  const Eigen::MatrixXd B = random_matrix(rows, n, 7);
-  const Eigen::MatrixXd X = same_on_one_and_two_threads(
-      [&] {
-        Eigen::MatrixXd out = B;
-        dtrsm_("R", "L", "T", "N", &rows, &n, &alpha, L.data(), &n, out.data(), &rows);
-        return out;
-      },
-      1);
+  const Eigen::MatrixXd B = random_matrix(1300, n, 7);
+  const Eigen::MatrixXd X = triangular_solve("R", "T", L, alpha, B);
   EXPECT_LT((X * L.transpose() - alpha * B).cwiseAbs().maxCoeff(), 1e-10);
   // L X = alpha B, B wide: the columns are tiled.
-  const int columns = 1300;
-  const Eigen::MatrixXd W = random_matrix(n, columns, 8);
-  const Eigen::MatrixXd Y = same_on_one_and_two_threads(
-      [&] {
-        Eigen::MatrixXd out = W;
-        dtrsm_("L", "L", "N", "N", &n, &columns, &alpha, L.data(), &n, out.data(), &n);
-        return out;
-      },
-      1);
+  const Eigen::MatrixXd W = random_matrix(n, 1300, 8);
+  const Eigen::MatrixXd Y = triangular_solve("L", "N", L, alpha, W);
   EXPECT_LT((L * Y - alpha * W).cwiseAbs().maxCoeff(), 1e-10);
 }
 
@@ -151,13 +151,7 @@ TEST(TiledBlas, SolvesWithFewRightHandSidesRunByRowTiles) {
   const Eigen::MatrixXd B = random_matrix(m, n, 12);
   for (const char* transa : {"N", "T"})
     for (const double alpha : {1.0, 2.0}) {
-      const Eigen::MatrixXd X = same_on_one_and_two_threads(
-          [&] {
-            Eigen::MatrixXd out = B;
-            dtrsm_("L", "L", transa, "N", &m, &n, &alpha, L.data(), &m, out.data(), &m);
-            return out;
-          },
-          1);
+      const Eigen::MatrixXd X = triangular_solve("L", transa, L, alpha, B);
       const Eigen::MatrixXd opL = *transa == 'N' ? L : Eigen::MatrixXd(L.transpose());
       EXPECT_LT((opL * X - alpha * B).cwiseAbs().maxCoeff(), 1e-12) << transa << " alpha " << alpha;
     }
