@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace animanifold {
 
@@ -79,64 +80,110 @@ Index smallest_facet_vertex(const SimplexMatrix& S, Index s, int i) {
   return smallest;
 }
 
-// Every facet's record, sorted by key. A comparison sort of all records
-// (tens of millions for a morph's manifold) is slow and serial; instead the
-// records are placed in buckets by their smallest vertex (a counting sort,
-// which keeps simplex order) and each bucket, a few dozen records, is sorted
+// Orders the records of one bucket (equal smallest vertex, key[0]) by the
+// rest of their keys: unrolled, it is much cheaper than std::array's
+// three-way comparison, and the buckets' sorts are most of the work.
+bool by_later_vertices(const FacetRecord& x, const FacetRecord& y) {
+  if (x.key[1] != y.key[1]) return x.key[1] < y.key[1];
+  if (x.key[2] != y.key[2]) return x.key[2] < y.key[2];
+  return x.key[3] < y.key[3];
+}
+
+// Every facet's record, sorted by key, in buckets: records with equal keys
+// share a bucket, and `start` holds each bucket's first record (and the
+// count last).
+struct SortedFacets {
+  std::unique_ptr<FacetRecord[]> records;  // default-initialised: filled below, never zeroed
+  std::vector<size_t> start;
+  size_t size() const { return start.back(); }
+};
+
+// One comparison sort of all records, for indices spread far wider than the
+// records (a few simplices of a large mesh): one bucket.
+SortedFacets sorted_in_one_bucket(const SimplexMatrix& S) {
+  const int k = static_cast<int>(S.cols());
+  const size_t count = static_cast<size_t>(S.rows()) * k;
+  SortedFacets out{std::unique_ptr<FacetRecord[]>(new FacetRecord[count]), {0, count}};
+  for (Index s = 0; s < S.rows(); ++s)
+    for (int i = 0; i < k; ++i) out.records[static_cast<size_t>(s) * k + i] = facet_record(S, s, i);
+  std::sort(out.records.get(), out.records.get() + count, [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; });
+  return out;
+}
+
+// A comparison sort of all records (tens of millions for a morph's manifold)
+// is slow and serial; instead each thread counts, then places, the records
+// of its run of simplices into buckets by their smallest vertex (a counting
+// sort, which keeps simplex order: a bucket holds the first thread's records,
+// then the second's), and the buckets, a few dozen records each, are sorted
 // by key on all threads. The buckets and their contents do not depend on the
 // thread count, so neither does the result. Indices spread far wider than
-// the records (a few simplices of a large mesh) fall back to one sort, which
-// needs no counter per index.
-std::vector<FacetRecord> sorted_facet_records(const SimplexMatrix& S) {
+// the records fall back to one sort, which needs no counter per index.
+SortedFacets sorted_facet_records(const SimplexMatrix& S) {
   const int k = static_cast<int>(S.cols());
   if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
   const size_t count = static_cast<size_t>(S.rows()) * k;
-  const auto by_key = [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; };
-  std::vector<FacetRecord> records(count);
   const Index lowest = S.size() ? S.minCoeff() : 0, highest = S.size() ? S.maxCoeff() : 0;
   const double spread = static_cast<double>(highest) - static_cast<double>(lowest) + 1;
-  if (spread > 2.0 * static_cast<double>(count) + 1024) {
-    for (Index s = 0; s < S.rows(); ++s)
-      for (int i = 0; i < k; ++i) records[static_cast<size_t>(s) * k + i] = facet_record(S, s, i);
-    std::sort(records.begin(), records.end(), by_key);
-    return records;
-  }
+  if (spread > 2.0 * static_cast<double>(count) + 1024) return sorted_in_one_bucket(S);
   const size_t buckets = static_cast<size_t>(spread);
-  std::vector<size_t> start(buckets + 1, 0);
-  for (Index s = 0; s < S.rows(); ++s)
-    for (int i = 0; i < k; ++i) ++start[static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest) + 1];
-  for (size_t b = 0; b < buckets; ++b) start[b + 1] += start[b];
-  std::vector<size_t> next(start.begin(), start.end() - 1);
-#pragma omp parallel num_threads(thread_count())
+  const int most = thread_count();
+  // counts[t * buckets + b]: thread t's records in bucket b; then where they
+  // go. 32 bits: the counters are hit at random, and half the bytes keep
+  // more of them in cache.
+  if (count >= std::numeric_limits<std::uint32_t>::max()) fail<InputError>("too many facets to sort: ", count);
+  std::vector<std::uint32_t> counts(static_cast<size_t>(most) * buckets, 0);
+  SortedFacets out{std::unique_ptr<FacetRecord[]>(new FacetRecord[count]), std::vector<size_t>(buckets + 1, 0)};
+  auto bucket_of = [&](Index s, int i) { return static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest); };
+#pragma omp parallel num_threads(most)
   {
-    // Each thread owns a run of buckets holding about its share of the
-    // records, and scans every simplex for the facets that go there.
-    const size_t team = static_cast<size_t>(omp_get_num_threads()), me = static_cast<size_t>(omp_get_thread_num());
-    const auto first_bucket = [&](size_t part) {
-      return static_cast<size_t>(std::lower_bound(start.begin(), start.end(), count * part / team) - start.begin());
-    };
-    const size_t low = me == 0 ? 0 : first_bucket(me), high = me + 1 == team ? buckets : first_bucket(me + 1);
-    for (Index s = 0; s < S.rows(); ++s)
-      for (int i = 0; i < k; ++i) {
-        const size_t bucket = static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest);
-        if (bucket >= low && bucket < high) records[next[bucket]++] = facet_record(S, s, i);
+    const Index team = omp_get_num_threads(), me = omp_get_thread_num();
+    const Index first = S.rows() * me / team, last = S.rows() * (me + 1) / team;
+    std::uint32_t* mine = counts.data() + static_cast<size_t>(me) * buckets;
+    for (Index s = first; s < last; ++s)
+      for (int i = 0; i < k; ++i) ++mine[bucket_of(s, i)];
+#pragma omp barrier
+#pragma omp single
+    {
+      size_t at = 0;
+      for (size_t b = 0; b < buckets; ++b) {
+        out.start[b] = at;
+        for (Index t = 0; t < team; ++t) {
+          const size_t here = counts[static_cast<size_t>(t) * buckets + b];
+          counts[static_cast<size_t>(t) * buckets + b] = static_cast<std::uint32_t>(at);
+          at += here;
+        }
       }
-    for (size_t b = low; b < high; ++b)
-      std::sort(records.begin() + static_cast<std::ptrdiff_t>(start[b]),
-                records.begin() + static_cast<std::ptrdiff_t>(start[b + 1]), by_key);
+      out.start[buckets] = at;
+    }
+    for (Index s = first; s < last; ++s)
+      for (int i = 0; i < k; ++i) out.records[mine[bucket_of(s, i)]++] = facet_record(S, s, i);
+#pragma omp barrier
+#pragma omp for schedule(static, 4096)
+    for (size_t b = 0; b < buckets; ++b)
+      std::sort(out.records.get() + out.start[b], out.records.get() + out.start[b + 1],
+                by_later_vertices);
   }
-  return records;
+  return out;
 }
 
-// Calls visit(first, last) for each run of records with equal keys.
+// Calls visit(thread, first, last) for each run of records with equal keys,
+// on all threads: each thread takes the runs of a range of buckets, in
+// order; `thread` numbers the ranges (0 .. thread_count() - 1).
 template <class Visit>
-void for_each_facet_group(const std::vector<FacetRecord>& records, Visit visit) {
-  size_t begin = 0;
-  while (begin < records.size()) {
-    size_t end = begin + 1;
-    while (end < records.size() && records[end].key == records[begin].key) ++end;
-    visit(begin, end);
-    begin = end;
+void for_each_facet_group(const SortedFacets& sorted, Visit visit) {
+  const FacetRecord* records = sorted.records.get();
+  const size_t buckets = sorted.start.size() - 1;
+  const int ranges = thread_count();
+#pragma omp parallel for schedule(static, 1) num_threads(ranges)
+  for (int range = 0; range < ranges; ++range) {
+    size_t begin = sorted.start[buckets * static_cast<size_t>(range) / ranges];
+    const size_t end_of_range = sorted.start[buckets * (static_cast<size_t>(range) + 1) / ranges];
+    while (begin < end_of_range) {
+      size_t end = begin + 1;
+      while (end < end_of_range && records[end].key == records[begin].key) ++end;
+      visit(range, begin, end);
+      begin = end;
+    }
   }
 }
 
@@ -147,6 +194,23 @@ bool has_repeated_vertex(const Index* s, int k) {
   return false;
 }
 
+// The facets in exactly one simplex, in simplex order, oriented as facets of
+// their simplex.
+SimplexMatrix boundary_of(const SimplexMatrix& S, const SortedFacets& sorted) {
+  const int k = static_cast<int>(S.cols());
+  std::vector<std::vector<std::pair<Index, int>>> found(static_cast<size_t>(thread_count()));
+  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
+    if (end - begin == 1) found[range].emplace_back(sorted.records[begin].simplex, sorted.records[begin].index);
+  });
+  std::vector<std::pair<Index, int>> boundary;
+  for (const auto& part : found) boundary.insert(boundary.end(), part.begin(), part.end());
+  std::sort(boundary.begin(), boundary.end());
+  SimplexMatrix B(static_cast<Index>(boundary.size()), k - 1);
+  for (size_t r = 0; r < boundary.size(); ++r)
+    facet(S.row(boundary[r].first).data(), k, boundary[r].second, B.row(static_cast<Index>(r)).data());
+  return B;
+}
+
 }  // namespace
 
 FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
@@ -154,13 +218,13 @@ FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
   FacetAdjacency adjacency;
   adjacency.neighbour = SimplexMatrix::Constant(S.rows(), k, -1);
   adjacency.opposite = SimplexMatrix::Constant(S.rows(), k, -1);
-  const auto records = sorted_facet_records(S);
-  for_each_facet_group(records, [&](size_t begin, size_t end) {
-    if (end - begin > 2) {
-      const auto& r = records[begin];
-      fail<InputError>("facet (", r.key[0], ", ", r.key[1], k > 3 ? ", ..." : "", ") of simplex ", r.simplex,
-                       " is shared by ", end - begin, " simplices: the complex is not a manifold");
-    }
+  const SortedFacets sorted = sorted_facet_records(S);
+  const FacetRecord* records = sorted.records.get();
+  // Per range, the first facet in more than two simplices: the first of all
+  // is reported, the same on any thread count.
+  std::vector<std::pair<size_t, size_t>> crowded(static_cast<size_t>(thread_count()), {SIZE_MAX, 0});
+  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
+    if (end - begin > 2 && crowded[range].first == SIZE_MAX) crowded[range] = {begin, end - begin};
     if (end - begin == 2) {
       const auto& a = records[begin];
       const auto& b = records[begin + 1];
@@ -170,38 +234,41 @@ FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
       adjacency.opposite(b.simplex, b.index) = a.index;
     }
   });
+  const auto first = *std::min_element(crowded.begin(), crowded.end());
+  if (first.first != SIZE_MAX) {
+    const auto& r = records[first.first];
+    fail<InputError>("facet (", r.key[0], ", ", r.key[1], k > 3 ? ", ..." : "", ") of simplex ", r.simplex,
+                     " is shared by ", first.second, " simplices: the complex is not a manifold");
+  }
   return adjacency;
 }
 
-SimplexMatrix boundary_facets(const SimplexMatrix& S) {
-  const int k = static_cast<int>(S.cols());
-  const auto records = sorted_facet_records(S);
-  std::vector<std::pair<Index, int>> boundary;
-  for_each_facet_group(records, [&](size_t begin, size_t end) {
-    if (end - begin == 1) boundary.emplace_back(records[begin].simplex, records[begin].index);
-  });
-  std::sort(boundary.begin(), boundary.end());
-  SimplexMatrix B(static_cast<Index>(boundary.size()), k - 1);
-  for (size_t r = 0; r < boundary.size(); ++r)
-    facet(S.row(boundary[r].first).data(), k, boundary[r].second, B.row(static_cast<Index>(r)).data());
-  return B;
-}
+SimplexMatrix boundary_facets(const SimplexMatrix& S) { return boundary_of(S, sorted_facet_records(S)); }
 
-ManifoldReport check_manifold(const SimplexMatrix& S) {
+ManifoldReport check_manifold(const SimplexMatrix& S, SimplexMatrix* boundary) {
   ManifoldReport report;
   const int k = static_cast<int>(S.cols());
-  for (Index s = 0; s < S.rows(); ++s)
-    if (has_repeated_vertex(S.row(s).data(), k)) ++report.degenerate_simplices;
-  const auto records = sorted_facet_records(S);
-  for_each_facet_group(records, [&](size_t begin, size_t end) {
+  std::int64_t degenerate = 0;
+#pragma omp parallel for schedule(static) reduction(+ : degenerate) num_threads(thread_count())
+  for (Index s = 0; s < S.rows(); ++s) degenerate += has_repeated_vertex(S.row(s).data(), k);
+  report.degenerate_simplices = degenerate;
+  const SortedFacets sorted = sorted_facet_records(S);
+  std::vector<ManifoldReport> part(static_cast<size_t>(thread_count()));
+  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
+    ManifoldReport& r = part[range];
     const size_t count = end - begin;
-    if (count == 1) ++report.boundary_facets;
-    else if (count > 2) ++report.nonmanifold_facets;
+    if (count == 1) ++r.boundary_facets;
+    else if (count > 2) ++r.nonmanifold_facets;
     else {
-      ++report.interior_facets;
-      if (records[begin].parity == records[begin + 1].parity) ++report.misoriented_facets;
+      ++r.interior_facets;
+      if (sorted.records[begin].parity == sorted.records[begin + 1].parity) ++r.misoriented_facets;
     }
   });
+  for (const ManifoldReport& r : part) {
+    report.boundary_facets += r.boundary_facets, report.nonmanifold_facets += r.nonmanifold_facets;
+    report.interior_facets += r.interior_facets, report.misoriented_facets += r.misoriented_facets;
+  }
+  if (boundary) *boundary = boundary_of(S, sorted);
   return report;
 }
 

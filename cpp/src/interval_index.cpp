@@ -10,6 +10,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <parallel/algorithm>
 
 namespace animanifold {
 
@@ -57,14 +58,20 @@ IntervalIndex::IntervalIndex(const PointMatrix& V, const SimplexMatrix& S, int a
   by_low.resize(S.rows()), high.resize(S.rows());
   lowest_ = std::numeric_limits<double>::infinity();
   highest_ = -lowest_;
+  double lowest = lowest_, highest = highest_;
+#pragma omp parallel for schedule(static) reduction(min : lowest) reduction(max : highest) num_threads(thread_count())
   for (Index s = 0; s < S.rows(); ++s) {
     const auto [low, hi] = extent(V, S, s, axis);
     by_low[s] = {low, s};
     high[s] = float_above(hi);
-    lowest_ = std::min(lowest_, low);
-    highest_ = std::max(highest_, hi);
+    lowest = std::min(lowest, low);
+    highest = std::max(highest, hi);
   }
-  if (!std::is_sorted(by_low.begin(), by_low.end())) std::sort(by_low.begin(), by_low.end());
+  lowest_ = lowest, highest_ = highest;
+  // The keys are distinct (the simplex breaks ties), so the sorted order,
+  // and the tree, are the same on any thread count.
+  if (!std::is_sorted(by_low.begin(), by_low.end()))
+    __gnu_parallel::sort(by_low.begin(), by_low.end(), __gnu_parallel::multiway_mergesort_tag(thread_count()));
   nodes_.resize(S.rows());
   for (size_t i = 0; i < by_low.size(); ++i) nodes_[i] = {float_below(by_low[i].first), high[by_low[i].second],
                                                           by_low[i].second};

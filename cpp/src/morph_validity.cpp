@@ -37,6 +37,29 @@ struct FrameTopology {
   }
 };
 
+// The number of distinct edges of the triangles F over #V vertices: each
+// edge is counted at its smaller vertex (a counting sort by it), and each
+// vertex's few edges are told apart by their other end.
+Index distinct_edges(const SimplexMatrix& F, Index vertex_count) {
+  std::vector<Index> start(vertex_count + 1, 0);
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++start[std::min(F(f, k), F(f, (k + 1) % 3)) + 1];
+  for (Index v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
+  std::vector<Index> next(start.begin(), start.end() - 1), other(static_cast<size_t>(start.back()));
+  for (Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Index a = F(f, k), b = F(f, (k + 1) % 3);
+      other[next[std::min(a, b)]++] = std::max(a, b);
+    }
+  Index edges = 0;
+  for (Index v = 0; v < vertex_count; ++v) {
+    const auto first = other.begin() + start[v], last = other.begin() + start[v + 1];
+    std::sort(first, last);
+    edges += std::unique(first, last) - first;
+  }
+  return edges;
+}
+
 // Euler characteristic, outer shells (pieces) and cavities (shells whose
 // signed volume is negative: their faces point into a bubble) of a closed
 // triangle mesh.
@@ -49,125 +72,180 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::vector<std::pair<Index, Index>> edges;
   std::vector<bool> used(V.rows(), false);
   for (Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
-      const Index a = F(f, k), b = F(f, (k + 1) % 3);
-      used[a] = true;
-      edges.emplace_back(std::min(a, b), std::max(a, b));
-      parent[find(a)] = find(b);
+      used[F(f, k)] = true;
+      parent[find(F(f, k))] = find(F(f, (k + 1) % 3));
     }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   const Index vertices = static_cast<Index>(std::count(used.begin(), used.end(), true));
-  out.euler = vertices - static_cast<Index>(edges.size()) + static_cast<Index>(F.rows());
-  std::map<Index, double> volume;
+  out.euler = vertices - distinct_edges(F, V.rows()) + static_cast<Index>(F.rows());
+  std::vector<double> volume(V.rows(), 0.0);
+  std::vector<bool> shell(V.rows(), false);
   for (Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    volume[find(F(f, 0))] += a.dot(b.cross(c)) / 6.0;
+    const Index root = find(F(f, 0));
+    volume[root] += a.dot(b.cross(c)) / 6.0;
+    shell[root] = true;
   }
-  for (const auto& [root, v] : volume) {
+  for (Index root = 0; root < V.rows(); ++root) {
+    if (!shell[root]) continue;
+    const double v = volume[root];
     (v < 0 ? out.cavities : out.pieces)++;
     (v < 0 ? out.cavity : out.solid) += std::abs(v);
   }
   return out;
 }
 
-}  // namespace
+// The checks of one manifold's frames (check_frames).
+class FrameChecks {
+ public:
+  FrameChecks(const Complex& manifold, const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
+              const SimplexMatrix& FT, MorphReport& report)
+      : report_(report), slicer_(std::make_shared<const Complex>(manifold)), axis_(manifold.ambient_dimension() - 1) {
+    const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
+    least_euler_ = std::min(source.euler, target.euler), most_euler_ = std::max(source.euler, target.euler);
+    most_pieces_ = std::max(source.pieces, target.pieces);
+    most_cavities_ = std::max(source.cavities, target.cavities);
+    tolerance_ = kCrossingTolerance * std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
+                                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
+    slicer_.index(axis_);  // built once here: the frames below only read it, from several threads
+  }
 
-void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
-                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
-                  const std::function<void()>& alongside) {
-  const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
-  const Index least_euler = std::min(source.euler, target.euler), most_euler = std::max(source.euler, target.euler);
-  const Index most_pieces = std::max(source.pieces, target.pieces);
-  const Index most_cavities = std::max(source.cavities, target.cavities);
-  const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
-                               (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
-  Slicer slicer(std::make_shared<const Complex>(manifold));
-  const int axis = manifold.ambient_dimension() - 1;
-  slicer.index(axis);  // built once here: the frames below only read it, from several threads
+  // Examines the frames at `times` on all cores, each into its own slot,
+  // and records them in time order; the first `crossing_count` are checked
+  // for crossings too. The `alongside` work items are more items of the
+  // loop, taken first; what one throws is thrown once the frames are done.
+  void check(const std::vector<double>& times, long crossing_count,
+             const std::vector<std::function<void()>>& alongside = {}) {
+    std::vector<Frame> frames(times.size());
+    std::vector<std::exception_ptr> failure(alongside.size());  // each item writes its own
+    const long first = -static_cast<long>(alongside.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
+    for (long i = first; i < static_cast<long>(times.size()); ++i) {
+      if (i >= 0) {
+        frames[i] = examine(times[i], i < crossing_count);
+        continue;
+      }
+      try {
+        alongside[static_cast<size_t>(i - first)]();
+      } catch (...) {
+        failure[static_cast<size_t>(i - first)] = std::current_exception();
+      }
+    }
+    for (const std::exception_ptr& e : failure)
+      if (e) std::rethrow_exception(e);
+    for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
+    report_.crossing_frames_checked += std::min(crossing_count, static_cast<long>(times.size()));
+  }
+
+  // Checks the frames at `times`, already examined, for crossings only.
+  void check_crossings(const std::vector<double>& times) {
+    std::vector<char> crossing(times.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
+    for (long i = 0; i < static_cast<long>(times.size()); ++i) crossing[i] = crosses(slicer_.slice(axis_, times[i]));
+    for (size_t i = 0; i < times.size(); ++i)
+      if (crossing[i]) report_.crossing_frames.push_back(times[i]);
+    report_.crossing_frames_checked += static_cast<Index>(times.size());
+  }
+
+  // Towards every change of topology between neighbouring checked frames,
+  // in time order: up to kBisections rounds, kBisectionFrames frames.
+  void bisect_changes() {
+    int bisection_frames = 0;
+    for (int round = 0; round < kBisections && !report_.frames_capped; ++round) {
+      std::vector<double> middles;
+      for (auto it = checked_.begin(); std::next(it) != checked_.end(); ++it)
+        if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
+      if (middles.empty()) break;
+      if (bisection_frames + static_cast<int>(middles.size()) > kBisectionFrames) {
+        middles.resize(static_cast<size_t>(kBisectionFrames - bisection_frames));
+        report_.frames_capped = true;
+      }
+      bisection_frames += static_cast<int>(middles.size());
+      check(middles, 0);
+    }
+  }
+
+  // Counts the changes of topology and puts the report's lists in time order.
+  void finish() {
+    for (auto it = checked_.begin(); it != checked_.end() && std::next(it) != checked_.end(); ++it)
+      if (it->second != std::next(it)->second) ++report_.topology_changes;
+    for (auto* times : {&report_.noise_frames, &report_.crossing_frames}) std::sort(times->begin(), times->end());
+    std::sort(report_.bubble_frames.begin(), report_.bubble_frames.end());
+  }
+
+ private:
   struct Frame {
     FrameTopology topology;
     bool crossing = false;
   };
-  auto examine = [&](double t, bool look_for_crossings) {
-    Frame out;
-    const Slice frame = slicer.slice(axis, t);
-    out.topology = topology_of(frame.vertices, frame.faces);
+
+  bool crosses(const Slice& frame) const {
     try {
-      out.crossing =
-          look_for_crossings && !self_intersections(frame.vertices, frame.faces, 1, kCrossingTolerance * size).empty();
+      return !self_intersections(frame.vertices, frame.faces, 1, tolerance_).empty();
     } catch (const std::exception&) {
-      out.crossing = true;  // not even a closed manifold there
+      return true;  // not even a closed manifold there
     }
+  }
+
+  Frame examine(double t, bool look_for_crossings) {
+    Frame out;
+    const Slice frame = slicer_.slice(axis_, t);
+    out.topology = topology_of(frame.vertices, frame.faces);
+    out.crossing = look_for_crossings && crosses(frame);
     return out;
-  };
-  std::map<double, FrameTopology> checked;
-  auto record = [&](double t, const Frame& frame) {
+  }
+
+  void record(double t, const Frame& frame) {
     const FrameTopology& topology = frame.topology;
-    checked[t] = topology;
-    ++report.frames_checked;
-    if (topology.euler < least_euler || topology.euler > most_euler || topology.pieces > most_pieces)
-      report.noise_frames.push_back(t);
-    if (topology.cavities > most_cavities) {
-      report.bubble_frames.emplace_back(t, topology.cavities - most_cavities);
-      report.largest_bubble_fraction =
-          std::max(report.largest_bubble_fraction, topology.cavity / std::max(topology.solid, 1e-300));
+    checked_[t] = topology;
+    ++report_.frames_checked;
+    if (topology.euler < least_euler_ || topology.euler > most_euler_ || topology.pieces > most_pieces_)
+      report_.noise_frames.push_back(t);
+    if (topology.cavities > most_cavities_) {
+      report_.bubble_frames.emplace_back(t, topology.cavities - most_cavities_);
+      report_.largest_bubble_fraction =
+          std::max(report_.largest_bubble_fraction, topology.cavity / std::max(topology.solid, 1e-300));
     }
-    if (frame.crossing) report.crossing_frames.push_back(t);
-  };
-  // Frames are independent: examined on all cores, each into its own slot,
-  // recorded in time order.
-  // `work`, when given, is one more item of the loop, taken first.
-  auto check_all = [&](const std::vector<double>& times, bool look_for_crossings, const std::function<void()>& work) {
-    std::vector<Frame> frames(times.size());
-    std::exception_ptr failure;  // only the work's item writes it
-    const long first = work ? -1 : 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-    for (long i = first; i < static_cast<long>(times.size()); ++i) {
-      if (i >= 0) {
-        frames[i] = examine(times[i], look_for_crossings);
-        continue;
-      }
-      try {
-        work();
-      } catch (...) {
-        failure = std::current_exception();
-      }
-    }
-    if (failure) std::rethrow_exception(failure);
-    for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
-  };
-  // Coarse to fine (the middle, the quarters, ...), so the costly frames
-  // come first to the cores.
+    if (frame.crossing) report_.crossing_frames.push_back(t);
+  }
+
+  MorphReport& report_;
+  Slicer slicer_;
+  int axis_;
+  Index least_euler_ = 0, most_euler_ = 0, most_pieces_ = 0, most_cavities_ = 0;
+  double tolerance_ = 0;
+  std::map<double, FrameTopology> checked_;
+};
+
+// kSpreadFrames times evenly inside [t0, t1], coarse to fine (the middle,
+// the quarters, ...): the frames checked for crossings, and the costly
+// frames first to the cores.
+std::vector<double> spread_times(double t0, double t1) {
   std::vector<int> order(kSpreadFrames);
   std::iota(order.begin(), order.end(), 1);
-  auto coarseness = [](int i) { return i == 0 ? 32 : __builtin_ctz(static_cast<unsigned>(i)); };
+  auto coarseness = [](int i) { return __builtin_ctz(static_cast<unsigned>(i)); };
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
-  std::vector<double> spread;
-  for (const int i : order) spread.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
-  check_all(spread, true, alongside);
-  // Towards every change of topology between neighbouring checked frames,
-  // in time order, up to kBisectionFrames in all.
-  int bisection_frames = 0;
-  for (int round = 0; round < kBisections && !report.frames_capped; ++round) {
-    std::vector<double> middles;
-    for (auto it = checked.begin(); std::next(it) != checked.end(); ++it)
-      if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
-    if (middles.empty()) break;
-    if (bisection_frames + static_cast<int>(middles.size()) > kBisectionFrames) {
-      middles.resize(static_cast<size_t>(kBisectionFrames - bisection_frames));
-      report.frames_capped = true;
-    }
-    bisection_frames += static_cast<int>(middles.size());
-    check_all(middles, false, {});
-  }
-  for (auto it = checked.begin(); it != checked.end() && std::next(it) != checked.end(); ++it)
-    if (it->second != std::next(it)->second) ++report.topology_changes;
-  for (auto* times : {&report.noise_frames, &report.crossing_frames}) std::sort(times->begin(), times->end());
-  std::sort(report.bubble_frames.begin(), report.bubble_frames.end());
+  std::vector<double> times;
+  for (const int i : order) times.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
+  return times;
+}
+
+}  // namespace
+
+void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
+                  const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
+                  const std::vector<std::function<void()>>& alongside, int crossing_frames,
+                  const std::function<bool()>& check_the_rest) {
+  FrameChecks checks(manifold, VS, FS, VT, FT, report);
+  const std::vector<double> spread = spread_times(t0, t1);
+  const long crossing_count = std::clamp(crossing_frames, 0, kSpreadFrames);
+  checks.check(spread, crossing_count, alongside);
+  if (crossing_count < kSpreadFrames && check_the_rest && check_the_rest())
+    checks.check_crossings(std::vector<double>(spread.begin() + crossing_count, spread.end()));
+  checks.bisect_changes();
+  checks.finish();
 }
 
 }  // namespace animanifold

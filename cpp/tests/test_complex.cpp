@@ -124,6 +124,9 @@ TEST(Complex, FacetChecksOfAGridAreRightAndTheSameOnAnyThreadCount) {
     EXPECT_EQ(adjacency.neighbour, adjacency_one.neighbour);
     EXPECT_EQ(adjacency.opposite, adjacency_one.opposite);
     EXPECT_EQ(boundary_facets(S), boundary_one);
+    SimplexMatrix from_the_check;  // the same boundary from check_manifold's own pass
+    check_manifold(S, &from_the_check);
+    EXPECT_EQ(from_the_check, boundary_one);
   }
   set_thread_count(before);
   EXPECT_TRUE(one.is_oriented_manifold());
@@ -156,4 +159,26 @@ TEST(Complex, FacetChecksDoNotDependOnHowWidelyTheIndicesSpread) {
   for (Index r = 0; r < boundary.rows(); ++r)
     for (int c = 0; c < 3; ++c) boundary(r, c) = (boundary(r, c) - 5) / 400000000;
   EXPECT_EQ(boundary, boundary_facets(S));
+}
+
+TEST(Complex, AFacetInThreeSimplicesIsNamedOnAnyThreadCount) {
+  // Three tets on the triangle (0, 1, 2), and a manifold grid far away in
+  // the index range (the threads' ranges of buckets then differ).
+  SimplexMatrix S = kuhn_grid(3);
+  S.array() += 10;
+  SimplexMatrix crowded(S.rows() + 3, 4);
+  crowded << S, SimplexMatrix{{0, 1, 2, 3}, {1, 0, 2, 4}, {0, 1, 2, 5}};
+  const int before = thread_count();
+  for (int count : {1, 2, 3}) {
+    set_thread_count(count);
+    try {
+      facet_adjacency(crowded);
+      ADD_FAILURE() << "no error on " << count << " threads";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("facet (0, 1, ...)"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("is shared by 3 simplices"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(check_manifold(crowded).nonmanifold_facets, 1);
+  }
+  set_thread_count(before);
 }

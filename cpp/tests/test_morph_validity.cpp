@@ -38,7 +38,9 @@ Inputs growing_octahedron() {
 
 MorphReport frames_checked(const Inputs& in, const std::function<void()>& alongside = {}) {
   MorphReport report;
-  check_frames(in.morph.manifold, 0.0, 1.0, in.VS, in.FS, in.VT, in.FT, report, alongside);
+  std::vector<std::function<void()>> work;
+  if (alongside) work.push_back(alongside);
+  check_frames(in.morph.manifold, 0.0, 1.0, in.VS, in.FS, in.VT, in.FT, report, work);
   return report;
 }
 

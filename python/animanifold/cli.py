@@ -448,7 +448,19 @@ def _method_summary(method: str, report: dict) -> str:
         parts.append(f"{report['frames_checked']} frames checked{capped}, the topology changes "
                      f"{report['topology_changes']} times between them; topological noise at "
                      f"{len(report['noise_frames'])} of them")
+        parts.append(_crossing_summary(report))
     return "; ".join(parts)
+
+
+def _crossing_summary(report: dict) -> str:
+    """How the frames were checked for crossings: certified for every time (the field method's
+    embedded space-time triangulation), or on some frames only."""
+    checked = report.get("crossing_frames_checked", 0)
+    if report.get("crossings_certified"):
+        return f"no frame at any time can cross itself (space-time triangulation certified; {checked} frames confirm it)"
+    failure = report.get("certificate_failure")
+    why = f" (not certified: {failure})" if failure else ""
+    return f"crossings checked on {checked} frames{why}"
 
 
 def one_line(error: BaseException) -> str:

@@ -92,7 +92,8 @@ SimplexMatrix boundary_facets(const SimplexMatrix& S);
 
 // check_manifold:
 // Inputs:
-//   S  #S by k simplices
+//   S         #S by k simplices
+//   boundary  optional: receives boundary_facets(S), from the same pass
 // Outputs:
 //   ManifoldReport: facet counts by kind, misoriented and degenerate simplices
 // Throws: nothing (what is wrong is counted, not thrown)
@@ -111,7 +112,7 @@ struct ManifoldReport {
     return nonmanifold_facets == 0 && misoriented_facets == 0 && degenerate_simplices == 0;
   }
 };
-ManifoldReport check_manifold(const SimplexMatrix& S);
+ManifoldReport check_manifold(const SimplexMatrix& S, SimplexMatrix* boundary = nullptr);
 
 // Inputs:
 //   V  #V by D points
