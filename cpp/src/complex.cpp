@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 
 namespace animanifold {
 
@@ -72,117 +71,120 @@ FacetRecord facet_record(const SimplexMatrix& S, Index s, int i) {
   return r;
 }
 
-// The smallest vertex of facet i of simplex s (its key's first entry).
-Index smallest_facet_vertex(const SimplexMatrix& S, Index s, int i) {
-  Index smallest = std::numeric_limits<Index>::max();
-  for (int c = 0; c < S.cols(); ++c)
-    if (c != i) smallest = std::min(smallest, S(s, c));
-  return smallest;
-}
-
-// Orders the records of one bucket (equal smallest vertex, key[0]) by the
-// rest of their keys: unrolled, it is much cheaper than std::array's
-// three-way comparison, and the buckets' sorts are most of the work.
-bool by_later_vertices(const FacetRecord& x, const FacetRecord& y) {
+// Orders records by key. Within one bucket (equal smallest vertex, key[0])
+// only the rest differ; unrolled, this is much cheaper than std::array's
+// three-way comparison, and the buckets' sorts are much of the work.
+bool by_key(const FacetRecord& x, const FacetRecord& y) {
+  if (x.key[0] != y.key[0]) return x.key[0] < y.key[0];
   if (x.key[1] != y.key[1]) return x.key[1] < y.key[1];
   if (x.key[2] != y.key[2]) return x.key[2] < y.key[2];
   return x.key[3] < y.key[3];
 }
 
-// Every facet's record, sorted by key, in buckets: records with equal keys
-// share a bucket, and `start` holds each bucket's first record (and the
-// count last).
-struct SortedFacets {
-  std::unique_ptr<FacetRecord[]> records;  // default-initialised: filled below, never zeroed
-  std::vector<size_t> start;
-  size_t size() const { return start.back(); }
-};
-
-// One comparison sort of all records, for indices spread far wider than the
-// records (a few simplices of a large mesh): one bucket.
-SortedFacets sorted_in_one_bucket(const SimplexMatrix& S) {
-  const int k = static_cast<int>(S.cols());
-  const size_t count = static_cast<size_t>(S.rows()) * k;
-  SortedFacets out{std::unique_ptr<FacetRecord[]>(new FacetRecord[count]), {0, count}};
-  for (Index s = 0; s < S.rows(); ++s)
-    for (int i = 0; i < k; ++i) out.records[static_cast<size_t>(s) * k + i] = facet_record(S, s, i);
-  std::sort(out.records.get(), out.records.get() + count, [](const FacetRecord& a, const FacetRecord& b) { return a.key < b.key; });
-  return out;
+// Calls visit(range, group, count) for each run of `count` records with
+// equal keys, `group` its first, in key order within each range.
+template <class Visit>
+void visit_groups(int range, const std::vector<FacetRecord>& sorted, Visit& visit) {
+  size_t begin = 0;
+  while (begin < sorted.size()) {
+    size_t end = begin + 1;
+    while (end < sorted.size() && sorted[end].key == sorted[begin].key) ++end;
+    visit(range, sorted.data() + begin, end - begin);
+    begin = end;
+  }
 }
 
-// A comparison sort of all records (tens of millions for a morph's manifold)
-// is slow and serial; instead each thread counts, then places, the records
-// of its run of simplices into buckets by their smallest vertex (a counting
-// sort, which keeps simplex order: a bucket holds the first thread's records,
-// then the second's), and the buckets, a few dozen records each, are sorted
-// by key on all threads. The buckets and their contents do not depend on the
-// thread count, so neither does the result. Indices spread far wider than
-// the records fall back to one sort, which needs no counter per index.
-SortedFacets sorted_facet_records(const SimplexMatrix& S) {
-  const int k = static_cast<int>(S.cols());
-  if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
-  const size_t count = static_cast<size_t>(S.rows()) * k;
-  const Index lowest = S.size() ? S.minCoeff() : 0, highest = S.size() ? S.maxCoeff() : 0;
-  const double spread = static_cast<double>(highest) - static_cast<double>(lowest) + 1;
-  if (spread > 2.0 * static_cast<double>(count) + 1024) return sorted_in_one_bucket(S);
-  const size_t buckets = static_cast<size_t>(spread);
-  const int most = thread_count();
-  // counts[t * buckets + b]: thread t's records in bucket b; then where they
-  // go. 32 bits: the counters are hit at random, and half the bytes keep
-  // more of them in cache.
-  if (count >= std::numeric_limits<std::uint32_t>::max()) fail<InputError>("too many facets to sort: ", count);
-  std::vector<std::uint32_t> counts(static_cast<size_t>(most) * buckets, 0);
-  SortedFacets out{std::unique_ptr<FacetRecord[]>(new FacetRecord[count]), std::vector<size_t>(buckets + 1, 0)};
-  auto bucket_of = [&](Index s, int i) { return static_cast<size_t>(smallest_facet_vertex(S, s, i) - lowest); };
-#pragma omp parallel num_threads(most)
-  {
-    const Index team = omp_get_num_threads(), me = omp_get_thread_num();
-    const Index first = S.rows() * me / team, last = S.rows() * (me + 1) / team;
-    std::uint32_t* mine = counts.data() + static_cast<size_t>(me) * buckets;
-    for (Index s = first; s < last; ++s)
-      for (int i = 0; i < k; ++i) ++mine[bucket_of(s, i)];
-#pragma omp barrier
-#pragma omp single
-    {
-      size_t at = 0;
-      for (size_t b = 0; b < buckets; ++b) {
-        out.start[b] = at;
-        for (Index t = 0; t < team; ++t) {
-          const size_t here = counts[static_cast<size_t>(t) * buckets + b];
-          counts[static_cast<size_t>(t) * buckets + b] = static_cast<std::uint32_t>(at);
-          at += here;
-        }
-      }
-      out.start[buckets] = at;
-    }
-    for (Index s = first; s < last; ++s)
-      for (int i = 0; i < k; ++i) out.records[mine[bucket_of(s, i)]++] = facet_record(S, s, i);
-#pragma omp barrier
-#pragma omp for schedule(static, 4096)
-    for (size_t b = 0; b < buckets; ++b)
-      std::sort(out.records.get() + out.start[b], out.records.get() + out.start[b + 1],
-                by_later_vertices);
+// Where simplex s's smallest vertex is (its first place) and the smallest
+// of the others: facet i's smallest vertex is the first unless i is its
+// place, and then the second.
+struct SmallestTwo {
+  int place;
+  Index first, second;
+};
+SmallestTwo smallest_two(const SimplexMatrix& S, Index s) {
+  SmallestTwo out{0, S(s, 0), std::numeric_limits<Index>::max()};
+  for (int c = 1; c < S.cols(); ++c) {
+    const Index v = S(s, c);
+    if (v < out.first) out.second = out.first, out.first = v, out.place = c;
+    else out.second = std::min(out.second, v);
   }
   return out;
 }
 
-// Calls visit(thread, first, last) for each run of records with equal keys,
-// on all threads: each thread takes the runs of a range of buckets, in
-// order; `thread` numbers the ranges (0 .. thread_count() - 1).
+// The simplices by a vertex (CSR): `start[b]..start[b+1]` of `simplices`
+// are those whose chosen vertex is lowest + b, in ascending order.
+struct SimplicesBy {
+  std::vector<Index> start, simplices;
+};
+template <class Choose>
+SimplicesBy simplices_by(const SimplexMatrix& S, Index lowest, size_t buckets, Choose choose) {
+  SimplicesBy out{std::vector<Index>(buckets + 1, 0), std::vector<Index>(S.rows())};
+  for (Index s = 0; s < S.rows(); ++s) ++out.start[choose(s) - lowest + 1];
+  for (size_t b = 0; b < buckets; ++b) out.start[b + 1] += out.start[b];
+  std::vector<Index> next(out.start.begin(), out.start.end() - 1);
+  for (Index s = 0; s < S.rows(); ++s) out.simplices[next[choose(s) - lowest]++] = s;
+  return out;
+}
+
+// Calls visit(range, group, count) for every facet shared by `count`
+// simplices (a run of records with one key; `group` points at the first),
+// on all threads: the facets are taken in buckets by their smallest vertex,
+// each bucket's few dozen records made and sorted where they are used, so
+// no table of every facet's record is ever written. A thread takes the
+// buckets of one range (0 .. thread_count() - 1) in order; which facets
+// each range visits, and in what order, does not depend on the thread
+// count. Indices spread far wider than the simplices (a few simplices of a
+// large mesh) are taken as one bucket, sorted whole: range 0 then visits
+// every facet.
 template <class Visit>
-void for_each_facet_group(const SortedFacets& sorted, Visit visit) {
-  const FacetRecord* records = sorted.records.get();
-  const size_t buckets = sorted.start.size() - 1;
+void for_each_facet_group(const SimplexMatrix& S, Visit visit) {
+  const int k = static_cast<int>(S.cols());
+  if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
+  if (S.rows() == 0) return;
+  const Index lowest = S.minCoeff(), highest = S.maxCoeff();
+  const double spread = static_cast<double>(highest) - static_cast<double>(lowest) + 1;
+  if (spread > 2.0 * static_cast<double>(S.rows()) * k + 1024) {
+    std::vector<FacetRecord> all;
+    all.reserve(static_cast<size_t>(S.rows()) * k);
+    for (Index s = 0; s < S.rows(); ++s)
+      for (int i = 0; i < k; ++i) all.push_back(facet_record(S, s, i));
+    std::sort(all.begin(), all.end(), by_key);
+    visit_groups(0, all, visit);
+    return;
+  }
+  const size_t buckets = static_cast<size_t>(spread);
+  // Facets whose smallest vertex is a simplex's smallest, and the one facet
+  // (without it) whose smallest is the simplex's second smallest.
+  const SimplicesBy by_first = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).first; });
+  const SimplicesBy by_second = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).second; });
   const int ranges = thread_count();
 #pragma omp parallel for schedule(static, 1) num_threads(ranges)
   for (int range = 0; range < ranges; ++range) {
-    size_t begin = sorted.start[buckets * static_cast<size_t>(range) / ranges];
-    const size_t end_of_range = sorted.start[buckets * (static_cast<size_t>(range) + 1) / ranges];
-    while (begin < end_of_range) {
-      size_t end = begin + 1;
-      while (end < end_of_range && records[end].key == records[begin].key) ++end;
-      visit(range, begin, end);
-      begin = end;
+    std::vector<FacetRecord> bucket;
+    const size_t first = buckets * static_cast<size_t>(range) / ranges;
+    const size_t last = buckets * (static_cast<size_t>(range) + 1) / ranges;
+    // The simplices of the buckets ahead, read at random, are fetched early:
+    // this loop waits on memory more than it computes.
+    constexpr Index kAhead = 16;
+    auto fetch_ahead = [&](const SimplicesBy& by, Index at) {
+      if (at + kAhead < static_cast<Index>(by.simplices.size())) __builtin_prefetch(S.row(by.simplices[at + kAhead]).data());
+    };
+    for (size_t b = first; b < last; ++b) {
+      bucket.clear();
+      for (Index at = by_first.start[b]; at < by_first.start[b + 1]; ++at) {
+        fetch_ahead(by_first, at);
+        const Index s = by_first.simplices[at];
+        const int place = smallest_two(S, s).place;
+        for (int i = 0; i < k; ++i)
+          if (i != place) bucket.push_back(facet_record(S, s, i));
+      }
+      for (Index at = by_second.start[b]; at < by_second.start[b + 1]; ++at) {
+        fetch_ahead(by_second, at);
+        const Index s = by_second.simplices[at];
+        bucket.push_back(facet_record(S, s, smallest_two(S, s).place));
+      }
+      std::sort(bucket.begin(), bucket.end(), by_key);
+      visit_groups(range, bucket, visit);
     }
   }
 }
@@ -194,14 +196,10 @@ bool has_repeated_vertex(const Index* s, int k) {
   return false;
 }
 
-// The facets in exactly one simplex, in simplex order, oriented as facets of
-// their simplex.
-SimplexMatrix boundary_of(const SimplexMatrix& S, const SortedFacets& sorted) {
+// Facets in exactly one simplex (the boundary) as (simplex, facet), in
+// simplex order, written as facets of their simplex.
+SimplexMatrix as_facets(const SimplexMatrix& S, std::vector<std::vector<std::pair<Index, int>>>& found) {
   const int k = static_cast<int>(S.cols());
-  std::vector<std::vector<std::pair<Index, int>>> found(static_cast<size_t>(thread_count()));
-  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
-    if (end - begin == 1) found[range].emplace_back(sorted.records[begin].simplex, sorted.records[begin].index);
-  });
   std::vector<std::pair<Index, int>> boundary;
   for (const auto& part : found) boundary.insert(boundary.end(), part.begin(), part.end());
   std::sort(boundary.begin(), boundary.end());
@@ -218,32 +216,35 @@ FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
   FacetAdjacency adjacency;
   adjacency.neighbour = SimplexMatrix::Constant(S.rows(), k, -1);
   adjacency.opposite = SimplexMatrix::Constant(S.rows(), k, -1);
-  const SortedFacets sorted = sorted_facet_records(S);
-  const FacetRecord* records = sorted.records.get();
-  // Per range, the first facet in more than two simplices: the first of all
-  // is reported, the same on any thread count.
-  std::vector<std::pair<size_t, size_t>> crowded(static_cast<size_t>(thread_count()), {SIZE_MAX, 0});
-  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
-    if (end - begin > 2 && crowded[range].first == SIZE_MAX) crowded[range] = {begin, end - begin};
-    if (end - begin == 2) {
-      const auto& a = records[begin];
-      const auto& b = records[begin + 1];
+  // Per range, the first facet in more than two simplices: the one with the
+  // smallest key of all is reported, the same on any thread count.
+  std::vector<std::pair<FacetRecord, size_t>> crowded(static_cast<size_t>(thread_count()), {FacetRecord{}, 0});
+  for_each_facet_group(S, [&](int range, const FacetRecord* group, size_t count) {
+    if (count > 2 && crowded[range].second == 0) crowded[range] = {group[0], count};
+    if (count == 2) {
+      const FacetRecord &a = group[0], &b = group[1];
       adjacency.neighbour(a.simplex, a.index) = b.simplex;
       adjacency.opposite(a.simplex, a.index) = b.index;
       adjacency.neighbour(b.simplex, b.index) = a.simplex;
       adjacency.opposite(b.simplex, b.index) = a.index;
     }
   });
-  const auto first = *std::min_element(crowded.begin(), crowded.end());
-  if (first.first != SIZE_MAX) {
-    const auto& r = records[first.first];
+  const std::pair<FacetRecord, size_t>* first = nullptr;
+  for (const auto& c : crowded)
+    if (c.second && (!first || by_key(c.first, first->first))) first = &c;
+  if (first) {
+    const FacetRecord& r = first->first;
     fail<InputError>("facet (", r.key[0], ", ", r.key[1], k > 3 ? ", ..." : "", ") of simplex ", r.simplex,
-                     " is shared by ", first.second, " simplices: the complex is not a manifold");
+                     " is shared by ", first->second, " simplices: the complex is not a manifold");
   }
   return adjacency;
 }
 
-SimplexMatrix boundary_facets(const SimplexMatrix& S) { return boundary_of(S, sorted_facet_records(S)); }
+SimplexMatrix boundary_facets(const SimplexMatrix& S) {
+  SimplexMatrix B;
+  check_manifold(S, &B);
+  return B;
+}
 
 ManifoldReport check_manifold(const SimplexMatrix& S, SimplexMatrix* boundary) {
   ManifoldReport report;
@@ -252,23 +253,25 @@ ManifoldReport check_manifold(const SimplexMatrix& S, SimplexMatrix* boundary) {
 #pragma omp parallel for schedule(static) reduction(+ : degenerate) num_threads(thread_count())
   for (Index s = 0; s < S.rows(); ++s) degenerate += has_repeated_vertex(S.row(s).data(), k);
   report.degenerate_simplices = degenerate;
-  const SortedFacets sorted = sorted_facet_records(S);
   std::vector<ManifoldReport> part(static_cast<size_t>(thread_count()));
-  for_each_facet_group(sorted, [&](int range, size_t begin, size_t end) {
+  std::vector<std::vector<std::pair<Index, int>>> found(part.size());
+  for_each_facet_group(S, [&](int range, const FacetRecord* group, size_t count) {
     ManifoldReport& r = part[range];
-    const size_t count = end - begin;
-    if (count == 1) ++r.boundary_facets;
-    else if (count > 2) ++r.nonmanifold_facets;
-    else {
+    if (count == 1) {
+      ++r.boundary_facets;
+      if (boundary) found[range].emplace_back(group[0].simplex, group[0].index);
+    } else if (count > 2) {
+      ++r.nonmanifold_facets;
+    } else {
       ++r.interior_facets;
-      if (sorted.records[begin].parity == sorted.records[begin + 1].parity) ++r.misoriented_facets;
+      if (group[0].parity == group[1].parity) ++r.misoriented_facets;
     }
   });
   for (const ManifoldReport& r : part) {
     report.boundary_facets += r.boundary_facets, report.nonmanifold_facets += r.nonmanifold_facets;
     report.interior_facets += r.interior_facets, report.misoriented_facets += r.misoriented_facets;
   }
-  if (boundary) *boundary = boundary_of(S, sorted);
+  if (boundary) *boundary = as_facets(S, found);
   return report;
 }
 
