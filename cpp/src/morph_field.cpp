@@ -179,17 +179,18 @@ void on_both_sides(Work&& work) {
 
 // A half from its conforming end and its cells in the fill: its chords
 // split, with its layers and field.
+// `distances` holds those at the end's points, and gets the chords' middles'.
 Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDistance& dS, const SignedDistance& dT,
-                bool is_source, int m, int slabs, const BlendSchedule& schedule, const MorphOptions& options,
-                double floor) {
+                EndDistances& distances, bool is_source, int m, int slabs, const BlendSchedule& schedule,
+                const MorphOptions& options, double floor) {
   Half half;
   half_layers(half, is_source, m, slabs, schedule, options);
   half.refined = split_chords(cells, end.points, end.on_surface, end.constraints, is_source ? dS : dT);
   half.plain = static_cast<Index>(end.points.rows());
   half.points.resize(half.plain + half.refined.new_points.rows(), 3);
   half.points << end.points, half.refined.new_points;
-  const Eigen::VectorXd s = dS.distances(half.points), t = dT.distances(half.points);
-  half_field(half, end.on_surface, end.constraints, s, t, is_source, floor);
+  distances.extend(half.points, dS, dT);
+  half_field(half, end.on_surface, end.constraints, distances.s, distances.t, is_source, floor);
   return half;
 }
 
@@ -354,24 +355,26 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
 
   clock.begin("schedule", 0.25);
   SimplexMatrix source_cells = delaunay_tetrahedra(S.points), target_cells = delaunay_tetrahedra(T.points);
+  EndDistances at_source, at_target;
+  at_source.extend(S.points, dS, dT), at_target.extend(T.points, dS, dT);
   const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, source_cells, target_cells, S.points, T.points,
-                                                 dS.distances(S.points), dT.distances(S.points),
-                                                 dS.distances(T.points), dT.distances(T.points), kScheduleSamples);
+                                                 at_source.s, at_source.t, at_target.s, at_target.t, kScheduleSamples);
 
   clock.begin("refinement", 0.3);
   const int m = (slabs - 1) / 2;
-  for (auto [end, cells, is_source, V, F] :
-       {std::tuple<EndMesh*, SimplexMatrix*, bool, const PointMatrix*, const SimplexMatrix*>{&S, &source_cells, true,
-                                                                                            &VS, &FS},
-        {&T, &target_cells, false, &VT, &FT}}) {
+  for (auto [end, cells, is_source, V, F, distances] :
+       {std::tuple<EndMesh*, SimplexMatrix*, bool, const PointMatrix*, const SimplexMatrix*, EndDistances*>{
+            &S, &source_cells, true, &VS, &FS, &at_source},
+        {&T, &target_cells, false, &VT, &FT, &at_target}}) {
     Half layers;
     half_layers(layers, is_source, m, slabs, schedule, options);
     layers.weights.pop_back();  // the fill's layer is sampled by the fill
     for (int round = 0; round < kRefineRounds; ++round) {
       const PointMatrix more = refinement_points(*cells, end->points, end->on_surface, *V, *F, is_source ? dS : dT, dS,
-                                                 dT, layers.weights, lattice.spacing);
+                                                 dT, *distances, layers.weights, lattice.spacing);
       if (more.rows() == 0) break;
       const Index added = add_free_points(*end, more, *cells);
+      distances->extend(end->points, dS, dT);
       end->free_points += added;
       report.refinement_points += added;
     }
@@ -390,10 +393,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
 
   clock.begin("field", 0.5);
   const double floor = kFieldFloor * lattice.spacing;
-  Half source =
-      build_half(S, fill.source_cells, dS, dT, true, m, slabs, schedule, options, floor);
-  Half target =
-      build_half(T, fill.target_cells, dS, dT, false, m, slabs, schedule, options, floor);
+  Half source = build_half(S, fill.source_cells, dS, dT, at_source, true, m, slabs, schedule, options, floor);
+  Half target = build_half(T, fill.target_cells, dS, dT, at_target, false, m, slabs, schedule, options, floor);
   clock.begin("topology", 0.55);
   // Each half's topology only sheds, from its end towards the middle, what
   // the other end does not have.

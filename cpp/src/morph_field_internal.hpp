@@ -96,16 +96,26 @@ struct Fill {
 // The Delaunay triangulation in R^4 of P_S at time 0 and P_T at `thickness`.
 Fill fill_slab(const PointMatrix& PS, const PointMatrix& PT, double thickness);
 
+// The signed distances to S (s) and to T (t) at an end's points, kept as
+// points are appended to the end (refinement, then the chords' middles):
+// each point's pair is measured once.
+struct EndDistances {
+  Eigen::VectorXd s, t;
+  // Measures the points of `points` beyond those measured so far.
+  void extend(const PointMatrix& points, const SignedDistance& dS, const SignedDistance& dT);
+};
+
 // Points where a half's tetrahedralization (`cells` over `points`) samples
 // the blend too coarsely at some of the half's `weights`: the middles of
 // edges that bridge the zero set (their ends of one sign, their middle of
 // the other) or are crossed by it and longer than 1.5 `spacing`, where they
 // are clear of the end's input (V, F; `own` its signed distance). Edges
 // between two points of the input are the chords' business (split_chords).
+// `at_points` holds the distances at `points`.
 PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
                               const PointMatrix& V, const SimplexMatrix& F, const SignedDistance& own,
-                              const SignedDistance& dS, const SignedDistance& dT, const std::vector<double>& weights,
-                              double spacing);
+                              const SignedDistance& dS, const SignedDistance& dT, const EndDistances& at_points,
+                              const std::vector<double>& weights, double spacing);
 
 // A half's tetrahedralization refined by stellar splits of its chords
 // (chapter 6), for the stacks of prisms of that half (morph_field.hpp).

@@ -66,11 +66,21 @@ std::set<std::vector<Index>> chords_of(const std::vector<Tets::Simplex>& tets, i
 
 }  // namespace
 
+void EndDistances::extend(const PointMatrix& points, const SignedDistance& dS, const SignedDistance& dT) {
+  const Index known = s.size(), added = points.rows() - known;
+  if (added <= 0) return;
+  const PointMatrix more = points.bottomRows(added);
+  s.conservativeResize(points.rows()), t.conservativeResize(points.rows());
+  s.tail(added) = dS.distances(more), t.tail(added) = dT.distances(more);
+}
+
 PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
                               const PointMatrix& V, const SimplexMatrix& F, const SignedDistance& own,
-                              const SignedDistance& dS, const SignedDistance& dT, const std::vector<double>& weights,
-                              double spacing) {
-  const Eigen::VectorXd s = dS.distances(points), t = dT.distances(points);
+                              const SignedDistance& dS, const SignedDistance& dT, const EndDistances& at_points,
+                              const std::vector<double>& weights, double spacing) {
+  if (at_points.s.size() != points.rows() || at_points.t.size() != points.rows())
+    fail<InputError>("refinement_points needs the distances at all ", points.rows(), " points, got ", at_points.s.size());
+  const Eigen::VectorXd &s = at_points.s, &t = at_points.t;
   auto field = [&](Index v, double w) { return (1 - w) * s(v) + w * t(v); };
   std::unordered_set<std::uint64_t> seen;
   std::vector<std::array<Index, 2>> candidates;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace animanifold::morph_field {
 
@@ -62,9 +63,26 @@ PointMatrix samples(const Surface& s) {
   return Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
 }
 
-double two_sided(const Surface& a, const Surface& b) {
-  if (a.F.rows() == 0 || b.F.rows() == 0) return 0.0;  // a frame with nothing in it: no measure
-  return std::max(max_distance_to_surface(samples(a), b.V, b.F), max_distance_to_surface(samples(b), a.V, a.F));
+// A surface with its search tree, built once for the steps on both sides
+// of it, and the points its distance to a neighbour is measured on.
+struct Sampled {
+  Surface surface;
+  std::unique_ptr<TriangleDistance> distance;
+  PointMatrix samples;
+  explicit operator bool() const { return distance != nullptr; }
+};
+
+Sampled sampled(Surface s) {
+  Sampled out;
+  out.samples = samples(s);
+  out.distance = std::make_unique<TriangleDistance>(s.V, s.F);
+  out.surface = std::move(s);
+  return out;
+}
+
+double two_sided(const Sampled& a, const Sampled& b) {
+  if (a.surface.F.rows() == 0 || b.surface.F.rows() == 0) return 0.0;  // a frame with nothing in it: no measure
+  return std::max((*b.distance)(a.samples).maxCoeff(), (*a.distance)(b.samples).maxCoeff());
 }
 
 }  // namespace
@@ -96,14 +114,14 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
   // the previous one (step[0] unused).
   std::vector<double> w;
   for (int i = 0; i <= samples; ++i) w.push_back(static_cast<double>(i) / samples);
-  std::vector<Surface> surfaces(w.size());
+  std::vector<Sampled> surfaces(w.size());
   std::vector<double> step(w.size(), -1.0);
   auto measure = [&] {
     // Independent samples and intervals: each writes its own slot, so the
     // result does not depend on the threads.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 0; i < static_cast<long>(w.size()); ++i)
-      if (surfaces[i].F.rows() == 0 && step[i] < 0) surfaces[i] = surface_at(w[i]);
+      if (!surfaces[i]) surfaces[i] = sampled(surface_at(w[i]));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 1; i < static_cast<long>(w.size()); ++i)
       if (step[i] < 0) step[i] = two_sided(surfaces[i - 1], surfaces[i]);
@@ -114,7 +132,8 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
     for (size_t i = 1; i < w.size(); ++i) total += step[i];
     const double mean = total / static_cast<double>(w.size() - 1);
     std::vector<double> w2{w[0]};
-    std::vector<Surface> surfaces2{std::move(surfaces[0])};
+    std::vector<Sampled> surfaces2;
+    surfaces2.push_back(std::move(surfaces[0]));
     std::vector<double> step2{-1.0};
     bool split = false;
     for (size_t i = 1; i < w.size(); ++i) {

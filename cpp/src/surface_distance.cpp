@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace animanifold {
@@ -23,7 +24,7 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using Triangle = Kernel::Triangle_3;
 using Iterator = std::vector<Triangle>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using SearchTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   const Eigen::Vector2d ab = b - a;
@@ -34,6 +35,47 @@ double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, cons
 
 }  // namespace
 
+struct TriangleDistance::Tree {
+  std::vector<Triangle> triangles;  // the tree refers to them
+  std::unique_ptr<SearchTree> tree;
+};
+
+TriangleDistance::TriangleDistance(const PointMatrix& vertices, const SimplexMatrix& faces)
+    : tree_(std::make_unique<Tree>()) {
+  if (vertices.cols() != 3 || faces.cols() != 3)
+    fail<InputError>("distance to a triangle mesh needs 3D points and triangles, got ", vertices.cols(), "D points and ",
+                     faces.cols(), " corners");
+  check_indices(faces, vertices.rows(), "face");
+  auto at = [&](Index v) { return Kernel::Point_3(vertices(v, 0), vertices(v, 1), vertices(v, 2)); };
+  tree_->triangles.reserve(faces.rows());
+  for (Index f = 0; f < faces.rows(); ++f) {
+    const Triangle t(at(faces(f, 0)), at(faces(f, 1)), at(faces(f, 2)));
+    if (!t.is_degenerate()) tree_->triangles.push_back(t);
+  }
+  if (tree_->triangles.empty()) return;
+  translating_cgal_failures("building the search tree of " + std::to_string(tree_->triangles.size()) + " triangles", [&] {
+    tree_->tree = std::make_unique<SearchTree>(tree_->triangles.begin(), tree_->triangles.end());
+    tree_->tree->accelerate_distance_queries();
+  });
+}
+
+TriangleDistance::~TriangleDistance() = default;
+TriangleDistance::TriangleDistance(TriangleDistance&&) noexcept = default;
+TriangleDistance& TriangleDistance::operator=(TriangleDistance&&) noexcept = default;
+
+Eigen::VectorXd TriangleDistance::operator()(const PointMatrix& points) const {
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());
+  if (points.rows() == 0 || !tree_->tree) return out;
+  if (points.cols() != 3) fail<InputError>("distance to a triangle mesh needs 3D query points, got ", points.cols(), "D");
+  translating_cgal_failures(
+      "measuring " + std::to_string(points.rows()) + " distances to " + std::to_string(tree_->triangles.size()) + " triangles",
+      [&] {
+        for (Index p = 0; p < points.rows(); ++p)
+          out(p) = std::sqrt(tree_->tree->squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))));
+      });
+  return out;
+}
+
 Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
   const int d = static_cast<int>(vertices.cols());
   Eigen::VectorXd out = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());
@@ -41,25 +83,7 @@ Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatri
   if (points.cols() != d || faces.cols() != d)
     fail<InputError>("distance to a surface needs matching dimensions (points ", points.cols(), "D, surface ", d, "D)");
   check_indices(faces, vertices.rows(), "face");
-  if (d == 3) {
-    std::vector<Triangle> triangles;
-    triangles.reserve(faces.rows());
-    auto at = [&](Index v) { return Kernel::Point_3(vertices(v, 0), vertices(v, 1), vertices(v, 2)); };
-    for (Index f = 0; f < faces.rows(); ++f) {
-      const Triangle t(at(faces(f, 0)), at(faces(f, 1)), at(faces(f, 2)));
-      if (!t.is_degenerate()) triangles.push_back(t);
-    }
-    if (triangles.empty()) return out;
-    translating_cgal_failures(
-        "measuring " + std::to_string(points.rows()) + " distances to " + std::to_string(triangles.size()) + " triangles",
-        [&] {
-          Tree tree(triangles.begin(), triangles.end());
-          tree.accelerate_distance_queries();
-          for (Index p = 0; p < points.rows(); ++p)
-            out(p) = std::sqrt(tree.squared_distance(Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2))));
-        });
-    return out;
-  }
+  if (d == 3) return TriangleDistance(vertices, faces)(points);
   if (d == 2) {
     for (Index p = 0; p < points.rows(); ++p) {
       double best = std::numeric_limits<double>::infinity();

@@ -6,6 +6,8 @@
 
 #include "animanifold/types.hpp"
 
+#include <memory>
+
 namespace animanifold {
 
 // Inputs:
@@ -20,6 +22,26 @@ namespace animanifold {
 // `faces` (#F by d: triangles in R^3, segments in R^2) over `vertices`.
 // Returns +infinity when the surface is empty and there are points.
 double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces);
+
+// The distances to one triangle mesh in R^3, its search tree built once for
+// many queries (distances_to_surface builds one per call).
+// Inputs: vertices #V by 3, faces #F by 3 (degenerate faces are left out)
+// Throws: InputError when the dimensions are not 3 or a face refers to a
+//   vertex outside `vertices`
+class TriangleDistance {
+ public:
+  TriangleDistance(const PointMatrix& vertices, const SimplexMatrix& faces);
+  ~TriangleDistance();
+  TriangleDistance(TriangleDistance&&) noexcept;
+  TriangleDistance& operator=(TriangleDistance&&) noexcept;
+  // The distance from each of `points` (#P by 3) to the mesh; +infinity
+  // for all when it has no proper face.
+  Eigen::VectorXd operator()(const PointMatrix& points) const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
 
 // Inputs: as max_distance_to_surface
 // Outputs:
