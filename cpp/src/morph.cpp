@@ -598,13 +598,13 @@ Complex lateral_boundary(SeedMorph& m) {
 }
 
 // Spread frames the field method checks for crossings (morph_validity.hpp)
-// when its space-time triangulation is certified embedded: the middle and
-// the quarters, an independent check of the certificate on the frames the
-// user gets. When it is not, all 24 are checked. CGAL's self-intersection
-// test costs 15-40 times a frame's slicing and topology, and all 24 would
-// cost two thirds of the morph's own time, against the 25 % the checks may
-// take.
-constexpr int kConfirmingCrossingFrames = 3;
+// when its space-time triangulation is certified embedded: the middle one,
+// an independent check of the certificate (and of the extraction and the
+// slicing) on a frame the user gets. When it is not, all 24 are checked.
+// CGAL's self-intersection test costs 10-25 times a frame's slicing and
+// topology: all 24 would cost two thirds of the morph's own time, and even
+// the quarters' two more a tenth, against the 25 % all checks may take.
+constexpr int kConfirmingCrossingFrames = 1;
 
 // The field method (morph_field.hpp) and its checks (morph_validity.hpp).
 Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,

@@ -457,7 +457,8 @@ def _crossing_summary(report: dict) -> str:
     embedded space-time triangulation), or on some frames only."""
     checked = report.get("crossing_frames_checked", 0)
     if report.get("crossings_certified"):
-        return f"no frame at any time can cross itself (space-time triangulation certified; {checked} frames confirm it)"
+        confirmed = "1 frame confirms it" if checked == 1 else f"{checked} frames confirm it"
+        return f"no frame at any time can cross itself (space-time triangulation certified; {confirmed})"
     failure = report.get("certificate_failure")
     why = f" (not certified: {failure})" if failure else ""
     return f"crossings checked on {checked} frames{why}"

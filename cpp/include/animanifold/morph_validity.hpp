@@ -40,7 +40,7 @@ namespace animanifold {
 //                   triangulation: a core would otherwise idle while they
 //                   run); they must not write the report's frame checks
 //   crossing_frames how many spread frames are checked for crossings
-//                   (0..24; the field method checks a few, and the rest
+//                   (0..24; the field method checks the middle one, and the rest
 //                   only when its space-time triangulation is not
 //                   certified embedded)
 //   check_the_rest  optional; asked once the spread frames and `alongside`
