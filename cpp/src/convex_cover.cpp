@@ -9,6 +9,7 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -101,6 +102,22 @@ Region region_of(const PointMatrix& points, const std::vector<bool>& used) {
   return {Hull(spatial_points), points.cols() == 4 ? first : 0.0, points.cols() == 4 ? last : 0.0};
 }
 
+// The simplices' summed volumes: each written into its own entry, then
+// summed in order, the same on any thread count.
+template <int D>
+double volume_sum(const PointMatrix& points, const SimplexMatrix& simplices) {
+  double factorial = 1;
+  for (int i = 2; i <= D; ++i) factorial *= i;
+  Eigen::VectorXd volumes(simplices.rows());
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+  for (Index s = 0; s < simplices.rows(); ++s) {
+    Eigen::Matrix<double, D, D> edges;  // fixed size: a dynamic one per simplex costs more than its determinant
+    for (int i = 0; i < D; ++i) edges.row(i) = points.row(simplices(s, i + 1)) - points.row(simplices(s, 0));
+    volumes(s) = edges.determinant() / factorial;
+  }
+  return volumes.sum();
+}
+
 }  // namespace
 
 bool ConvexCover::covers_once() const {
@@ -147,7 +164,8 @@ ConvexCover check_convex_cover(const PointMatrix& points, const SimplexMatrix& s
   for (Index f = 0; f < boundary.rows(); ++f)
     out.stray_boundary_facets += !region.on_boundary(points, boundary.row(f).data(), d);
   const double volume = region.volume();
-  out.volume_ratio = volume > 0 ? signed_volumes(points, simplices).sum() / volume : INFINITY;
+  out.volume_ratio = volume > 0 ? (d == 3 ? volume_sum<3>(points, simplices) : volume_sum<4>(points, simplices)) / volume
+                                : INFINITY;
   return out;
 }
 

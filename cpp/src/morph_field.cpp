@@ -177,6 +177,28 @@ void on_both_sides(Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
+// Refines an end's points (`end`, its tetrahedralization `cells` and the
+// distances at its points kept along) where the zero set needs it, in up to
+// kRefineRounds rounds; returns how many points were added.
+Index refine_end(EndMesh& end, SimplexMatrix& cells, EndDistances& distances, const PointMatrix& V,
+                 const SimplexMatrix& F, const SignedDistance& dS, const SignedDistance& dT, bool is_source, int m,
+                 int slabs, const BlendSchedule& schedule, const MorphOptions& options, double spacing) {
+  Half layers;
+  half_layers(layers, is_source, m, slabs, schedule, options);
+  layers.weights.pop_back();  // the fill's layer is sampled by the fill
+  Index total = 0;
+  for (int round = 0; round < kRefineRounds; ++round) {
+    const PointMatrix more = refinement_points(cells, end.points, end.on_surface, V, F, is_source ? dS : dT, dS, dT,
+                                               distances, layers.weights, spacing);
+    if (more.rows() == 0) break;
+    const Index added = add_free_points(end, more, cells);
+    distances.extend(end.points, dS, dT);
+    end.free_points += added;
+    total += added;
+  }
+  return total;
+}
+
 // A half from its conforming end and its cells in the fill: its chords
 // split, with its layers and field.
 // `distances` holds those at the end's points, and gets the chords' middles'.
@@ -354,31 +376,26 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   report.source_conforming = report.target_conforming = true;
 
   clock.begin("schedule", 0.25);
-  SimplexMatrix source_cells = delaunay_tetrahedra(S.points), target_cells = delaunay_tetrahedra(T.points);
-  EndDistances at_source, at_target;
-  at_source.extend(S.points, dS, dT), at_target.extend(T.points, dS, dT);
-  const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, source_cells, target_cells, S.points, T.points,
-                                                 at_source.s, at_source.t, at_target.s, at_target.t, kScheduleSamples);
+  SimplexMatrix cells[2];
+  EndDistances distances[2];
+  on_both_sides([&](int side) {
+    const EndMesh& end = side == 0 ? S : T;
+    cells[side] = delaunay_tetrahedra(end.points);
+    distances[side].extend(end.points, dS, dT);
+  });
+  const BlendSchedule schedule =
+      motion_schedule(VS, FS, VT, FT, cells[0], cells[1], S.points, T.points, distances[0].s, distances[0].t,
+                      distances[1].s, distances[1].t, kScheduleSamples);
 
   clock.begin("refinement", 0.3);
   const int m = (slabs - 1) / 2;
-  for (auto [end, cells, is_source, V, F, distances] :
-       {std::tuple<EndMesh*, SimplexMatrix*, bool, const PointMatrix*, const SimplexMatrix*, EndDistances*>{
-            &S, &source_cells, true, &VS, &FS, &at_source},
-        {&T, &target_cells, false, &VT, &FT, &at_target}}) {
-    Half layers;
-    half_layers(layers, is_source, m, slabs, schedule, options);
-    layers.weights.pop_back();  // the fill's layer is sampled by the fill
-    for (int round = 0; round < kRefineRounds; ++round) {
-      const PointMatrix more = refinement_points(*cells, end->points, end->on_surface, *V, *F, is_source ? dS : dT, dS,
-                                                 dT, *distances, layers.weights, lattice.spacing);
-      if (more.rows() == 0) break;
-      const Index added = add_free_points(*end, more, *cells);
-      distances->extend(end->points, dS, dT);
-      end->free_points += added;
-      report.refinement_points += added;
-    }
-  }
+  Index added[2] = {0, 0};
+  on_both_sides([&](int side) {
+    const bool is_source = side == 0;
+    added[side] = refine_end(is_source ? S : T, cells[side], distances[side], is_source ? VS : VT, is_source ? FS : FT,
+                             dS, dT, is_source, m, slabs, schedule, options, lattice.spacing);
+  });
+  report.refinement_points = added[0] + added[1];
   report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
 
   clock.begin("fill", 0.35);
@@ -393,8 +410,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
 
   clock.begin("field", 0.5);
   const double floor = kFieldFloor * lattice.spacing;
-  Half source = build_half(S, fill.source_cells, dS, dT, at_source, true, m, slabs, schedule, options, floor);
-  Half target = build_half(T, fill.target_cells, dS, dT, at_target, false, m, slabs, schedule, options, floor);
+  Half source = build_half(S, fill.source_cells, dS, dT, distances[0], true, m, slabs, schedule, options, floor);
+  Half target = build_half(T, fill.target_cells, dS, dT, distances[1], false, m, slabs, schedule, options, floor);
   clock.begin("topology", 0.55);
   // Each half's topology only sheds, from its end towards the middle, what
   // the other end does not have.
