@@ -201,6 +201,29 @@ def ours_frames(manifold, count: int) -> tuple[np.ndarray, list[Mesh], Mesh]:
     return times, [slice_(t) for t in times], slice_(t0 + 0.25 * (t1 - t0))
 
 
+CHECKS_BUDGET = 0.25  # the morph's checks may take this share of its own time (the other stages')
+
+
+def checks_notes(report: dict) -> list[str]:
+    """What the morph's own checks cost against their budget, and how they covered crossings."""
+    seconds = dict(report.get("stage_seconds", []))
+    if "validity" not in seconds:
+        return []
+    checks = seconds["validity"]
+    own = sum(seconds.values()) - checks
+    share = checks / own if own > 0 else float("inf")
+    met = "within" if share <= CHECKS_BUDGET else "over"
+    notes = [f"checks {checks:.2f} s = {100 * share:.0f} % of the morph's own {own:.2f} s "
+             f"({met} the {100 * CHECKS_BUDGET:.0f} % budget)"]
+    if report.get("crossings_certified"):
+        notes.append(f"crossings: space-time triangulation certified for every time; "
+                     f"CGAL confirms on {report.get('crossing_frames_checked', 0)} frame(s)")
+    elif "crossing_frames_checked" in report:
+        failure = report.get("certificate_failure") or "not a field morph"
+        notes.append(f"crossings: checked on {report['crossing_frames_checked']} frames ({failure})")
+    return notes
+
+
 def run_method(pair: Pair, method: str, count: int) -> Row:
     """One method's row; an exception anywhere (the morph or its frames) is the row's error."""
     start = time.perf_counter()
@@ -210,7 +233,9 @@ def run_method(pair: Pair, method: str, count: int) -> Row:
         times, frames, quarter = ours_frames(manifold, count)
         report = manifold.validity
         flat = int(report.get("inverted_simplices", 0)) + int(report.get("degenerate_simplices", 0))
-        return measure_row(method, seconds, frames, times, quarter, pair, flat)
+        row = measure_row(method, seconds, frames, times, quarter, pair, flat)
+        row.notes += checks_notes(report)
+        return row
     except Exception as error:  # noqa: BLE001  (the bench goes on with the next row)
         message = str(error).strip().splitlines()[0] if str(error).strip() else ""
         return Row(label=method, seconds=time.perf_counter() - start, error=f"{type(error).__name__}: {message}")
