@@ -216,12 +216,6 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   return half;
 }
 
-// What the certificate reads of a half (morph_field.hpp's SpaceTimeTriangulation).
-SpaceTimeTriangulation::Side side_of(Half&& half, SimplexMatrix&& transition) {
-  return {std::move(half.points), half.plain, std::move(half.refined.cells), std::move(transition),
-          std::move(half.times)};
-}
-
 // The zero set of the field over the whole space-time triangulation.
 class Extraction {
  public:
@@ -274,10 +268,6 @@ class Extraction {
     return out;
   }
 
-  // The transition slabs in transition_slab()'s local ids, for the
-  // certificate (SpaceTimeTriangulation).
-  SimplexMatrix source_transition, target_transition;
-
  private:
   // Layer `layer` of `half` (its own numbering, end first) at global `base`.
   void place(const Half& half, int layer, Index base) {
@@ -321,12 +311,7 @@ class Extraction {
   template <class Global>
   void add_transition(const SimplexMatrix& cells, const Half& half, const Global& global, bool refined_at_bottom) {
     const Index n = static_cast<Index>(half.points.rows());
-    const std::vector<Simplex4> slab = transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom);
-    SimplexMatrix& local = refined_at_bottom ? source_transition : target_transition;
-    local.resize(static_cast<Index>(slab.size()), 5);
-    for (size_t r = 0; r < slab.size(); ++r) {
-      Simplex4 s = slab[r];
-      for (int c = 0; c < 5; ++c) local(static_cast<Index>(r), c) = s[c];
+    for (Simplex4 s : transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom)) {
       for (Index& v : s) v = global(v);
       add(s);
     }
@@ -344,14 +329,13 @@ class Extraction {
 
 }  // namespace
 
-FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
-                       const MorphOptions& options, StageClock& clock) {
+Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+                  const MorphOptions& options, StageClock& clock) {
   if (VS.cols() != 3) fail<InputError>("the field method morphs 3D shapes (triangle meshes); use 'skeleton' for 2D");
   const int slabs = options.field_layers;
   if (slabs < 3 || slabs % 2 == 0) fail<InputError>("field_layers must be an odd number >= 3, got ", slabs);
   if (!(options.field_resolution >= 2)) fail<InputError>("field_resolution must be >= 2, got ", options.field_resolution);
-  FieldMorph out;
-  Morph& result = out.morph;
+  Morph result;
   MorphReport& report = result.report;
   const double size = std::max(size_of(VS, VT), 1e-300);
 
@@ -436,9 +420,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   report.simplices = static_cast<Index>(result.manifold.S.rows());
   report.field_layers = slabs;
   report.lattice_spacing = lattice.spacing / size;
-  out.space_time = {side_of(std::move(source), std::move(extraction.source_transition)),
-                    side_of(std::move(target), std::move(extraction.target_transition))};
-  return out;
+  return result;
 }
 
 }  // namespace animanifold

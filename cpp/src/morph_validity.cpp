@@ -139,16 +139,6 @@ class FrameChecks {
     report_.crossing_frames_checked += std::min(crossing_count, static_cast<long>(times.size()));
   }
 
-  // Checks the frames at `times`, already examined, for crossings only.
-  void check_crossings(const std::vector<double>& times) {
-    std::vector<char> crossing(times.size(), 0);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-    for (long i = 0; i < static_cast<long>(times.size()); ++i) crossing[i] = crosses(slicer_.slice(axis_, times[i]));
-    for (size_t i = 0; i < times.size(); ++i)
-      if (crossing[i]) report_.crossing_frames.push_back(times[i]);
-    report_.crossing_frames_checked += static_cast<Index>(times.size());
-  }
-
   // Towards every change of topology between neighbouring checked frames,
   // in time order: up to kBisections rounds, kBisectionFrames frames.
   void bisect_changes() {
@@ -220,8 +210,7 @@ class FrameChecks {
 };
 
 // kSpreadFrames times evenly inside [t0, t1], coarse to fine (the middle,
-// the quarters, ...): the frames checked for crossings, and the costly
-// frames first to the cores.
+// the quarters, ...), so the costly frames come first to the cores.
 std::vector<double> spread_times(double t0, double t1) {
   std::vector<int> order(kSpreadFrames);
   std::iota(order.begin(), order.end(), 1);
@@ -236,14 +225,10 @@ std::vector<double> spread_times(double t0, double t1) {
 
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
-                  const std::vector<std::function<void()>>& alongside, int crossing_frames,
-                  const std::function<bool()>& check_the_rest) {
+                  const std::vector<std::function<void()>>& alongside) {
   FrameChecks checks(manifold, VS, FS, VT, FT, report);
   const std::vector<double> spread = spread_times(t0, t1);
-  const long crossing_count = std::clamp(crossing_frames, 0, kSpreadFrames);
-  checks.check(spread, crossing_count, alongside);
-  if (crossing_count < kSpreadFrames && check_the_rest && check_the_rest())
-    checks.check_crossings(std::vector<double>(spread.begin() + crossing_count, spread.end()));
+  checks.check(spread, static_cast<long>(spread.size()), alongside);
   checks.bisect_changes();
   checks.finish();
 }
