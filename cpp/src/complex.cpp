@@ -60,7 +60,7 @@ FacetRecord facet_record(const SimplexMatrix& S, Index s, int i) {
   facet(S.row(s).data(), k, i, f);
   FacetRecord r;
   r.key.fill(-1);
-  std::copy(f, f + k - 1, r.key.begin());
+  for (int c = 0; c < k - 1 && c < 4; ++c) r.key[c] = f[c];  // k <= 5, checked by the callers
   // A vertex facet of an edge carries its orientation as a sign: the rule's
   // "swap" of facet i+1 even (the edge's start) has nothing to swap, so it
   // negates instead (the end of an edge is +, its start is -).
@@ -135,14 +135,15 @@ SimplicesBy simplices_by(const SimplexMatrix& S, Index lowest, size_t buckets, C
 // simplices (a run of records with one key; `group` points at the first),
 // on all threads: the facets are taken in buckets by their smallest vertex,
 // each bucket's few dozen records made and sorted where they are used, so
-// no table of every facet's record is ever written. A thread takes the
-// buckets of one range (0 .. thread_count() - 1) in order; which facets
-// each range visits, and in what order, does not depend on the thread
-// count. Indices spread far wider than the simplices (a few simplices of a
-// large mesh) are taken as one bucket, sorted whole: range 0 then visits
-// every facet.
+// no table of every facet's record is ever written. The buckets are split
+// into `ranges` runs (0 .. ranges - 1, the caller's slots for what it
+// gathers: the caller's count, so a thread setting changed meanwhile cannot
+// overrun them), each taken in order by one thread; what the caller sums or
+// sorts from the ranges is then the same on any thread count. Indices spread
+// far wider than the simplices (a few simplices of a large mesh) are taken
+// as one bucket, sorted whole: range 0 then visits every facet.
 template <class Visit>
-void for_each_facet_group(const SimplexMatrix& S, Visit visit) {
+void for_each_facet_group(const SimplexMatrix& S, int ranges, Visit visit) {
   const int k = static_cast<int>(S.cols());
   if (k < 2 || k > 5) fail<InputError>("simplices with ", k, " vertices are not supported (2..5)");
   if (S.rows() == 0) return;
@@ -162,8 +163,7 @@ void for_each_facet_group(const SimplexMatrix& S, Visit visit) {
   // (without it) whose smallest is the simplex's second smallest.
   const SimplicesBy by_first = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).first; });
   const SimplicesBy by_second = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).second; });
-  const int ranges = thread_count();
-#pragma omp parallel for schedule(static, 1) num_threads(ranges)
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(ranges, thread_count()))
   for (int range = 0; range < ranges; ++range) {
     std::vector<FacetRecord> bucket;
     const size_t first = buckets * static_cast<size_t>(range) / ranges;
@@ -224,7 +224,7 @@ FacetAdjacency facet_adjacency(const SimplexMatrix& S) {
   // Per range, the first facet in more than two simplices: the one with the
   // smallest key of all is reported, the same on any thread count.
   std::vector<std::pair<FacetRecord, size_t>> crowded(static_cast<size_t>(thread_count()), {FacetRecord{}, 0});
-  for_each_facet_group(S, [&](int range, const FacetRecord* group, size_t count) {
+  for_each_facet_group(S, static_cast<int>(crowded.size()), [&](int range, const FacetRecord* group, size_t count) {
     if (count > 2 && crowded[range].second == 0) crowded[range] = {group[0], count};
     if (count == 2) {
       const FacetRecord &a = group[0], &b = group[1];
@@ -260,7 +260,7 @@ ManifoldReport check_manifold(const SimplexMatrix& S, SimplexMatrix* boundary) {
   report.degenerate_simplices = degenerate;
   std::vector<ManifoldReport> part(static_cast<size_t>(thread_count()));
   std::vector<std::vector<std::pair<Index, int>>> found(part.size());
-  for_each_facet_group(S, [&](int range, const FacetRecord* group, size_t count) {
+  for_each_facet_group(S, static_cast<int>(part.size()), [&](int range, const FacetRecord* group, size_t count) {
     ManifoldReport& r = part[range];
     if (count == 1) {
       ++r.boundary_facets;

@@ -113,10 +113,10 @@ class FrameChecks {
   }
 
   // Examines the frames at `times` on all cores, each into its own slot,
-  // and records them in time order; the first `crossing_count` are checked
-  // for crossings too. The `alongside` work items are more items of the
-  // loop, taken first; what one throws is thrown once the frames are done.
-  void check(const std::vector<double>& times, long crossing_count,
+  // and records them in time order, checking them for crossings too when
+  // asked. The `alongside` work items are more items of the loop, taken
+  // first; what one throws is thrown once the frames are done.
+  void check(const std::vector<double>& times, bool look_for_crossings,
              const std::vector<std::function<void()>>& alongside = {}) {
     std::vector<Frame> frames(times.size());
     std::vector<std::exception_ptr> failure(alongside.size());  // each item writes its own
@@ -124,7 +124,7 @@ class FrameChecks {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = first; i < static_cast<long>(times.size()); ++i) {
       if (i >= 0) {
-        frames[i] = examine(times[i], i < crossing_count);
+        frames[i] = examine(times[i], look_for_crossings);
         continue;
       }
       try {
@@ -136,7 +136,7 @@ class FrameChecks {
     for (const std::exception_ptr& e : failure)
       if (e) std::rethrow_exception(e);
     for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
-    report_.crossing_frames_checked += std::min(crossing_count, static_cast<long>(times.size()));
+    if (look_for_crossings) report_.crossing_frames_checked += static_cast<Index>(times.size());
   }
 
   // Towards every change of topology between neighbouring checked frames,
@@ -153,7 +153,7 @@ class FrameChecks {
         report_.frames_capped = true;
       }
       bisection_frames += static_cast<int>(middles.size());
-      check(middles, 0);
+      check(middles, false);
     }
   }
 
@@ -228,7 +228,7 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
                   const std::vector<std::function<void()>>& alongside) {
   FrameChecks checks(manifold, VS, FS, VT, FT, report);
   const std::vector<double> spread = spread_times(t0, t1);
-  checks.check(spread, static_cast<long>(spread.size()), alongside);
+  checks.check(spread, true, alongside);
   checks.bisect_changes();
   checks.finish();
 }
