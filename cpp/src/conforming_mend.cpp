@@ -248,4 +248,65 @@ MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector
   return report;
 }
 
+FlatCells flat_surface_cells(const SimplexMatrix& tets, const PointMatrix& points, const SimplexMatrix& faces) {
+  constexpr double kFlat = 1e-9;
+  std::vector<bool> on_surface(static_cast<size_t>(points.rows()), false);
+  std::set<Edge> surface_edges;
+  for (Index f = 0; f < faces.rows(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      on_surface[faces(f, i)] = true;
+      surface_edges.insert(edge_of(faces(f, i), faces(f, (i + 1) % 3)));
+    }
+  FlatCells out;
+  std::set<Edge> chosen;
+  for (Index t = 0; t < tets.rows(); ++t) {
+    const Index* c = tets.row(t).data();
+    if (!(on_surface[c[0]] && on_surface[c[1]] && on_surface[c[2]] && on_surface[c[3]])) continue;
+    const Vec p0 = row(points, c[0]);
+    const Vec e1 = row(points, c[1]) - p0, e2 = row(points, c[2]) - p0, e3 = row(points, c[3]) - p0;
+    auto length = [&](int a, int b) { return (row(points, c[a]) - row(points, c[b])).norm(); };
+    double longest = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, length(a, b));
+    if (std::abs(e1.dot(e2.cross(e3))) > kFlat * longest * longest * longest) continue;
+    ++out.cells;
+    // The diagonals cross: of a convex quad's three pairs of opposite edges
+    // theirs is the longest in sum (the triangle inequality at the crossing).
+    static constexpr int kPairs[3][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}};
+    int best = 0;
+    for (int p = 1; p < 3; ++p)
+      if (length(kPairs[p][0], kPairs[p][1]) + length(kPairs[p][2], kPairs[p][3]) >
+          length(kPairs[best][0], kPairs[best][1]) + length(kPairs[best][2], kPairs[best][3]))
+        best = p;
+    const Edge first = edge_of(c[kPairs[best][0]], c[kPairs[best][1]]);
+    const Edge second = edge_of(c[kPairs[best][2]], c[kPairs[best][3]]);
+    const bool has_first = surface_edges.count(first) > 0, has_second = surface_edges.count(second) > 0;
+    if (!has_first && !has_second) {
+      ++out.without_surface_diagonal;
+      continue;
+    }
+    const Edge diagonal = has_first && (!has_second || length(kPairs[best][0], kPairs[best][1]) >=
+                                                          length(kPairs[best][2], kPairs[best][3]))
+                              ? first
+                              : second;
+    if (chosen.insert(diagonal).second) out.diagonals.push_back({diagonal.first, diagonal.second});
+  }
+  return out;
+}
+
+MendReport split_surface_edges(ConstraintSurface& surface, const std::vector<std::array<Index, 2>>& edges) {
+  MendReport report;
+  std::set<Edge> present;  // an edge the other mending split already is gone
+  for (const auto& f : surface.faces)
+    for (int i = 0; i < 3; ++i) present.insert(edge_of(f[i], f[(i + 1) % 3]));
+  MendPlan plan;
+  for (const auto& e : edges)
+    if (present.count(edge_of(e[0], e[1])))
+      plan.split.emplace(edge_of(e[0], e[1]), 0.5 * (row(surface.points, e[0]) + row(surface.points, e[1])));
+  surface.inner.resize(surface.faces.size());
+  AddedPoints added = add_points(surface, plan, report);
+  split_faces(surface, added);
+  return report;
+}
+
 }  // namespace animanifold

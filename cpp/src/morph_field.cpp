@@ -357,6 +357,8 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting(),
                           options.mesher_time_limit);
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
+  report.flat_cell_points = S.flat_cell_points + T.flat_cell_points;
+  report.flat_cells = S.flat_cells + T.flat_cells;
   report.source_conforming = report.target_conforming = true;
 
   clock.begin("schedule", 0.25);

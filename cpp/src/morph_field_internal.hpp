@@ -71,6 +71,7 @@ struct EndMesh {
   IndexVector constraint_parent;  // the input face each lies in
   std::vector<bool> on_surface;   // vertices of S': where the field is exactly zero at the end
   Index free_points = 0, steiner_points = 0;
+  Index flat_cell_points = 0, flat_cells = 0;  // ConformingDelaunay's
 };
 
 // The conforming Delaunay tetrahedralization of one input with its free

@@ -147,7 +147,7 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
   points << V, free, corners;
   ConformingDelaunay c;
   try {
-    c = conforming_delaunay_3d(points, F, while_meshing, mesher_time_limit);
+    c = conforming_delaunay_3d(points, F, while_meshing, mesher_time_limit, /*mend_flat_cells=*/true);
   } catch (const Cancelled&) {
     throw;
   } catch (const TimeLimitError& e) {
@@ -168,6 +168,7 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
   end.constraint_parent = std::move(c.constraint_parent);
   end.free_points = static_cast<Index>(free.rows());
   end.steiner_points = static_cast<Index>(end.points.rows() - points.rows());
+  end.flat_cell_points = c.flat_cell_points, end.flat_cells = c.flat_cells;
   return end;
 }
 

@@ -17,8 +17,11 @@ namespace {
 // A chord whose middle lies within this share of its length from the input
 // lies in it but for rounding: the diagonal of a planar quad across the
 // input's own diagonal (the Delaunay triangulation of four cocircular points
-// holds both). It bounds a cell flat to rounding, which the zero set leaves
-// out at the end: the end frame then holds that diagonal, the same surface.
+// can hold both). It bounds a cell flat to rounding, which the conforming end
+// mends (flat_surface_cells, conforming_mend.hpp) and reports where it
+// cannot (MorphReport::flat_cells). One left is not split: the zero set
+// leaves it out at the end, and the end frame holds that diagonal, the same
+// surface.
 constexpr double kFlatChord = 1e-9;
 // A crossed edge longer than this many lattice spacings is split.
 constexpr double kCoarseEdge = 1.5;

@@ -1,6 +1,7 @@
 // Mending a constrained-only TetGen result (conforming_mend.hpp) on small
 // known cases.
 #include "animanifold/conforming_mend.hpp"
+#include "animanifold/delaunay.hpp"
 
 #include <gtest/gtest.h>
 
@@ -99,6 +100,106 @@ TEST(ConformingMend, AnEncroachedEdgeIsSplitInBothTrianglesBesideIt) {
   }
   EXPECT_EQ(pieces[0], 2);
   EXPECT_EQ(pieces[1], 2);
+}
+
+// A unit square a b c d in z = 0 (its corners cocircular), surface faces
+// abc and acd on diagonal ac, and points 4 and 5 above and below it.
+PointMatrix square_with_apexes() {
+  PointMatrix P(6, 3);
+  P << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5, 0.5, 1, 0.5, 0.5, -1;
+  return P;
+}
+
+TEST(FlatSurfaceCells, FindTheTetBetweenAPlanarQuadsDiagonalsAndNameItsSurfaceDiagonal) {
+  const PointMatrix P = square_with_apexes();
+  SimplexMatrix faces(2, 3);
+  faces << 0, 1, 2, 0, 2, 3;
+  SimplexMatrix tets(4, 4);
+  tets << 0, 1, 2, 3,  // flat: between diagonal 0-2 (the surface's) and 1-3
+      0, 1, 2, 4,      // not all corners on the surface
+      0, 1, 3, 5,      //
+      1, 2, 3, 5;
+  const FlatCells flat = flat_surface_cells(tets, P, faces);
+  EXPECT_EQ(flat.cells, 1);
+  ASSERT_EQ(flat.diagonals.size(), 1u);
+  EXPECT_EQ(flat.diagonals[0], (std::array<Index, 2>{0, 2}));
+  EXPECT_EQ(flat.without_surface_diagonal, 0);
+
+  // Lifted off the plane by far more than rounding, the same four corners
+  // make a proper tet: not flat.
+  PointMatrix lifted = P;
+  lifted(3, 2) = 1e-3;
+  EXPECT_EQ(flat_surface_cells(tets, lifted, faces).cells, 0);
+
+  // A flat cell neither of whose diagonals the surface holds (four points of
+  // one planar piece: the surface is the fan from 4 here) is counted apart.
+  SimplexMatrix sides(4, 3);
+  sides << 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4;
+  const FlatCells other = flat_surface_cells(tets.topRows(1), P, sides);
+  EXPECT_EQ(other.cells, 1);
+  EXPECT_TRUE(other.diagonals.empty());
+  EXPECT_EQ(other.without_surface_diagonal, 1);
+}
+
+TEST(FlatSurfaceCells, SplittingTheSurfaceDiagonalSplitsBothFacesBesideIt) {
+  ConstraintSurface s;
+  s.points = square_with_apexes();
+  s.faces = {{0, 1, 2}, {0, 2, 3}};
+  s.parent = {7, 9};
+  const MendReport report = split_surface_edges(s, {{2, 0}, {1, 3}});  // 1-3 is no edge of the surface
+  EXPECT_EQ(report.edge_points, 1);
+  ASSERT_EQ(s.points.rows(), 7);
+  EXPECT_TRUE(at(s.points, 6).isApprox(Eigen::Vector3d(0.5, 0.5, 0)));
+  ASSERT_EQ(s.faces.size(), 4u);
+  int pieces[2] = {0, 0};
+  for (size_t f = 0; f < s.faces.size(); ++f) {
+    ++pieces[s.parent[f] == 7 ? 0 : 1];
+    EXPECT_NE(std::find(s.faces[f].begin(), s.faces[f].end(), 6), s.faces[f].end());
+    EXPECT_GT(normal(s.points, s.faces[f]).z(), 0) << "piece " << f << " turned over";
+  }
+  EXPECT_EQ(pieces[0], 2);
+  EXPECT_EQ(pieces[1], 2);
+}
+
+// A torus of revolution (major radius 1, minor 0.3), `around` by `across`
+// quads, each split on the same diagonal: every quad is an isosceles
+// trapezoid, four cocircular points. Then, as free points (rows past the
+// surface's), a point inside and one outside each vertex, as a morph puts
+// around its inputs: with none inside the tube, the pieces of split quads
+// make flat cells of their own (conforming_delaunay_3d.cpp).
+void torus_of_revolution(int around, int across, PointMatrix& V, SimplexMatrix& F) {
+  const double pi = 3.14159265358979323846;
+  const Index n = static_cast<Index>(around) * across;
+  V.resize(3 * n, 3);
+  F.resize(2 * n, 3);
+  auto id = [&](int i, int j) { return static_cast<Index>((i % around) * across + j % across); };
+  for (int i = 0; i < around; ++i)
+    for (int j = 0; j < across; ++j) {
+      const double u = 2 * pi * i / around, v = 2 * pi * j / across;
+      for (int layer = 0; layer < 3; ++layer) {
+        // off the surface by a tenth of the tube, turned a little so that
+        // the free points are not cocircular in their turn
+        const double minor = 0.3 + (layer == 0 ? 0.0 : layer == 1 ? 0.03 : -0.03);
+        const double w = v + (layer == 0 ? 0.0 : 0.1 * pi / across), r = 1 + minor * std::cos(w);
+        const double turn = u + (layer == 0 ? 0.0 : 0.07 * pi / around * layer);
+        V.row(layer * n + id(i, j)) << r * std::cos(turn), r * std::sin(turn), minor * std::sin(w);
+      }
+      const Index q = 2 * id(i, j);
+      F.row(q) << id(i, j), id(i + 1, j), id(i + 1, j + 1);
+      F.row(q + 1) << id(i, j), id(i + 1, j + 1), id(i, j + 1);
+    }
+}
+
+TEST(FlatSurfaceCells, AConformingTetrahedralizationMendedForThemHasNone) {
+  PointMatrix V;
+  SimplexMatrix F;
+  torus_of_revolution(24, 12, V, F);
+  const ConformingDelaunay c = conforming_delaunay_3d(V, F, {}, 0, /*mend_flat_cells=*/true);
+  ASSERT_TRUE(c.is_delaunay);
+  EXPECT_EQ(c.flat_cells, 0);
+  EXPECT_EQ(flat_surface_cells(c.simplices, c.points, c.constraints).cells, 0);
+  EXPECT_EQ(missing_facets(c.simplices, c.constraints).size(), 0);
+  EXPECT_LE(c.flat_cell_points, c.mended_points);
 }
 
 }  // namespace

@@ -67,4 +67,43 @@ struct MendReport {
 // them best. Nothing added (MendReport::added() == 0) means no progress.
 MendReport mend_non_delaunay_faces(ConstraintSurface& surface, const std::vector<Index>& bad);
 
+// The flat cells of a tetrahedralization: tets whose corners all lie on the
+// constraint surface and whose volume is zero but for rounding (at most
+// 1e-9 of the cube of their longest edge). A planar quad's four corners are
+// cocircular whenever it is an isosceles trapezoid (every quad of a
+// torus of revolution), and a Delaunay tetrahedralization may then join the
+// quad's two diagonals by such a tet: the surface's diagonal on one side,
+// the other diagonal on the other. Its prisms in space-time are flat too,
+// and a field that changes sign across its corners puts a fold of zero
+// thickness into its zero set.
+struct FlatCells {
+  Index cells = 0;
+  // Per flat cell, its diagonal that is an edge of the surface (both edges of
+  // the pair of opposite edges that cross, the longest pair, and the one of
+  // them the surface's faces hold), smaller index first; each edge once.
+  std::vector<std::array<Index, 2>> diagonals;
+  Index without_surface_diagonal = 0;  // flat cells neither of whose diagonals is an edge of the surface
+};
+
+// Inputs:
+//   tets    #T by 4 tetrahedra over points
+//   points  #P by 3
+//   faces   #F by 3 constraint triangles over points
+// Outputs: FlatCells. Throws: nothing
+FlatCells flat_surface_cells(const SimplexMatrix& tets, const PointMatrix& points, const SimplexMatrix& faces);
+
+// Inputs:
+//   surface  the constraint surface (updated in place)
+//   edges    edges of its faces, as pairs of point rows
+// Outputs:
+//   surface with each edge split at its midpoint (both faces beside it split
+//   too); MendReport: the points added (edge_points). Throws: nothing
+//
+// Mends flat cells (flat_surface_cells' diagonals): the midpoint of a
+// quad's diagonal lies strictly inside the circle of its four corners, so
+// inside every sphere through them, and no Delaunay tetrahedralization
+// holding the midpoint joins the four corners by a tet again; the faces
+// stay on the input.
+MendReport split_surface_edges(ConstraintSurface& surface, const std::vector<std::array<Index, 2>>& edges);
+
 }  // namespace animanifold

@@ -106,6 +106,11 @@ struct ConformingDelaunay {
   // own Steiner points not counted). 0 in 2D.
   Index mending_rounds = 0;
   Index mended_points = 0;
+  // With mend_flat_cells: the flat cells left (flat_surface_cells,
+  // conforming_mend.hpp), and the points that mended the others (counted in
+  // mended_points too).
+  Index flat_cells = 0;
+  Index flat_cell_points = 0;
 };
 
 // conforming_delaunay_3d:
@@ -115,6 +120,9 @@ struct ConformingDelaunay {
 //   while_meshing  optional poll while TetGen runs
 //   time_limit     seconds a TetGen run may take; <= 0: the default allowance
 //                  (5 s + 0.5 ms a face, see run_tetgen)
+//   mend_flat_cells  also mend the flat cells between points of the surface
+//                  (flat_surface_cells): the surface diagonal of each is
+//                  split at its midpoint, in the same rounds
 // Outputs:
 //   ConformingDelaunay: points (input first), tets, refined constraints and their parents
 // Throws: InputError, MeshingError (see below); whatever while_meshing throws
@@ -135,7 +143,8 @@ struct ConformingDelaunay {
 // TimeLimitError, which callers let pass rather than retry another way:
 // whether the limit is hit depends on the machine, and a result must not.
 ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const SimplexMatrix& faces,
-                                          const std::function<void()>& while_meshing = {}, double time_limit = 0);
+                                          const std::function<void()>& while_meshing = {}, double time_limit = 0,
+                                          bool mend_flat_cells = false);
 
 // Inputs:
 //   points  #P by 2

@@ -169,6 +169,10 @@ struct MorphReport {
   // end frames carry them), the time slabs, the free points' lattice
   // spacing (of the size).
   Index source_steiner_points = 0, target_steiner_points = 0;
+  // Of those, the midpoints of planar quads' diagonals that mend flat cells
+  // (conforming_mend.hpp's flat_surface_cells), and the flat cells left:
+  // each a fold of zero thickness wherever the frames pass it.
+  Index flat_cell_points = 0, flat_cells = 0;
   int field_layers = 0;
   double lattice_spacing = 0.0;
   // The frames' checks (morph_validity.hpp): how many frames were looked at
@@ -239,6 +243,8 @@ void for_each_entry(const MorphReport& report, Visit&& visit) {
   visit("ends_reproduced", report.ends_reproduced);
   visit("source_steiner_points", report.source_steiner_points);
   visit("target_steiner_points", report.target_steiner_points);
+  visit("flat_cell_points", report.flat_cell_points);
+  visit("flat_cells", report.flat_cells);
   visit("field_layers", report.field_layers);
   visit("lattice_spacing", report.lattice_spacing);
   visit("frames_checked", report.frames_checked);
