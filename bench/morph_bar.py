@@ -205,7 +205,7 @@ CHECKS_BUDGET = 0.25  # the morph's checks may take this share of its own time (
 
 
 def checks_notes(report: dict) -> list[str]:
-    """What the morph's own checks cost against their budget, and on how many frames crossings were checked."""
+    """What the morph's own checks cost against their budget, and how they covered crossings."""
     seconds = dict(report.get("stage_seconds", []))
     if "validity" not in seconds:
         return []
@@ -215,8 +215,12 @@ def checks_notes(report: dict) -> list[str]:
     met = "within" if share <= CHECKS_BUDGET else "over"
     notes = [f"checks {checks:.2f} s = {100 * share:.0f} % of the morph's own {own:.2f} s "
              f"({met} the {100 * CHECKS_BUDGET:.0f} % budget)"]
-    if "crossing_frames_checked" in report:
-        notes.append(f"crossings checked on {report['crossing_frames_checked']} frames")
+    if report.get("crossings_certified"):
+        notes.append(f"crossings: space-time triangulation certified for every time; "
+                     f"CGAL confirms on {report.get('crossing_frames_checked', 0)} frame(s)")
+    elif "crossing_frames_checked" in report:
+        failure = report.get("certificate_failure") or "not a field morph"
+        notes.append(f"crossings: checked on {report['crossing_frames_checked']} frames ({failure})")
     return notes
 
 

@@ -214,6 +214,7 @@ def test_a_torus_of_planar_quads_leaves_no_fold_in_the_frames():
     report = manifold.validity
     assert report["flat_cells"] == 0, report
     assert report["flat_cell_points"] <= report["target_steiner_points"], report
+    assert report["crossings_certified"], report["certificate_failure"]
     size = max(np.linalg.norm(np.ptp(shape[0], axis=0)) for shape in (source, target))
     for t in np.concatenate([np.linspace(0.515, 0.575, 13), np.linspace(0.98, 0.995, 4)]):
         frame = manifold.slice(float(t))

@@ -216,13 +216,21 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   return half;
 }
 
+// What the certificate reads of a half (morph_field.hpp's SpaceTimeTriangulation).
+SpaceTimeTriangulation::Side side_of(Half&& half, SimplexMatrix&& transition) {
+  return {std::move(half.points), half.plain, std::move(half.refined.cells), std::move(transition),
+          std::move(half.times)};
+}
+
 // The zero set of the field over the whole space-time triangulation.
 class Extraction {
  public:
-  Extraction(const Half& source, const Half& target, const Fill& fill)
+  // `time_scale`: the shapes' size over the range (flat_to_rounding).
+  Extraction(const Half& source, const Half& target, const Fill& fill, double time_scale)
       : source_(source), target_(target), fill_(fill), nS_(static_cast<Index>(source.points.rows())),
         nT_(static_cast<Index>(target.points.rows())), JS_(static_cast<int>(source.times.size())),
-        JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_), zero_(5, 4 * static_cast<size_t>(nS_)) {
+        JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_), zero_(5, 4 * static_cast<size_t>(nS_)),
+        time_scale_(time_scale) {
     X_.resize(target_base_ + JT_ * nT_, 4);
     phi_.resize(X_.rows());
     for (int j = 0; j < JS_; ++j) place(source, j, source_id(j, 0));
@@ -268,6 +276,12 @@ class Extraction {
     return out;
   }
 
+  // The transition slabs in transition_slab()'s local ids, for the
+  // certificate (SpaceTimeTriangulation).
+  SimplexMatrix source_transition, target_transition;
+  // The 4-simplices the zero set passes through that are flat but for rounding.
+  Index flat_crossed() const { return flat_crossed_; }
+
  private:
   // Layer `layer` of `half` (its own numbering, end first) at global `base`.
   void place(const Half& half, int layer, Index base) {
@@ -279,7 +293,9 @@ class Extraction {
   void add(const Simplex4& s) {
     std::array<double, 5> value;
     for (int c = 0; c < 5; ++c) value[c] = phi_(s[c]);
+    const size_t pieces = zero_.piece_count();
     zero_.add(s.data(), value.data(), 0);
+    if (zero_.piece_count() != pieces && flat_to_rounding(X_, s, time_scale_)) ++flat_crossed_;
   }
 
   // Prisms over `cells` between two layers, skipping those the zero set
@@ -311,7 +327,12 @@ class Extraction {
   template <class Global>
   void add_transition(const SimplexMatrix& cells, const Half& half, const Global& global, bool refined_at_bottom) {
     const Index n = static_cast<Index>(half.points.rows());
-    for (Simplex4 s : transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom)) {
+    const std::vector<Simplex4> slab = transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom);
+    SimplexMatrix& local = refined_at_bottom ? source_transition : target_transition;
+    local.resize(static_cast<Index>(slab.size()), 5);
+    for (size_t r = 0; r < slab.size(); ++r) {
+      Simplex4 s = slab[r];
+      for (int c = 0; c < 5; ++c) local(static_cast<Index>(r), c) = s[c];
       for (Index& v : s) v = global(v);
       add(s);
     }
@@ -325,17 +346,20 @@ class Extraction {
   PointMatrix X_;
   Eigen::VectorXd phi_;
   ZeroSetBuilder zero_;
+  double time_scale_;
+  Index flat_crossed_ = 0;
 };
 
 }  // namespace
 
-Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
-                  const MorphOptions& options, StageClock& clock) {
+FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+                       const MorphOptions& options, StageClock& clock) {
   if (VS.cols() != 3) fail<InputError>("the field method morphs 3D shapes (triangle meshes); use 'skeleton' for 2D");
   const int slabs = options.field_layers;
   if (slabs < 3 || slabs % 2 == 0) fail<InputError>("field_layers must be an odd number >= 3, got ", slabs);
   if (!(options.field_resolution >= 2)) fail<InputError>("field_resolution must be >= 2, got ", options.field_resolution);
-  Morph result;
+  FieldMorph out;
+  Morph& result = out.morph;
   MorphReport& report = result.report;
   const double size = std::max(size_of(VS, VT), 1e-300);
 
@@ -416,13 +440,16 @@ Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMat
   for (const Half* half : {&source, &target}) report.split_faces += static_cast<Index>(half->refined.splits.size());
 
   clock.begin("shape", 0.6);
-  Extraction extraction(source, target, fill);
+  Extraction extraction(source, target, fill, size / (options.t1 - options.t0));
   extraction.run();
   result.manifold = extraction.manifold();
   report.simplices = static_cast<Index>(result.manifold.S.rows());
   report.field_layers = slabs;
   report.lattice_spacing = lattice.spacing / size;
-  return result;
+  out.space_time = {side_of(std::move(source), std::move(extraction.source_transition)),
+                    side_of(std::move(target), std::move(extraction.target_transition)),
+                    extraction.flat_crossed()};
+  return out;
 }
 
 }  // namespace animanifold

@@ -34,9 +34,60 @@
 #include "animanifold/morph.hpp"
 #include "morph_stages.hpp"
 
+#include <string>
+#include <vector>
+
 namespace animanifold {
 
-Morph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
-                  const MorphOptions& options, StageClock& clock);
+// The space-time triangulation the zero set is extracted from, in the parts
+// its certificate reads: per end, the points and cells the stacks of prisms
+// stand on (the conforming end, refined by the chords' splits), the slab
+// from them to the fill's end facet, and the times of the layers.
+struct SpaceTimeTriangulation {
+  struct Side {
+    PointMatrix points;                      // the conforming end's, then the chords' middles
+    Index plain = 0;                         // the conforming end's points (the fill's)
+    SimplexMatrix cells;       // the stacks' cells over `points`
+    SimplexMatrix transition;  // the slab from `cells` to the fill's end facet (transition_slab's ids)
+    std::vector<double> times; // the layers' times, end first, the fill's last
+  };
+  Side source, target;
+  // The 4-simplices the zero set passes through that are flat but for
+  // rounding (the extraction counts them).
+  Index flat_crossed_simplices = 0;
+};
+
+struct FieldMorph {
+  Morph morph;
+  SpaceTimeTriangulation space_time;
+};
+
+FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
+                       const MorphOptions& options, StageClock& clock);
+
+// Whether the space-time triangulation is embedded, so that the zero set of
+// any field on it is, and with it every frame at every time: no frame can
+// run through itself. Each end's cells and each transition slab must tile
+// their convex regions once (convex_cover.hpp), and the layers' times must
+// increase from t0 to t1. The stacks of prisms between layers are products
+// of an end's cells with an interval of time, split by one vertex order per
+// slab (prism_simplices), so they are embedded when the cells are and the
+// times increase. The fill is CGAL's Delaunay triangulation of its two
+// layers (delaunay_exact, exact predicates), which tiles their convex hull
+// by the library's contract; what is checked is what is built on it.
+// The zero set is computed, not exact: its corners are rounded where the
+// zero set cuts the edges. That moves a piece by a rounding, unless its
+// simplex is itself flat but for rounding: there the zero set is a sheet in
+// the simplex's hyperplane that the roundings place, and neighbouring
+// sheets can fold onto each other with zero thickness (the flat cells of a
+// torus's planar quads did: frames crossed themselves by far more than
+// rounding while the triangulation was embedded). So the certificate also
+// asks that no simplex the zero set passes through be flat.
+// `failure` names the first part that is not embedded ("" when all are).
+struct SpaceTimeCertificate {
+  bool embedded = false;
+  std::string failure;
+};
+SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time);
 
 }  // namespace animanifold

@@ -89,6 +89,18 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
 // order common to a slab's prisms keeps the slab conforming.
 void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, const double* rank = nullptr);
 
+// Whether the 4-simplex `s` (rows of X, time last) is flat but for
+// rounding: its volume, with time scaled by `time_scale` (the shapes' size
+// over the range, so that the answer does not depend on the units of time),
+// at most 1e-12 of its longest edge to the fourth. The zero set in such a
+// simplex is a sheet in the simplex's hyperplane that the roundings of its
+// cuts place, and it can fold onto its neighbours' with zero thickness
+// (morph_field.hpp's certificate). On the test pairs every simplex the zero
+// set passes through is above 1e-7 of that (mostly above 1e-3); the prisms
+// over a flat cell of an end (a planar quad's cocircular corners) are at
+// 1e-15 to 1e-17.
+bool flat_to_rounding(const PointMatrix& X, const Simplex4& s, double time_scale);
+
 struct Fill {
   SimplexMatrix simplices;                   // over [P_S; P_T]
   SimplexMatrix source_cells, target_cells;  // its end facets: K_S over P_S, K_T over P_T, positive in R^3

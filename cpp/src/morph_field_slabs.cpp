@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 
 namespace animanifold::morph_field {
 
@@ -50,6 +51,19 @@ void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, con
     }
     if ((staircase_signs()[r] < 0) != odd) std::swap(s[0], s[1]);
   }
+}
+
+bool flat_to_rounding(const PointMatrix& X, const Simplex4& s, double time_scale) {
+  constexpr double kFlatSimplex = 1e-12;
+  Eigen::Matrix4d edges;
+  double longest = 0;
+  for (int e = 0; e < 4; ++e) {
+    Eigen::RowVector4d d = X.row(s[e + 1]) - X.row(s[0]);
+    d(3) *= time_scale;
+    edges.row(e) = d;
+    longest = std::max(longest, d.squaredNorm());
+  }
+  return std::abs(edges.determinant()) <= kFlatSimplex * longest * longest;
 }
 
 // ---------------------------------------------------------------- the fill

@@ -113,10 +113,10 @@ class FrameChecks {
   }
 
   // Examines the frames at `times` on all cores, each into its own slot,
-  // and records them in time order, checking them for crossings too when
-  // asked. The `alongside` work items are more items of the loop, taken
-  // first; what one throws is thrown once the frames are done.
-  void check(const std::vector<double>& times, bool look_for_crossings,
+  // and records them in time order; the first `crossing_count` are checked
+  // for crossings too. The `alongside` work items are more items of the
+  // loop, taken first; what one throws is thrown once the frames are done.
+  void check(const std::vector<double>& times, long crossing_count,
              const std::vector<std::function<void()>>& alongside = {}) {
     std::vector<Frame> frames(times.size());
     std::vector<std::exception_ptr> failure(alongside.size());  // each item writes its own
@@ -124,7 +124,7 @@ class FrameChecks {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = first; i < static_cast<long>(times.size()); ++i) {
       if (i >= 0) {
-        frames[i] = examine(times[i], look_for_crossings);
+        frames[i] = examine(times[i], i < crossing_count);
         continue;
       }
       try {
@@ -136,7 +136,17 @@ class FrameChecks {
     for (const std::exception_ptr& e : failure)
       if (e) std::rethrow_exception(e);
     for (size_t i = 0; i < times.size(); ++i) record(times[i], frames[i]);
-    if (look_for_crossings) report_.crossing_frames_checked += static_cast<Index>(times.size());
+    report_.crossing_frames_checked += std::min(crossing_count, static_cast<long>(times.size()));
+  }
+
+  // Checks the frames at `times`, already examined, for crossings only.
+  void check_crossings(const std::vector<double>& times) {
+    std::vector<char> crossing(times.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
+    for (long i = 0; i < static_cast<long>(times.size()); ++i) crossing[i] = crosses(slicer_.slice(axis_, times[i]));
+    for (size_t i = 0; i < times.size(); ++i)
+      if (crossing[i]) report_.crossing_frames.push_back(times[i]);
+    report_.crossing_frames_checked += static_cast<Index>(times.size());
   }
 
   // Towards every change of topology between neighbouring checked frames,
@@ -153,7 +163,7 @@ class FrameChecks {
         report_.frames_capped = true;
       }
       bisection_frames += static_cast<int>(middles.size());
-      check(middles, false);
+      check(middles, 0);
     }
   }
 
@@ -210,7 +220,8 @@ class FrameChecks {
 };
 
 // kSpreadFrames times evenly inside [t0, t1], coarse to fine (the middle,
-// the quarters, ...), so the costly frames come first to the cores.
+// the quarters, ...): the frames checked for crossings, and the costly
+// frames first to the cores.
 std::vector<double> spread_times(double t0, double t1) {
   std::vector<int> order(kSpreadFrames);
   std::iota(order.begin(), order.end(), 1);
@@ -225,10 +236,14 @@ std::vector<double> spread_times(double t0, double t1) {
 
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
-                  const std::vector<std::function<void()>>& alongside) {
+                  const std::vector<std::function<void()>>& alongside, int crossing_frames,
+                  const std::function<bool()>& check_the_rest) {
   FrameChecks checks(manifold, VS, FS, VT, FT, report);
   const std::vector<double> spread = spread_times(t0, t1);
-  checks.check(spread, true, alongside);
+  const long crossing_count = std::clamp(crossing_frames, 0, kSpreadFrames);
+  checks.check(spread, crossing_count, alongside);
+  if (crossing_count < kSpreadFrames && check_the_rest && check_the_rest())
+    checks.check_crossings(std::vector<double>(spread.begin() + crossing_count, spread.end()));
   checks.bisect_changes();
   checks.finish();
 }

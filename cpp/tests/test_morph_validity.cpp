@@ -1,7 +1,8 @@
 // check_frames (morph_validity.hpp) with work run beside the frames: the
 // work runs once on any thread count, the frame checks report what they
-// report without it, and what the work throws reaches the caller; every
-// spread frame is checked for crossings.
+// report without it, and what the work throws reaches the caller; crossings
+// are checked on the spread frames asked for, and on the rest when asked
+// once the work is done.
 #include "animanifold/morph.hpp"
 #include "animanifold/morph_validity.hpp"
 #include "animanifold/threads.hpp"
@@ -66,7 +67,6 @@ TEST(MorphValidity, WorkBesideTheFramesRunsOnceAndLeavesTheirChecksAsTheyAre) {
     EXPECT_EQ(beside.frames_checked, alone.frames_checked);
     EXPECT_EQ(beside.noise_frames, alone.noise_frames);
     EXPECT_EQ(beside.crossing_frames, alone.crossing_frames);
-    EXPECT_EQ(beside.crossing_frames_checked, 24);
     EXPECT_EQ(beside.topology_changes, alone.topology_changes);
   }
 }
@@ -79,4 +79,24 @@ TEST(MorphValidity, WhatTheWorkBesideTheFramesThrowsReachesTheCaller) {
     EXPECT_THROW(frames_checked(in, [] { throw std::runtime_error("the simplex checks failed"); }), std::runtime_error)
         << threads << " threads";
   }
+}
+
+TEST(MorphValidity, CrossingsAreCheckedOnTheFramesAskedAndOnTheRestWhenAskedAfterTheWork) {
+  const Inputs in = growing_octahedron();
+  for (const bool rest : {false, true}) {
+    MorphReport report;
+    bool work_done = false, asked_after_work = false;
+    check_frames(in.morph.manifold, 0.0, 1.0, in.VS, in.FS, in.VT, in.FT, report, {[&] { work_done = true; }}, 1,
+                 [&] {
+                   asked_after_work = work_done;
+                   return rest;
+                 });
+    EXPECT_TRUE(asked_after_work);
+    EXPECT_EQ(report.crossing_frames_checked, rest ? 24 : 1);
+    EXPECT_GE(report.frames_checked, 24);
+    EXPECT_TRUE(report.crossing_frames.empty());
+  }
+  MorphReport none;
+  check_frames(in.morph.manifold, 0.0, 1.0, in.VS, in.FS, in.VT, in.FT, none, {}, 0);
+  EXPECT_EQ(none.crossing_frames_checked, 0);
 }

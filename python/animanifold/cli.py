@@ -453,8 +453,15 @@ def _method_summary(method: str, report: dict) -> str:
 
 
 def _crossing_summary(report: dict) -> str:
-    """How many frames were checked for crossings."""
-    return f"crossings checked on {report.get('crossing_frames_checked', 0)} frames"
+    """How the frames were checked for crossings: certified for every time (the field method's
+    embedded space-time triangulation), or on some frames only."""
+    checked = report.get("crossing_frames_checked", 0)
+    if report.get("crossings_certified"):
+        confirmed = "1 frame confirms it" if checked == 1 else f"{checked} frames confirm it"
+        return f"no frame at any time can cross itself (space-time triangulation certified; {confirmed})"
+    failure = report.get("certificate_failure")
+    why = f" (not certified: {failure})" if failure else ""
+    return f"crossings checked on {checked} frames{why}"
 
 
 def one_line(error: BaseException) -> str:

@@ -182,8 +182,14 @@ struct MorphReport {
   // frames), hold a bubble neither input has, or leave the inputs' topology.
   Index frames_checked = 0;
   bool frames_capped = false;
-  // How many frames were checked for crossings (the spread ones).
+  // Crossings: how many of the spread frames were checked for them (the
+  // middle and the quarters first), and, for the field method, whether its
+  // space-time triangulation is certified embedded, which rules them out in
+  // every frame at every time (morph_field.hpp's certify_space_time); when
+  // it is not, what failed, and every spread frame is checked instead.
   Index crossing_frames_checked = 0;
+  bool crossings_certified = false;
+  std::string certificate_failure;
   // How often the topology (Euler characteristic, pieces, cavities) changes
   // from one checked frame to the next, in time order.
   Index topology_changes = 0;
@@ -250,6 +256,8 @@ void for_each_entry(const MorphReport& report, Visit&& visit) {
   visit("frames_checked", report.frames_checked);
   visit("frames_capped", report.frames_capped);
   visit("crossing_frames_checked", report.crossing_frames_checked);
+  visit("crossings_certified", report.crossings_certified);
+  visit("certificate_failure", report.certificate_failure);
   visit("topology_changes", report.topology_changes);
   visit("crossing_frames", report.crossing_frames);
   visit("bubble_frames", report.bubble_frames);

@@ -8,7 +8,10 @@
 // the ends', more pieces than the ends'); how many frames were checked and
 // whether the bisections below stopped at their limit.
 //
-// Frames: 24 evenly spread inside the range, each given every check. Then,
+// Frames: 24 evenly spread inside the range, each given every check (the
+// crossings on the first `crossing_frames` of them in coarse-to-fine order:
+// the middle, the quarters, the eighths, ...; all 24 by default, and the
+// rest too when `check_the_rest()` says so once `alongside` is done). Then,
 // between two checked frames whose topology differs, frames bisecting
 // towards the change, so that the frames where the topology changes are
 // looked at too: up to 5 rounds and 24 frames in all (`frames_capped` when
@@ -33,15 +36,23 @@ namespace animanifold {
 //   VS, FS, VT, FT  the morph's inputs
 //   alongside       work items run by the threads that check the 24
 //                   spread frames, before their frames (the morph's checks
-//                   of its simplices and its ends: a core would otherwise
-//                   idle while they run); they must not write the report's
-//                   frame checks
+//                   of its simplices, its ends and its space-time
+//                   triangulation: a core would otherwise idle while they
+//                   run); they must not write the report's frame checks
+//   crossing_frames how many spread frames are checked for crossings
+//                   (0..24; the field method checks the middle one, and the rest
+//                   only when its space-time triangulation is not
+//                   certified embedded)
+//   check_the_rest  optional; asked once the spread frames and `alongside`
+//                   are done: true checks the other spread frames for
+//                   crossings too
 // Outputs:
 //   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
 // Throws: what an `alongside` item throws (the first item's first), once
 // the spread frames are checked; nothing else of its own
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
-                  const std::vector<std::function<void()>>& alongside = {});
+                  const std::vector<std::function<void()>>& alongside = {}, int crossing_frames = 24,
+                  const std::function<bool()>& check_the_rest = {});
 
 }  // namespace animanifold
