@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numeric>
 #include <stdexcept>
 
@@ -102,25 +103,38 @@ class FrameChecks {
  public:
   FrameChecks(const Complex& manifold, const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
               const SimplexMatrix& FT, MorphReport& report)
-      : report_(report), slicer_(std::make_shared<const Complex>(manifold)), axis_(manifold.ambient_dimension() - 1) {
+      // The slicer reads the manifold where it is (an aliasing pointer that
+      // owns nothing): check_frames() ends before its caller's manifold does.
+      : report_(report), slicer_(std::shared_ptr<const Complex>(std::shared_ptr<const Complex>(), &manifold)),
+        axis_(manifold.ambient_dimension() - 1) {
     const FrameTopology source = topology_of(VS, FS), target = topology_of(VT, FT);
     least_euler_ = std::min(source.euler, target.euler), most_euler_ = std::max(source.euler, target.euler);
     most_pieces_ = std::max(source.pieces, target.pieces);
     most_cavities_ = std::max(source.cavities, target.cavities);
     tolerance_ = kCrossingTolerance * std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
                                                (VT.colwise().maxCoeff() - VT.colwise().minCoeff()).norm());
-    slicer_.index(axis_);  // built once here: the frames below only read it, from several threads
+  }
+
+  // Builds the slicer's index once (the first frame's work, or an item of
+  // the first loop of check()); a thread that asks meanwhile waits for it.
+  // After that the frames only read it, from several threads.
+  void index() {
+    std::call_once(indexed_, [this] { slicer_.index(axis_); });
   }
 
   // Examines the frames at `times` on all cores, each into its own slot,
   // and records them in time order; the first `crossing_count` are checked
   // for crossings too. The `alongside` work items are more items of the
-  // loop, taken first; what one throws is thrown once the frames are done.
+  // loop, taken first, after the slicer's index (so that one core builds it
+  // while the other starts on them); what one throws is thrown once the
+  // frames are done.
   void check(const std::vector<double>& times, long crossing_count,
              const std::vector<std::function<void()>>& alongside = {}) {
     std::vector<Frame> frames(times.size());
-    std::vector<std::exception_ptr> failure(alongside.size());  // each item writes its own
-    const long first = -static_cast<long>(alongside.size());
+    std::vector<std::function<void()>> items{[this] { index(); }};
+    items.insert(items.end(), alongside.begin(), alongside.end());
+    std::vector<std::exception_ptr> failure(items.size());  // each item writes its own
+    const long first = -static_cast<long>(items.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = first; i < static_cast<long>(times.size()); ++i) {
       if (i >= 0) {
@@ -128,7 +142,7 @@ class FrameChecks {
         continue;
       }
       try {
-        alongside[static_cast<size_t>(i - first)]();
+        items[static_cast<size_t>(i - first)]();
       } catch (...) {
         failure[static_cast<size_t>(i - first)] = std::current_exception();
       }
@@ -191,6 +205,7 @@ class FrameChecks {
 
   Frame examine(double t, bool look_for_crossings) {
     Frame out;
+    index();
     const Slice frame = slicer_.slice(axis_, t);
     out.topology = topology_of(frame.vertices, frame.faces);
     out.crossing = look_for_crossings && crosses(frame);
@@ -213,6 +228,7 @@ class FrameChecks {
 
   MorphReport& report_;
   Slicer slicer_;
+  std::once_flag indexed_;
   int axis_;
   Index least_euler_ = 0, most_euler_ = 0, most_pieces_ = 0, most_cavities_ = 0;
   double tolerance_ = 0;
