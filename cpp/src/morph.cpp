@@ -7,7 +7,6 @@
 #include "morph_convex.hpp"
 #include "morph_layers.hpp"
 #include "morph_skeleton.hpp"
-#include "animanifold/normals.hpp"
 #include "animanifold/perturbation.hpp"
 #include "animanifold/self_intersection.hpp"
 #include "animanifold/shelling.hpp"
@@ -173,22 +172,43 @@ void end_distances(const Complex& manifold, const PointMatrix& VS, const Simplex
 
 // Validity of a manifold extracted as a zero set (the field method): it is a
 // closed oriented manifold but for its ends, and no tet is flat (its volume
-// relative to its longest edge cubed).
+// relative to its longest edge cubed). One pass over the tets, nothing kept:
+// the volume from the wedge product's length (as simplex_normals), not the
+// Gram determinant, whose square loses half the digits of a thin tet.
 void zero_set_validity(const Complex& manifold, MorphReport& report) {
   const ManifoldReport check = check_manifold(manifold.S);
   report.inverted_simplices = check.misoriented_facets + check.nonmanifold_facets;
-  // From the wedge product's length (simplex_normals), not the Gram
-  // determinant, whose square loses half the digits of a thin tet.
-  const Eigen::VectorXd volume = simplex_normals(manifold.V, manifold.S).rowwise().norm() / 6.0;
-  report.min_relative_volume = volume.size() ? std::numeric_limits<double>::infinity() : 0.0;
-  report.min_volume = volume.size() ? volume.minCoeff() : 0.0;
-  const Eigen::VectorXd longest_edge = longest_edges(manifold.V, manifold.S);
-  for (Index s = 0; s < manifold.S.rows(); ++s) {
-    const double longest = longest_edge(s);
-    const double relative = longest > 0 ? volume(s) / (longest * longest * longest) : 0.0;
-    report.min_relative_volume = std::min(report.min_relative_volume, relative);
-    if (relative <= 1e-14) ++report.degenerate_simplices;
+  const PointMatrix& V = manifold.V;
+  const SimplexMatrix& S = manifold.S;
+  if (V.cols() != 4 || S.cols() != 4) fail<InputError>("a zero set in R^4 has tets, got ", S.cols(), " corners in R^", V.cols());
+  double min_volume = S.rows() ? std::numeric_limits<double>::infinity() : 0.0;
+  double min_relative = min_volume;
+  Index degenerate = 0;
+  for (Index s = 0; s < S.rows(); ++s) {
+    const Index* c = S.row(s).data();
+    Eigen::Matrix<double, 4, 4> corner;
+    for (int k = 0; k < 4; ++k) corner.row(k) = V.row(c[k]);
+    Eigen::Matrix<double, 3, 4> edges;
+    for (int k = 0; k < 3; ++k) edges.row(k) = corner.row(k + 1) - corner.row(0);
+    Eigen::Vector4d normal;
+    for (int j = 0; j < 4; ++j) {  // the wedge product of the three edges
+      Eigen::Matrix3d minor;
+      for (int col = 0, m = 0; col < 4; ++col)
+        if (col != j) minor.col(m++) = edges.col(col);
+      normal(j) = (j % 2 ? -1.0 : 1.0) * minor.determinant();
+    }
+    const double volume = normal.norm() / 6.0;
+    double longest = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, (corner.row(a) - corner.row(b)).squaredNorm());
+    longest = std::sqrt(longest);
+    const double relative = longest > 0 ? volume / (longest * longest * longest) : 0.0;
+    min_volume = std::min(min_volume, volume);
+    min_relative = std::min(min_relative, relative);
+    degenerate += relative <= 1e-14;
   }
+  report.min_volume = min_volume, report.min_relative_volume = min_relative;
+  report.degenerate_simplices = degenerate;
 }
 
 }  // namespace

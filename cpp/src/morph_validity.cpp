@@ -73,21 +73,22 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::vector<bool> used(V.rows(), false);
-  for (Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      used[F(f, k)] = true;
-      parent[find(F(f, k))] = find(F(f, (k + 1) % 3));
-    }
-  const Index vertices = static_cast<Index>(std::count(used.begin(), used.end(), true));
+  std::vector<char> used(V.rows(), 0);
+  for (Index f = 0; f < F.rows(); ++f) {
+    const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
+    used[a] = used[b] = used[c] = 1;
+    parent[find(a)] = find(b);  // two unions join all three corners
+    parent[find(b)] = find(c);
+  }
+  const Index vertices = static_cast<Index>(std::count(used.begin(), used.end(), 1));
   out.euler = vertices - distinct_edges(F, V.rows()) + static_cast<Index>(F.rows());
   std::vector<double> volume(V.rows(), 0.0);
-  std::vector<bool> shell(V.rows(), false);
+  std::vector<char> shell(V.rows(), 0);
   for (Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     const Index root = find(F(f, 0));
     volume[root] += a.dot(b.cross(c)) / 6.0;
-    shell[root] = true;
+    shell[root] = 1;
   }
   for (Index root = 0; root < V.rows(); ++root) {
     if (!shell[root]) continue;
