@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -81,6 +83,28 @@ TEST(Slice, IntervalIndexFindsExactlyTheStabbedSimplices) {
       EXPECT_EQ(hits, expected) << "axis " << axis << " value " << value;
     }
   }
+}
+
+// stab() reports hits by lowest coordinate, then by simplex: with ties,
+// negative coordinates, and -0 tying with +0 as they compare.
+TEST(Slice, IntervalIndexReportsHitsByLowThenSimplex) {
+  std::mt19937 rng(11);
+  const double lows[] = {-3.5, -0.0, 0.0, 2.25, -1e-300, 1e-300, -3.5, 7.0};
+  std::uniform_int_distribution<int> pick(0, 7);
+  const Index count = 300;
+  PointMatrix V(2 * count, 1);
+  SimplexMatrix S(count, 2);
+  for (Index s = 0; s < count; ++s) {
+    V(2 * s, 0) = lows[pick(rng)], V(2 * s + 1, 0) = 10.0;  // every simplex holds 8
+    S.row(s) << 2 * s + 1, 2 * s;
+  }
+  const IntervalIndex index(V, S, 0);
+  std::vector<Index> hits;
+  index.stab(V, S, 8.0, hits);
+  std::vector<Index> expected(count);
+  std::iota(expected.begin(), expected.end(), 0);
+  std::stable_sort(expected.begin(), expected.end(), [&](Index a, Index b) { return V(2 * a, 0) < V(2 * b, 0); });
+  EXPECT_EQ(hits, expected);
 }
 
 TEST(Slice, InBetweenFrameIsWatertight) {
