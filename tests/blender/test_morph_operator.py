@@ -134,6 +134,9 @@ def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(
     checks = next(line for line in out.splitlines() if "frames checked" in line)
     assert f"{validity['frames_checked']} frames checked" in checks, checks
     assert f"changes {validity['topology_changes']} times" in checks and "all checks passed: " in checks, checks
+    # a torus of planar quads: its flat cells are mended, and the space-time is certified
+    assert validity["flat_cells"] == 0 and validity["crossings_certified"], validity["certificate_failure"]
+    assert "none at any time: space-time certified" in checks, checks
     # the 24 spread frames and at most 24 bisecting towards the changes, counted between them
     assert 24 <= validity["frames_checked"] <= 48
     assert 0 <= validity["topology_changes"] <= validity["frames_checked"] - 1
