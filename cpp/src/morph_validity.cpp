@@ -134,16 +134,15 @@ class FrameChecks {
     std::vector<Frame> frames(times.size());
     std::vector<std::function<void()>> items{[this] { index(); }};
     items.insert(items.end(), alongside.begin(), alongside.end());
-    std::vector<std::exception_ptr> failure(items.size());  // each item writes its own
+    // Each item and frame writes its own slot; nothing thrown may leave the
+    // parallel loop (the index, built by an item, can throw in a frame too).
+    std::vector<std::exception_ptr> failure(items.size() + times.size());
     const long first = -static_cast<long>(items.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = first; i < static_cast<long>(times.size()); ++i) {
-      if (i >= 0) {
-        frames[i] = examine(times[i], i < crossing_count);
-        continue;
-      }
       try {
-        items[static_cast<size_t>(i - first)]();
+        if (i >= 0) frames[i] = examine(times[i], i < crossing_count);
+        else items[static_cast<size_t>(i - first)]();
       } catch (...) {
         failure[static_cast<size_t>(i - first)] = std::current_exception();
       }
@@ -157,8 +156,17 @@ class FrameChecks {
   // Checks the frames at `times`, already examined, for crossings only.
   void check_crossings(const std::vector<double>& times) {
     std::vector<char> crossing(times.size(), 0);
+    std::vector<std::exception_ptr> failure(times.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-    for (long i = 0; i < static_cast<long>(times.size()); ++i) crossing[i] = crosses(slicer_.slice(axis_, times[i]));
+    for (long i = 0; i < static_cast<long>(times.size()); ++i) {
+      try {
+        crossing[i] = crosses(slicer_.slice(axis_, times[i]));
+      } catch (...) {
+        failure[i] = std::current_exception();
+      }
+    }
+    for (const std::exception_ptr& e : failure)
+      if (e) std::rethrow_exception(e);
     for (size_t i = 0; i < times.size(); ++i)
       if (crossing[i]) report_.crossing_frames.push_back(times[i]);
     report_.crossing_frames_checked += static_cast<Index>(times.size());

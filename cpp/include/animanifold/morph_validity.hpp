@@ -48,8 +48,9 @@ namespace animanifold {
 //                   crossings too
 // Outputs:
 //   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
-// Throws: what an `alongside` item throws (the first item's first), once
-// the spread frames are checked; nothing else of its own
+// Throws: what an `alongside` item or the slicing of a frame throws (the
+// first item's first), once the spread frames are checked; nothing else of
+// its own
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
                   const std::vector<std::function<void()>>& alongside = {}, int crossing_frames = 24,
