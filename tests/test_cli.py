@@ -358,9 +358,14 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path, sphe
     assert "ends reproduced: True" in out
     assert f"{m.validity['frames_checked']} frames checked" in out, out
     assert f"the topology changes {m.validity['topology_changes']} times" in out, out
-    # crossings: ruled out at every time by the certified space-time triangulation, confirmed on the middle frame
-    assert m.validity["crossings_certified"] and m.validity["crossing_frames_checked"] == 1, m.validity
-    assert "space-time triangulation certified; 1 frame confirms it" in out, out
+    # how crossings were covered, as the report says: ruled out at every time by the certified
+    # space-time triangulation and confirmed on the middle frame, or else looked for on all 24
+    if m.validity["crossings_certified"]:
+        assert m.validity["crossing_frames_checked"] == 1, m.validity
+        assert "space-time triangulation certified; 1 frame confirms it" in out, out
+    else:
+        assert m.validity["crossing_frames_checked"] == 24, m.validity
+        assert f"crossings checked on 24 frames (not certified: {m.validity['certificate_failure']})" in out, out
     assert last_euler == 0  # a torus
 
 
