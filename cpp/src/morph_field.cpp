@@ -40,10 +40,11 @@ constexpr double kCollar = 0.125;
 // The slab joining the halves (the Delaunay fill) lasts this share of a
 // layer: the field does not change across it.
 constexpr double kFillSlab = 0.5;
-// On the input, the collar's field is this share of its faces' circumradius,
-// times 1 to 2 from vertex to vertex: a planar quad's four vertices would
-// otherwise make pieces of the zero set whose corners are cut at one time,
-// flat, and a value near zero pieces a rounding wide.
+// On the input, the collar's field is this share of the median circumradius
+// of its faces, times 1 to 2 from vertex to vertex (order_the_collar): a
+// planar quad's four vertices would otherwise make pieces of the zero set
+// whose corners are cut at one time, flat, and a value near zero pieces a
+// rounding wide.
 constexpr double kCollarLift = 0.01;
 
 double size_of(const PointMatrix& A, const PointMatrix& B) {
@@ -94,10 +95,15 @@ void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMa
   const Eigen::VectorXd& own = is_source ? s : t;
   const Eigen::VectorXd radius = vertex_circumradius(half.points.topRows(half.plain), surface);
   auto zero = [&](Index v) { return v < half.plain && on_surface[v]; };
+  std::vector<double> radii;
+  for (Index v = 0; v < half.plain; ++v)
+    if (zero(v)) radii.push_back(radius(v));
+  std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
+  const double lift = radii.empty() ? floor : kCollarLift * radii[radii.size() / 2];
   Eigen::VectorXd end(n), collar(n);
   for (Index v = 0; v < n; ++v) {
     end(v) = zero(v) ? 0.0 : floored(own(v), floor);
-    collar(v) = zero(v) ? kCollarLift * radius(v) * (1.5 + jitter(v, 0, 0xc011a5, 0)) : jittered(end(v), v, 0);
+    collar(v) = zero(v) ? lift : jittered(end(v), v, 0);
   }
   half.field = {end, collar};
   for (size_t layer = 2; layer < half.weights.size(); ++layer) {
@@ -106,6 +112,22 @@ void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMa
     for (Index v = 0; v < n; ++v) value(v) = jittered(floored((1 - w) * s(v) + w * t(v), floor), v, static_cast<int>(layer));
     half.field.push_back(value);
   }
+}
+
+// The collar's lift on the input, times 1 to 2 in the order of the
+// points' values on the next layer (after preserve_topology). Between the
+// collar and that layer, each prism is cut by the staircase (add_stack),
+// which widens the solid where two neighbours' values swap order across the
+// slab; lifts in any other order (a jitter, or the faces' own sizes) swap
+// half the input's neighbours there, and the frames just after the end
+// gained islands and handles a face wide on the input.
+void order_the_collar(Half& half, const std::vector<bool>& on_surface) {
+  std::vector<std::pair<double, Index>> order;
+  for (Index v = 0; v < half.plain; ++v)
+    if (on_surface[v]) order.emplace_back(half.field[2](v), v);
+  std::sort(order.begin(), order.end());
+  const double count = static_cast<double>(std::max<size_t>(order.size(), 1));
+  for (size_t r = 0; r < order.size(); ++r) half.field[1](order[r].second) *= 1.0 + (static_cast<double>(r) + 0.5) / count;
 }
 
 // Adds `more` to the end's points as free points and triangulates them
@@ -435,6 +457,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   on_both_sides([&](int side) {
     Half& half = side == 0 ? source : target;
     half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least);
+    order_the_collar(half, (side == 0 ? S : T).on_surface);
     slave_chord_points(half);
   });
   for (const Half* half : {&source, &target}) report.split_faces += static_cast<Index>(half->refined.splits.size());
