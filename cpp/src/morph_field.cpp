@@ -99,7 +99,7 @@ void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMa
   for (Index v = 0; v < half.plain; ++v)
     if (zero(v)) radii.push_back(radius(v));
   std::nth_element(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2), radii.end());
-  const double lift = radii.empty() ? floor : kCollarLift * radii[radii.size() / 2];
+  const double lift = radii.empty() ? floor : std::max(floor, kCollarLift * radii[radii.size() / 2]);
   Eigen::VectorXd end(n), collar(n);
   for (Index v = 0; v < n; ++v) {
     end(v) = zero(v) ? 0.0 : floored(own(v), floor);
