@@ -7,7 +7,9 @@ What is compared
 Pairs: the shared models bunny.off, spot.obj, torus-800.off and 3holes.off
 (../shared/data/meshes) as bunny->torus-800, spot->3holes, torus-800->spot and 3holes->bunny,
 and the two speed pairs from animanifold.procedural, icosphere(4)->ring_of_holes() (genus 4)
-and blob()->thick_genus() (genus 3). Every shape is normalised as in tests/test_morph_field.py:
+and blob()->thick_genus() (genus 3); then pairs of our own from animanifold.procedural:
+icosphere(4)->smooth_genus(2), smooth_genus(5)->limbs() (thin limbs), flat_box(3)->icosphere(4)
+(flat sides, genus 3) and limbs()->flat_box(). Every shape is normalised as in tests/test_morph_field.py:
 bounding-box centre at the origin, diagonal 2 (the procedural ones too, so one yardstick serves
 every pair); "diagonal" below is the larger input diagonal, 2.
 
@@ -93,6 +95,10 @@ def _shared(source: str, target: str) -> Callable[[], tuple[Mesh, Mesh]]:
     return lambda: (normalised(am.read_mesh(SHARED / source)), normalised(am.read_mesh(SHARED / target)))
 
 
+def _procedural(source: Callable[[], Mesh], target: Callable[[], Mesh]) -> Callable[[], tuple[Mesh, Mesh]]:
+    return lambda: (normalised(source()), normalised(target()))
+
+
 # name -> (loader of (source, target), time limit); the names are what --pairs takes.
 PAIRS: dict[str, tuple[Callable[[], tuple[Mesh, Mesh]], float | None]] = {
     "bunny->torus-800": (_shared("bunny.off", "torus-800.off"), None),
@@ -103,6 +109,11 @@ PAIRS: dict[str, tuple[Callable[[], tuple[Mesh, Mesh]], float | None]] = {
                                           normalised(procedural.ring_of_holes())), SPEED_SECONDS),
     "blob->thick_genus": (lambda: (normalised(procedural.blob()), normalised(procedural.thick_genus())),
                           SPEED_SECONDS),
+    # Pairs of our own (the survey): a genus-2 and a genus-5 shape, thin limbs, flat sides.
+    "icosphere->genus_2": (_procedural(lambda: procedural.icosphere(4), lambda: procedural.smooth_genus(2)), None),
+    "genus_5->limbs": (_procedural(lambda: procedural.smooth_genus(5), procedural.limbs), None),
+    "flat_box_3->icosphere": (_procedural(lambda: procedural.flat_box(3), lambda: procedural.icosphere(4)), None),
+    "limbs->flat_box": (_procedural(procedural.limbs, procedural.flat_box), None),
 }
 
 

@@ -282,7 +282,18 @@ FlatCells flat_surface_cells(const SimplexMatrix& tets, const PointMatrix& point
     const Edge second = edge_of(c[kPairs[best][2]], c[kPairs[best][3]]);
     const bool has_first = surface_edges.count(first) > 0, has_second = surface_edges.count(second) > 0;
     if (!has_first && !has_second) {
+      // Four cocircular points in one plane across a step or a hole (inputs
+      // on a grid): the cell's sides that are the surface's edges are
+      // chords of the circle, and the middle of the longest lies inside
+      // every sphere through it, which breaks the tie.
       ++out.without_surface_diagonal;
+      Edge side{-1, -1};
+      double side_length = 0;
+      for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b)
+          if (surface_edges.count(edge_of(c[a], c[b])) && length(a, b) > side_length)
+            side = edge_of(c[a], c[b]), side_length = length(a, b);
+      if (side.first >= 0 && chosen.insert(side).second) out.diagonals.push_back({side.first, side.second});
       continue;
     }
     const Edge diagonal = has_first && (!has_second || length(kPairs[best][0], kPairs[best][1]) >=

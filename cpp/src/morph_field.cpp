@@ -25,6 +25,9 @@ namespace {
 constexpr int kScheduleSamples = 24;
 // Rounds of refining an end's points where the zero set needs it.
 constexpr int kRefineRounds = 2;
+// Rounds of breaking an end's flat cells (points_off_flat_cells), each at
+// this share of the first one's distance from the cell's plane.
+constexpr double kFlatCellReach[] = {1.0, 2.0, 0.5, 0.25};
 // Off the inputs, the field keeps at least this share of the lattice spacing
 // from zero: a cut a rounding away from a vertex would make a tet of the
 // zero set flat to rounding (and an input's vertex that the other input
@@ -209,15 +212,23 @@ Index refine_end(EndMesh& end, SimplexMatrix& cells, EndDistances& distances, co
   half_layers(layers, is_source, m, slabs, schedule, options);
   layers.weights.pop_back();  // the fill's layer is sampled by the fill
   Index total = 0;
+  // First the flat cells: a point that add_free_points() leaves out (it would
+  // cost the input a face) is tried again nearer and farther.
+  for (const double reach : kFlatCellReach) {
+    const PointMatrix off_flat = points_off_flat_cells(cells, end.points, end.on_surface, reach);
+    if (off_flat.rows() == 0) break;
+    total += add_free_points(end, off_flat, cells);
+    distances.extend(end.points, dS, dT);
+  }
   for (int round = 0; round < kRefineRounds; ++round) {
     const PointMatrix more = refinement_points(cells, end.points, end.on_surface, V, F, is_source ? dS : dT, dS, dT,
                                                distances, layers.weights, spacing);
     if (more.rows() == 0) break;
     const Index added = add_free_points(end, more, cells);
     distances.extend(end.points, dS, dT);
-    end.free_points += added;
     total += added;
   }
+  end.free_points += total;
   return total;
 }
 
@@ -404,7 +415,6 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
                           options.mesher_time_limit);
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
   report.flat_cell_points = S.flat_cell_points + T.flat_cell_points;
-  report.flat_cells = S.flat_cells + T.flat_cells;
   report.source_conforming = report.target_conforming = true;
 
   clock.begin("schedule", 0.25);
@@ -428,6 +438,12 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
                              dS, dT, is_source, m, slabs, schedule, options, lattice.spacing);
   });
   report.refinement_points = added[0] + added[1];
+  // The flat cells the conforming ends left and the free points beside them did not break.
+  report.flat_cells = 0;
+  for (int side = 0; side < 2; ++side) {
+    const EndMesh& end = side == 0 ? S : T;
+    report.flat_cells += points_off_flat_cells(cells[side], end.points, end.on_surface, 1.0).rows() / 2;
+  }
   report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
 
   clock.begin("fill", 0.35);

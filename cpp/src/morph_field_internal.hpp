@@ -130,6 +130,21 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
                               const SignedDistance& dS, const SignedDistance& dT, const EndDistances& at_points,
                               const std::vector<double>& weights, double spacing);
 
+// Free points beside the flat cells of an end's tetrahedralization (`cells`
+// over `points`): tets whose four corners are on the input and lie in one
+// plane but for rounding. Inputs on a grid (voxel models, CAD parts) have
+// four cocircular points in one plane across a step or a hole, and the
+// Delaunay triangulation then may hold the flat tet between them; the
+// prisms over it are flat 4-simplices, and the zero set crossing them folds
+// onto its neighbours (no certificate, and frames that run through
+// themselves). Per flat cell, a point on each side of its plane, on the
+// normal through its centre, at `reach` x about a third of its size: one
+// inside the circumsphere of the tet beside the flat one breaks the tie.
+// Whether a point keeps the input's faces is add_free_points()'s to judge
+// (morph_field.cpp): the points are close to the input by nature.
+PointMatrix points_off_flat_cells(const SimplexMatrix& cells, const PointMatrix& points,
+                                  const std::vector<bool>& on_surface, double reach);
+
 // A half's tetrahedralization refined by stellar splits of its chords
 // (chapter 6), for the stacks of prisms of that half (morph_field.hpp).
 struct RefinedCells {

@@ -4,6 +4,8 @@
 #include "morph_field_internal.hpp"
 #include "stellar_complex.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -131,6 +133,38 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
   for (Index r = 0; r < found.rows(); ++r)
     if (clear[r]) keep.push_back(r);
   return found(keep, Eigen::all);
+}
+
+PointMatrix points_off_flat_cells(const SimplexMatrix& cells, const PointMatrix& points,
+                                  const std::vector<bool>& on_surface, double reach) {
+  // Flat as conforming_mend.cpp's flat_surface_cells() judges it.
+  constexpr double kFlatCell = 1e-9;
+  // Heights off the plane, as shares of the cell's size: unequal, so that
+  // the two points and the cell's corners are not cospherical again.
+  constexpr double kAbove = 0.31, kBelow = 0.37;
+  std::vector<double> xyz;
+  for (Index c = 0; c < cells.rows(); ++c) {
+    const Index* t = cells.row(c).data();
+    if (!(on_surface[t[0]] && on_surface[t[1]] && on_surface[t[2]] && on_surface[t[3]])) continue;
+    const Eigen::Vector3d p0 = points.row(t[0]), p1 = points.row(t[1]), p2 = points.row(t[2]), p3 = points.row(t[3]);
+    double longest = 0;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) longest = std::max(longest, (points.row(t[a]) - points.row(t[b])).norm());
+    if (std::abs((p1 - p0).dot((p2 - p0).cross(p3 - p0))) > kFlatCell * longest * longest * longest) continue;
+    // The normal of the plane: the largest of the corner triangles' normals.
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& n : {Eigen::Vector3d((p1 - p0).cross(p2 - p0)), Eigen::Vector3d((p1 - p0).cross(p3 - p0)),
+                                     Eigen::Vector3d((p2 - p0).cross(p3 - p0))})
+      if (n.norm() > normal.norm()) normal = n;
+    if (normal.norm() == 0) continue;
+    normal.normalize();
+    const Eigen::Vector3d centre = 0.25 * (p0 + p1 + p2 + p3);
+    for (const double height : {kAbove, -kBelow}) {
+      const Eigen::Vector3d q = centre + reach * height * longest * normal;
+      xyz.insert(xyz.end(), {q(0), q(1), q(2)});
+    }
+  }
+  return Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
 }
 
 RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,

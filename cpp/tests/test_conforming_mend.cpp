@@ -131,14 +131,25 @@ TEST(FlatSurfaceCells, FindTheTetBetweenAPlanarQuadsDiagonalsAndNameItsSurfaceDi
   lifted(3, 2) = 1e-3;
   EXPECT_EQ(flat_surface_cells(tets, lifted, faces).cells, 0);
 
-  // A flat cell neither of whose diagonals the surface holds (four points of
-  // one planar piece: the surface is the fan from 4 here) is counted apart.
+  // A flat cell neither of whose diagonals the surface holds (four coplanar
+  // points across a step: the surface is the pyramid's sides from 4 here) is
+  // counted apart, and the longest of its sides that the surface holds is
+  // named instead (the first of equals): its middle lies inside every sphere
+  // through the four corners.
   SimplexMatrix sides(4, 3);
   sides << 0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4;
   const FlatCells other = flat_surface_cells(tets.topRows(1), P, sides);
   EXPECT_EQ(other.cells, 1);
-  EXPECT_TRUE(other.diagonals.empty());
+  ASSERT_EQ(other.diagonals.size(), 1u);
+  EXPECT_EQ(other.diagonals[0], (std::array<Index, 2>{0, 1}));
   EXPECT_EQ(other.without_surface_diagonal, 1);
+
+  // With no edge of the cell on the surface, nothing is named.
+  SimplexMatrix apart(4, 3);
+  apart << 0, 4, 5, 1, 4, 5, 2, 4, 5, 3, 4, 5;
+  const FlatCells none = flat_surface_cells(tets.topRows(1), P, apart);
+  EXPECT_EQ(none.cells, 1);
+  EXPECT_TRUE(none.diagonals.empty());
 }
 
 TEST(FlatSurfaceCells, SplittingTheSurfaceDiagonalSplitsBothFacesBesideIt) {

@@ -81,6 +81,8 @@ struct FlatCells {
   // Per flat cell, its diagonal that is an edge of the surface (both edges of
   // the pair of opposite edges that cross, the longest pair, and the one of
   // them the surface's faces hold), smaller index first; each edge once.
+  // Where neither diagonal is (four cocircular points in one plane across a
+  // step or a hole of an input on a grid), its longest side that is.
   std::vector<std::array<Index, 2>> diagonals;
   Index without_surface_diagonal = 0;  // flat cells neither of whose diagonals is an edge of the surface
 };

@@ -170,8 +170,10 @@ struct MorphReport {
   // spacing (of the size).
   Index source_steiner_points = 0, target_steiner_points = 0;
   // Of those, the midpoints of planar quads' diagonals that mend flat cells
-  // (conforming_mend.hpp's flat_surface_cells), and the flat cells left:
-  // each a fold of zero thickness wherever the frames pass it.
+  // (conforming_mend.hpp's flat_surface_cells), and the flat cells left (the
+  // field method first adds free points beside them, counted in
+  // refinement_points): each a fold of zero thickness wherever the frames
+  // pass it.
   Index flat_cell_points = 0, flat_cells = 0;
   int field_layers = 0;
   double lattice_spacing = 0.0;

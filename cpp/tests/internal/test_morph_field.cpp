@@ -11,6 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 using namespace animanifold;
 
 namespace {
@@ -113,4 +117,45 @@ TEST(MorphFieldCertificate, TheMorphReportsItAndChecksCrossingsOnTheMiddleFrame)
   EXPECT_EQ(result.report.crossing_frames_checked, 1);
   EXPECT_GE(result.report.frames_checked, 24);
   EXPECT_TRUE(result.report.crossing_frames.empty());
+}
+
+// points_off_flat_cells (morph_field_internal.hpp): a flat cell of four
+// cocircular points of the input gets a point on each side of its plane, on
+// the normal through its centre; a proper tet, or a flat one with a corner
+// off the input, gets none.
+TEST(MorphFieldFlatCells, AFlatCellOfTheInputGetsAPointOnEachSideOfItsPlane) {
+  PointMatrix P(5, 3);
+  P << 0, 0, 0, 2, 0, 0, 2, 2, 0, 0, 2, 0, 1, 1, 1;  // a square in z = 0 (cocircular), and an apex
+  SimplexMatrix cells(2, 4);
+  cells << 0, 1, 2, 3,  // flat
+      0, 1, 2, 4;       // proper
+  const std::vector<bool> on_surface(5, true);
+  const PointMatrix off = morph_field::points_off_flat_cells(cells, P, on_surface, 1.0);
+  ASSERT_EQ(off.rows(), 2);
+  const double size = std::sqrt(8.0);  // the square's diagonal, its longest edge
+  std::vector<double> heights;
+  for (Index r = 0; r < 2; ++r) {
+    EXPECT_NEAR(off(r, 0), 1.0, 1e-12);
+    EXPECT_NEAR(off(r, 1), 1.0, 1e-12);
+    heights.push_back(off(r, 2) / size);
+  }
+  std::sort(heights.begin(), heights.end());
+  EXPECT_LT(heights[0], -0.2);  // one on each side, a third of the size or so off the plane
+  EXPECT_GT(heights[1], 0.2);
+  EXPECT_NE(-heights[0], heights[1]);  // at unequal heights: not cospherical with the corners again
+
+  // Twice the reach, twice as far.
+  const PointMatrix farther = morph_field::points_off_flat_cells(cells, P, on_surface, 2.0);
+  ASSERT_EQ(farther.rows(), 2);
+  EXPECT_NEAR(std::abs(farther(0, 2)), 2 * std::abs(off(0, 2)), 1e-12);
+
+  // A corner off the input is a free point (jittered: no tie of the grid's),
+  // so the cell is left alone.
+  std::vector<bool> three(5, true);
+  three[3] = false;
+  EXPECT_EQ(morph_field::points_off_flat_cells(cells, P, three, 1.0).rows(), 0);
+
+  // Lifted off the plane by far more than rounding: a proper tet.
+  P(3, 2) = 1e-3;
+  EXPECT_EQ(morph_field::points_off_flat_cells(cells, P, on_surface, 1.0).rows(), 0);
 }
