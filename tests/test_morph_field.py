@@ -243,11 +243,13 @@ def test_a_torus_of_planar_quads_leaves_no_fold_in_the_frames():
 def test_a_flat_sided_box_with_holes_leaves_no_fold_in_the_frames():
     """A voxel box with three square holes (procedural.flat_box(3), flat sides on a grid) has
     four cocircular points in one plane across every step from a face to a hole's wall, and the
-    Delaunay triangulation of its end holds flat tets between them whose diagonals are not the
-    input's edges, so the conforming end cannot mend them (12 here). Over them the space-time
-    prisms were flat and every frame of the source's half ran through itself (t = 0.04-0.48).
-    Free points beside each flat cell break the ties: none is left, the space-time triangulation
-    is certified, and frames through the source's half do not cross."""
+    Delaunay triangulation of its end held flat tets between them whose diagonals are not the
+    input's edges (17 here), which splitting a surface diagonal cannot mend. Over them the
+    space-time prisms were flat and frames of the source's half ran through themselves. The mend
+    splits such a cell's longest side on the surface, and free points off the plane of any cell
+    left break the rest (with those points alone, 2 cells were left and frames at t = 0.08-0.4
+    crossed): none is left, the space-time triangulation is certified, and frames through the
+    source's half do not cross."""
     from animanifold import procedural
 
     source, target = procedural.flat_box(3), procedural.icosphere(2)
