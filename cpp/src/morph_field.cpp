@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <set>
 #include <tuple>
 
 namespace animanifold {
@@ -133,6 +134,19 @@ void order_the_collar(Half& half, const std::vector<bool>& on_surface) {
   for (size_t r = 0; r < order.size(); ++r) half.field[1](order[r].second) *= 1.0 + (static_cast<double>(r) + 0.5) / count;
 }
 
+// The rows of `more` that are neither a row of `points` nor an earlier row
+// of `more`: points placed by rules (the middle of an edge, a point off a
+// flat cell) on an input on a grid can land on the same spot twice, and the
+// Delaunay triangulation refuses coinciding points.
+PointMatrix without_points_already_there(const PointMatrix& points, const PointMatrix& more) {
+  std::set<std::array<double, 3>> seen;
+  for (Index r = 0; r < points.rows(); ++r) seen.insert({points(r, 0), points(r, 1), points(r, 2)});
+  std::vector<Index> keep;
+  for (Index r = 0; r < more.rows(); ++r)
+    if (seen.insert({more(r, 0), more(r, 1), more(r, 2)}).second) keep.push_back(r);
+  return more(keep, Eigen::all);
+}
+
 // Adds `more` to the end's points as free points and triangulates them
 // again (`cells`), leaving out those inside the circumsphere of a refined
 // face of the input the triangulation then misses (the clearance test of
@@ -140,6 +154,7 @@ void order_the_collar(Half& half, const std::vector<bool>& on_surface) {
 // every refined face (Theorem 5.2.1). Returns how many were added.
 Index add_free_points(EndMesh& end, PointMatrix more, SimplexMatrix& cells) {
   const Index n = static_cast<Index>(end.points.rows());
+  more = without_points_already_there(end.points, more);
   for (int round = 0;; ++round) {
     PointMatrix points(n + more.rows(), 3);
     points << end.points.topRows(n), more;
