@@ -217,6 +217,27 @@ void on_both_sides(Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
+// An end's tetrahedralization with its chords split, as build_half() splits
+// them, with its points and the distances at them.
+struct ChordsSplit {
+  SimplexMatrix cells;
+  PointMatrix points;
+  EndDistances distances;
+};
+
+// The schedule measures the blend on these: on the end's cells alone, a thin
+// part's inside (tets with only the input's points for corners) vanishes at
+// the first weight past the end, and the schedule, reading that as fast
+// motion, held the shape still for much of the range.
+ChordsSplit chords_split(const EndMesh& end, const SimplexMatrix& cells, const EndDistances& distances,
+                         const SignedDistance& own, const SignedDistance& dS, const SignedDistance& dT) {
+  RefinedCells refined = split_chords(cells, end.points, end.on_surface, end.constraints, own);
+  ChordsSplit out{std::move(refined.cells), PointMatrix(end.points.rows() + refined.new_points.rows(), 3), distances};
+  out.points << end.points, refined.new_points;
+  out.distances.extend(out.points, dS, dT);
+  return out;
+}
+
 // Refines an end's points (`end`, its tetrahedralization `cells` and the
 // distances at its points kept along) where the zero set needs it, in up to
 // kRefineRounds rounds; returns how many points were added.
@@ -235,6 +256,13 @@ Index refine_end(EndMesh& end, SimplexMatrix& cells, EndDistances& distances, co
     total += add_free_points(end, off_flat, cells);
     distances.extend(end.points, dS, dT);
   }
+  // Then the chords the fill's end facet keeps unsplit, at the two layers
+  // next to the fill (the stack's own points in them end at the layer before).
+  const std::vector<double> next_to_fill{layers.weights.back(), schedule(0.5)};
+  total += add_free_points(end, undersampled_chords(cells, end.points, end.on_surface, end.constraints,
+                                                    is_source ? dS : dT, dS, dT, distances, next_to_fill, spacing),
+                           cells);
+  distances.extend(end.points, dS, dT);
   for (int round = 0; round < kRefineRounds; ++round) {
     const PointMatrix more = refinement_points(cells, end.points, end.on_surface, V, F, is_source ? dS : dT, dS, dT,
                                                distances, layers.weights, spacing);
@@ -435,14 +463,16 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   clock.begin("schedule", 0.25);
   SimplexMatrix cells[2];
   EndDistances distances[2];
+  ChordsSplit split[2];
   on_both_sides([&](int side) {
     const EndMesh& end = side == 0 ? S : T;
     cells[side] = delaunay_tetrahedra(end.points);
     distances[side].extend(end.points, dS, dT);
+    split[side] = chords_split(end, cells[side], distances[side], side == 0 ? dS : dT, dS, dT);
   });
-  const BlendSchedule schedule =
-      motion_schedule(VS, FS, VT, FT, cells[0], cells[1], S.points, T.points, distances[0].s, distances[0].t,
-                      distances[1].s, distances[1].t, kScheduleSamples);
+  const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, split[0].cells, split[1].cells, split[0].points,
+                                                 split[1].points, split[0].distances.s, split[0].distances.t,
+                                                 split[1].distances.s, split[1].distances.t, kScheduleSamples);
 
   clock.begin("refinement", 0.3);
   const int m = (slabs - 1) / 2;

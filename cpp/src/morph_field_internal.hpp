@@ -163,6 +163,20 @@ struct RefinedCells {
 RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
                           const SimplexMatrix& constraints, const SignedDistance& own);
 
+// Free points at the middles of the chords split_chords() would split
+// (`cells` over `points`, the conforming end), where the unsplit cells
+// sample the blend at one of `weights` with the wrong sign there: the fill's
+// end facet keeps the chords unsplit, so without a point inside them the
+// layers next to the fill lose what lies between the input's points (a thin
+// box's inside, whose tets have only the input's points for corners, is
+// carved away at the middle of the range and stands still before it). The
+// chords' own points keep the stack's layers right, not the fill's. Whether
+// a point keeps the input's faces is add_free_points()'s to judge.
+PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& points,
+                                const std::vector<bool>& on_surface, const SimplexMatrix& constraints,
+                                const SignedDistance& own, const SignedDistance& dS, const SignedDistance& dT,
+                                const EndDistances& at_points, const std::vector<double>& weights, double spacing);
+
 // The slab from a half's refined layer to the fill's (unrefined) one: prisms
 // over `cells` (the fill's end facet over its n points) with `splits`
 // replayed on the refined layer's copies. Local ids: the refined layer's

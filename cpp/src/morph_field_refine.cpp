@@ -214,6 +214,34 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
   return out;
 }
 
+PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& points,
+                                const std::vector<bool>& on_surface, const SimplexMatrix& constraints,
+                                const SignedDistance& own, const SignedDistance& dS, const SignedDistance& dT,
+                                const EndDistances& at_points, const std::vector<double>& weights, double spacing) {
+  const RefinedCells refined = split_chords(cells, points, on_surface, constraints, own);
+  const Index count = refined.new_points.rows();
+  if (count == 0) return PointMatrix(0, 3);
+  const Eigen::VectorXd ms = dS.distances(refined.new_points), mt = dT.distances(refined.new_points);
+  const Eigen::VectorXd& inside = &own == &dS ? ms : mt;
+  std::vector<double> xyz;
+  for (Index j = 0; j < count; ++j) {
+    const std::vector<Index>& corners = refined.splits[j];
+    bool undersampled = false;
+    for (const double w : weights) {
+      double interpolated = 0;  // the unsplit cells' field at the chord's middle: the mean of its corners'
+      for (const Index v : corners) interpolated += (1 - w) * at_points.s(v) + w * at_points.t(v);
+      interpolated /= static_cast<double>(corners.size());
+      undersampled = undersampled || (interpolated < 0) != ((1 - w) * ms(j) + w * mt(j) < 0);
+    }
+    if (!undersampled) continue;
+    // Off the middle by a little, within its distance to the input: middles
+    // of chords in one plane are coplanar with their corners.
+    const double reach = kMiddleJitter * std::min(spacing, std::abs(inside(j)));
+    for (int a = 0; a < 3; ++a) xyz.push_back(refined.new_points(j, a) + reach * jitter(j, a, 0x3d1e, 0));
+  }
+  return Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
+}
+
 std::vector<Simplex4> transition_slab(const SimplexMatrix& cells, const std::vector<std::vector<Index>>& splits,
                                       Index n, Index refined_count, bool refined_at_bottom) {
   // Local ids: the refined layer's points are 0..refined_count-1 (the first

@@ -159,3 +159,37 @@ TEST(MorphFieldFlatCells, AFlatCellOfTheInputGetsAPointOnEachSideOfItsPlane) {
   P(3, 2) = 1e-3;
   EXPECT_EQ(morph_field::points_off_flat_cells(cells, P, on_surface, 1.0).rows(), 0);
 }
+
+// A flat octahedron (its poles at +-0.2) whose four tets all hold the chord
+// between the poles: through its inside, with only the input's points for
+// corners. A small target around the middle leaves the poles outside: the
+// unsplit cells put the middle outside at every weight past the end, while
+// the blend there is inside (a regular octahedron, scaled).
+TEST(MorphFieldChords, AChordWhoseCellsSampleTheBlendWithTheWrongSignGetsAPointAtItsMiddle) {
+  PointMatrix VS;
+  SimplexMatrix FS;
+  fixtures::octahedron(VS, FS);
+  VS.col(2) *= 0.2;
+  SimplexMatrix cells(4, 4);
+  cells << 4, 5, 0, 2, 4, 5, 2, 1, 4, 5, 1, 3, 4, 5, 3, 0;  // around the axis from pole 4 to pole 5
+  const std::vector<bool> on_surface(6, true);
+  const SignedDistance dS(VS, FS);
+  auto chord_points = [&](double target_scale, double w) {
+    PointMatrix VT;
+    SimplexMatrix FT;
+    fixtures::octahedron(VT, FT);
+    VT *= target_scale;
+    const SignedDistance dT(VT, FT);
+    morph_field::EndDistances at_points;
+    at_points.extend(VS, dS, dT);
+    return morph_field::undersampled_chords(cells, VS, on_surface, FS, dS, dS, dT, at_points, {w}, 1.0);
+  };
+  const PointMatrix middle = chord_points(0.1, 0.5);
+  ASSERT_EQ(middle.rows(), 1);
+  EXPECT_LT(middle.row(0).norm(), 0.05 * 0.2);  // the chord's middle, off it by a little
+  EXPECT_GT(middle.row(0).norm(), 0.0);
+  EXPECT_LT(dS.distances(middle)(0), 0.0);
+
+  // A target holding the whole source: the cells' signs are the blend's.
+  EXPECT_EQ(chord_points(3.0, 0.5).rows(), 0);
+}
