@@ -155,6 +155,7 @@ PointMatrix without_points_already_there(const PointMatrix& points, const PointM
 Index add_free_points(EndMesh& end, PointMatrix more, SimplexMatrix& cells) {
   const Index n = static_cast<Index>(end.points.rows());
   more = without_points_already_there(end.points, more);
+  if (more.rows() == 0) return 0;  // `cells` are the end's already
   for (int round = 0;; ++round) {
     PointMatrix points(n + more.rows(), 3);
     points << end.points.topRows(n), more;
