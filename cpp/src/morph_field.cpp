@@ -240,8 +240,10 @@ ChordsSplit chords_split(const EndMesh& end, const SimplexMatrix& cells, const E
 }
 
 // Refines an end's points (`end`, its tetrahedralization `cells` and the
-// distances at its points kept along) where the zero set needs it, in up to
-// kRefineRounds rounds; returns how many points were added.
+// distances at its points kept along) where the zero set needs it: beside
+// flat cells, in the chords the fill would sample with the wrong sign, then
+// in up to kRefineRounds rounds where the blend is sampled too coarsely;
+// returns how many points were added.
 Index refine_end(EndMesh& end, SimplexMatrix& cells, EndDistances& distances, const PointMatrix& V,
                  const SimplexMatrix& F, const SignedDistance& dS, const SignedDistance& dT, bool is_source, int m,
                  int slabs, const BlendSchedule& schedule, const MorphOptions& options, double spacing) {

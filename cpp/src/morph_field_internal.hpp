@@ -168,10 +168,12 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
 // sample the blend at one of `weights` with the wrong sign there: the fill's
 // end facet keeps the chords unsplit, so without a point inside them the
 // layers next to the fill lose what lies between the input's points (a thin
-// box's inside, whose tets have only the input's points for corners, is
-// carved away at the middle of the range and stands still before it). The
-// chords' own points keep the stack's layers right, not the fill's. Whether
-// a point keeps the input's faces is add_free_points()'s to judge.
+// box's inside, whose tets have only the input's points for corners, was
+// carved away there: half its volume). The chords' own points keep the
+// stack's layers right, not the fill's. `own` is the end's input's signed
+// distance; a point is moved off the middle by a little, within its depth
+// in the input. Whether it keeps the input's faces is add_free_points()'s
+// to judge.
 PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& points,
                                 const std::vector<bool>& on_surface, const SimplexMatrix& constraints,
                                 const SignedDistance& own, const SignedDistance& dS, const SignedDistance& dT,

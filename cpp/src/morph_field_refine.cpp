@@ -222,7 +222,7 @@ PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& p
   const Index count = refined.new_points.rows();
   if (count == 0) return PointMatrix(0, 3);
   const Eigen::VectorXd ms = dS.distances(refined.new_points), mt = dT.distances(refined.new_points);
-  const Eigen::VectorXd& inside = &own == &dS ? ms : mt;
+  const Eigen::VectorXd depth = own.distances(refined.new_points).cwiseAbs();
   std::vector<double> xyz;
   for (Index j = 0; j < count; ++j) {
     const std::vector<Index>& corners = refined.splits[j];
@@ -234,9 +234,9 @@ PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& p
       undersampled = undersampled || (interpolated < 0) != ((1 - w) * ms(j) + w * mt(j) < 0);
     }
     if (!undersampled) continue;
-    // Off the middle by a little, within its distance to the input: middles
+    // Off the middle by a little, within its depth in the input: middles
     // of chords in one plane are coplanar with their corners.
-    const double reach = kMiddleJitter * std::min(spacing, std::abs(inside(j)));
+    const double reach = kMiddleJitter * std::min(spacing, depth(j));
     for (int a = 0; a < 3; ++a) xyz.push_back(refined.new_points(j, a) + reach * jitter(j, a, 0x3d1e, 0));
   }
   return Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(xyz.size() / 3), 3);
