@@ -54,20 +54,40 @@ struct FacetRecord {
   std::int8_t parity;
 };
 
-FacetRecord facet_record(const SimplexMatrix& S, Index s, int i) {
+// A simplex's vertices in ascending order, where each came from, and the
+// parity of the sort: facet j of the sorted simplex (without its j-th
+// smallest vertex) is then already sorted, and the orientation the simplex
+// induces on it (§2.4's facet rule, relative to that order) is
+// parity * (-1)^j. One sort per simplex instead of one per facet.
+struct SortedSimplex {
+  Index vertex[5];
+  std::int8_t origin[5];
+  int parity = 1;
+};
+SortedSimplex sorted_simplex(const SimplexMatrix& S, Index s) {
   const int k = static_cast<int>(S.cols());
-  Index f[5];
-  facet(S.row(s).data(), k, i, f);
+  SortedSimplex out;
+  for (int c = 0; c < k; ++c) {  // insertion sort: each step past a larger vertex is one inversion
+    Index v = S(s, c);
+    int at = c;
+    for (; at > 0 && out.vertex[at - 1] > v; --at) {
+      out.vertex[at] = out.vertex[at - 1], out.origin[at] = out.origin[at - 1];
+      out.parity = -out.parity;
+    }
+    out.vertex[at] = v, out.origin[at] = static_cast<std::int8_t>(c);
+  }
+  return out;
+}
+
+// The record of facet j of the sorted simplex s (`k` vertices).
+FacetRecord facet_record(const SortedSimplex& sorted, Index s, int k, int j) {
   FacetRecord r;
   r.key.fill(-1);
-  for (int c = 0; c < k - 1 && c < 4; ++c) r.key[c] = f[c];  // k <= 5, checked by the callers
-  // A vertex facet of an edge carries its orientation as a sign: the rule's
-  // "swap" of facet i+1 even (the edge's start) has nothing to swap, so it
-  // negates instead (the end of an edge is +, its start is -).
-  r.parity = static_cast<std::int8_t>(k == 2 ? (i % 2 == 0 ? 1 : -1) : permutation_parity(f, k - 1));
-  std::sort(r.key.begin(), r.key.begin() + (k - 1));
+  for (int c = 0, at = 0; c < k; ++c)  // k <= 5, checked by the callers
+    if (c != j) r.key[at++] = sorted.vertex[c];
+  r.parity = static_cast<std::int8_t>(j % 2 == 0 ? sorted.parity : -sorted.parity);
   r.simplex = s;
-  r.index = static_cast<std::int8_t>(i);
+  r.index = sorted.origin[j];
   return r;
 }
 
@@ -99,18 +119,17 @@ void visit_groups(int range, const std::vector<FacetRecord>& sorted, Visit& visi
   }
 }
 
-// Where simplex s's smallest vertex is (its first place) and the smallest
-// of the others: facet i's smallest vertex is the first unless i is its
-// place, and then the second.
+// Simplex s's smallest vertex and the smallest of the others: every facet's
+// smallest vertex is the first but the one facet without it, whose is the
+// second.
 struct SmallestTwo {
-  int place;
   Index first, second;
 };
 SmallestTwo smallest_two(const SimplexMatrix& S, Index s) {
-  SmallestTwo out{0, S(s, 0), std::numeric_limits<Index>::max()};
+  SmallestTwo out{S(s, 0), std::numeric_limits<Index>::max()};
   for (int c = 1; c < S.cols(); ++c) {
     const Index v = S(s, c);
-    if (v < out.first) out.second = out.first, out.first = v, out.place = c;
+    if (v < out.first) out.second = out.first, out.first = v;
     else out.second = std::min(out.second, v);
   }
   return out;
@@ -152,8 +171,10 @@ void for_each_facet_group(const SimplexMatrix& S, int ranges, Visit visit) {
   if (spread > 2.0 * static_cast<double>(S.rows()) * k + 1024) {
     std::vector<FacetRecord> all;
     all.reserve(static_cast<size_t>(S.rows()) * k);
-    for (Index s = 0; s < S.rows(); ++s)
-      for (int i = 0; i < k; ++i) all.push_back(facet_record(S, s, i));
+    for (Index s = 0; s < S.rows(); ++s) {
+      const SortedSimplex sorted = sorted_simplex(S, s);
+      for (int j = 0; j < k; ++j) all.push_back(facet_record(sorted, s, k, j));
+    }
     std::sort(all.begin(), all.end(), by_key);
     visit_groups(0, all, visit);
     return;
@@ -179,14 +200,13 @@ void for_each_facet_group(const SimplexMatrix& S, int ranges, Visit visit) {
       for (Index at = by_first.start[b]; at < by_first.start[b + 1]; ++at) {
         fetch_ahead(by_first, at);
         const Index s = by_first.simplices[at];
-        const int place = smallest_two(S, s).place;
-        for (int i = 0; i < k; ++i)
-          if (i != place) bucket.push_back(facet_record(S, s, i));
+        const SortedSimplex sorted = sorted_simplex(S, s);
+        for (int j = 1; j < k; ++j) bucket.push_back(facet_record(sorted, s, k, j));
       }
       for (Index at = by_second.start[b]; at < by_second.start[b + 1]; ++at) {
         fetch_ahead(by_second, at);
         const Index s = by_second.simplices[at];
-        bucket.push_back(facet_record(S, s, smallest_two(S, s).place));
+        bucket.push_back(facet_record(sorted_simplex(S, s), s, k, 0));
       }
       std::sort(bucket.begin(), bucket.end(), by_key);
       visit_groups(range, bucket, visit);

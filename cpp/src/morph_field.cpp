@@ -295,6 +295,62 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   return half;
 }
 
+// What the halves are made of beside the ends' cells.
+struct HalfInputs {
+  const EndMesh &source, &target;
+  const SignedDistance &dS, &dT;
+  int m, slabs;
+  const BlendSchedule& schedule;
+  const MorphOptions& options;
+  double floor;
+};
+
+struct Halves {
+  Half source, target;
+};
+
+// Both halves on the ends' cells (`source_cells`, `target_cells`), with
+// their fields, and their topology kept: each half's only sheds, from its
+// end towards the middle, what the other end does not have. `distances`
+// (the ends' points') are copied: the chords' middles are each call's own.
+Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, const SimplexMatrix& target_cells,
+                     EndDistances distances[2]) {
+  EndDistances own[2] = {distances[0], distances[1]};
+  Halves halves{build_half(in.source, source_cells, in.dS, in.dT, own[0], true, in.m, in.slabs, in.schedule,
+                           in.options, in.floor),
+                build_half(in.target, target_cells, in.dS, in.dT, own[1], false, in.m, in.slabs, in.schedule,
+                           in.options, in.floor)};
+  std::array<Index, 3> betti[2];
+  on_both_sides([&](int side) {
+    const Half& half = side == 0 ? halves.source : halves.target;
+    betti[side] = betti_numbers(half.refined.cells, half.field.front());
+  });
+  std::array<Index, 3> least;
+  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]);
+  on_both_sides([&](int side) {
+    Half& half = side == 0 ? halves.source : halves.target;
+    half.held = preserve_topology(half.refined.cells, half.field, 2, in.floor, least);
+    order_the_collar(half, (side == 0 ? in.source : in.target).on_surface);
+    slave_chord_points(half);
+  });
+  return halves;
+}
+
+// Whether two tetrahedralizations have the same cells, in any order.
+bool same_cells(const SimplexMatrix& a, const SimplexMatrix& b) {
+  if (a.rows() != b.rows()) return false;
+  auto sorted = [](const SimplexMatrix& cells) {
+    std::vector<std::array<Index, 4>> rows(static_cast<size_t>(cells.rows()));
+    for (Index c = 0; c < cells.rows(); ++c) {
+      rows[c] = {cells(c, 0), cells(c, 1), cells(c, 2), cells(c, 3)};
+      std::sort(rows[c].begin(), rows[c].end());
+    }
+    std::sort(rows.begin(), rows.end());
+    return rows;
+  };
+  return sorted(a) == sorted(b);
+}
+
 // What the certificate reads of a half (morph_field.hpp's SpaceTimeTriangulation).
 SpaceTimeTriangulation::Side side_of(Half&& half, SimplexMatrix&& transition) {
   return {std::move(half.points), half.plain, std::move(half.refined.cells), std::move(transition),
@@ -454,11 +510,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   const PointMatrix target_free = with_shell(lattice.target, surface_shell(VT, FT, dT));
 
   clock.begin("conforming", 0.1);
-  EndMesh S = conform_end(VS, FS, source_free, lattice.corners, "source", clock.while_waiting(),
-                          options.mesher_time_limit);
-  clock.advance(0.2);
-  EndMesh T = conform_end(VT, FT, target_free, lattice.corners, "target", clock.while_waiting(),
-                          options.mesher_time_limit);
+  auto [S, T] = conform_ends({VS, FS, source_free}, {VT, FT, target_free}, lattice.corners, clock.while_waiting(),
+                             options.mesher_time_limit);
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
   report.flat_cell_points = S.flat_cell_points + T.flat_cell_points;
   report.source_conforming = report.target_conforming = true;
@@ -495,7 +548,17 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
 
   clock.begin("fill", 0.35);
-  const Fill fill = fill_slab(S.points, T.points, lattice.spacing);
+  // The halves take their field and topology beside the fill (CGAL's, on
+  // one thread), on the ends' own Delaunay cells: those are the fill's end
+  // facets (Theorem 5.2.1) unless cospherical points break their ties
+  // another way there, and then the halves are shaped again on the fill's.
+  const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing};
+  Fill fill;
+  Halves halves;
+  on_both_sides([&](int side) {
+    if (side == 0) fill = fill_slab(S.points, T.points, lattice.spacing);
+    else halves = shaped_halves(inputs, cells[0], cells[1], distances);
+  });
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
   report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
   report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
@@ -503,28 +566,11 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
     fail<MeshingError>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
                              report.missing_source_faces, " source and ", report.missing_target_faces,
                              " target faces are missing");
-
-  clock.begin("field", 0.5);
-  const double floor = kFieldFloor * lattice.spacing;
-  Half source = build_half(S, fill.source_cells, dS, dT, distances[0], true, m, slabs, schedule, options, floor);
-  Half target = build_half(T, fill.target_cells, dS, dT, distances[1], false, m, slabs, schedule, options, floor);
-  clock.begin("topology", 0.55);
-  // Each half's topology only sheds, from its end towards the middle, what
-  // the other end does not have.
-  std::array<Index, 3> betti[2];
-  on_both_sides([&](int side) {
-    const Half& half = side == 0 ? source : target;
-    betti[side] = betti_numbers(half.refined.cells, half.field.front());
-  });
-  std::array<Index, 3> least;
-  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]);
-  on_both_sides([&](int side) {
-    Half& half = side == 0 ? source : target;
-    half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least);
-    order_the_collar(half, (side == 0 ? S : T).on_surface);
-    slave_chord_points(half);
-  });
-  for (const Half* half : {&source, &target}) report.split_faces += static_cast<Index>(half->refined.splits.size());
+  if (!same_cells(fill.source_cells, cells[0]) || !same_cells(fill.target_cells, cells[1]))
+    halves = shaped_halves(inputs, fill.source_cells, fill.target_cells, distances);
+  for (const Half* half : {&halves.source, &halves.target})
+    report.split_faces += static_cast<Index>(half->refined.splits.size());
+  Half &source = halves.source, &target = halves.target;
 
   clock.begin("shape", 0.6);
   Extraction extraction(source, target, fill, size / (options.t1 - options.t0));

@@ -81,6 +81,31 @@ struct EndMesh {
 EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMatrix& free, const PointMatrix& corners,
                     const char* name, const std::function<void()>& while_meshing, double mesher_time_limit);
 
+// One input and its free points, for conform_ends().
+struct EndInput {
+  const PointMatrix& V;
+  const SimplexMatrix& F;
+  const PointMatrix& free;
+};
+
+// Runs beside(stop_poll) on a thread of its own and here() on the calling
+// thread, when the thread setting allows two (else beside(poll), then
+// here()). Only the calling thread polls `poll` (Python sees Ctrl-C on its
+// main thread alone): here() is given it, and it is called about every
+// kWaitTick seconds while this thread waits for beside(). When here() or
+// `poll` throws Cancelled, beside's stop_poll throws Cancelled at its next
+// call (a child process's wait polls it, see isolated.hpp); other failures
+// of here() let beside() finish. beside()'s own failure is thrown first, as
+// when the two run in turn.
+void side_by_side(const std::function<void(const std::function<void()>&)>& beside, const std::function<void()>& here,
+                  const std::function<void()>& poll);
+
+// Both ends' conforming tetrahedralizations (conform_end), the source's (0)
+// beside the target's (1) (side_by_side): each is the same serial work
+// either way, so are the bits. A cancel stops both meshers.
+std::array<EndMesh, 2> conform_ends(const EndInput& source, const EndInput& target, const PointMatrix& corners,
+                                    const std::function<void()>& while_meshing, double mesher_time_limit);
+
 // ---------------------------------------------------------------- slabs
 
 // The 4 positive 4-simplices of the prism over the positive tet `c`: point

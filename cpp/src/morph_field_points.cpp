@@ -1,11 +1,16 @@
 // Free points and the conforming ends of the field method (morph_field_internal.hpp).
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
+#include "animanifold/isolated.hpp"
+#include "animanifold/threads.hpp"
 #include "morph_field_internal.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <future>
 
 namespace animanifold::morph_field {
 
@@ -170,6 +175,59 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
   end.steiner_points = static_cast<Index>(end.points.rows() - points.rows());
   end.flat_cell_points = c.flat_cell_points, end.flat_cells = c.flat_cells;
   return end;
+}
+
+void side_by_side(const std::function<void(const std::function<void()>&)>& beside, const std::function<void()>& here,
+                  const std::function<void()>& poll) {
+  if (thread_count() < 2) {
+    beside(poll);
+    here();
+    return;
+  }
+  std::atomic<bool> stop{false}, stopped{false};
+  const std::function<void()> stop_poll = [&] {
+    if (stop) stopped = true, throw Cancelled();
+  };
+  std::future<void> other = std::async(std::launch::async, [&] { beside(stop_poll); });
+  std::exception_ptr failure;
+  auto keep = [&](std::exception_ptr e) {  // the first failure here; a cancel stops beside()
+    if (!failure) failure = e;
+    try {
+      std::rethrow_exception(e);
+    } catch (const Cancelled&) {
+      stop = true;
+    } catch (...) {
+    }
+  };
+  try {
+    here();
+  } catch (...) {
+    keep(std::current_exception());
+  }
+  try {
+    while (!stop && other.wait_for(std::chrono::duration<double>(kWaitTick)) != std::future_status::ready)
+      if (poll) poll();
+  } catch (...) {
+    keep(std::current_exception());
+  }
+  try {
+    other.get();
+  } catch (...) {
+    if (!stopped) throw;  // beside's own failure comes first
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+std::array<EndMesh, 2> conform_ends(const EndInput& source, const EndInput& target, const PointMatrix& corners,
+                                    const std::function<void()>& while_meshing, double mesher_time_limit) {
+  std::array<EndMesh, 2> ends;
+  side_by_side(
+      [&](const std::function<void()>& poll) {
+        ends[0] = conform_end(source.V, source.F, source.free, corners, "source", poll, mesher_time_limit);
+      },
+      [&] { ends[1] = conform_end(target.V, target.F, target.free, corners, "target", while_meshing, mesher_time_limit); },
+      while_meshing);
+  return ends;
 }
 
 }  // namespace animanifold::morph_field

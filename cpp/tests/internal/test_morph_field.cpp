@@ -3,7 +3,9 @@
 // layer out of time order, a cell turned over, a simplex missing from a
 // transition slab) is found and named. morph() reports the
 // certificate and then checks crossings on the middle frame only.
+#include "animanifold/errors.hpp"
 #include "animanifold/morph.hpp"
+#include "animanifold/threads.hpp"
 #include "morph_field.hpp"
 #include "morph_field_internal.hpp"
 
@@ -12,6 +14,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <thread>
 #include <cmath>
 #include <vector>
 
@@ -192,4 +198,75 @@ TEST(MorphFieldChords, AChordWhoseCellsSampleTheBlendWithTheWrongSignGetsAPointA
 
   // A target holding the whole source: the cells' signs are the blend's.
   EXPECT_EQ(chord_points(3.0, 0.5).rows(), 0);
+}
+
+namespace {
+
+// Work beside that only ends when it is stopped: a test that finishes shows
+// the stop reached it, whatever the machine's speed.
+void until_stopped(const std::function<void()>& stop_poll) {
+  for (;;) {
+    stop_poll();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+// The message side_by_side() throws, "" when it returns.
+std::string thrown_by(const std::function<void(const std::function<void()>&)>& beside, const std::function<void()>& here) {
+  try {
+    morph_field::side_by_side(beside, here, {});
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(MorphFieldSideBySide, ACancelHereOrFromThePollStopsTheWorkBeside) {
+  const int before = thread_count();
+  set_thread_count(2);
+  EXPECT_THROW(morph_field::side_by_side(until_stopped, [] { throw Cancelled(); }, {}), Cancelled);
+  // Here done at once; the poll, called while this thread waits, cancels.
+  EXPECT_THROW(morph_field::side_by_side(until_stopped, [] {}, [] { throw Cancelled(); }), Cancelled);
+  set_thread_count(before);
+}
+
+TEST(MorphFieldSideBySide, TheWorkBesidesOwnFailureComesFirstAsWhenTheyRunInTurn) {
+  const int before = thread_count();
+  for (const int threads : {1, 2}) {
+    set_thread_count(threads);
+    auto fails = [](const char* what) { return [what](const auto&...) { throw MeshingError(what); }; };
+    EXPECT_EQ(thrown_by(fails("the source cannot be meshed"), fails("the target cannot be meshed")),
+              "the source cannot be meshed") << threads << " threads";
+    EXPECT_EQ(thrown_by([](const auto&) {}, fails("the target cannot be meshed")), "the target cannot be meshed");
+    EXPECT_EQ(thrown_by(fails("the source cannot be meshed"), [] {}), "the source cannot be meshed");
+    int done = 0;
+    EXPECT_EQ(thrown_by([&](const auto&) { ++done; }, [&] { ++done; }), "");
+    EXPECT_EQ(done, 2);
+  }
+  set_thread_count(before);
+}
+
+TEST(MorphFieldEnds, BothEndsMeshedSideBySideAreTheEndsMeshedInTurn) {
+  PointMatrix VS, corners(8, 3);
+  SimplexMatrix FS;
+  fixtures::octahedron(VS, FS);
+  for (int c = 0; c < 8; ++c)
+    corners.row(c) << (c & 1 ? 3.0 : -3.0), (c & 2 ? 3.0 : -3.0), (c & 4 ? 3.0 : -3.0);
+  const PointMatrix VT = 2.0 * VS, free_points = 1.3 * VT;  // beyond the target's corners
+  const int before = thread_count();
+  std::array<morph_field::EndMesh, 2> ends[2];
+  for (const int threads : {1, 2}) {
+    set_thread_count(threads);
+    ends[threads - 1] = morph_field::conform_ends({VS, FS, free_points}, {VT, FS, free_points}, corners, {}, 0);
+  }
+  set_thread_count(before);
+  for (int side = 0; side < 2; ++side) {
+    EXPECT_EQ(ends[0][side].points, ends[1][side].points) << side;
+    EXPECT_EQ(ends[0][side].constraints, ends[1][side].constraints) << side;
+  }
+  // Each end is its own input's: the source's points start with its vertices.
+  EXPECT_EQ(PointMatrix(ends[1][0].points.topRows(VS.rows())), VS);
+  EXPECT_EQ(PointMatrix(ends[1][1].points.topRows(VT.rows())), VT);
 }
