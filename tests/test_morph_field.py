@@ -5,6 +5,11 @@ simplex, checked here independently of the core's own report."""
 from __future__ import annotations
 
 import functools
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -196,6 +201,29 @@ def test_a_point_outside_both_inputs_stays_outside_every_frame():
         frame = manifold.slice(float(t))
         assert (np.abs(winding_numbers(np.asarray(frame.vertices), np.asarray(frame.faces), axis)) < 0.5).all(), t
     assert manifold.validity["ends_reproduced"]
+
+
+def test_the_ends_meshed_side_by_side_do_not_hang_beside_scipys_openblas():
+    """Each end's TetGen runs in a child process, the two side by side. scipy's OpenBLAS, loaded in
+    the same process with its thread pool started, shuts that pool down before every fork, and two
+    forks at once waited there for ever on the first morph (run_isolated forks one at a time)."""
+    script = textwrap.dedent("""
+        import numpy as np, scipy.linalg
+        a = np.random.default_rng(0).random((600, 600))
+        scipy.linalg.blas.dgemm(1.0, a, a)
+        import animanifold as am
+        from helpers.shapes import torus
+        am.set_threads(2)
+        shape = torus()
+        for _ in range(3):  # identical ends: their forks come at the same moment
+            am.morph(shape, shape, method="field")
+        print("morphed")
+    """)
+    paths = [str(Path(am.__file__).resolve().parent.parent), str(Path(__file__).resolve().parent)]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(paths))
+    # The timeout only turns a hang into a failure: the three morphs take a few seconds.
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=300)
+    assert result.returncode == 0 and result.stdout.strip() == "morphed", result.stderr[-2000:]
 
 
 def test_the_field_morphs_report_says_what_it_checked():

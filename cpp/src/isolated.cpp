@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <mutex>
 #include <string>
 #include <sys/types.h>
 #include <sys/wait.h>
@@ -75,6 +76,16 @@ void silence_standard_output() {
   }
 }
 
+// One fork at a time in this process. Libraries' fork handlers are not
+// written for two forks at once: scipy's OpenBLAS, loaded beside us, shuts
+// its thread pool down before every fork, and two such shutdowns together
+// join its threads twice and wait for ever. The field morph meshes its two
+// ends side by side, each in a child process.
+std::mutex& fork_lock() {
+  static std::mutex lock;
+  return lock;
+}
+
 }  // namespace
 
 std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, double timeout_seconds,
@@ -87,7 +98,11 @@ std::vector<char> run_isolated(const std::function<std::vector<char>()>& work, d
 #endif
   int fds[2];
   if (::pipe(fds) != 0) return work();
-  const pid_t pid = ::fork();
+  pid_t pid;
+  {
+    const std::lock_guard<std::mutex> one_at_a_time(fork_lock());
+    pid = ::fork();
+  }
   if (pid < 0) {
     ::close(fds[0]);
     ::close(fds[1]);

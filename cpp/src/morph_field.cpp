@@ -314,7 +314,7 @@ struct Halves {
 // end towards the middle, what the other end does not have. `distances`
 // (the ends' points') are copied: the chords' middles are each call's own.
 Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, const SimplexMatrix& target_cells,
-                     EndDistances distances[2]) {
+                     const EndDistances (&distances)[2]) {
   EndDistances own[2] = {distances[0], distances[1]};
   Halves halves{build_half(in.source, source_cells, in.dS, in.dT, own[0], true, in.m, in.slabs, in.schedule,
                            in.options, in.floor),
