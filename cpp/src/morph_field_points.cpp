@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <system_error>
 
 namespace animanifold::morph_field {
 
@@ -179,16 +180,21 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
 
 void side_by_side(const std::function<void(const std::function<void()>&)>& beside, const std::function<void()>& here,
                   const std::function<void()>& poll) {
-  if (thread_count() < 2) {
+  auto in_turn = [&] {
     beside(poll);
     here();
-    return;
-  }
+  };
+  if (thread_count() < 2) return in_turn();
   std::atomic<bool> stop{false}, stopped{false};
   const std::function<void()> stop_poll = [&] {
     if (stop) stopped = true, throw Cancelled();
   };
-  std::future<void> other = std::async(std::launch::async, [&] { beside(stop_poll); });
+  std::future<void> other;
+  try {
+    other = std::async(std::launch::async, [&] { beside(stop_poll); });
+  } catch (const std::system_error&) {
+    return in_turn();  // no thread to be had: the same work, in turn
+  }
   std::exception_ptr failure;
   auto keep = [&](std::exception_ptr e) {  // the first failure here; a cancel stops beside()
     if (!failure) failure = e;

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <cstdlib>
 #include <numeric>
 #include <stdexcept>
 
@@ -244,14 +245,28 @@ class FrameChecks {
   std::map<double, FrameTopology> checked_;
 };
 
-// kSpreadFrames times evenly inside [t0, t1], coarse to fine (the middle,
-// the quarters, ...): the frames checked for crossings, and the costly
-// frames first to the cores.
+// kSpreadFrames times evenly inside [t0, t1], coarse to fine: the one
+// nearest the middle, then each time the one farthest from those taken and
+// the range's ends (the quarters, the eighths, ...; ties to the earlier).
+// The frames checked for crossings come first, and the costly frames first
+// to the cores.
 std::vector<double> spread_times(double t0, double t1) {
-  std::vector<int> order(kSpreadFrames);
-  std::iota(order.begin(), order.end(), 1);
-  auto coarseness = [](int i) { return __builtin_ctz(static_cast<unsigned>(i)); };
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return coarseness(a) > coarseness(b); });
+  std::vector<int> order;
+  std::vector<bool> taken(kSpreadFrames + 1, false);
+  while (static_cast<int>(order.size()) < kSpreadFrames) {
+    int best = 0;
+    double best_gap = -1;
+    for (int i = 1; i <= kSpreadFrames; ++i) {
+      if (taken[i]) continue;
+      // In units of a frame's spacing: the range's ends at 0 and kSpreadFrames + 1.
+      double gap = std::min(i, kSpreadFrames + 1 - i);
+      for (const int j : order) gap = std::min(gap, static_cast<double>(std::abs(i - j)));
+      if (order.empty()) gap = -std::abs(2 * i - (kSpreadFrames + 1));  // the first: the middle
+      if (gap > best_gap || best == 0) best = i, best_gap = gap;
+    }
+    taken[best] = true;
+    order.push_back(best);
+  }
   std::vector<double> times;
   for (const int i : order) times.push_back(t0 + (t1 - t0) * i / (kSpreadFrames + 1));
   return times;
