@@ -206,7 +206,7 @@ def test_a_point_outside_both_inputs_stays_outside_every_frame():
 def test_the_ends_meshed_side_by_side_do_not_hang_beside_scipys_openblas():
     """Each end's TetGen runs in a child process, the two side by side. scipy's OpenBLAS, loaded in
     the same process with its thread pool started, shuts that pool down before every fork, and two
-    forks at once waited there for ever on the first morph (run_isolated forks one at a time)."""
+    forks at once wait there for ever: run_isolated forks one at a time."""
     script = textwrap.dedent("""
         import numpy as np, scipy.linalg
         a = np.random.default_rng(0).random((600, 600))
@@ -294,15 +294,12 @@ def test_a_flat_sided_box_with_holes_leaves_no_fold_in_the_frames():
 
 def test_a_thin_box_moves_from_the_start_and_keeps_its_inside_next_to_the_fill():
     """The inside of a thin box (procedural.flat_box(3)) has few free points: many of its tets have
-    only the box's own points for corners (chords). The stacks split them, but the blend's schedule
-    measured on the unsplit cells, where that inside vanished at the first weight past the end: it
-    read this as fast motion, and the frames stood still through most of the source's half (the
-    steps between frames 0.04 apart at t = 0.08-0.4 were 0.06-0.24 of the mean step). The fill's end
-    facet keeps the chords unsplit too, and the frames next to it lost the box's ends (half the
-    volume). The schedule now reads the split cells, and free points go into the chords the fill
-    would undersample: every step of the source's half is at least a quarter of the mean, and the
-    frames at t = 0.44 and 0.48, next to the fill, keep at least 70 % of the volume of the frame at
-    0.52 across it (they kept 56-60 %; now 82 %)."""
+    only the box's own points for corners (chords). On those cells unsplit, the inside vanishes at
+    the first weight past the end; a schedule reading them would take that for fast motion and hold
+    the frames still through most of the source's half, and the fill's end facet, which keeps the
+    chords unsplit, would lose the box's ends next to it. So every step of the source's half is at
+    least a quarter of the mean, and the frames at t = 0.44 and 0.48, next to the fill, keep at least
+    70 % of the volume of the frame at 0.52 across it."""
     from animanifold import procedural
     from animanifold.frame_quality import hausdorff
 
