@@ -50,6 +50,16 @@ constexpr double kFillSlab = 0.5;
 // whose corners are cut at one time, flat, and a value near zero pieces a
 // rounding wide.
 constexpr double kCollarLift = 0.01;
+// The bridge's bump (lay_bridge), in lattice spacings: its radius, and how
+// far below zero it takes the bump's core (where it is over kBridgeCore of
+// its height) on the fill's layer; its segments go on kBridgeInto radii into
+// the pieces they join; points within kBridgeReach radii of them may join
+// the negative region where that makes a handle (preserve_topology).
+constexpr double kBridgeRadius = 1.5;
+constexpr double kBridgeDepth = 0.5;
+constexpr double kBridgeCore = 0.5;
+constexpr double kBridgeInto = 2.0;
+constexpr double kBridgeReach = 2.0;
 
 double size_of(const PointMatrix& A, const PointMatrix& B) {
   return std::max((A.colwise().maxCoeff() - A.colwise().minCoeff()).norm(),
@@ -190,8 +200,7 @@ Index add_free_points(EndMesh& end, PointMatrix more, SimplexMatrix& cells) {
 // unsplit cells would have there (each the mean of the corners of the face
 // it split): the slab to the fill, where they are not, then joins the same
 // piecewise-linear field (morph_field_refine.cpp's transition_slab).
-void slave_chord_points(Half& half) {
-  Eigen::VectorXd& value = half.field[half.field.size() - 2];
+void slave_chord_points(Half& half, Eigen::VectorXd& value) {
   for (size_t j = 0; j < half.refined.splits.size(); ++j) {
     double sum = 0;
     for (const Index v : half.refined.splits[j]) sum += value(v);
@@ -295,6 +304,71 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   return half;
 }
 
+// The bridge (bridge_between_pieces of the blend at the middle) laid into a
+// half's layers from the first blend layer on: the field is lowered by a
+// bump around its segments, `radius` wide and deep enough to make them
+// negative at the fill's layer, by a share growing evenly from the end to
+// all of it there. Where the blend at the middle falls into more pieces
+// than both ends have, both halves then grow the same necks towards the
+// middle and meet in the fill with them; held values alone would keep
+// whichever connection each half saw break last (a thread a thousandth of
+// a cell thick), and the fill would trade one for the other at once.
+// Returns, per layer, the points the bump lowers (empty where none).
+std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distances, const Bridge& bridge, double radius,
+                                          double depth) {
+  const Index n = static_cast<Index>(half.points.rows());
+  std::vector<std::vector<bool>> laid(half.field.size());
+  if (bridge.segments.empty()) return laid;
+  // The segments into the pieces go on into them, so that the neck reaches
+  // them on layers where they are smaller than at the middle.
+  std::vector<std::array<Eigen::Vector3d, 2>> segments = bridge.segments;
+  for (size_t i = 0; i < bridge.segments.size(); ++i)
+    if (bridge.into_piece[i]) {
+      const auto& [p, q] = bridge.segments[i];
+      segments.push_back({q, q + kBridgeInto * radius * (q - p).normalized()});
+    }
+  Eigen::VectorXd bump = Eigen::VectorXd::Zero(n);
+  std::vector<bool> lowered(n, false);
+  for (Index v = 0; v < n; ++v) {
+    const Eigen::Vector3d x = half.points.row(v);
+    double nearest = kBridgeReach * radius;
+    for (const auto& [p, q] : segments) {
+      const Eigen::Vector3d d = q - p;
+      const double along = std::clamp((x - p).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+      nearest = std::min(nearest, (p + along * d - x).norm());
+    }
+    if (nearest >= kBridgeReach * radius) continue;
+    lowered[v] = true;
+    // Outside both inputs the field stays positive (a shared hole stays empty).
+    if (nearest >= radius || (distances.s(v) > 0 && distances.t(v) > 0)) continue;
+    const double falloff = 1 - (nearest / radius) * (nearest / radius);
+    bump(v) = falloff * falloff;
+  }
+  for (size_t layer = 2; layer < half.field.size(); ++layer) {
+    const double share = static_cast<double>(layer - 1) / static_cast<double>(half.field.size() - 2);
+    Eigen::VectorXd& value = half.field[layer];
+    // Deep enough that the bump's core is negative on this layer.
+    double highest = 0;
+    for (Index v = 0; v < n; ++v)
+      if (bump(v) > kBridgeCore) highest = std::max(highest, value(v) / bump(v));
+    value -= share * (highest + depth) * bump;
+    laid[layer] = lowered;
+  }
+  return laid;
+}
+
+// Keeps a half's topology (preserve_topology) with the bridge laid in
+// (lay_bridge), then slaves its chords' middles on the layer before the
+// fill's. `least` and `most` are the ends' least and largest Betti numbers;
+// `floor` the held values' (preserve_topology), `spacing` the lattice's.
+void keep_topology(Half& half, const EndDistances& distances, const Bridge& bridge, const std::array<Index, 3>& least,
+                   const std::array<Index, 3>& most, double floor, double spacing) {
+  const std::vector<std::vector<bool>> laid =
+      lay_bridge(half, distances, bridge, kBridgeRadius * spacing, kBridgeDepth * spacing);
+  half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least, most, laid);
+  slave_chord_points(half, half.field[half.field.size() - 2]);
+}
+
 // What the halves are made of beside the ends' cells.
 struct HalfInputs {
   const EndMesh &source, &target;
@@ -302,7 +376,7 @@ struct HalfInputs {
   int m, slabs;
   const BlendSchedule& schedule;
   const MorphOptions& options;
-  double floor;
+  double floor, spacing;
 };
 
 struct Halves {
@@ -325,13 +399,17 @@ Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, co
     const Half& half = side == 0 ? halves.source : halves.target;
     betti[side] = betti_numbers(half.refined.cells, half.field.front());
   });
-  std::array<Index, 3> least;
-  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]);
+  std::array<Index, 3> least, most;
+  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]), most[i] = std::max(betti[0][i], betti[1][i]);
+  // One bridge for both halves, found on the source's cells (the blend at
+  // the middle is one function, sampled by either), so that both lay the
+  // same necks.
+  const Bridge bridge = bridge_between_pieces(halves.source.refined.cells, halves.source.points,
+                                              halves.source.field.back(), least[0]);
   on_both_sides([&](int side) {
     Half& half = side == 0 ? halves.source : halves.target;
-    half.held = preserve_topology(half.refined.cells, half.field, 2, in.floor, least);
+    keep_topology(half, own[side], bridge, least, most, in.floor, in.spacing);
     order_the_collar(half, (side == 0 ? in.source : in.target).on_surface);
-    slave_chord_points(half);
   });
   return halves;
 }
@@ -462,7 +540,15 @@ class Extraction {
   template <class Global>
   void add_transition(const SimplexMatrix& cells, const Half& half, const Global& global, bool refined_at_bottom) {
     const Index n = static_cast<Index>(half.points.rows());
-    const std::vector<Simplex4> slab = transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom);
+    // The staircase in the order add_stack() uses, so that this slab too
+    // only ever widens the solid (a neck kept by a bridge stays joined).
+    std::vector<double> rank(half.plain);
+    for (Index v = 0; v < half.plain; ++v) {
+      const Index refined = global(v), plain = global(n + v);
+      rank[v] = refined_at_bottom ? phi_(refined) - phi_(plain) : phi_(plain) - phi_(refined);
+    }
+    const std::vector<Simplex4> slab =
+        transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom, rank.data());
     SimplexMatrix& local = refined_at_bottom ? source_transition : target_transition;
     local.resize(static_cast<Index>(slab.size()), 5);
     for (size_t r = 0; r < slab.size(); ++r) {
@@ -552,7 +638,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // one thread), on the ends' own Delaunay cells: those are the fill's end
   // facets (Theorem 5.2.1) unless cospherical points break their ties
   // another way there, and then the halves are shaped again on the fill's.
-  const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing};
+  const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing,
+                          lattice.spacing};
   Fill fill;
   Halves halves;
   on_both_sides([&](int side) {

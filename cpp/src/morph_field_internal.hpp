@@ -208,9 +208,11 @@ PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& p
 // over `cells` (the fill's end facet over its n points) with `splits`
 // replayed on the refined layer's copies. Local ids: the refined layer's
 // points 0..refined_count-1 (its first n the unrefined points, then the new
-// ones), the unrefined layer's refined_count + v.
+// ones), the unrefined layer's refined_count + v. `rank` (per unrefined
+// point, optional) orders each prism's staircase as prism_simplices'.
 std::vector<Simplex4> transition_slab(const SimplexMatrix& cells, const std::vector<std::vector<Index>>& splits,
-                                      Index n, Index refined_count, bool refined_at_bottom);
+                                      Index n, Index refined_count, bool refined_at_bottom,
+                                      const double* rank = nullptr);
 
 // ---------------------------------------------------------------- topology
 
@@ -226,11 +228,32 @@ std::array<Index, 3> betti_numbers(const SimplexMatrix& cells, const Eigen::Vect
 // layers; where it is not, only if every Betti number of the negative region
 // it changes goes down and stays at or above `floor_betti` (the least of the
 // two ends': going from an end towards the middle, the topology only sheds
-// what the other end does not have, so the two halves meet with the same).
-// The rest keep their sign at +-floor and try again at the next layer.
-// Returns how many (point, layer) values were held.
+// what the other end does not have, so the two halves meet with the same),
+// or, for a point of the layer's `bridges` (per layer, empty for none)
+// joining the negative region, stays at or below `ceiling_betti` (the
+// largest of the two ends'): a bridge may close a loop for a while, and the
+// connection it replaces then goes as a handle, not as a split.
+// The rest keep their sign at -floor (or kHeldOutside floors above zero)
+// and try again at the next layer. Returns how many (point, layer) values
+// were held.
 Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
-                        const std::array<Index, 3>& floor_betti);
+                        const std::array<Index, 3>& floor_betti, const std::array<Index, 3>& ceiling_betti,
+                        const std::vector<std::vector<bool>>& bridges);
+
+// Where the region where `field` (per point of the tetrahedralization
+// `cells` over `points`) is negative falls into more than `pieces` pieces:
+// the lowest paths (least highest value) that join them until `pieces` are
+// left, as segments between points (Kruskal's spanning forest by edge
+// height, stopped there, its non-negative branches pruned), and the highest
+// value on them. The saddles of the field between its pieces; no segment
+// when there are no more than `pieces`.
+struct Bridge {
+  std::vector<std::array<Eigen::Vector3d, 2>> segments;
+  std::vector<bool> into_piece;  // per segment: its second end is a piece's (negative)
+  double height = 0;
+};
+Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& points, const Eigen::VectorXd& field,
+                             Index pieces);
 
 // ---------------------------------------------------------------- timing
 

@@ -243,7 +243,7 @@ PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& p
 }
 
 std::vector<Simplex4> transition_slab(const SimplexMatrix& cells, const std::vector<std::vector<Index>>& splits,
-                                      Index n, Index refined_count, bool refined_at_bottom) {
+                                      Index n, Index refined_count, bool refined_at_bottom, const double* rank) {
   // Local ids: the refined layer's points are 0..refined_count-1 (the first
   // n are the unrefined layer's too), the unrefined layer's are
   // refined_count + v.
@@ -251,7 +251,7 @@ std::vector<Simplex4> transition_slab(const SimplexMatrix& cells, const std::vec
   std::vector<Simplex4> prisms(4 * static_cast<size_t>(cells.rows()));
   for (Index c = 0; c < cells.rows(); ++c)
     prism_simplices(cells.row(c).data(), refined_at_bottom ? refined : plain, refined_at_bottom ? plain : refined,
-                    &prisms[4 * static_cast<size_t>(c)]);
+                    &prisms[4 * static_cast<size_t>(c)], rank);
   StellarComplex<5> slab(std::move(prisms), refined_count + n);
   for (size_t j = 0; j < splits.size(); ++j)
     slab.split(splits[j].data(), static_cast<int>(splits[j].size()), n + static_cast<Index>(j));

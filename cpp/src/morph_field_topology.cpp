@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 
 namespace animanifold::morph_field {
 
@@ -13,6 +14,9 @@ namespace {
 // Topology changes tried one by one, with the Betti numbers counted again
 // after each, per layer at most.
 constexpr int kTopologyTries = 64;
+// A point held out of the negative region (preserve_topology) keeps this
+// many floors above zero.
+constexpr double kHeldOutside = 30;
 
 // Vertex-to-tet incidence of a tetrahedralization, compressed.
 struct Stars {
@@ -202,8 +206,106 @@ std::array<Index, 3> betti_numbers(const SimplexMatrix& cells, const Eigen::Vect
   return BettiNumbers(cells, n, points)(negative);
 }
 
+namespace {
+
+// The points of the pieces of the region where `field` is negative (joined
+// by edges of `cells`) that hold at least kLastingPiece of the largest
+// piece's points, and how many such pieces there are. Smaller pieces are
+// left to vanish as the blend has them.
+constexpr double kLastingPiece = 0.25;
+std::pair<std::vector<char>, Index> lasting_pieces(const SimplexMatrix& cells, const Eigen::VectorXd& field) {
+  const Index n = static_cast<Index>(field.size());
+  Components parts(static_cast<int>(n));
+  for (Index c = 0; c < cells.rows(); ++c)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j)
+        if (field(cells(c, i)) < 0 && field(cells(c, j)) < 0)
+          parts.join(static_cast<int>(cells(c, i)), static_cast<int>(cells(c, j)));
+  std::vector<Index> size(n, 0);
+  for (Index v = 0; v < n; ++v)
+    if (field(v) < 0) ++size[parts.find(static_cast<int>(v))];
+  const Index largest = n ? *std::max_element(size.begin(), size.end()) : 0;
+  std::vector<char> lasting(n, 0);
+  Index count = 0;
+  for (Index v = 0; v < n; ++v) {
+    const Index root = parts.find(static_cast<int>(v));
+    lasting[v] = field(v) < 0 && static_cast<double>(size[root]) >= kLastingPiece * static_cast<double>(largest);
+    count += lasting[v] && root == v;
+  }
+  return {std::move(lasting), count};
+}
+
+}  // namespace
+
+Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& points, const Eigen::VectorXd& field,
+                             Index pieces) {
+  const Index n = static_cast<Index>(field.size());
+  struct Edge {
+    double height;  // the larger value of its two ends: a path's height is its highest edge's
+    Index a, b;
+  };
+  Bridge bridge;
+  const auto [anchor, lasting] = lasting_pieces(cells, field);
+  if (lasting <= pieces) return bridge;
+  std::vector<Edge> edges;
+  edges.reserve(6 * static_cast<size_t>(cells.rows()));
+  for (Index c = 0; c < cells.rows(); ++c)
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const Index a = std::min(cells(c, i), cells(c, j)), b = std::max(cells(c, i), cells(c, j));
+        edges.push_back({std::max(field(a), field(b)), a, b});
+      }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge& x, const Edge& y) { return std::tie(x.height, x.a, x.b) < std::tie(y.height, y.a, y.b); });
+  // Kruskal's minimum spanning forest by height, up to the edge that leaves
+  // `pieces` trees holding a lasting piece's point: its paths between them
+  // are the lowest (least highest value) there are.
+  Components trees(static_cast<int>(n));
+  std::vector<char> holds_lasting(anchor);
+  Index lasting_trees = 0;
+  for (Index v = 0; v < n; ++v) lasting_trees += anchor[v];
+  std::vector<std::vector<Index>> forest(n);
+  for (size_t e = 0; e < edges.size() && lasting_trees > pieces; ++e) {
+    const int ra = trees.find(static_cast<int>(edges[e].a)), rb = trees.find(static_cast<int>(edges[e].b));
+    if (ra == rb) continue;
+    if (holds_lasting[ra] && holds_lasting[rb]) --lasting_trees;
+    trees.parent[ra] = rb;
+    holds_lasting[rb] = holds_lasting[rb] || holds_lasting[ra];
+    forest[edges[e].a].push_back(edges[e].b), forest[edges[e].b].push_back(edges[e].a);
+  }
+  // The forest's leaves off the lasting pieces, pruned until every leaf is
+  // on one: what stays of them lies on a path between two lasting pieces.
+  std::vector<Index> degree(n), leaves;
+  for (Index v = 0; v < n; ++v) {
+    degree[v] = static_cast<Index>(forest[v].size());
+    if (!anchor[v] && degree[v] <= 1) leaves.push_back(v);
+  }
+  std::vector<char> pruned(n, 0);
+  while (!leaves.empty()) {
+    const Index v = leaves.back();
+    leaves.pop_back();
+    if (pruned[v]) continue;
+    pruned[v] = 1;
+    for (const Index w : forest[v])
+      if (!pruned[w] && --degree[w] <= 1 && !anchor[w]) leaves.push_back(w);
+  }
+  // The forest's edges between points that stay, one of them off the
+  // lasting pieces: the lowest paths' steps across the gaps between them.
+  for (Index v = 0; v < n; ++v) {
+    if (pruned[v] || anchor[v]) continue;
+    bridge.height = std::max(bridge.height, field(v));
+    for (const Index w : forest[v])
+      if (!pruned[w] && (anchor[w] || w > v)) {
+        bridge.segments.push_back({points.row(v), points.row(w)});
+        bridge.into_piece.push_back(anchor[w]);
+      }
+  }
+  return bridge;
+}
+
 Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
-                        const std::array<Index, 3>& floor_betti) {
+                        const std::array<Index, 3>& floor_betti, const std::array<Index, 3>& ceiling_betti,
+                        const std::vector<std::vector<bool>>& bridges) {
   if (field.empty()) return 0;
   const Index n = static_cast<Index>(field.front().size());
   const SimplePoints points(cells, n);
@@ -226,35 +328,45 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
         wanted.emplace_back(before(v) / (before(v) - value(v)), v);
     std::sort(wanted.begin(), wanted.end());
     int counted = 0;
+    std::vector<Index> refused;
+    // A change of topology at v: made (and v's sign changed) where every
+    // Betti number it changes goes down, towards the floor, or, for a
+    // bridge's point joining the negative region, stays within the ends'.
+    // Adding v to the negative region changes its Euler characteristic by
+    // 1 - chi(link's negative part); removing it, by the opposite.
+    const auto topology_change_allowed = [&](Index v, const SimplePoints::LinkParts& parts) {
+      const Index step = negative[v] ? parts.chi[0] - 1 : 1 - parts.chi[0];
+      const bool bridging = !bridges[layer].empty() && bridges[layer][v] && !negative[v];
+      negative[v] = !negative[v];
+      const std::array<Index, 3> next = betti.with_chi(negative, chi + step);
+      bool allowed = true;
+      for (int i = 0; i < 3; ++i)
+        allowed = allowed && (next[i] == now[i] || (next[i] < now[i] ? next[i] >= floor_betti[i]
+                                                                    : bridging && next[i] <= ceiling_betti[i]));
+      if (allowed) now = next, chi += step;
+      else negative[v] = !negative[v];
+      return allowed;
+    };
     for (const auto& [when, v] : wanted) {
       const SimplePoints::LinkParts parts = points.link_parts(v, negative);
       if (SimplePoints::simple(parts)) {
         negative[v] = !negative[v];
         continue;
       }
-      // A change of topology: made where every Betti number it changes goes
-      // down, towards the floor. Adding v to the negative region changes its
-      // Euler characteristic by 1 - chi(link's negative part); removing it,
-      // by the opposite.
-      bool made = false;
-      if (counted++ < kTopologyTries) {
-        const Index step = negative[v] ? parts.chi[0] - 1 : 1 - parts.chi[0];
-        negative[v] = !negative[v];
-        const std::array<Index, 3> next = betti.with_chi(negative, chi + step);
-        made = true;
-        for (int i = 0; i < 3; ++i) made = made && next[i] <= now[i] && (next[i] >= floor_betti[i] || next[i] == now[i]);
-        if (made) now = next, chi += step;
-        else negative[v] = !negative[v];
-      }
-      // A held value is jittered like the blend's, salted by its sign: the
-      // two halves can hold the same point with opposite signs on their fill
-      // layers, and exactly opposite values there would cut the fill's
-      // edges at its middle time (0.5), where the zero set would then hold
-      // edges lying in the frame's plane: a frame pinched along them.
-      if (!made)
-        value(v) = jittered(negative[v] ? -floor : floor, v, static_cast<int>(layer), negative[v] ? 0x401d : 0x401e),
-        ++held;
+      if (!(counted++ < kTopologyTries && topology_change_allowed(v, parts))) refused.push_back(v);
     }
+    // A held value is jittered like the blend's, salted by its sign: the
+    // two halves can hold the same point with opposite signs on their fill
+    // layers, and exactly opposite values there would cut the fill's edges
+    // at its middle time (0.5), where the zero set would then hold edges
+    // lying in the frame's plane: a frame pinched along them. A point held
+    // out of the negative region keeps kHeldOutside floors from zero: the
+    // staircase of the slab after it widens the solid (add_stack), and a
+    // gap a floor wide would close there, joining what it keeps apart.
+    for (const Index v : refused)
+      value(v) = jittered(negative[v] ? -floor : kHeldOutside * floor, v, static_cast<int>(layer),
+                          negative[v] ? 0x401d : 0x401e);
+    held += static_cast<Index>(refused.size());
   }
   return held;
 }

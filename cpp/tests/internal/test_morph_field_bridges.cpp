@@ -1,0 +1,177 @@
+// The field morph's bridges (morph_field_internal.hpp): the lowest paths
+// between the pieces the blend falls into, and the handle preserve_topology
+// lets a bridge close so that the connection it replaces goes.
+#include "animanifold/delaunay.hpp"
+#include "morph_field_internal.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+using namespace animanifold;
+using namespace animanifold::morph_field;
+
+namespace {
+
+constexpr double kSpacing = 0.1;
+
+// A jittered grid of kSpacing over [-1, 1]^3 and its Delaunay tetrahedra.
+struct Grid {
+  PointMatrix points;
+  SimplexMatrix cells;
+  Grid() {
+    const int n = 21;
+    points.resize(n * n * n, 3);
+    Index row = 0;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k, ++row)
+          for (int axis = 0; axis < 3; ++axis)
+            points(row, axis) = -1.0 + kSpacing * std::array<int, 3>{i, j, k}[axis] +
+                                0.1 * kSpacing * jitter(i, j, k, axis);
+    cells = delaunay_tetrahedra(points);
+  }
+};
+
+double to_segment(const Eigen::Vector3d& x, const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d d = q - p;
+  const double along = std::clamp((x - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+  return (p + along * d - x).norm();
+}
+
+double to_polyline(const Eigen::Vector3d& x, const std::vector<Eigen::Vector3d>& corners) {
+  double nearest = INFINITY;
+  for (size_t c = 0; c + 1 < corners.size(); ++c) nearest = std::min(nearest, to_segment(x, corners[c], corners[c + 1]));
+  return nearest;
+}
+
+const Eigen::Vector3d kLeft(-0.5, 0, 0), kRight(0.5, 0, 0);
+
+// Two balls of radius 0.25 at x = -+0.5, a speck (radius 0.06) at y = 0.8,
+// and, when `rod_y` is given, a rod of radius 0.12 joining the balls round
+// by y = rod_y: a signed distance, negative inside.
+Eigen::VectorXd balls(const PointMatrix& points, const double* rod_y = nullptr) {
+  Eigen::VectorXd field(points.rows());
+  for (Index v = 0; v < points.rows(); ++v) {
+    const Eigen::Vector3d x = points.row(v);
+    double value = std::min({(x - kLeft).norm() - 0.25, (x - kRight).norm() - 0.25,
+                             (x - Eigen::Vector3d(0, 0.8, 0)).norm() - 0.06});
+    if (rod_y) {
+      const std::vector<Eigen::Vector3d> rod{kLeft, {-0.5, *rod_y, 0}, {0.5, *rod_y, 0}, kRight};
+      value = std::min(value, to_polyline(x, rod) - 0.12);
+    }
+    field(v) = value;
+  }
+  return field;
+}
+
+}  // namespace
+
+TEST(MorphFieldBridges, TheLowestPathJoinsTheLastingPiecesAcrossTheirGapAndLeavesTheSpeck) {
+  const Grid grid;
+  const Eigen::VectorXd field = balls(grid.points);
+  const Bridge bridge = bridge_between_pieces(grid.cells, grid.points, field, 1);
+  ASSERT_FALSE(bridge.segments.empty());
+  // The gap's lowest path runs along the x axis between the balls, where the
+  // field rises to 0.25 at x = 0 (the grid's points, a jitter off the axis,
+  // are a little higher).
+  EXPECT_GT(bridge.height, 0.2);
+  EXPECT_LT(bridge.height, 0.3);
+  // It crosses the gap's middle (x = 0) near the axis, where the saddle is;
+  // its ends in the pieces are in both balls; nothing goes to the speck.
+  int into[2] = {0, 0}, crossings = 0;
+  for (size_t s = 0; s < bridge.segments.size(); ++s) {
+    const auto& [p, q] = bridge.segments[s];
+    if (bridge.into_piece[s]) {
+      ++into[q.x() > 0];
+      EXPECT_LT(std::min((q - kLeft).norm(), (q - kRight).norm()), 0.25) << "segment " << s;
+    }
+    for (const Eigen::Vector3d& end : bridge.segments[s])
+      EXPECT_GT((end - Eigen::Vector3d(0, 0.8, 0)).norm(), 0.3) << "segment " << s << " goes to the speck";
+    if ((p.x() < 0) != (q.x() < 0)) {
+      ++crossings;
+      const Eigen::Vector3d middle = p + (q - p) * (-p.x() / (q.x() - p.x()));
+      EXPECT_LE(std::hypot(middle.y(), middle.z()), 1.5 * kSpacing) << "segment " << s << " crosses off the axis";
+    }
+  }
+  EXPECT_EQ(crossings, 1);
+  EXPECT_GE(into[0], 1);
+  EXPECT_GE(into[1], 1);
+}
+
+TEST(MorphFieldBridges, NoBridgeWhereThereAreNoMoreLastingPiecesThanAllowed) {
+  const Grid grid;
+  const Eigen::VectorXd field = balls(grid.points);
+  EXPECT_TRUE(bridge_between_pieces(grid.cells, grid.points, field, 2).segments.empty());
+  const double rod_y = 0.35;
+  EXPECT_TRUE(bridge_between_pieces(grid.cells, grid.points, balls(grid.points, &rod_y), 1).segments.empty());
+}
+
+namespace {
+
+// Three layers on the grid: two balls joined by a rod above (y = 0.35),
+// then twice the same balls joined by a rod below (y = -0.35). The field
+// moves the connection from one rod to the other; the layers' Betti numbers
+// after preserve_topology, with the lower rod's points as the bridge on the
+// later layers when `bridged`, and the ends' Betti numbers between `least`
+// and `most`.
+struct MovedConnection {
+  std::vector<Eigen::VectorXd> field;
+  std::array<std::array<Index, 3>, 3> betti;
+  std::vector<bool> lower_rod, upper_rod;  // the points along each rod's middle
+};
+
+MovedConnection move_the_connection(const Grid& grid, bool bridged, const std::array<Index, 3>& most) {
+  const double above = 0.35, below = -0.35;
+  MovedConnection out;
+  out.field = {balls(grid.points, &above), balls(grid.points, &below), balls(grid.points, &below)};
+  const Index n = grid.points.rows();
+  out.lower_rod.assign(n, false), out.upper_rod.assign(n, false);
+  std::vector<bool> near_lower_rod(n, false);
+  for (Index v = 0; v < n; ++v) {
+    const Eigen::Vector3d x = grid.points.row(v);
+    out.lower_rod[v] = to_segment(x, {-0.4, below, 0}, {0.4, below, 0}) < 0.06;
+    out.upper_rod[v] = to_segment(x, {-0.4, above, 0}, {0.4, above, 0}) < 0.06;
+    near_lower_rod[v] = x.y() < 0 && to_polyline(x, {kLeft, {-0.5, below, 0}, {0.5, below, 0}, kRight}) < 0.2;
+  }
+  std::vector<std::vector<bool>> bridges(3);
+  if (bridged) bridges[1] = bridges[2] = near_lower_rod;
+  preserve_topology(grid.cells, out.field, 1, 1e-3 * kSpacing, {1, 0, 0}, most, bridges);
+  for (int layer = 0; layer < 3; ++layer) out.betti[layer] = betti_numbers(grid.cells, out.field[layer]);
+  return out;
+}
+
+// Whether every point of `part` is negative (true) or positive (false) in `field`.
+bool all_of_sign(const Eigen::VectorXd& field, const std::vector<bool>& part, bool negative) {
+  for (Index v = 0; v < field.size(); ++v)
+    if (part[v] && (field(v) < 0) != negative) return false;
+  return true;
+}
+
+}  // namespace
+
+TEST(MorphFieldBridges, ABridgeClosesALoopWithinTheEndsBettiNumbersAndTheOldConnectionGoesAsAHandle) {
+  const Grid grid;
+  const MovedConnection moved = move_the_connection(grid, true, {1, 1, 0});
+  EXPECT_EQ(moved.betti[0], (std::array<Index, 3>{2, 0, 0}));  // the balls with the rod above, and the speck
+  // The lower rod closes the loop while the upper one still holds; a layer
+  // on, the upper one goes.
+  EXPECT_EQ(moved.betti[1][1], 1);
+  EXPECT_TRUE(all_of_sign(moved.field[1], moved.lower_rod, true));
+  EXPECT_EQ(moved.betti[2][1], 0);
+  EXPECT_TRUE(all_of_sign(moved.field[2], moved.lower_rod, true));
+  EXPECT_TRUE(all_of_sign(moved.field[2], moved.upper_rod, false));
+  for (const auto& betti : moved.betti) EXPECT_EQ(betti[0], 2) << "a piece split off or joined";
+}
+
+TEST(MorphFieldBridges, WithoutABridgeOrAboveTheEndsBettiNumbersTheOldConnectionIsHeld) {
+  const Grid grid;
+  for (const bool bridged : {false, true}) {
+    const MovedConnection moved = move_the_connection(grid, bridged, {1, 0, 0});
+    for (const auto& betti : moved.betti) EXPECT_EQ(betti, (std::array<Index, 3>{2, 0, 0})) << bridged;
+    EXPECT_FALSE(all_of_sign(moved.field[2], moved.upper_rod, false)) << bridged;
+  }
+}
