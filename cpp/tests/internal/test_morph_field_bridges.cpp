@@ -114,10 +114,10 @@ namespace {
 
 // Three layers on the grid: two balls joined by a rod above (y = 0.35),
 // then twice the same balls joined by a rod below (y = -0.35). The field
-// moves the connection from one rod to the other; the layers' Betti numbers
-// after preserve_topology, with the lower rod's points as the bridge on the
-// later layers when `bridged`, and the ends' Betti numbers between `least`
-// and `most`.
+// moves the connection from one rod to the other. preserve_topology keeps
+// at least one piece, and at most `most`'s Betti numbers where the points
+// near the lower rod are the later layers' bridge (when `bridged`); the
+// layers' Betti numbers after it.
 struct MovedConnection {
   std::vector<Eigen::VectorXd> field;
   std::array<std::array<Index, 3>, 3> betti;
