@@ -312,10 +312,13 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
 // than both ends have, both halves then grow the same necks towards the
 // middle and meet in the fill with them; held values alone would keep
 // whichever connection each half saw break last (a thread a thousandth of
-// a cell thick), and the fill would trade one for the other at once.
-// Returns, per layer, the points the bump lowers (empty where none).
-std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distances, const Bridge& bridge, double radius,
-                                          double depth) {
+// a cell thick), and the fill would trade one for the other at once. The
+// bump is kept off one end of each edge across a gap between the inputs
+// (keep_gaps_open) and lifted where its zero would leave them
+// (keep_bump_inside; no higher than -`floor`). Returns, per layer, the points the bump lowers
+// (empty where none).
+std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distances, const OutsideBoth& outside_both,
+                                          const Bridge& bridge, double radius, double depth, double floor) {
   const Index n = static_cast<Index>(half.points.rows());
   std::vector<std::vector<bool>> laid(half.field.size());
   if (bridge.segments.empty()) return laid;
@@ -344,6 +347,9 @@ std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distan
     const double falloff = 1 - (nearest / radius) * (nearest / radius);
     bump(v) = falloff * falloff;
   }
+  const std::vector<std::array<Index, 2>> edges = tet_edges(half.refined.cells);
+  keep_gaps_open(half.points, edges, distances, outside_both, bump);
+  std::vector<Eigen::VectorXd> unbumped(half.field.begin(), half.field.end());
   for (size_t layer = 2; layer < half.field.size(); ++layer) {
     const double share = static_cast<double>(layer - 1) / static_cast<double>(half.field.size() - 2);
     Eigen::VectorXd& value = half.field[layer];
@@ -354,6 +360,8 @@ std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distan
     value -= share * (highest + depth) * bump;
     laid[layer] = lowered;
   }
+  for (size_t layer = 2; layer < half.field.size(); ++layer)
+    keep_bump_inside(half.points, edges, distances, bump, half.field, layer, unbumped[layer], floor);
   return laid;
 }
 
@@ -361,10 +369,10 @@ std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distan
 // (lay_bridge), then slaves its chords' middles on the layer before the
 // fill's. `least` and `most` are the ends' least and largest Betti numbers;
 // `floor` the held values' (preserve_topology), `spacing` the lattice's.
-void keep_topology(Half& half, const EndDistances& distances, const Bridge& bridge, const std::array<Index, 3>& least,
-                   const std::array<Index, 3>& most, double floor, double spacing) {
+void keep_topology(Half& half, const EndDistances& distances, const OutsideBoth& outside_both, const Bridge& bridge,
+                   const std::array<Index, 3>& least, const std::array<Index, 3>& most, double floor, double spacing) {
   const std::vector<std::vector<bool>> laid =
-      lay_bridge(half, distances, bridge, kBridgeRadius * spacing, kBridgeDepth * spacing);
+      lay_bridge(half, distances, outside_both, bridge, kBridgeRadius * spacing, kBridgeDepth * spacing, floor);
   half.held = preserve_topology(half.refined.cells, half.field, 2, floor, least, most, laid);
   slave_chord_points(half, half.field[half.field.size() - 2]);
 }
@@ -406,9 +414,12 @@ Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, co
   // same necks.
   const Bridge bridge = bridge_between_pieces(halves.source.refined.cells, halves.source.points,
                                               halves.source.field.back(), least[0]);
+  const OutsideBoth outside_both = [&](const PointMatrix& points) -> Eigen::Array<bool, Eigen::Dynamic, 1> {
+    return !in.dS.inside(points) && !in.dT.inside(points);
+  };
   on_both_sides([&](int side) {
     Half& half = side == 0 ? halves.source : halves.target;
-    keep_topology(half, own[side], bridge, least, most, in.floor, in.spacing);
+    keep_topology(half, own[side], outside_both, bridge, least, most, in.floor, in.spacing);
     order_the_collar(half, (side == 0 ? in.source : in.target).on_surface);
   });
   return halves;

@@ -240,6 +240,9 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
                         const std::array<Index, 3>& floor_betti, const std::array<Index, 3>& ceiling_betti,
                         const std::vector<std::vector<bool>>& bridges);
 
+// Every edge of a tetrahedralization once, ends sorted, in sorted order.
+std::vector<std::array<Index, 2>> tet_edges(const SimplexMatrix& cells);
+
 // Where the region where `field` (per point of the tetrahedralization
 // `cells` over `points`) is negative falls into more than `pieces` pieces:
 // the lowest paths (least highest value) that join them until `pieces` are
@@ -254,6 +257,36 @@ struct Bridge {
 };
 Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& points, const Eigen::VectorXd& field,
                              Index pieces);
+
+// Whether each of a set of points (rows) lies outside both inputs.
+using OutsideBoth = std::function<Eigen::Array<bool, Eigen::Dynamic, 1>(const PointMatrix&)>;
+
+// Keeps a bridge's bump off one end of each edge that crosses a gap between
+// the inputs: both ends lowered, an edge the balls about its ends (of their
+// depth inside the inputs) leave partly uncovered, with a point of the
+// uncovered part outside both (sampled at kGapSamples points). Both ends
+// negative, the negative region would span the gap, however the values are
+// lifted (keep_bump_inside), so both ends keep the blend: the bridge joins
+// the inputs where they overlap. Returns how many edges were cut off.
+constexpr int kGapSamples = 5;
+Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
+                     const EndDistances& distances, const OutsideBoth& outside_both, Eigen::VectorXd& bump);
+
+// Lifts the points a bridge's bump lowered on layer `layer` of `field`
+// (`bump` > 0 there; `unbumped` their values before it) as far as keeps its
+// zero inside the inputs. On an edge from a lowered point p, `inside` deep
+// in an input (the ball of that radius about p lies in the inputs), to a
+// point q with a value v > 0 on the layer or a neighbouring one (a slab's
+// cells join the two), the zero falls within `inside` of p while p's value
+// is no lower than -inside v / (length - inside); an edge that the balls
+// about its two ends cover needs nothing. So the bridge never reaches into
+// a shared hole (validity 3), and still takes every lowered point below
+// zero: at least `floor` below (jittered like every value), which lets the
+// zero pass a point on an input's surface by a small share of an edge. Lifting leaves the positive values as they
+// are, so the layers can be lifted in any order once all are lowered.
+void keep_bump_inside(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
+                      const EndDistances& distances, const Eigen::VectorXd& bump, std::vector<Eigen::VectorXd>& field,
+                      size_t layer, const Eigen::VectorXd& unbumped, double floor);
 
 // ---------------------------------------------------------------- timing
 

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <tuple>
+#include <utility>
 
 namespace animanifold::morph_field {
 
@@ -144,15 +146,9 @@ class BettiNumbers {
  public:
   BettiNumbers(const SimplexMatrix& cells, Index vertices, const SimplePoints& points)
       : n_(vertices), points_(points), tets_(cells) {
-    std::vector<std::array<Index, 2>> edges;
     std::vector<std::array<Index, 3>> faces = tet_faces(cells);
-    for (Index c = 0; c < cells.rows(); ++c)
-      for (int a = 0; a < 4; ++a)
-        for (int b = a + 1; b < 4; ++b)
-          edges.push_back({std::min(cells(c, a), cells(c, b)), std::max(cells(c, a), cells(c, b))});
-    std::sort(edges.begin(), edges.end()), edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    edges_ = std::move(edges), faces_ = std::move(faces);
+    edges_ = tet_edges(cells), faces_ = std::move(faces);
   }
 
   // Euler characteristic of the negative region.
@@ -237,6 +233,17 @@ std::pair<std::vector<char>, Index> lasting_pieces(const SimplexMatrix& cells, c
 
 }  // namespace
 
+std::vector<std::array<Index, 2>> tet_edges(const SimplexMatrix& cells) {
+  std::vector<std::array<Index, 2>> edges;
+  edges.reserve(6 * static_cast<size_t>(cells.rows()));
+  for (Index c = 0; c < cells.rows(); ++c)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        edges.push_back({std::min(cells(c, a), cells(c, b)), std::max(cells(c, a), cells(c, b))});
+  std::sort(edges.begin(), edges.end()), edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
 Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& points, const Eigen::VectorXd& field,
                              Index pieces) {
   const Index n = static_cast<Index>(field.size());
@@ -248,13 +255,7 @@ Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& poin
   const auto [anchor, lasting] = lasting_pieces(cells, field);
   if (lasting <= pieces) return bridge;
   std::vector<Edge> edges;
-  edges.reserve(6 * static_cast<size_t>(cells.rows()));
-  for (Index c = 0; c < cells.rows(); ++c)
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const Index a = std::min(cells(c, i), cells(c, j)), b = std::max(cells(c, i), cells(c, j));
-        edges.push_back({std::max(field(a), field(b)), a, b});
-      }
+  for (const auto& [a, b] : tet_edges(cells)) edges.push_back({std::max(field(a), field(b)), a, b});
   std::sort(edges.begin(), edges.end(),
             [](const Edge& x, const Edge& y) { return std::tie(x.height, x.a, x.b) < std::tie(y.height, y.a, y.b); });
   // Kruskal's minimum spanning forest by height, up to the edge that leaves
@@ -369,6 +370,69 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
     held += static_cast<Index>(refused.size());
   }
   return held;
+}
+
+namespace {
+
+double depth_inside(const EndDistances& distances, Index v) {
+  return std::max(0.0, -std::min(distances.s(v), distances.t(v)));
+}
+
+}  // namespace
+
+Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
+                     const EndDistances& distances, const OutsideBoth& outside_both, Eigen::VectorXd& bump) {
+  std::vector<std::array<Index, 2>> uncovered;
+  std::vector<Eigen::Vector3d> samples;
+  for (const auto& [a, b] : edges) {
+    if (bump(a) <= 0 || bump(b) <= 0) continue;
+    const Eigen::Vector3d p = points.row(a), q = points.row(b);
+    const double length = (q - p).norm(), from = depth_inside(distances, a), to = length - depth_inside(distances, b);
+    if (from >= to) continue;
+    uncovered.push_back({a, b});
+    for (int k = 0; k < kGapSamples; ++k)
+      samples.push_back(p + (q - p) * ((from + (to - from) * (k + 0.5) / kGapSamples) / length));
+  }
+  PointMatrix at(static_cast<Index>(samples.size()), 3);
+  for (size_t i = 0; i < samples.size(); ++i) at.row(static_cast<Index>(i)) = samples[i];
+  const Eigen::Array<bool, Eigen::Dynamic, 1> outside = samples.empty() ? Eigen::Array<bool, Eigen::Dynamic, 1>()
+                                                                        : outside_both(at);
+  Index taken = 0;
+  for (size_t e = 0; e < uncovered.size(); ++e) {
+    const auto [a, b] = uncovered[e];
+    if (bump(a) <= 0 || bump(b) <= 0 || !outside.segment(static_cast<Index>(e) * kGapSamples, kGapSamples).any())
+      continue;
+    bump(a) = bump(b) = 0;
+    ++taken;
+  }
+  return taken;
+}
+
+void keep_bump_inside(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
+                      const EndDistances& distances, const Eigen::VectorXd& bump, std::vector<Eigen::VectorXd>& field,
+                      size_t layer, const Eigen::VectorXd& unbumped, double floor) {
+  const auto inside = [&](Index v) { return depth_inside(distances, v); };
+  // q's least positive value on the layer and its neighbours (0: none).
+  const auto least_positive = [&](Index q) {
+    double least = 0;
+    for (size_t k = layer > 0 ? layer - 1 : 0; k <= std::min(layer + 1, field.size() - 1); ++k)
+      if (field[k](q) > 0 && (least == 0 || field[k](q) < least)) least = field[k](q);
+    return least;
+  };
+  Eigen::VectorXd lowest = Eigen::VectorXd::Constant(bump.size(), -std::numeric_limits<double>::infinity());
+  for (const auto& edge : edges)
+    for (const auto& [p, q] : {std::pair{edge[0], edge[1]}, std::pair{edge[1], edge[0]}}) {
+      if (bump(p) <= 0) continue;
+      const double length = (points.row(p) - points.row(q)).norm(), v = least_positive(q);
+      if (inside(p) + inside(q) >= length || v == 0) continue;
+      lowest(p) = std::max(lowest(p), -inside(p) * v / (length - inside(p)));
+    }
+  Eigen::VectorXd& value = field[layer];
+  for (Index p = 0; p < bump.size(); ++p)
+    if (bump(p) > 0) {
+      const double lifted = jittered(std::min(lowest(p), -floor), p, static_cast<int>(layer), 0x401f);
+      value(p) = std::min(unbumped(p), std::max(value(p), lifted));
+    }
 }
 
 }  // namespace animanifold::morph_field

@@ -1,6 +1,7 @@
 // The field morph's bridges (morph_field_internal.hpp): the lowest paths
-// between the pieces the blend falls into, and the handle preserve_topology
-// lets a bridge close so that the connection it replaces goes.
+// between the pieces the blend falls into, the handle preserve_topology
+// lets a bridge close so that the connection it replaces goes, and the lift
+// that keeps a bridge's zero inside the inputs.
 #include "animanifold/delaunay.hpp"
 #include "morph_field_internal.hpp"
 
@@ -174,4 +175,108 @@ TEST(MorphFieldBridges, WithoutABridgeOrAboveTheEndsBettiNumbersTheOldConnection
     for (const auto& betti : moved.betti) EXPECT_EQ(betti, (std::array<Index, 3>{2, 0, 0})) << bridged;
     EXPECT_FALSE(all_of_sign(moved.field[2], moved.upper_rod, false)) << bridged;
   }
+}
+
+namespace {
+
+const Eigen::Vector3d kSmallCentre(0.3, 0, 0);
+
+// The inputs' union at a point: negative inside the ball of radius 0.5 at the
+// origin (the source) or the ball of radius 0.3 at kSmallCentre (the target).
+double union_distance(const Eigen::Vector3d& x) {
+  return std::min(x.norm() - 0.5, (x - kSmallCentre).norm() - 0.3);
+}
+
+// Where the zero of `field` crosses each edge whose ends differ in sign: the
+// farthest such point from the inputs (union_distance), or -inf when none.
+double farthest_crossing(const Grid& grid, const std::vector<std::array<Index, 2>>& edges,
+                         const Eigen::VectorXd& field) {
+  double farthest = -INFINITY;
+  for (const auto& [a, b] : edges) {
+    if ((field(a) < 0) == (field(b) < 0)) continue;
+    const Eigen::Vector3d p = grid.points.row(a), q = grid.points.row(b);
+    farthest = std::max(farthest, union_distance(p + (q - p) * (field(a) / (field(a) - field(b)))));
+  }
+  return farthest;
+}
+
+}  // namespace
+
+TEST(MorphFieldBridges, ABumpIsLiftedSoThatItsZeroStaysInsideTheInputs) {
+  const Grid grid;
+  const Index n = grid.points.rows();
+  EndDistances distances;
+  distances.s.resize(n), distances.t.resize(n);
+  Eigen::VectorXd blend(n), bump = Eigen::VectorXd::Zero(n);
+  for (Index v = 0; v < n; ++v) {
+    const Eigen::Vector3d x = grid.points.row(v);
+    distances.s(v) = x.norm() - 0.5, distances.t(v) = (x - kSmallCentre).norm() - 0.3;
+    blend(v) = 0.5 * (distances.s(v) + distances.t(v));
+    if (union_distance(x) <= 0) bump(v) = 1;  // a bump over the whole of the inputs, as deep as a bridge's core
+  }
+  std::vector<Eigen::VectorXd> field{blend, blend - 2.0 * bump, blend};
+  const std::vector<std::array<Index, 2>> edges = tet_edges(grid.cells);
+  // Unlifted, the bump's zero lies most of an edge beyond the inputs: a
+  // point of a shared hole there would be inside the frame.
+  EXPECT_GT(farthest_crossing(grid, edges, field[1]), 0.5 * kSpacing);
+  const Eigen::VectorXd bumped = field[1];
+  keep_bump_inside(grid.points, edges, distances, bump, field, 1, blend, 1e-9);
+  EXPECT_LE(farthest_crossing(grid, edges, field[1]), 1e-12);
+  Index kept_deep = 0;
+  for (Index v = 0; v < n; ++v) {
+    if (bump(v) == 0) {
+      EXPECT_EQ(field[1](v), blend(v)) << "point " << v << " is outside both inputs and was not lowered";
+      continue;
+    }
+    // Lifted no higher than the blend, and still below zero inside an input.
+    EXPECT_LE(field[1](v), blend(v)) << "point " << v;
+    if (union_distance(grid.points.row(v)) < -1e-9) EXPECT_LT(field[1](v), 0) << "point " << v;
+    kept_deep += field[1](v) == bumped(v);
+  }
+  // Points deeper inside than their edges are long keep all of the bump.
+  EXPECT_GT(kept_deep, 0);
+  EXPECT_EQ(field[0], blend);  // the layers beside it are only read
+  EXPECT_EQ(field[2], blend);
+}
+
+TEST(MorphFieldBridges, NoEdgeBothOfWhoseEndsABumpLowersCrossesAGapBetweenTheInputs) {
+  const Grid grid;
+  const Index n = grid.points.rows();
+  // Two balls of radius 0.4 with a gap 0.04 wide between them at x = 0.05,
+  // between two planes of the grid.
+  const Eigen::Vector3d left(-0.37, 0, 0), right(0.47, 0, 0);
+  const auto distance_to = [&](const Eigen::Vector3d& x) {
+    return std::array<double, 2>{(x - left).norm() - 0.4, (x - right).norm() - 0.4};
+  };
+  const OutsideBoth outside_both = [&](const PointMatrix& points) {
+    Eigen::Array<bool, Eigen::Dynamic, 1> outside(points.rows());
+    for (Index i = 0; i < points.rows(); ++i) {
+      const auto [s, t] = distance_to(points.row(i).transpose());
+      outside(i) = s > 0 && t > 0;
+    }
+    return outside;
+  };
+  EndDistances distances;
+  distances.s.resize(n), distances.t.resize(n);
+  Eigen::VectorXd bump = Eigen::VectorXd::Zero(n);
+  for (Index v = 0; v < n; ++v) {
+    const auto [s, t] = distance_to(grid.points.row(v).transpose());
+    distances.s(v) = s, distances.t(v) = t;
+    if (s <= 0 || t <= 0) bump(v) = 1;
+  }
+  const std::vector<std::array<Index, 2>> edges = tet_edges(grid.cells);
+  const Eigen::VectorXd before = bump;
+  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both, bump), 0);
+  // Sampled finely, every edge still lowered at both ends lies inside the balls.
+  for (const auto& [a, b] : edges) {
+    if (bump(a) <= 0 || bump(b) <= 0) continue;
+    const Eigen::Vector3d p = grid.points.row(a), q = grid.points.row(b);
+    for (int k = 0; k <= 100; ++k) {
+      const auto [s, t] = distance_to(p + (q - p) * (k / 100.0));
+      ASSERT_TRUE(s <= 1e-12 || t <= 1e-12) << "edge " << a << "-" << b << " crosses the gap, both ends lowered";
+    }
+  }
+  // Only the gap's edges lose the bump: a point farther from it than an edge keeps it.
+  for (Index v = 0; v < n; ++v)
+    if (std::abs(grid.points(v, 0) - 0.05) > 0.2) EXPECT_EQ(bump(v), before(v)) << "point " << v;
 }
