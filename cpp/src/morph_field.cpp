@@ -313,10 +313,10 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
 // middle and meet in the fill with them; held values alone would keep
 // whichever connection each half saw break last (a thread a thousandth of
 // a cell thick), and the fill would trade one for the other at once. The
-// bump is kept off one end of each edge across a gap between the inputs
+// bump is kept off both ends of each edge across a gap between the inputs
 // (keep_gaps_open) and lifted where its zero would leave them
-// (keep_bump_inside; no higher than -`floor`). Returns, per layer, the points the bump lowers
-// (empty where none).
+// (keep_bump_inside; no higher than -`floor`). Returns, per layer, the
+// points the bump lowers (empty where none).
 std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distances, const OutsideBoth& outside_both,
                                           const Bridge& bridge, double radius, double depth, double floor) {
   const Index n = static_cast<Index>(half.points.rows());

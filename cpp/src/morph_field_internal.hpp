@@ -261,13 +261,14 @@ Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& poin
 // Whether each of a set of points (rows) lies outside both inputs.
 using OutsideBoth = std::function<Eigen::Array<bool, Eigen::Dynamic, 1>(const PointMatrix&)>;
 
-// Keeps a bridge's bump off one end of each edge that crosses a gap between
-// the inputs: both ends lowered, an edge the balls about its ends (of their
-// depth inside the inputs) leave partly uncovered, with a point of the
-// uncovered part outside both (sampled at kGapSamples points). Both ends
-// negative, the negative region would span the gap, however the values are
-// lifted (keep_bump_inside), so both ends keep the blend: the bridge joins
-// the inputs where they overlap. Returns how many edges were cut off.
+// Takes a bridge's bump (`bump`, per point) off both ends of each edge that
+// crosses a gap between the inputs: both ends lowered, an edge the balls
+// about its ends (of their depth inside the inputs) leave partly uncovered,
+// with a point of the uncovered part outside both (sampled at kGapSamples
+// points). Both ends negative, the negative region would span the gap
+// however the values are lifted (keep_bump_inside), so both ends keep the
+// blend: the bridge joins the inputs where they overlap. Returns how many
+// edges lost their bump.
 constexpr int kGapSamples = 5;
 Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
                      const EndDistances& distances, const OutsideBoth& outside_both, Eigen::VectorXd& bump);
@@ -282,8 +283,9 @@ Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Ind
 // about its two ends cover needs nothing. So the bridge never reaches into
 // a shared hole (validity 3), and still takes every lowered point below
 // zero: at least `floor` below (jittered like every value), which lets the
-// zero pass a point on an input's surface by a small share of an edge. Lifting leaves the positive values as they
-// are, so the layers can be lifted in any order once all are lowered.
+// zero pass a point on an input's surface by a small share of an edge.
+// Lifting leaves the positive values as they are, so the layers can be
+// lifted in any order once all are lowered.
 void keep_bump_inside(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
                       const EndDistances& distances, const Eigen::VectorXd& bump, std::vector<Eigen::VectorXd>& field,
                       size_t layer, const Eigen::VectorXd& unbumped, double floor);
