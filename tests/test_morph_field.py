@@ -178,8 +178,8 @@ def test_the_bridge_keeps_out_of_the_gap_between_the_inputs(shared_data):
     spot through its hole, where a gap of the shared outside lies between them. Its bump is kept off
     the edges across that gap and lifted where its zero would leave the inputs, so no frame reaches
     into the gap: every frame vertex stays within 0.5 % of the diagonal (2) of an input, as the
-    blend alone does (0.15 %). Where both ends of such an edge were lowered, frames at t = 0.08-0.2
-    reached 1.1 % outside both."""
+    blend alone does (0.15 %). With the bump on both ends of such an edge, frames at t = 0.08-0.2
+    reach 1.1 % outside both."""
     meshes = shared_data / "meshes"
     source, target = normalised(meshes / "torus-800.off"), normalised(meshes / "spot.obj")
     manifold = shared_field_morph(str(meshes / "torus-800.off"), str(meshes / "spot.obj"))
