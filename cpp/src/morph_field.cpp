@@ -347,8 +347,13 @@ std::vector<std::vector<bool>> lay_bridge(Half& half, const EndDistances& distan
     const double falloff = 1 - (nearest / radius) * (nearest / radius);
     bump(v) = falloff * falloff;
   }
+  // Points the blend itself takes below zero on a blend layer: an edge from
+  // one of them to a lowered point spans a gap as one between two lowered.
+  std::vector<bool> negative(n, false);
+  for (size_t layer = 2; layer < half.field.size(); ++layer)
+    for (Index v = 0; v < n; ++v) negative[v] = negative[v] || half.field[layer](v) < 0;
   const std::vector<std::array<Index, 2>> edges = tet_edges(half.refined.cells);
-  keep_gaps_open(half.points, edges, distances, outside_both, bump);
+  keep_gaps_open(half.points, edges, distances, outside_both, negative, bump);
   std::vector<Eigen::VectorXd> unbumped(half.field.begin(), half.field.end());
   for (size_t layer = 2; layer < half.field.size(); ++layer) {
     const double share = static_cast<double>(layer - 1) / static_cast<double>(half.field.size() - 2);
@@ -523,18 +528,11 @@ class Extraction {
   }
 
   // Prisms over `cells` between two layers, skipping those the zero set
-  // misses. Each prism is split by the staircase over its points in
-  // descending order of how much their field grows across the slab: at a
-  // time between the layers the staircase's inner nodes mix one point's
-  // value below with another's above, an error of s(1-s)(change of the
-  // later point - change of the earlier) against interpolating each point in
-  // time; in this order it is never positive, so it only ever widens the
-  // solid a little and never cuts a tunnel or a fragment into it.
+  // misses, each split by the staircase in staircase_rank()'s order.
   void add_stack(const SimplexMatrix& cells, Index bottom, Index top) {
     std::array<Simplex4, 4> prism;
     const Index n = cells.maxCoeff() + 1;
-    std::vector<double> rank(n);
-    for (Index v = 0; v < n; ++v) rank[v] = phi_(bottom + v) - phi_(top + v);
+    const std::vector<double> rank = staircase_rank(cells, phi_.segment(bottom, n), phi_.segment(top, n));
     for (Index c = 0; c < cells.rows(); ++c) {
       const Index* t = cells.row(c).data();
       bool negative = false, positive = false;
@@ -551,13 +549,15 @@ class Extraction {
   template <class Global>
   void add_transition(const SimplexMatrix& cells, const Half& half, const Global& global, bool refined_at_bottom) {
     const Index n = static_cast<Index>(half.points.rows());
-    // The staircase in the order add_stack() uses, so that this slab too
-    // only ever widens the solid (a neck kept by a bridge stays joined).
-    std::vector<double> rank(half.plain);
+    // The staircase in the order add_stack() uses (staircase_rank), so that
+    // this slab too only ever widens the solid (a neck kept by a bridge stays
+    // joined) but never across a point held out of it.
+    Eigen::VectorXd bottom(half.plain), top(half.plain);
     for (Index v = 0; v < half.plain; ++v) {
-      const Index refined = global(v), plain = global(n + v);
-      rank[v] = refined_at_bottom ? phi_(refined) - phi_(plain) : phi_(plain) - phi_(refined);
+      const double refined = phi_(global(v)), plain = phi_(global(n + v));
+      bottom(v) = refined_at_bottom ? refined : plain, top(v) = refined_at_bottom ? plain : refined;
     }
+    const std::vector<double> rank = staircase_rank(cells, bottom, top);
     const std::vector<Simplex4> slab =
         transition_slab(cells, half.refined.splits, half.plain, n, refined_at_bottom, rank.data());
     SimplexMatrix& local = refined_at_bottom ? source_transition : target_transition;

@@ -114,6 +114,25 @@ std::array<EndMesh, 2> conform_ends(const EndInput& source, const EndInput& targ
 // order common to a slab's prisms keeps the slab conforming.
 void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, const double* rank = nullptr);
 
+// The order of a slab's points (per point of `cells`; ascending) that its
+// prisms' staircases follow (prism_simplices), from the field at the slab's
+// bottom and top layers. At a time s between the layers, the staircase puts
+// a node on every edge (i, j) of a cell, i before j, at (1 - s) x_i + s x_j,
+// valued (1 - s) bottom_i + s top_j, not the value of each point interpolated
+// in time there (the frames preserve_topology judges): where both ends have
+// one sign and the node the other, the frame is widened or cut there. Points
+// come in descending order of how much their field grows across the slab,
+// so a node is never above the interpolation: the solid is only ever
+// widened a little, never cut by a tunnel or into fragments. But a point
+// positive on both layers (one preserve_topology holds out of the negative
+// region to keep two parts apart) is widened across from a neighbour that
+// joins the region if it comes first, from one that leaves it if it comes
+// last: the parts it keeps apart met within the slab, a handle or a merge
+// for a while. So it comes last where more of its neighbours in the cells
+// join than leave, first where more leave.
+std::vector<double> staircase_rank(const SimplexMatrix& cells, const Eigen::VectorXd& bottom,
+                                   const Eigen::VectorXd& top);
+
 // Whether the 4-simplex `s` (rows of X, time last) is flat but for
 // rounding: its volume, with time scaled by `time_scale` (the shapes' size
 // over the range, so that the answer does not depend on the units of time),
@@ -262,16 +281,18 @@ Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& poin
 using OutsideBoth = std::function<Eigen::Array<bool, Eigen::Dynamic, 1>(const PointMatrix&)>;
 
 // Takes a bridge's bump (`bump`, per point) off both ends of each edge that
-// crosses a gap between the inputs: both ends lowered, an edge the balls
-// about its ends (of their depth inside the inputs) leave partly uncovered,
-// with a point of the uncovered part outside both (sampled at kGapSamples
-// points). Both ends negative, the negative region would span the gap
-// however the values are lifted (keep_bump_inside), so both ends keep the
-// blend: the bridge joins the inputs where they overlap. Returns how many
-// edges lost their bump.
+// crosses a gap between the inputs: one end lowered by the bump and the
+// other by it too or `negative` (the blend is below zero there on some
+// layer), an edge the balls about its ends (of their depth inside the
+// inputs) leave partly uncovered, with a point of the uncovered part outside
+// both (sampled at kGapSamples points). Both ends negative, the negative
+// region would span the gap however the values are lifted
+// (keep_bump_inside), so both ends keep the blend: the bridge joins the
+// inputs where they overlap. Returns how many edges lost their bump.
 constexpr int kGapSamples = 5;
 Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
-                     const EndDistances& distances, const OutsideBoth& outside_both, Eigen::VectorXd& bump);
+                     const EndDistances& distances, const OutsideBoth& outside_both,
+                     const std::vector<bool>& negative, Eigen::VectorXd& bump);
 
 // Lifts the points a bridge's bump lowered on layer `layer` of `field`
 // (`bump` > 0 there; `unbumped` their values before it) as far as keeps its

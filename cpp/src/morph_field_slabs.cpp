@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace animanifold::morph_field {
@@ -51,6 +52,31 @@ void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, con
     }
     if ((staircase_signs()[r] < 0) != odd) std::swap(s[0], s[1]);
   }
+}
+
+std::vector<double> staircase_rank(const SimplexMatrix& cells, const Eigen::VectorXd& bottom,
+                                   const Eigen::VectorXd& top) {
+  const Index n = static_cast<Index>(bottom.size());
+  std::vector<double> rank(n);
+  for (Index v = 0; v < n; ++v) rank[v] = bottom(v) - top(v);
+  const auto positive = [&](Index v) { return bottom(v) >= 0 && top(v) >= 0; };
+  // Per point positive on both layers, its neighbours that join and that
+  // leave, counted once per cell they share.
+  std::vector<Index> joining(n, 0), leaving(n, 0);
+  for (Index c = 0; c < cells.rows(); ++c)
+    for (int a = 0; a < 4; ++a) {
+      const Index q = cells(c, a);
+      if (!positive(q)) continue;
+      for (int b = 0; b < 4; ++b) {
+        const Index v = cells(c, b);
+        joining[q] += bottom(v) >= 0 && top(v) < 0;
+        leaving[q] += bottom(v) < 0 && top(v) >= 0;
+      }
+    }
+  constexpr double kLast = std::numeric_limits<double>::max();
+  for (Index v = 0; v < n; ++v)
+    if (positive(v) && joining[v] + leaving[v] > 0) rank[v] = joining[v] >= leaving[v] ? kLast : -kLast;
+  return rank;
 }
 
 bool flat_to_rounding(const PointMatrix& X, const Simplex4& s, double time_scale) {

@@ -381,11 +381,13 @@ double depth_inside(const EndDistances& distances, Index v) {
 }  // namespace
 
 Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Index, 2>>& edges,
-                     const EndDistances& distances, const OutsideBoth& outside_both, Eigen::VectorXd& bump) {
+                     const EndDistances& distances, const OutsideBoth& outside_both,
+                     const std::vector<bool>& negative, Eigen::VectorXd& bump) {
+  const auto lowered = [&](Index v) { return bump(v) > 0 || negative[v]; };
   std::vector<std::array<Index, 2>> uncovered;
   std::vector<Eigen::Vector3d> samples;
   for (const auto& [a, b] : edges) {
-    if (bump(a) <= 0 || bump(b) <= 0) continue;
+    if (!(bump(a) > 0 || bump(b) > 0) || !lowered(a) || !lowered(b)) continue;
     const Eigen::Vector3d p = points.row(a), q = points.row(b);
     const double length = (q - p).norm(), from = depth_inside(distances, a), to = length - depth_inside(distances, b);
     if (from >= to) continue;
@@ -400,7 +402,8 @@ Index keep_gaps_open(const PointMatrix& points, const std::vector<std::array<Ind
   Index taken = 0;
   for (size_t e = 0; e < uncovered.size(); ++e) {
     const auto [a, b] = uncovered[e];
-    if (bump(a) <= 0 || bump(b) <= 0 || !outside.segment(static_cast<Index>(e) * kGapSamples, kGapSamples).any())
+    if (!(bump(a) > 0 || bump(b) > 0) || !lowered(a) || !lowered(b) ||
+        !outside.segment(static_cast<Index>(e) * kGapSamples, kGapSamples).any())
       continue;
     bump(a) = bump(b) = 0;
     ++taken;

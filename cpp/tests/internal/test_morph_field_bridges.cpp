@@ -266,7 +266,7 @@ TEST(MorphFieldBridges, NoEdgeBothOfWhoseEndsABumpLowersCrossesAGapBetweenTheInp
   }
   const std::vector<std::array<Index, 2>> edges = tet_edges(grid.cells);
   const Eigen::VectorXd before = bump;
-  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both, bump), 0);
+  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both, std::vector<bool>(n, false), bump), 0);
   // Sampled finely, every edge still lowered at both ends lies inside the balls.
   for (const auto& [a, b] : edges) {
     if (bump(a) <= 0 || bump(b) <= 0) continue;
