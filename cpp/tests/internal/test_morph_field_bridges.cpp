@@ -200,6 +200,33 @@ double farthest_crossing(const Grid& grid, const std::vector<std::array<Index, 2
   return farthest;
 }
 
+// Two balls of radius 0.4 with a gap 0.04 wide between them at x = 0.05,
+// between two planes of the grid: the signed distances to each.
+std::array<double, 2> distance_to(const Eigen::Vector3d& x) {
+  const Eigen::Vector3d left(-0.37, 0, 0), right(0.47, 0, 0);
+  return {(x - left).norm() - 0.4, (x - right).norm() - 0.4};
+}
+
+Eigen::Array<bool, Eigen::Dynamic, 1> outside_both_balls(const PointMatrix& points) {
+  Eigen::Array<bool, Eigen::Dynamic, 1> outside(points.rows());
+  for (Index i = 0; i < points.rows(); ++i) {
+    const auto [s, t] = distance_to(points.row(i).transpose());
+    outside(i) = s > 0 && t > 0;
+  }
+  return outside;
+}
+
+// The signed distances to the two balls at `points`, as the field morph keeps them.
+EndDistances distances_to_balls(const PointMatrix& points) {
+  EndDistances distances;
+  distances.s.resize(points.rows()), distances.t.resize(points.rows());
+  for (Index v = 0; v < points.rows(); ++v) {
+    const auto [s, t] = distance_to(points.row(v).transpose());
+    distances.s(v) = s, distances.t(v) = t;
+  }
+  return distances;
+}
+
 }  // namespace
 
 TEST(MorphFieldBridges, ABumpIsLiftedSoThatItsZeroStaysInsideTheInputs) {
@@ -242,31 +269,13 @@ TEST(MorphFieldBridges, ABumpIsLiftedSoThatItsZeroStaysInsideTheInputs) {
 TEST(MorphFieldBridges, NoEdgeBothOfWhoseEndsABumpLowersCrossesAGapBetweenTheInputs) {
   const Grid grid;
   const Index n = grid.points.rows();
-  // Two balls of radius 0.4 with a gap 0.04 wide between them at x = 0.05,
-  // between two planes of the grid.
-  const Eigen::Vector3d left(-0.37, 0, 0), right(0.47, 0, 0);
-  const auto distance_to = [&](const Eigen::Vector3d& x) {
-    return std::array<double, 2>{(x - left).norm() - 0.4, (x - right).norm() - 0.4};
-  };
-  const OutsideBoth outside_both = [&](const PointMatrix& points) {
-    Eigen::Array<bool, Eigen::Dynamic, 1> outside(points.rows());
-    for (Index i = 0; i < points.rows(); ++i) {
-      const auto [s, t] = distance_to(points.row(i).transpose());
-      outside(i) = s > 0 && t > 0;
-    }
-    return outside;
-  };
-  EndDistances distances;
-  distances.s.resize(n), distances.t.resize(n);
+  const EndDistances distances = distances_to_balls(grid.points);
   Eigen::VectorXd bump = Eigen::VectorXd::Zero(n);
-  for (Index v = 0; v < n; ++v) {
-    const auto [s, t] = distance_to(grid.points.row(v).transpose());
-    distances.s(v) = s, distances.t(v) = t;
-    if (s <= 0 || t <= 0) bump(v) = 1;
-  }
+  for (Index v = 0; v < n; ++v)
+    if (distances.s(v) <= 0 || distances.t(v) <= 0) bump(v) = 1;
   const std::vector<std::array<Index, 2>> edges = tet_edges(grid.cells);
   const Eigen::VectorXd before = bump;
-  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both, std::vector<bool>(n, false), bump), 0);
+  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both_balls, std::vector<bool>(n, false), bump), 0);
   // Sampled finely, every edge still lowered at both ends lies inside the balls.
   for (const auto& [a, b] : edges) {
     if (bump(a) <= 0 || bump(b) <= 0) continue;
@@ -279,4 +288,44 @@ TEST(MorphFieldBridges, NoEdgeBothOfWhoseEndsABumpLowersCrossesAGapBetweenTheInp
   // Only the gap's edges lose the bump: a point farther from it than an edge keeps it.
   for (Index v = 0; v < n; ++v)
     if (std::abs(grid.points(v, 0) - 0.05) > 0.2) EXPECT_EQ(bump(v), before(v)) << "point " << v;
+}
+
+TEST(MorphFieldBridges, NoEdgeFromABumpToTheBlendsOwnSolidCrossesAGapBetweenTheInputs) {
+  const Grid grid;
+  const Index n = grid.points.rows();
+  // The balls with a gap between them; the bump lowers the left one only,
+  // and the blend itself is below zero in the right one.
+  const EndDistances distances = distances_to_balls(grid.points);
+  Eigen::VectorXd bump = Eigen::VectorXd::Zero(n);
+  std::vector<bool> negative(n, false);
+  for (Index v = 0; v < n; ++v) {
+    if (distances.s(v) <= 0) bump(v) = 1;
+    if (distances.t(v) <= 0) negative[v] = true;
+  }
+  const std::vector<std::array<Index, 2>> edges = tet_edges(grid.cells);
+  const auto crossing_gap = [&](const Eigen::VectorXd& lowered_by_bump) {
+    Index count = 0;
+    for (const auto& [a, b] : edges) {
+      const bool bumped = lowered_by_bump(a) > 0 || lowered_by_bump(b) > 0;
+      if (!bumped || !(lowered_by_bump(a) > 0 || negative[a]) || !(lowered_by_bump(b) > 0 || negative[b])) continue;
+      const Eigen::Vector3d p = grid.points.row(a), q = grid.points.row(b);
+      for (int k = 0; k <= 100; ++k) {
+        const auto [s, t] = distance_to(p + (q - p) * (k / 100.0));
+        if (s > 1e-12 && t > 1e-12) {
+          ++count;
+          break;
+        }
+      }
+    }
+    return count;
+  };
+  // Judged by the bump alone (no point of the right ball is bumped), every
+  // such edge would keep it.
+  Eigen::VectorXd bump_alone = bump;
+  EXPECT_EQ(keep_gaps_open(grid.points, edges, distances, outside_both_balls, std::vector<bool>(n, false), bump_alone), 0);
+  EXPECT_GT(crossing_gap(bump_alone), 0);
+  EXPECT_GT(keep_gaps_open(grid.points, edges, distances, outside_both_balls, negative, bump), 0);
+  EXPECT_EQ(crossing_gap(bump), 0);
+  for (Index v = 0; v < n; ++v)
+    if (std::abs(grid.points(v, 0) - 0.05) > 0.2) EXPECT_EQ(bump(v), bump_alone(v)) << "point " << v;
 }
