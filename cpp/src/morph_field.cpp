@@ -551,7 +551,7 @@ class Extraction {
     const Index n = static_cast<Index>(half.points.rows());
     // The staircase in the order add_stack() uses (staircase_rank), so that
     // this slab too only ever widens the solid (a neck kept by a bridge stays
-    // joined) but never across a point held out of it.
+    // joined), and not across the points held out of it.
     Eigen::VectorXd bottom(half.plain), top(half.plain);
     for (Index v = 0; v < half.plain; ++v) {
       const double refined = phi_(global(v)), plain = phi_(global(n + v));

@@ -128,8 +128,9 @@ void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, con
 // region to keep two parts apart) is widened across from a neighbour that
 // joins the region if it comes first, from one that leaves it if it comes
 // last: the parts it keeps apart met within the slab, a handle or a merge
-// for a while. So it comes last where more of its neighbours in the cells
-// join than leave, first where more leave.
+// for a while. So it comes last where at least as many of its neighbours in
+// the cells join as leave, first where more leave: where they all join or
+// all leave, no node takes the solid across it.
 std::vector<double> staircase_rank(const SimplexMatrix& cells, const Eigen::VectorXd& bottom,
                                    const Eigen::VectorXd& top);
 

@@ -6,8 +6,8 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 namespace animanifold::morph_field {
 

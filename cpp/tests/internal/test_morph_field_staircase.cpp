@@ -1,6 +1,7 @@
 // The order of a slab's staircase (staircase_rank, morph_field_internal.hpp):
-// within a slab, the node the staircase puts on an edge never takes the
-// solid across a point that is outside it on both layers.
+// within a slab, the nodes the staircase puts on edges never cut the solid,
+// and take it across a point outside it on both layers only where that
+// point has neighbours that join and others that leave.
 #include "animanifold/delaunay.hpp"
 #include "morph_field_internal.hpp"
 
