@@ -254,8 +254,12 @@ std::array<Index, 3> betti_numbers(const SimplexMatrix& cells, const Eigen::Vect
 // largest of the two ends'): a bridge may close a loop for a while, and the
 // connection it replaces then goes as a handle, not as a split.
 // The rest keep their sign at -floor (or kHeldOutside floors above zero)
-// and try again at the next layer. Returns how many (point, layer) values
-// were held.
+// and try again at the next layer. Of the points held in the negative
+// region, those whose removal has since become simple (a thread to a part
+// that has gone) leave from the thread's free end, at least a share of
+// 1 / (layers left) of them on each layer, first between the layers: none
+// is left on the last layer (the fill's). Returns how many (point, layer)
+// values were held.
 Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
                         const std::array<Index, 3>& floor_betti, const std::array<Index, 3>& ceiling_betti,
                         const std::vector<std::vector<bool>>& bridges);

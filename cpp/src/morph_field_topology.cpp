@@ -304,6 +304,47 @@ Bridge bridge_between_pieces(const SimplexMatrix& cells, const PointMatrix& poin
   return bridge;
 }
 
+namespace {
+
+// Of the points `held` on the layer before, those in the negative region
+// that the blend (`value`) wants out of it and whose removal has become
+// simple (with `negative` the signs there): a thread held to a part that
+// has since vanished becomes simple point by point from its free end, and
+// changes judged one by one in the order they happen take only those that
+// come after their outer neighbour, one or two a layer where the blend
+// rises towards the thread's root. Found in rounds (each the points simple
+// at its start, removed one by one, judged again), in the thread's order
+// from its end inwards; returns the first 1 / `layers_left` of them (all on
+// the fill's layer), so that the thread is gone by the fill: it does not
+// vanish in the fill's slab, which is a fraction of a layer thick.
+std::vector<Index> release_held(const SimplePoints& points, const std::vector<Index>& held,
+                                const Eigen::VectorXd& value, const std::vector<signed char>& negative,
+                                size_t layers_left) {
+  std::vector<signed char> trial = negative;
+  std::vector<Index> order, waiting;
+  for (const Index v : held)
+    if (negative[v] && value(v) >= 0) waiting.push_back(v);
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<Index> round, still;
+    for (const Index v : waiting) (points.simple(v, trial) ? round : still).push_back(v);
+    for (const Index v : round) {
+      if (!points.simple(v, trial)) {
+        still.push_back(v);
+        continue;
+      }
+      trial[v] = 0;
+      order.push_back(v);
+      changed = true;
+    }
+    waiting = std::move(still);
+  }
+  order.resize((order.size() + layers_left - 1) / std::max<size_t>(layers_left, 1));
+  return order;
+}
+
+}  // namespace
+
 Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>& field, int first, double floor,
                         const std::array<Index, 3>& floor_betti, const std::array<Index, 3>& ceiling_betti,
                         const std::vector<std::vector<bool>>& bridges) {
@@ -316,9 +357,14 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
   Index chi = betti.chi(negative);
   std::array<Index, 3> now = betti.with_chi(negative, chi);
   Index held = 0;
+  std::vector<Index> refused;  // the points held on the layer before
   for (size_t layer = static_cast<size_t>(first); layer < field.size(); ++layer) {
     Eigen::VectorXd& value = field[layer];
     const Eigen::VectorXd& before = field[layer - 1];
+    // Held points free to leave go first: their values on the layer before
+    // are near zero, so between the layers their changes come first.
+    for (const Index v : release_held(points, refused, value, negative, field.size() - layer)) negative[v] = 0;
+    refused.clear();
     // The sign changes the blend asks for, in the order they happen between
     // the layers (each point's field is linear in time there), each judged
     // after those before it, so the zero set between the layers passes
@@ -329,7 +375,6 @@ Index preserve_topology(const SimplexMatrix& cells, std::vector<Eigen::VectorXd>
         wanted.emplace_back(before(v) / (before(v) - value(v)), v);
     std::sort(wanted.begin(), wanted.end());
     int counted = 0;
-    std::vector<Index> refused;
     // A change of topology at v: made (and v's sign changed) where every
     // Betti number it changes goes down, towards the floor, or, for a
     // bridge's point joining the negative region, stays within the ends'.

@@ -1,7 +1,8 @@
 // The field morph's bridges (morph_field_internal.hpp): the lowest paths
 // between the pieces the blend falls into, the handle preserve_topology
 // lets a bridge close so that the connection it replaces goes, and the lift
-// that keeps a bridge's zero inside the inputs.
+// that keeps a bridge's zero inside the inputs; and a thread
+// preserve_topology held, released from its free end once it may go.
 #include "animanifold/delaunay.hpp"
 #include "morph_field_internal.hpp"
 
@@ -328,4 +329,57 @@ TEST(MorphFieldBridges, NoEdgeFromABumpToTheBlendsOwnSolidCrossesAGapBetweenTheI
   EXPECT_EQ(crossing_gap(bump), 0);
   for (Index v = 0; v < n; ++v)
     if (std::abs(grid.points(v, 0) - 0.05) > 0.2) EXPECT_EQ(bump(v), bump_alone(v)) << "point " << v;
+}
+
+namespace {
+
+const Eigen::Vector3d kBody(-0.7, 0, 0), kTip(0.75, 0, 0);
+
+// A ball of radius 0.2 at kBody, with (when `with_tip`) a ball of radius 0.12
+// at kTip and (when `with_rod`) a rod of radius 0.05 joining them along the
+// x axis: a line of the grid's points, a thread. Without the rod, the field
+// along its line is positive and rises towards the body.
+Eigen::VectorXd body_rod_and_tip(const PointMatrix& points, bool with_rod, bool with_tip) {
+  Eigen::VectorXd field(points.rows());
+  for (Index v = 0; v < points.rows(); ++v) {
+    const Eigen::Vector3d x = points.row(v);
+    double value = (x - kBody).norm() - 0.2;
+    if (with_tip) value = std::min(value, (x - kTip).norm() - 0.12);
+    const double rod = to_segment(x, kBody, kTip) - 0.05;
+    if (with_rod) value = std::min(value, rod);
+    else if (rod < 0 && value > 0) value = 0.05 + 0.1 * (kTip.x() - x.x());
+    field(v) = value;
+  }
+  return field;
+}
+
+}  // namespace
+
+TEST(MorphFieldBridges, AThreadHeldToAPartThatThenVanishesRetractsFromItsFreeEndAndIsGoneByTheLastLayer) {
+  const Grid grid;
+  // The blend takes the rod out a layer before the tip: preserve_topology
+  // holds it (the tip would split off). Once the tip has gone, the thread
+  // is free from its end; judged one by one, root first (where the blend
+  // rises), only its last point would leave each layer.
+  std::vector<Eigen::VectorXd> field{body_rod_and_tip(grid.points, true, true),
+                                     body_rod_and_tip(grid.points, false, true)};
+  const int layers = 7;
+  while (static_cast<int>(field.size()) < layers) field.push_back(body_rod_and_tip(grid.points, false, false));
+  preserve_topology(grid.cells, field, 1, 1e-3 * kSpacing, {1, 0, 0}, {1, 0, 0},
+                    std::vector<std::vector<bool>>(layers));
+  std::vector<Index> thread(layers, 0);
+  for (int layer = 0; layer < layers; ++layer) {
+    EXPECT_EQ(betti_numbers(grid.cells, field[layer]), (std::array<Index, 3>{1, 0, 0})) << layer;
+    for (Index v = 0; v < grid.points.rows(); ++v) {
+      const Eigen::Vector3d x = grid.points.row(v);
+      thread[layer] += field[layer](v) < 0 && x.x() > -0.45 && x.x() < 0.6 && x.tail<2>().norm() < 0.05;
+    }
+  }
+  ASSERT_GE(thread[1], 9) << "the thread is held while the tip lasts";
+  EXPECT_EQ(thread[layers - 1], 0) << "the thread is gone by the last layer";
+  for (int layer = 2; layer < layers; ++layer) {
+    EXPECT_LE(thread[layer], thread[layer - 1]) << "the thread only retracts, layer " << layer;
+    EXPECT_LE(2 * (thread[layer - 1] - thread[layer]), thread[1] + 1)
+        << "layer " << layer << " takes more than half the thread at once";
+  }
 }
