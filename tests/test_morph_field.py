@@ -145,8 +145,8 @@ def test_frames_between_layers_do_not_join_what_a_held_point_keeps_apart(shared_
     """torus-800 -> spot, t = 0.1-0.3: the stalactite growing from the ring towards the hole and the
     block rising from the bowl are kept apart by points held out of the solid (preserve_topology)
     until the ring has broken. Between two layers each prism's staircase mixes one point's value on
-    one layer with another's on the other; in the order of decrease alone it reached across the held
-    points, and frames between the layers had 2 pieces (t = 0.125-0.15) and a second handle
+    one layer with another's on the other; in the order of decrease alone it reaches across the held
+    points, and frames between the layers have 2 pieces (t = 0.125-0.15) and a second handle
     (t = 0.19-0.22). In staircase_rank's order, frames every 0.005 keep the ends' topology."""
     meshes = shared_data / "meshes"
     manifold = shared_field_morph(str(meshes / "torus-800.off"), str(meshes / "spot.obj"))

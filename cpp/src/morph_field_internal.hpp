@@ -123,7 +123,12 @@ void prism_simplices(const Index* c, Index bottom, Index top, Simplex4* out, con
 // one sign and the node the other, the frame is widened or cut there. Points
 // come in descending order of how much their field grows across the slab,
 // so a node is never above the interpolation: the solid is only ever
-// widened a little, never cut by a tunnel or into fragments. But a point
+// widened a little, never cut by a tunnel or into fragments. Widening is
+// not free of topology: where a deep point comes before a shallow, slow
+// one that crosses the same way, the node between them keeps the solid's
+// sign after both have crossed (before both, for points joining it), and
+// can stand for a while as an island (the in-slab transients the dense
+// frame surveys still find; the other order cuts instead). And a point
 // positive on both layers (one preserve_topology holds out of the negative
 // region to keep two parts apart) is widened across from a neighbour that
 // joins the region if it comes first, from one that leaves it if it comes
