@@ -100,9 +100,11 @@ void half_layers(Half& half, bool is_source, int m, int slabs, const BlendSchedu
   }
 }
 
-// The field on each layer of a half: at the end the input's own signed
-// distance, exactly zero on it; at the collar the same off the input and a
-// small positive lift on it (kCollar); then the blend (1 - w) d_S + w d_T.
+// The field on each layer of a half, of the distances `s` to S and `t` to T
+// (those through the inputs, build_half: of the signed distances' signs): at
+// the end the input's own, exactly zero on it; at the collar the same off
+// the input and a small positive lift on it (kCollar); then the blend
+// (1 - w) s + w t.
 void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMatrix& surface,
                 const Eigen::VectorXd& s, const Eigen::VectorXd& t, bool is_source, double floor) {
   const Index n = static_cast<Index>(half.points.rows());
@@ -288,11 +290,12 @@ Index refine_end(EndMesh& end, SimplexMatrix& cells, EndDistances& distances, co
 }
 
 // A half from its conforming end and its cells in the fill: its chords
-// split, with its layers and field.
+// split, with its layers and field: the blend of the distances through the
+// inputs (distances_through_inputs, `spacing` the lattice's).
 // `distances` holds those at the end's points, and gets the chords' middles'.
 Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDistance& dS, const SignedDistance& dT,
                 EndDistances& distances, bool is_source, int m, int slabs, const BlendSchedule& schedule,
-                const MorphOptions& options, double floor) {
+                const MorphOptions& options, double floor, double spacing) {
   Half half;
   half_layers(half, is_source, m, slabs, schedule, options);
   half.refined = split_chords(cells, end.points, end.on_surface, end.constraints, is_source ? dS : dT);
@@ -300,7 +303,9 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   half.points.resize(half.plain + half.refined.new_points.rows(), 3);
   half.points << end.points, half.refined.new_points;
   distances.extend(half.points, dS, dT);
-  half_field(half, end.on_surface, end.constraints, distances.s, distances.t, is_source, floor);
+  Eigen::VectorXd s = distances.s, t = distances.t;
+  distances_through_inputs(half.refined.cells, half.points, spacing, s, t);
+  half_field(half, end.on_surface, end.constraints, s, t, is_source, floor);
   return half;
 }
 
@@ -404,9 +409,9 @@ Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, co
                      const EndDistances (&distances)[2]) {
   EndDistances own[2] = {distances[0], distances[1]};
   Halves halves{build_half(in.source, source_cells, in.dS, in.dT, own[0], true, in.m, in.slabs, in.schedule,
-                           in.options, in.floor),
+                           in.options, in.floor, in.spacing),
                 build_half(in.target, target_cells, in.dS, in.dT, own[1], false, in.m, in.slabs, in.schedule,
-                           in.options, in.floor)};
+                           in.options, in.floor, in.spacing)};
   std::array<Index, 3> betti[2];
   on_both_sides([&](int side) {
     const Half& half = side == 0 ? halves.source : halves.target;
@@ -622,6 +627,9 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
     cells[side] = delaunay_tetrahedra(end.points);
     distances[side].extend(end.points, dS, dT);
     split[side] = chords_split(end, cells[side], distances[side], side == 0 ? dS : dT, dS, dT);
+    // The schedule measures the blend the halves will have.
+    distances_through_inputs(split[side].cells, split[side].points, lattice.spacing, split[side].distances.s,
+                             split[side].distances.t);
   });
   const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, split[0].cells, split[1].cells, split[0].points,
                                                  split[1].points, split[0].distances.s, split[0].distances.t,

@@ -25,7 +25,11 @@
 //    along them and the end frame would gain faces, fins or tunnels.
 // The field: signed distance to S at t0 and to T at t1 (exactly zero on
 // their vertices and Steiner points), and in between the convex blend
-// (1 - w) d_S + w d_T, with w linear in time: a point outside both inputs is
+// (1 - w) d_S + w d_T, with w following the zero set's measured motion
+// (motion_schedule). Inside T but outside S, d_S is the longer of the
+// straight distance and the path inside T from where the two overlap, and
+// d_T likewise inside S only (distances_through_inputs): a limb grows from
+// its root and retracts from its tip. A point outside both inputs is
 // outside every frame, one inside both inside every frame. Its zero set
 // (zero_set.hpp) is a closed 3-manifold whose boundary is S at t0 and T at
 // t1: every frame is a level set, so none runs through itself.

@@ -321,6 +321,27 @@ void keep_bump_inside(const PointMatrix& points, const std::vector<std::array<In
                       const EndDistances& distances, const Eigen::VectorXd& bump, std::vector<Eigen::VectorXd>& field,
                       size_t layer, const Eigen::VectorXd& unbumped, double floor);
 
+// ---------------------------------------------------------------- through the inputs
+
+// A path along a tetrahedralization's edges is longer than the straight
+// line by up to a few of its edges; this many lattice spacings of it do not
+// count, so that beside the overlap of the inputs, where the straight line
+// stays inside, the blend keeps the straight distance.
+constexpr double kThroughSlack = 2.0;
+
+// The distances the blend uses (s to S, t to T, per point of the
+// tetrahedralization `cells` over `points`), each lengthened, at a point
+// inside the other input only, to the path inside that input from where the
+// two overlap (less kThroughSlack `spacing`s). A part of T outside S (a
+// limb, a tail) is then the farther from S the farther it reaches from the
+// overlap: it grows from its root and retracts from its free end, where by
+// the straight distance a tip that curls back near S would outlast the
+// limb's middle, and be held to the body by a thread until it goes at once.
+// Points outside both inputs keep their distances: the blend stays positive
+// there, and shared holes stay empty.
+void distances_through_inputs(const SimplexMatrix& cells, const PointMatrix& points, double spacing,
+                              Eigen::VectorXd& s, Eigen::VectorXd& t);
+
 // ---------------------------------------------------------------- timing
 
 // The target's weight w in the blend at each share u of the range: the
