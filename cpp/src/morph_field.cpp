@@ -48,8 +48,11 @@ constexpr double kFillSlab = 0.5;
 // of its faces, times 1 to 2 from vertex to vertex (order_the_collar): a
 // planar quad's four vertices would otherwise make pieces of the zero set
 // whose corners are cut at one time, flat, and a value near zero pieces a
-// rounding wide.
-constexpr double kCollarLift = 0.01;
+// rounding wide. Small beside the blend's values on the input at the first
+// layer, so that the zero set leaves the input early in the slab between:
+// a lift of 1 % held it on a CAD part's large faces (flat_box_3) for most
+// of that slab, which it then crossed in a few frames.
+constexpr double kCollarLift = 0.0025;
 // The bridge's bump (lay_bridge), in lattice spacings: its radius, and how
 // far below zero it takes the bump's core (where it is over kBridgeCore of
 // its height) on the fill's layer; its segments go on kBridgeInto radii into
