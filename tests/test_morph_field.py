@@ -168,8 +168,7 @@ FILL_SLAB = (0.5 - 0.25 / 17, 0.5 + 0.25 / 17)
 def test_the_frames_inside_the_fill_slab_keep_the_ends_topology(shared_data):
     """torus-800 -> spot: frames inside the middle slab (which no spread frame of the bar lands in)
     have no more pieces than the ends, and an Euler characteristic between theirs. Both halves keep
-    the middle's two lobes joined by the same bridge (morph_field.cpp's lay_bridge); with the blend
-    of straight distances an island of 16 faces stood apart at t = 0.488-0.493."""
+    the middle's two lobes joined by the same bridge (morph_field.cpp's lay_bridge)."""
     meshes = shared_data / "meshes"
     manifold = shared_field_morph(str(meshes / "torus-800.off"), str(meshes / "spot.obj"))
     for t in np.linspace(*FILL_SLAB, 5)[1:-1]:

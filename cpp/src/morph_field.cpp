@@ -50,8 +50,9 @@ constexpr double kFillSlab = 0.5;
 // whose corners are cut at one time, flat, and a value near zero pieces a
 // rounding wide. Small beside the blend's values on the input at the first
 // layer, so that the zero set leaves the input early in the slab between:
-// a lift of 1 % held it on a CAD part's large faces (flat_box_3) for most
-// of that slab, which it then crossed in a few frames.
+// a lift of 1 % would keep it on a CAD part's large faces (flat_box_3) for
+// most of that slab, and it would then cross the part's holes in a few
+// frames.
 constexpr double kCollarLift = 0.0025;
 // The bridge's bump (lay_bridge), in lattice spacings: its radius, and how
 // far below zero it takes the bump's core (where it is over kBridgeCore of
