@@ -1,4 +1,5 @@
 // The blend's distances measured through the inputs (morph_field_internal.hpp).
+#include "animanifold/laplacian.hpp"
 #include "morph_field_internal.hpp"
 
 #include <cmath>
@@ -10,17 +11,13 @@ namespace animanifold::morph_field {
 
 namespace {
 
-// Per point, the length of the shortest path along `edges` that keeps to
-// points where `inside` is negative, from the points where `from` is not
-// positive either (Dijkstra's); infinity where no such path reaches.
-Eigen::VectorXd path_inside(const std::vector<std::array<Index, 2>>& edges, const PointMatrix& points,
-                            const Eigen::VectorXd& inside, const Eigen::VectorXd& from) {
+// Per point, the length of the shortest path along the tetrahedralization's
+// edges (`ring`) that keeps to points where `inside` is negative, from the
+// points where `from` is not positive either (Dijkstra's); infinity where no
+// such path reaches.
+Eigen::VectorXd path_inside(const VertexAdjacency& ring, const PointMatrix& points, const Eigen::VectorXd& inside,
+                            const Eigen::VectorXd& from) {
   const Index n = static_cast<Index>(points.rows());
-  std::vector<Index> start(static_cast<size_t>(n) + 1, 0), next(2 * edges.size());
-  for (const auto& [a, b] : edges) ++start[static_cast<size_t>(a) + 1], ++start[static_cast<size_t>(b) + 1];
-  for (Index v = 0; v < n; ++v) start[static_cast<size_t>(v) + 1] += start[static_cast<size_t>(v)];
-  std::vector<Index> slot(start.begin(), start.end() - 1);
-  for (const auto& [a, b] : edges) next[static_cast<size_t>(slot[a]++)] = b, next[static_cast<size_t>(slot[b]++)] = a;
   Eigen::VectorXd length = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
   using Item = std::pair<double, Index>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
@@ -30,8 +27,8 @@ Eigen::VectorXd path_inside(const std::vector<std::array<Index, 2>>& edges, cons
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > length(v)) continue;
-    for (Index k = start[static_cast<size_t>(v)]; k < start[static_cast<size_t>(v) + 1]; ++k) {
-      const Index u = next[static_cast<size_t>(k)];
+    for (Index k = ring.offsets[static_cast<size_t>(v)]; k < ring.offsets[static_cast<size_t>(v) + 1]; ++k) {
+      const Index u = ring.neighbours[static_cast<size_t>(k)];
       if (inside(u) >= 0) continue;
       const double through = d + (points.row(u) - points.row(v)).norm();
       if (through < length(u)) length(u) = through, queue.push({through, u});
@@ -44,9 +41,9 @@ Eigen::VectorXd path_inside(const std::vector<std::array<Index, 2>>& edges, cons
 
 void distances_through_inputs(const SimplexMatrix& cells, const PointMatrix& points, double spacing,
                               Eigen::VectorXd& s, Eigen::VectorXd& t) {
-  const std::vector<std::array<Index, 2>> edges = tet_edges(cells);
-  const Eigen::VectorXd through_T = path_inside(edges, points, t, s);
-  const Eigen::VectorXd through_S = path_inside(edges, points, s, t);
+  const VertexAdjacency ring = vertex_adjacency(cells, static_cast<Index>(points.rows()));
+  const Eigen::VectorXd through_T = path_inside(ring, points, t, s);
+  const Eigen::VectorXd through_S = path_inside(ring, points, s, t);
   const double slack = kThroughSlack * spacing;
   for (Index v = 0; v < s.size(); ++v) {
     if (t(v) < 0 && s(v) > 0 && std::isfinite(through_T(v))) s(v) = std::max(s(v), through_T(v) - slack);
