@@ -75,7 +75,7 @@ def morph_demo(bake_kwargs, method: str | None = None) -> dict:
     """Morph Selected from the sphere to the torus over the scene range (with `method`, else the
     add-on's default), then Bake; the report."""
     import animanifold_blender
-    from animanifold_blender import ops_morph
+    from animanifold_blender import morph_object, ops_morph
 
     method = (method or ops_morph.BEST_METHOD).lower()
     source, target = bpy.data.objects[MORPH_SOURCE], bpy.data.objects[MORPH_TARGET]
@@ -92,7 +92,12 @@ def morph_demo(bake_kwargs, method: str | None = None) -> dict:
               "ends_reproduced": bool(validity["ends_reproduced"]),
               "end_distances": [validity["source_distance"], validity["target_distance"]],
               "inverted_simplices": int(validity["inverted_simplices"]),
-              "oriented_manifold": bool(manifold.check().is_oriented_manifold)}
+              "oriented_manifold": bool(manifold.check().is_oriented_manifold),
+              # what the frames are (morph_validity.hpp's checks): how often the topology changes
+              # between the frames checked, and whether every check passed
+              "frames_checked": int(validity["frames_checked"]),
+              "topology_changes": int(validity["topology_changes"]),
+              "all_checks_passed": morph_object.all_checks_passed(validity)}
     t = time.perf_counter()
     _activate(morph)
     _run(bpy.ops.animanifold.bake, **bake_kwargs)

@@ -339,7 +339,8 @@ def morph_in_three_frames(capsys, inputs: tuple[Path, Path], output: Path, *opti
 
 
 def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path, sphere_and_torus):
-    out, err, m, last_euler = morph_in_three_frames(capsys, sphere_and_torus, tmp_path / "m", "--max-push", "0.3")
+    out, err, m, last_euler = morph_in_three_frames(capsys, sphere_and_torus, tmp_path / "m", "--method", "skeleton",
+                                                    "--max-push", "0.3")
     assert "ends reproduced: True" in out and "free vertices pushed" in out
     # the only warning: bubbles enclosed just before the torus's hole opens (a known limit of the
     # push), said when the report has them
@@ -379,7 +380,8 @@ def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(ca
     monkeypatch.setattr(sys.modules["animanifold.morph_pipeline"], "hole_space", refuse)
     am.write_mesh(tmp_path / "s.obj", *torus(minor_radius=0.4, major=16, minor=8))
     am.write_mesh(tmp_path / "t.obj", *torus(minor_radius=0.3, major=16, minor=8))
-    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "m"))
+    code, out, err = run(capsys, "morph", str(tmp_path / "s.obj"), str(tmp_path / "t.obj"), "-o", str(tmp_path / "m"),
+                         "--method", "skeleton")
     assert code == 3
     assert err.startswith("animanifold: error: the hole space of the source cannot be computed: CGAL failed")
     assert "method='field'" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1

@@ -15,6 +15,7 @@ from helpers.shapes import cube, icosphere, polygon, torus
 from helpers.contours import blob, polygons
 from helpers.surface_properties import assert_closed_oriented_surface
 from helpers.shared_files import shared_mesh
+from helpers.seed_morph import skeleton_morph
 
 
 def euler(faces: np.ndarray) -> int:
@@ -299,7 +300,7 @@ def test_bad_inputs_are_refused_with_the_problem_named():
         am.hole_space(v, np.concatenate([[[99, 0, 1]], f]))
     assert issubclass(am.BooleanError, RuntimeError)
     with pytest.raises(ValueError, match="the target intersects itself"):  # before TetGen, which would crash
-        am.morph((v, f), two)
+        skeleton_morph((v, f), two)
 
 
 # --- morphs ----------------------------------------------------------------------------------
@@ -431,7 +432,7 @@ def test_damaged_hole_space_in_a_cache_is_refused(torus_morph, tmp_path):
 def test_2d_ring_morph_keeps_the_shared_hole_that_stripping_fills():
     ring = polygons(blob(24, 1.0, (0, 0)), blob(12, 0.4, (0, 0))[::-1])
     wider = polygons(blob(24, 1.1, (0, 0)), blob(12, 0.5, (0.05, 0))[::-1])
-    m = am.morph(ring, wider)
+    m = skeleton_morph(ring, wider)
     report = m.validity
     assert report["ends_reproduced"]
     disc = blob(12, 0.4, (0, 0))
@@ -469,7 +470,7 @@ def test_frames_that_cannot_be_cut_come_back_raw_with_a_warning(torus_morph):
 
 def test_convex_morph_has_no_hole_space_and_keeps_its_fast_paths():
     v, f = icosphere(1)
-    m = am.morph((v, f), (v * 1.2, f))
+    m = skeleton_morph((v, f), (v * 1.2, f))
     assert m.hole_space is None and not m.has_holes
     assert m.validity["shared_hole_volume"] == 0 and m.validity["holes_preserved"]
     # (the centres of the hull's facets between the planes lie at half the range: a cut there)

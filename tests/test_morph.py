@@ -18,10 +18,13 @@ from animanifold import _core
 from helpers.contours import blob, polygon_area, polygons
 from helpers.shapes import cube, face_normals, icosphere, torus
 from helpers.surface_properties import assert_closed_oriented_surface
+from helpers.seed_morph import skeleton_morph
 
 
 def morph(source, target, **kwargs):
-    complex_, report = _core.morph(*source, *target, **kwargs)
+    """The core's morph, with the seed's skeleton method unless `kwargs` names another (this
+    module tests the seed's methods; the core's default is the field method)."""
+    complex_, report = _core.morph(*source, *target, **{"method": "skeleton", **kwargs})
     return am.AnimationManifold(complex_), report
 
 
@@ -190,7 +193,7 @@ def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next
     morph_module = sys.modules["animanifold.morph_pipeline"]
     source, target = torus(minor_radius=0.36, major=12, minor=6), torus(major=12, minor=6)  # a shared hole
     stages = []
-    am.morph(source, target, progress=lambda stage, fraction: stages.append(stage) or True)
+    skeleton_morph(source, target, progress=lambda stage, fraction: stages.append(stage) or True)
     assert stages[0] == "holes" and stages[-1] == "hole validity" and "holes" not in stages[1:]
     assert stages.index("validity") < stages.index("hole validity")
     sliced = []
@@ -199,7 +202,7 @@ def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next
                         lambda self, *a, **k: sliced.append(a) or original_slice(self, *a, **k))
     finished = []
     with pytest.raises(_core.Cancelled):
-        am.morph(source, target, progress=lambda stage, fraction: finished.append(stage) or True,
+        skeleton_morph(source, target, progress=lambda stage, fraction: finished.append(stage) or True,
                  interrupted=lambda: "validity" in finished)
     assert finished[-1] == "validity" and sliced == []
 
@@ -268,21 +271,21 @@ def test_the_callers_interrupted_check_stops_a_morph_while_the_core_waits_on_a_c
 
 def test_a_hold_no_one_cancels_only_delays_the_morph():
     """The hold is a wait, nothing more: the morph after it is the one without it."""
-    held = am.morph(icosphere(1), torus(), test_hold=("conforming", 0.5))
-    plain = am.morph(icosphere(1), torus())
+    held = skeleton_morph(icosphere(1), torus(), test_hold=("conforming", 0.5))
+    plain = skeleton_morph(icosphere(1), torus())
     assert np.array_equal(held.simplices, plain.simplices) and np.array_equal(held.points, plain.points)
 
 
 def test_python_api_keeps_the_validity_report_through_the_cache(tmp_path):
     v, f = icosphere(1)
-    m = am.morph((v, f), (v * 1.2 + [0, 0, 0.1], f), t0=1.0, t1=3.0)
+    m = skeleton_morph((v, f), (v * 1.2 + [0, 0, 0.1], f), t0=1.0, t1=3.0)
     assert m.validity["ends_reproduced"] and m.time_range == (1.0, 3.0)
     loaded = am.load(am.save(m, tmp_path / "morph.amf"))
     assert loaded.validity == m.validity
     with pytest.raises(ValueError, match="unknown morph method 'magic'"):
         am.morph((v, f), (v, f), method="magic")
     with pytest.raises(ValueError, match="target's faces must be integer"):
-        am.morph((v, f), (v, f.astype(float)))
+        skeleton_morph((v, f), (v, f.astype(float)))
 
 
 def test_the_morph_does_not_depend_on_the_order_or_rotation_of_the_faces():
@@ -293,8 +296,8 @@ def test_the_morph_does_not_depend_on_the_order_or_rotation_of_the_faces():
     shuffled = f[rng.permutation(len(f))]
     turn = rng.integers(0, 3, len(shuffled))
     shuffled = np.stack([shuffled[np.arange(len(shuffled)), (turn + k) % 3] for k in range(3)], axis=1)
-    a = am.morph((1.5 * v, f), (tv, tf))
-    b = am.morph((1.5 * v, shuffled), (tv, tf[::-1].copy()))
+    a = skeleton_morph((1.5 * v, f), (tv, tf))
+    b = skeleton_morph((1.5 * v, shuffled), (tv, tf[::-1].copy()))
     assert np.array_equal(a.points, b.points) and np.array_equal(a.simplices, b.simplices)
 
 
@@ -323,7 +326,7 @@ def test_the_auto_perturbation_retries_for_bubbles_above_a_ten_thousandth_only(m
         return Made(perturbation)
 
     monkeypatch.setattr(morph_module, "_morph_once", made_once)
-    m = am.morph(icosphere(1), icosphere(1))
+    m = skeleton_morph(icosphere(1), icosphere(1))
     assert calls == (["hull_faces", "position"] if retried else ["hull_faces"])
     assert m.validity["perturbation_mode"] == ("position" if retried else "hull_faces")
     assert m.validity.get("perturbation_retried", False) == retried
@@ -349,7 +352,7 @@ def test_a_time_limit_hit_in_the_second_opinion_fails_the_morph_rather_than_keep
 
     monkeypatch.setattr(morph_module, "_morph_once", made_once)
     with pytest.raises(_core.TimeLimitError):
-        am.morph(icosphere(1), icosphere(1))
+        skeleton_morph(icosphere(1), icosphere(1))
     assert calls == ["hull_faces", "position"]
 
 
@@ -368,7 +371,7 @@ def test_tetgen_past_its_time_limit_fails_the_morph_at_the_first_perturbation(me
     if method == "skeleton":
         assert "at perturbation 1e-07" in str(caught.value)
     with pytest.raises(ValueError, match="mesher_time_limit"):
-        am.morph(icosphere(1), torus(), mesher_time_limit=-1.0)
+        skeleton_morph(icosphere(1), torus(), mesher_time_limit=-1.0)
 
 
 @pytest.mark.parametrize("failure, falls_back", [(RuntimeError("TetGen failed"), True),
@@ -399,12 +402,12 @@ def test_the_auto_perturbation_falls_back_when_the_hulls_exact_points_fail(monke
     monkeypatch.setattr(morph_module, "_morph_once", made_once)
     if not falls_back:
         with pytest.raises(type(failure)):
-            am.morph(icosphere(1), icosphere(1))
+            skeleton_morph(icosphere(1), icosphere(1))
         assert calls == ["hull_faces"]
         return
-    m = am.morph(icosphere(1), icosphere(1))
+    m = skeleton_morph(icosphere(1), icosphere(1))
     assert calls == ["hull_faces", "position"]
     assert m.validity["perturbation_mode"] == "position" and m.validity["perturbation_retried"]
     assert m.validity["stage_seconds"][0][0] == "hull points in place (failed: TetGen failed)"
     with pytest.raises(RuntimeError):  # asked for by name: no fallback
-        am.morph(icosphere(1), icosphere(1), perturbation="hull_faces")
+        skeleton_morph(icosphere(1), icosphere(1), perturbation="hull_faces")

@@ -21,6 +21,7 @@ from helpers.shapes import cone, cube, cylinder, genus3_plate, icosphere, strip_
 from helpers.contours import blob, polygon_area, polygons
 from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
 from helpers.shared_files import shared_mesh
+from helpers.seed_morph import skeleton_morph
 from animanifold.procedural import smooth_genus3
 
 TIMES = np.linspace(0.0, 1.0, 41)
@@ -44,7 +45,7 @@ def check_topology_changing_morph(source, target, source_euler, target_euler, fr
     """The manifold's own frames (raw: before the shared holes are cut out, §8.6.5).
 
     frames_cross: what the report is expected to say of the frames it checks for crossing."""
-    m = am.morph(source, target, **options)
+    m = skeleton_morph(source, target, **options)
     report = m.validity
     assert report["ends_reproduced"], report
     assert report["inverted_simplices"] == 0 and report["missing_source_faces"] == 0
@@ -100,7 +101,7 @@ def test_sphere_to_genus_3():
     plate = genus3_plate()
     m = check_topology_changing_morph((1.9 * v, f), plate, 2, -4)
     assert m.validity["perturbation_mode"] == "hull_faces" and "perturbation_retried" not in m.validity
-    plain = am.morph((1.9 * v, f), plate, perturbation="position").validity
+    plain = skeleton_morph((1.9 * v, f), plate, perturbation="position").validity
     assert plain["ends_reproduced"] and plain["inverted_simplices"] == 0 and not plain["frames_cross_themselves"]
     assert plain["degenerate_simplices"] > 10 * max(m.validity["degenerate_simplices"], 1)
 
@@ -166,14 +167,14 @@ def test_sphere_to_a_ring_of_voxels_keeps_its_flat_sides_flat():
     assert m.validity["target_cap_points"] == 2
     assert m.validity["bubble_frames"] == [] and m.validity["largest_bubble_fraction"] == 0.0
     with pytest.raises(ValueError, match="unknown perturbation"):
-        am.morph((v, f), (v, f), perturbation="jiggle")
+        skeleton_morph((v, f), (v, f), perturbation="jiggle")
 
 
 def test_the_push_keeps_every_simplex_positive_and_within_the_span():
     """The push (§8.6.3) in the target's layer: its thickness is max_push of the range, the free
     vertices go into it, every simplex stays positive."""
     v, f = icosphere(3)
-    m = am.morph((1.5 * v, f), torus(minor_radius=0.4), t0=2.0, t1=5.0, max_push=0.3)
+    m = skeleton_morph((1.5 * v, f), torus(minor_radius=0.4), t0=2.0, t1=5.0, max_push=0.3)
     report = m.validity
     # nothing inverted; cells flat at the exact coordinates (the torus's planar quads) may sit
     # just below zero once the exact coordinates are back (degenerate_simplices), by what the
@@ -195,7 +196,7 @@ def test_the_push_keeps_every_simplex_positive_and_within_the_span():
     assert pushed.sum() > report["target_free_vertices"]
     # two layers must leave the fill between them
     with pytest.raises(ValueError, match=r"max_push must lie in \(0, 0.5\)"):
-        am.morph((1.5 * v, f), torus(minor_radius=0.4), max_push=0.5)
+        skeleton_morph((1.5 * v, f), torus(minor_radius=0.4), max_push=0.5)
 
 
 def frame_loops(frame):
@@ -207,7 +208,7 @@ def frame_loops(frame):
 def test_2d_lizard_to_blobs_passes_through_one_shape():
     lizard = polygons(blob(48, 1.0, (0, 0), 0.45, 5))
     blobs = polygons(blob(16, 0.35, (-1.1, 0)), blob(16, 0.35, (1.1, 0.1)), blob(16, 0.35, (0.1, 1.1)))
-    m = am.morph(lizard, blobs)
+    m = skeleton_morph(lizard, blobs)
     assert m.validity["ends_reproduced"] and m.validity["inverted_simplices"] == 0
     assert m.check().is_oriented_manifold
     counts = []
@@ -225,7 +226,7 @@ def test_2d_lizard_to_blobs_passes_through_one_shape():
 def test_2d_ring_to_disc_closes_the_hole():
     ring = polygons(blob(24, 1.0, (0, 0)), blob(12, 0.4, (0.05, 0))[::-1])
     disc = polygons(blob(20, 0.8, (0.1, 0)))
-    m = am.morph(ring, disc)
+    m = skeleton_morph(ring, disc)
     assert m.validity["ends_reproduced"] and m.validity["inverted_simplices"] == 0
     counts = [frame_loops(m.slice(t)) for t in TIMES]
     assert counts[0] == 2 and counts[-1] == 1 and counts[len(TIMES) // 2] == 1, counts
@@ -250,7 +251,7 @@ def test_strip_method_stays_available_for_comparison():
 def test_convex_inputs_take_the_plain_fill_of_section_8_4():
     """No skeleton, no free vertex, nothing split or stripped: the boundary of the fill itself."""
     v, f = icosphere(2)
-    m = am.morph((v, f), (v * [1.4, 1.0, 0.8] + [0.2, 0, 0], f))
+    m = skeleton_morph((v, f), (v * [1.4, 1.0, 0.8] + [0.2, 0, 0], f))
     report = m.validity
     for key in ("source_skeleton_points", "target_skeleton_points", "source_free_vertices", "target_free_vertices",
                 "split_faces", "stripped_simplices"):
@@ -311,7 +312,7 @@ def test_convex_shapes_morph_through_the_hull_at_the_exact_coordinates(pair):
               "cube -> cylinder rotated": ((cube_v, cube_f), (cylinder(32)[0] @ ROTATION.T, cylinder(32)[1])),
               "ico sphere (1) -> cube rotated": (icosphere(1), (0.75 * cube_v @ ROTATION.T, cube_f))}
     source, target = shapes[pair]
-    m = am.morph(source, target)
+    m = skeleton_morph(source, target)
     report = m.validity
     assert report["exact_convex_fill"] and report["perturbation"] == 0.0
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0
@@ -339,7 +340,7 @@ def test_convex_inputs_rotated_in_float32_take_the_hull_too():
 
     for source, target in (((f32(cylinder(32)[0] @ ROTATION.T), cylinder(32)[1]), cone(16)),
                            ((f32(cube()[0] @ ROTATION.T), cube()[1]), icosphere(2))):
-        m = am.morph(source, target)
+        m = skeleton_morph(source, target)
         report = m.validity
         assert report["exact_convex_fill"] and report["perturbation"] == 0.0
         assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and report["degenerate_simplices"] == 0
@@ -355,7 +356,7 @@ def test_convex_inputs_rotated_in_float32_take_the_hull_too():
     top = [i for i, t in enumerate(f) if (v[t, 2] == 1).all()]
     fan = [[8, a, b] for a, b in ((1, 5), (5, 7), (7, 3), (3, 1))]
     dented_f = np.vstack([np.delete(f, top, axis=0), fan])
-    m = am.morph((dented, dented_f), icosphere(2))
+    m = skeleton_morph((dented, dented_f), icosphere(2))
     assert not m.validity["exact_convex_fill"] and m.validity["ends_reproduced"]
 
 
@@ -371,7 +372,7 @@ def test_flat_cells_of_a_cylinders_cocircular_caps_are_not_outside_it(fan_flat_p
     v, f = icosphere(2)
     v = v.copy()
     v[0] *= 0.95  # below the ring of its neighbours
-    m = am.morph((v, f), cylinder(16), fan_flat_polygons=fan_flat_polygons)
+    m = skeleton_morph((v, f), cylinder(16), fan_flat_polygons=fan_flat_polygons)
     report = m.validity
     assert report["target_fanned_polygons"] == (2 if fan_flat_polygons else 0)
     assert not report["exact_convex_fill"] and report["source_skeleton_points"] == 0
@@ -394,7 +395,7 @@ def test_a_fill_that_loses_faces_to_the_nudge_is_built_on_the_meshers_points():
     the morph failed ("the fill does not conform"); the fill is now built once more on the
     mesher's own points. (The caps kept as they are: fanned from their centres, the default, they
     give the mesher nothing to split there.)"""
-    m = am.morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation="position")
+    m = skeleton_morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation="position")
     report = m.validity
     # The torus's caps get a free point each (hull_cap_points); in the fill itself one free vertex
     # stayed at the plane and the last frame missed the torus by 2.5e-8 of the size, so the morph
@@ -416,7 +417,7 @@ def test_the_torus_hole_opens_through_one_shell_without_bubble_or_island(perturb
     from the torus and are levelled: every free vertex has a path to the hull along which none is
     lower (no bubble) and one to the input along which none is higher (no island), so every frame
     is one shell."""
-    m = am.morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation=perturbation)
+    m = skeleton_morph(cylinder(16), torus(), fan_flat_polygons=False, perturbation=perturbation)
     report = m.validity
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
     assert m.check().is_oriented_manifold
@@ -458,7 +459,7 @@ def test_float32_inputs_come_back_exactly_at_the_ends():
     the quads' other diagonals, 4.3e-9 of the diagonal off the input (the demo's sphere -> torus:
     5.1e-8), and the report said the ends were not reproduced."""
     source = uv_sphere()
-    m = am.morph(source, torus())
+    m = skeleton_morph(source, torus())
     report = m.validity
     assert report["ends_reproduced"] and report["source_distance"] < 1e-12, report["source_distance"]
     assert report["inverted_simplices"] == 0 and m.check().is_oriented_manifold
@@ -470,8 +471,8 @@ def test_the_same_morph_over_any_time_range():
     """Solved over a span proportional to the shapes' size, then mapped: frames over 1..49
     (frames) equal frames over 0..1 at the same fraction, to roundoff."""
     v, f = icosphere(2)
-    a = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8))
-    b = am.morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), t0=1.0, t1=49.0)
+    a = skeleton_morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8))
+    b = skeleton_morph((1.5 * v, f), torus(minor_radius=0.4, major=16, minor=8), t0=1.0, t1=49.0)
     assert b.time_range == (1.0, 49.0)
     for fraction in (0.0, 0.3, 0.97, 1.0):
         sa, sb = a.slice(fraction, honour_holes=False), b.slice(1.0 + 48.0 * fraction, honour_holes=False)
@@ -566,7 +567,7 @@ def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):
     v, f = icosphere(3)
     centre = target[0].mean(0)
     radius = np.linalg.norm(target[0] - centre, axis=1).max()
-    m = am.morph((radius * v + centre, f), target)
+    m = skeleton_morph((radius * v + centre, f), target)
     report = m.validity
     # the core's frame checks (24 spread frames and towards every change of topology) found none
     assert report["bubble_frames_checked"] == report["frames_checked"] >= 1
@@ -606,7 +607,7 @@ def test_the_hole_of_a_torus_opens_from_its_caps_without_a_bubble(direction):
     disc a face between outside cells, pushed like the rest: no frame near the end encloses a
     cavity, and the hole is open before the end."""
     source, target = (cube(), torus()) if direction == "cube -> torus" else (torus(), cube())
-    m = am.morph(source, target)
+    m = skeleton_morph(source, target)
     report = m.validity
     caps = "target_cap_points" if direction == "cube -> torus" else "source_cap_points"
     assert report[caps] == 2 and report["source_cap_points"] + report["target_cap_points"] == 2
@@ -628,7 +629,7 @@ def test_a_cube_into_the_voxel_plate_facing_it_does_not_run_through_itself():
     every checked frame ran through itself (5 of 5). Left where they are (perturbation
     "hull_faces", morph()'s first try), no frame does."""
     source, target = (1.2 * cube()[0], cube()[1]), genus3_plate()
-    m = am.morph(source, target)
+    m = skeleton_morph(source, target)
     report = m.validity
     assert report["perturbation_mode"] == "hull_faces" and "perturbation_retried" not in report
     assert not report["frames_cross_themselves"] and report["crossing_frames"] == []
@@ -655,7 +656,7 @@ def test_a_hollow_sphere_s_cavity_closes_within_its_layer(direction):
     hollow = np.vstack([1.5 * v, 0.7 * v]), np.vstack([f, f[:, ::-1] + len(v)])
     source, target = (hollow, torus(minor_radius=0.4)) if direction.startswith("hollow") else \
         (torus(minor_radius=0.4), hollow)
-    m = am.morph(source, target)
+    m = skeleton_morph(source, target)
     report = m.validity
     assert report["ends_reproduced"] and report["inverted_simplices"] == 0 and not report["frames_cross_themselves"]
     assert report["sealed_vertices"] > 0 and report["bubble_frames"] == []

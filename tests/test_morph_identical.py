@@ -20,6 +20,7 @@ from helpers.shapes import torus
 from helpers.contours import blob, polygon_area, polygons
 from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
 from helpers.shared_files import shared_mesh
+from helpers.seed_morph import skeleton_morph
 
 # Frames strictly inside the range, some away from any round fraction.
 TIMES = [0.01, 0.1, 0.25, 0.37, 0.5, 0.61, 0.75, 0.9, 0.99]
@@ -41,7 +42,7 @@ def loop_area(vertices, edges) -> float:
 def check_identical_morph(shape):
     vertices, faces = shape
     diagonal = np.linalg.norm(np.ptp(vertices, axis=0))
-    m = am.morph(shape, shape)
+    m = skeleton_morph(shape, shape)
     report = m.validity
     assert report["inputs_coincide"] and report["shared_stripped_simplices"] > 0, report
     assert report["source_free_vertices"] == report["target_free_vertices"] == 0  # nothing pushed
@@ -86,7 +87,7 @@ def refuse_hole_space(vertices, faces, *, interrupted=None):
 def test_identical_inputs_need_no_hole_space_when_cgal_cannot_compute_it(monkeypatch):
     monkeypatch.setattr(sys.modules["animanifold.morph_pipeline"], "hole_space", refuse_hole_space)
     shape = torus(wobble=0.2)
-    m = am.morph(shape, shape)
+    m = skeleton_morph(shape, shape)
     report = m.validity
     assert report["inputs_coincide"] and m.hole_space is None and report["holes_preserved"]
     assert any("none is needed: the inputs coincide" in e and "Unauthorized" in e for e in report["hole_errors"])
@@ -104,7 +105,7 @@ def test_a_hole_space_cgal_refuses_stops_the_morph_before_it_runs(monkeypatch):
     ran = []
     monkeypatch.setattr(_core, "morph", lambda *a, **k: ran.append(1))
     with pytest.raises(am.BooleanError) as error:
-        am.morph(icosphere(2), torus(wobble=0.2))
+        skeleton_morph(icosphere(2), torus(wobble=0.2))
     message = str(error.value)
     assert "the hole space of the source cannot be computed" in message and "Unauthorized" in message
     assert "method='field'" in message  # the way out

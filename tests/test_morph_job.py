@@ -9,7 +9,7 @@ import numpy as np
 
 import animanifold as am
 from animanifold.morph_job import MorphJob
-from helpers.held_morph import BEFORE_THE_HOLD
+from helpers.held_morph import BEFORE_THE_HOLD, HELD_METHOD, HOLD
 from helpers.shapes import icosphere, torus
 
 
@@ -19,7 +19,7 @@ def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled():
     hold: a stand-in child process where the mesher would run): meanwhile the main thread gets the
     GIL (the interface can run Python: 50 ticks run while the job is held), and a cancel ends the
     job with nothing built (left alone, the job would build the morph after the hold)."""
-    job = MorphJob(icosphere(1), torus(), t0=1.0, t1=24.0, test_hold=("conforming", 30.0))
+    job = MorphJob(icosphere(1), torus(), t0=1.0, t1=24.0, test_hold=HOLD, method=HELD_METHOD)
     for _ in range(50):  # the interface's ticks, run while the worker holds the core
         time.sleep(0.01)
     assert not job.done
@@ -30,9 +30,9 @@ def test_a_morph_job_runs_beside_the_interface_and_stops_when_cancelled():
 
     # a job left to finish gives what the blocking call gives
     source, target = icosphere(1), torus()
-    job = MorphJob(source, target, t0=1.0, t1=24.0)
+    job = MorphJob(source, target, t0=1.0, t1=24.0, method=HELD_METHOD)
     assert job.wait(120.0) and not job.cancelled and job.error is None
-    blocking = am.morph(source, target, t0=1.0, t1=24.0)
+    blocking = am.morph(source, target, t0=1.0, t1=24.0, method=HELD_METHOD)
     assert np.array_equal(job.manifold.simplices, blocking.simplices)
     assert np.array_equal(job.manifold.points, blocking.points)
     assert job.stage == "hole validity" and job.fraction == 1.0

@@ -17,6 +17,7 @@ from animanifold import _core
 from helpers.shapes import icosphere
 from helpers.surface_properties import assert_closed_oriented_surface, enclosed_volume, euler_characteristic
 from helpers.shared_files import shared_mesh
+from helpers.seed_morph import skeleton_morph
 
 MODELS = ["bunny.off", "decimated-knight.off"]
 TIMES = [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0]
@@ -58,7 +59,7 @@ def test_the_conforming_fill_of_the_model_is_delaunay(shared_data, model):
 def test_sphere_to_model(shared_data, model):
     v, f = load(shared_data, model)
     sphere = sphere_around(v)
-    m = am.morph(sphere, (v, f))
+    m = skeleton_morph(sphere, (v, f))
     report = m.validity
     assert report["source_conforming"] and report["target_conforming"]
     assert report["missing_source_faces"] == 0 and report["missing_target_faces"] == 0

@@ -20,11 +20,12 @@ from .mesh_input import morph_looks
 from .object_names import unique_object_name
 from .playback import update_object
 
-# The methods this build of the core has (animanifold.morph_pipeline.METHODS); the best one is the default:
-# the skeleton method of §8.6 handles changes of genus, stripping alone (§8.5) does not. The field
-# method is not the default: it does not meet the morph's bar (speed, pops: bench/bench_morph.py).
-METHODS = tuple(getattr(am.morph_pipeline, "METHODS", ("strip",)))
-BEST_METHOD = "skeleton" if "skeleton" in METHODS else "strip"
+# The methods the core has (animanifold.morph_pipeline.METHODS); the default is the one am.morph takes
+# for surfaces, the field method: its in-betweens are level sets that change from the first frame to
+# the last, with no crossing and exact ends (the bar of bench/bench_morph.py). The skeleton method of
+# §8.6 and stripping (§8.5) stay selectable.
+METHODS = tuple(am.morph_pipeline.METHODS)
+BEST_METHOD = am.morph_pipeline.default_method(3)
 _METHOD_TEXT = {
     "skeleton": ("Skeleton", "Conforming fill with the external skeletons pushed into time (§8.6): "
                              "handles shapes of different genus"),
@@ -111,6 +112,13 @@ def _create_object(context, source, target, name, stored, absolute, manifold, st
     return new
 
 
+def all_checks_passed(validity: dict) -> bool:
+    """Whether the core's frame checks of a 3D morph (morph_validity.hpp) found nothing: no crossing,
+    bubble or topological noise in the frames checked, no inverted or flat simplex."""
+    return not (validity["crossing_frames"] or validity["bubble_frames"] or validity["noise_frames"]
+                or validity["inverted_simplices"] or validity["degenerate_simplices"])
+
+
 def report_validity(report, new, manifold, method: str, source, target, source_mesh, target_mesh) -> None:
     """Reports (on `report`, Operator.report) what the morph's validity checks (§8.3) found."""
     validity = manifold.validity
@@ -128,16 +136,17 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
         report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
                                  f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
                                  f"{validity['inverted_simplices']} inverted simplices{hint}")
+    limit = "a known limit of the skeleton push; " if method == "skeleton" else ""
     if validity.get("frames_cross_themselves"):
         report({"WARNING"}, f"'{new.name}': in-between frames run through themselves at "
                                  f"{len(validity['crossing_frames'])} of {validity['crossing_frames_checked']} "
-                                 "checked times (a known limit of the skeleton push; see the validity report)")
+                                 f"checked times ({limit}see the validity report)")
     if validity.get("bubble_frames"):
         counts = ", ".join(f"{count} at {time_:.3g}" for time_, count in validity["bubble_frames"])
         report({"WARNING"}, f"'{new.name}': some in-between frames hold bubbles enclosed in the solid "
                                  f"({counts}; at most {100 * validity['largest_bubble_fraction']:.2g} % of the "
-                                 "volume): hidden under opaque materials, visible through glass (a known limit "
-                                 "of the skeleton push; see the validity report)")
+                                 f"volume): hidden under opaque materials, visible through glass ({limit}see the "
+                                 "validity report)")
     if not validity.get("holes_preserved", True):
         report({"WARNING"}, f"'{new.name}': the holes both inputs share could not be cut out of "
                                  f"{len(validity['hole_errors'])} checked frames (those frames show uncut)")
@@ -148,8 +157,7 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
                 else f" (the {method} method did not give a clean manifold for these shapes)")
         report({"WARNING"}, f"'{new.name}': some in-between frames pinch (not a clean surface){hint}")
     if "frames_checked" in validity:  # the core's frame checks of 3D morphs (morph_validity.hpp)
-        passed = not (validity["crossing_frames"] or validity["bubble_frames"] or validity["noise_frames"]
-                      or validity["inverted_simplices"] or validity["degenerate_simplices"])
+        passed = all_checks_passed(validity)
         crossings = len(validity["crossing_frames"])
         # the field method's certificate rules crossings out at every time; else they are counted
         # on the frames looked at

@@ -216,11 +216,11 @@ class MorphMethod:
     
     Members:
     
+      field
+    
       skeleton
     
       strip
-    
-      field
     """
     __members__: typing.ClassVar[dict[str, MorphMethod]]
     field: typing.ClassVar[MorphMethod]

@@ -38,7 +38,7 @@ from .cache import load, save
 from .demo import run_demo as build_demo
 from .manifold import AXES, AnimationManifold, axis_index
 from .meshio import read_mesh, write_mesh
-from .morph_pipeline import METHODS, cut_frame_warnings, morph
+from .morph_pipeline import METHODS, cut_frame_warnings, default_method, morph
 from .stitching import stitch
 
 EXIT_USER_ERROR = 2
@@ -368,7 +368,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--t0", type=float, default=0.0, help="time of the source (default 0)")
     p.add_argument("--t1", type=float, default=1.0, help="time of the target (default 1)")
     p.add_argument("--format", choices=FRAME_FORMATS, default="obj", help="frame format (default obj)")
-    p.add_argument("--method", choices=METHODS, default=METHODS[0], help=f"morph method (default {METHODS[0]})")
+    p.add_argument("--method", choices=METHODS, default=None,
+                   help=f"morph method (default {default_method(3)}; {default_method(2)} for 2D polygons)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
     p.add_argument("--max-push", type=float, default=0.45,
                    help="skeleton method: how far into the morph holes close and open, as a fraction of t1 - t0 "
@@ -386,10 +387,10 @@ def run_morph(args: argparse.Namespace) -> int:
     """two closed meshes -> a morph manifold (and frames)
 
     Builds an animation manifold that is SOURCE at t0 and TARGET at t1 by filling the space between
-    them with a Delaunay triangulation (chapters 5 and 8): with the skeleton method (default) the
-    shapes' external skeletons are pushed into time, so shapes of any genus morph through closed
-    surfaces; 'strip' only removes what lies outside them; 'field' takes the zero set of a blended
-    signed-distance field over space-time (smooth in-betweens, ends exact). Saves it, and with
+    them: 'field' (the default) takes the zero set of a blended signed-distance field over
+    space-time (smooth in-betweens, ends exact); with the skeleton method the shapes' external
+    skeletons are pushed into a Delaunay fill (chapters 5 and 8), so shapes of any genus morph
+    through closed surfaces; 'strip' only removes what lies outside them. Saves it, and with
     --frames writes N frames. Prints the validity report of §8.3.
     """
     check_count("--frames", args.frames, 0)
@@ -402,10 +403,11 @@ def run_morph(args: argparse.Namespace) -> int:
     folder.mkdir(parents=True, exist_ok=True)
     save(manifold, folder / "morph.amf")
     report = manifold.validity
-    print(f"morph: {len(manifold.simplices)} tets; ends reproduced: {report['ends_reproduced']} "
+    method = manifold.metadata["morph"]["method"]
+    print(f"morph: {method} method, {len(manifold.simplices)} tets; ends reproduced: {report['ends_reproduced']} "
           f"(distances {report['source_distance']:.2e}, {report['target_distance']:.2e} of the size); "
           f"inverted simplices: {report['inverted_simplices']} "
-          f"({report['degenerate_simplices']} flat at the exact coordinates); " + _method_summary(args.method, report))
+          f"({report['degenerate_simplices']} flat at the exact coordinates); " + _method_summary(method, report))
     if not report["ends_reproduced"]:
         print(f"{PROG}: warning: the end frames are not the inputs (see the distances above)", file=sys.stderr)
     if manifold.hole_space is not None:
@@ -425,7 +427,7 @@ def run_morph(args: argparse.Namespace) -> int:
               f"{100 * report['largest_bubble_fraction']:.2g} % of the volume)", file=sys.stderr)
     if not manifold.check().is_oriented_manifold:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
-              ("; the skeleton method (--method skeleton) avoids that" if args.method == "strip" else ""),
+              ("; the skeleton method (--method skeleton) avoids that" if method == "strip" else ""),
               file=sys.stderr)
     if args.frames:
         frames = folder / "frames"

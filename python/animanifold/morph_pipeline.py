@@ -48,8 +48,8 @@ from .manifold import AnimationManifold
 from .morph_surface import SurfaceAttributes, carry_surface_attributes, check_surface_attributes
 from ._core import InputError
 
-# The core's names (morph.hpp's tables, bound as enums): the seed's methods (§8.6, §8.5) and the
-# field method (morph_field.hpp); the seed's fills and perturbations.
+# The core's names (morph.hpp's tables, bound as enums): the field method (morph_field.hpp, the
+# default for surfaces) and the seed's methods (§8.6, §8.5); the seed's fills and perturbations.
 METHODS = tuple(_core.MorphMethod.__members__)
 FILLS = tuple(_core.FillTriangulation.__members__)
 _DEFAULTS = _core.MorphOptions()
@@ -60,7 +60,7 @@ def morph(
     target: tuple[np.ndarray, np.ndarray],
     t0: float = 0.0,
     t1: float = 1.0,
-    method: str = _DEFAULTS.method.name,
+    method: str | None = None,
     progress: Callable[[str, float], bool] | None = None,
     max_push: float = _DEFAULTS.max_push,
     fill: str = _DEFAULTS.fill.name,
@@ -84,7 +84,8 @@ def morph(
     the thread the morph runs in (a worker thread: see the add-on's Morph
     Selected).
 
-    method: "skeleton" (§8.6, the default) fills concavities and holes of the
+    method: None (the default) takes "field" for 3D surfaces and "skeleton" for 2D polygons (see
+    default_method). "skeleton" (§8.6) fills concavities and holes of the
     source over the first `max_push` of the range and opens the target's over
     the last, with every frame a closed surface; "strip" (§8.5) removes what
     lies outside either shape — ambiguous where the genus changes (frames can
@@ -151,8 +152,9 @@ def morph(
     every frame is the input, and the result keeps no hole space (no frame
     enters it; `shared_hole_volume` still reports it).
     """
-    _check_options(method, hole_checks, mesher_time_limit, fill, perturbation)
     arrays = _input_arrays(source, target)
+    method = default_method(arrays[0].shape[1]) if method is None else method
+    _check_options(method, hole_checks, mesher_time_limit, fill, perturbation)
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
     if mesher_time_limit:  # the core's options beside the test hold (both passed to _core.morph as keywords)
         hold["mesher_time_limit"] = float(mesher_time_limit)
@@ -169,6 +171,13 @@ def morph(
         manifold = carry_surface_attributes(manifold, source, target, *looks)
         _stage_finished(progress, "surface attributes", 1.0)
     return manifold
+
+
+def default_method(dimension: int) -> str:
+    """The method morph() takes when none is given: the core's default, the field method, for 3D
+    surfaces (its in-betweens are level sets: embedded, and they change from the first frame to the
+    last); the skeleton method for 2D polygons, which the field method does not morph."""
+    return _DEFAULTS.method.name if dimension == 3 else "skeleton"
 
 
 def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill: str, perturbation: str) -> None:

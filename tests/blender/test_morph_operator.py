@@ -51,7 +51,7 @@ def test_morph_plays_from_source_to_target_in_world_space(empty_scene):
     target.rotation_euler = (0.3, 0.0, 0.4)
     bpy.context.view_layer.update()
     select(source, target)
-    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    assert bpy.ops.animanifold.morph_selected(method="SKELETON") == {"FINISHED"}  # its plain fill of convex shapes
     morph = bpy.context.active_object
     assert morph.animanifold.is_manifold and morph.name == "Icosphere_to_Cube"
     assert source.hide_get() and target.hide_get()
@@ -107,7 +107,7 @@ def test_reports_name_the_method_the_stages_and_a_change_of_topology(empty_scene
     capfd.readouterr()
     assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
     out = capfd.readouterr().out
-    info = next(line for line in out.splitlines() if line.startswith("Info: 'Sphere_to_Torus'"))
+    info = next(line for line in out.splitlines() if line.startswith("Info: 'Sphere_to_Torus'") and " morph, " in line)
     assert f"{best_method()} morph" in info and "conforming" in info and "validity" in info, info
     assert "The .blend is not saved" in out  # where the cache went
     if best_method() == "strip":
@@ -262,12 +262,13 @@ def test_a_64_sided_cylinder_with_fan_caps_morphs_into_a_torus(empty_scene):
     scene.collection.objects.link(source)
     bpy.ops.mesh.primitive_torus_add(major_segments=24, minor_segments=12, major_radius=1.0, minor_radius=0.3)
     target = bpy.context.active_object
-    validity = morph_with_clean_frames(source, target)
+    validity = morph_with_clean_frames(source, target, method="SKELETON")  # the seed's fanning of flat caps
     assert validity["source_fanned_polygons"] == 2, validity
 
 
 def test_blenders_default_uv_sphere_into_its_default_torus_has_clean_frames(empty_scene):
-    """Both primitives as Blender adds them, at the origin, over a new scene's frames 1-250: with
+    """Both primitives as Blender adds them, at the origin, over a new scene's frames 1-250, with
+    the default (field) method and with the skeleton method. For the skeleton method, with
     the sphere's hull corners perturbed, the hyperplanes of R^4 they share with the torus's bend,
     the frames run through themselves and hold a bubble before the end; the first try keeps every
     point on the inputs' hulls in place. Frames 1-250, not 1-24: over 24 frames the checked times
@@ -278,7 +279,11 @@ def test_blenders_default_uv_sphere_into_its_default_torus_has_clean_frames(empt
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_torus_add()
     target = bpy.context.active_object
-    validity = morph_with_clean_frames(source, target)
+    validity = morph_with_clean_frames(source, target)  # the default method
+    assert validity["crossings_certified"] and not validity["noise_frames"], validity
+    for obj in (source, target):  # the morph hid its inputs
+        obj.hide_set(False)
+    validity = morph_with_clean_frames(source, target, method="SKELETON")
     assert validity["perturbation_mode"] == "hull_faces", validity
 
 
@@ -296,7 +301,7 @@ def test_the_transition_sets_how_long_the_torus_hole_takes_to_open(empty_scene):
     target = bpy.context.active_object
     eulers = {}
     for transition in (0.2, 0.45):
-        validity = morph_with_clean_frames(source, target, transition=transition)
+        validity = morph_with_clean_frames(source, target, method="SKELETON", transition=transition)
         assert validity["target_push"][2] == pytest.approx(0.98 * 0.9 * transition), validity["target_push"]
         scene.frame_set(71)
         morph = bpy.context.active_object
@@ -333,7 +338,7 @@ def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_s
     from animanifold_blender import ops_morph
 
     assert ops_morph.METHODS == tuple(importlib.import_module("animanifold.morph_pipeline").METHODS)
-    assert ops_morph.BEST_METHOD == ("skeleton" if "skeleton" in ops_morph.METHODS else "strip")
+    assert ops_morph.BEST_METHOD == ops_morph.METHODS[0] == "field"  # the core's default for surfaces
     props = bpy.ops.animanifold.morph_selected.get_rna_type().properties["method"]
     assert props.default == ops_morph.BEST_METHOD.upper()
     assert {item.identifier for item in props.enum_items} == {m.upper() for m in ops_morph.METHODS}
@@ -347,7 +352,8 @@ def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_s
     assert object_manifold.manifold_for(bpy.context.active_object).metadata["morph"]["method"] == "strip"
 
 
-def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
+@pytest.mark.parametrize("method", ["FIELD", "SKELETON"])
+def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch, method):
     from animanifold_blender import ops_morph
 
     bar = RecordingProgressBar()
@@ -366,14 +372,19 @@ def test_progress_goes_through_the_core_stages(empty_scene, monkeypatch):
     bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=1)
     source = bpy.context.active_object
     bpy.ops.mesh.primitive_cube_add(size=1.5)
-    select(source, bpy.context.active_object)
-    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    target = bpy.context.active_object
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected(method=method) == {"FINISHED"}
     bar.assert_filled_once_in_order()
+    # the primitives' UV maps and (no) materials are carried last
+    if method == "FIELD":  # each stage named as it starts
+        assert stages == ["free points", "conforming", "schedule", "refinement", "fill", "shape", "validity",
+                          "surface attributes"], stages
+        return
     # two convex primitives: the skeleton method builds the hull (no mesher: no "conforming")
-    first = ["skeleton", "fill"] if best_method() == "skeleton" else ["conforming", "fill"]
+    first = ["skeleton", "fill"]
     # the shared hole space first (a shape CGAL refuses fails before the morph), its check last
     assert stages[0] == "holes" and stages[1:1 + len(first)] == first
-    # the primitives' UV maps and (no) materials carried last
     assert stages[-4:] == ["boundary", "validity", "hole validity", "surface attributes"]
 
 
@@ -479,7 +490,8 @@ def test_two_tori_carry_their_shared_tunnel_into_playback(empty_scene):
                                      rotation=(0.0, 0.0, 0.3))
     target = bpy.context.active_object
     select(source, target)
-    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=21) == {"FINISHED"}
+    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=21,
+                                              method="SKELETON") == {"FINISHED"}
     morph = bpy.context.active_object
     from animanifold_blender import live, object_manifold
 
@@ -508,7 +520,8 @@ def test_an_object_and_its_duplicate_morph_into_the_object_at_every_frame(empty_
     bpy.ops.object.duplicate()
     target = bpy.context.active_object
     select(source, target)
-    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=12) == {"FINISHED"}
+    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=12,
+                                              method="SKELETON") == {"FINISHED"}
     morph = bpy.context.active_object
     from animanifold_blender import live, object_manifold
 
@@ -580,10 +593,11 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
     target = bpy.context.active_object
     objects = len(bpy.data.objects)
 
-    from helpers.held_morph import BEFORE_THE_HOLD, HOLD as hold
+    from helpers.held_morph import BEFORE_THE_HOLD, HELD_METHOD, HOLD as hold
 
     slow = (icosphere(1), torus())  # held 30 s at its conforming stage (the core's test hold)
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow, calls)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold, method=HELD_METHOD),
+                                (source, target, 1, 24) + slow, calls)
     assert modal(ModalContext(calls), event("TIMER")) == {"RUNNING_MODAL"}
     assert any(c[0] == "status" and "Esc to cancel" in c[1] for c in calls), calls
     assert modal(ModalContext(calls), event("MIDDLEMOUSE", "PRESS")) == {"PASS_THROUGH"}
@@ -596,7 +610,8 @@ def test_the_modal_morph_passes_the_view_on_cancels_on_esc_and_builds_in_the_mai
 
     # Blender ending the operator itself (File > Open meanwhile) stops the job too
     calls.clear()
-    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold), (source, target, 1, 24) + slow, calls)
+    modal, op = _modal_operator(MorphJob(*slow, t0=1.0, t1=24.0, test_hold=hold, method=HELD_METHOD),
+                                (source, target, 1, 24) + slow, calls)
     op.cancel(ModalContext(calls))
     assert op._job.wait(120.0) and op._job.cancelled and ("timer removed", "the timer") in calls
     assert op._job.stage in BEFORE_THE_HOLD, op._job.stage

@@ -10,5 +10,9 @@ leave "conforming" or a later stage.
 """
 
 HOLD = ("conforming", 30.0)
+# The method held: the skeleton method reports each stage as it ends, so its stage names tell a
+# cancel within the hold from one after it (the field method names each stage as it starts, and
+# "conforming" would stand for both). The hold itself (morph_stages.hpp) is the same for every method.
+HELD_METHOD = "skeleton"
 # A job's stage before any report, the package's hole-space stage, the core's skeleton stage.
 BEFORE_THE_HOLD = ("reading the inputs", "holes", "skeleton")

@@ -40,9 +40,10 @@
 namespace animanifold {
 
 // How the space between the inputs is filled (see the top of this file and
-// morph_field.hpp): the seed's skeleton (§8.6) and strip (§8.5) methods, or
-// the zero set of a blended distance field.
-enum class MorphMethod { Skeleton, Strip, Field };
+// morph_field.hpp): the zero set of a blended distance field (the default for
+// surfaces), or the seed's skeleton (§8.6) and strip (§8.5) methods (the
+// only ones for 2D polygons).
+enum class MorphMethod { Field, Skeleton, Strip };
 // The seed's Delaunay fill: CGAL's exact one (delaunay_exact) or Qhull's.
 enum class FillTriangulation { Cgal, Qhull };
 // How the seed's methods put the inputs in general position (see morph.cpp).
@@ -51,7 +52,7 @@ enum class Perturbation { HullFaces, Position };
 // Each value with the name the Python API, the CLI and the add-on use for it
 // (the binding exposes these, so no other list of them exists).
 inline constexpr NameTable<MorphMethod, 3> kMorphMethodNames{
-    {{MorphMethod::Skeleton, "skeleton"}, {MorphMethod::Strip, "strip"}, {MorphMethod::Field, "field"}}};
+    {{MorphMethod::Field, "field"}, {MorphMethod::Skeleton, "skeleton"}, {MorphMethod::Strip, "strip"}}};
 inline constexpr NameTable<FillTriangulation, 2> kFillTriangulationNames{
     {{FillTriangulation::Cgal, "cgal"}, {FillTriangulation::Qhull, "qhull"}}};
 inline constexpr NameTable<Perturbation, 2> kPerturbationNames{
@@ -63,10 +64,10 @@ struct MorphOptions {
   // so it is the same morph over any range: frames at the same fraction of
   // the range are the same.
   double t0 = 0.0, t1 = 1.0;
-  // Skeleton (§8.6), Strip (§8.5) or Field (morph_field.hpp). Convex inputs
-  // need neither of the seed's: both then reduce to the plain fill (no free
-  // points, nothing stripped).
-  MorphMethod method = MorphMethod::Skeleton;
+  // Field (morph_field.hpp; 3D only), Skeleton (§8.6) or Strip (§8.5).
+  // Convex inputs need neither of the seed's: both then reduce to the plain
+  // fill (no free points, nothing stripped).
+  MorphMethod method = MorphMethod::Field;
   // Skeleton method: the thickness of each layer the free points are pushed
   // in (morph_layers.hpp), as a fraction of t1 - t0: the source's concavities
   // close within it after t0, the target's open within it before t1.

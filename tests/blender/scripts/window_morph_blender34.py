@@ -20,7 +20,7 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspa
 from helpers import window_script  # noqa: E402
 from helpers.blender_helpers import select_pair  # noqa: E402
 from helpers.window_script import view3d  # noqa: E402
-from helpers.held_morph import BEFORE_THE_HOLD, HOLD  # noqa: E402
+from helpers.held_morph import BEFORE_THE_HOLD, HELD_METHOD, HOLD  # noqa: E402
 bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
 addon_utils.enable("animanifold_blender", default_set=True, handle_error=None)
 
@@ -33,7 +33,7 @@ jobs = []  # every MorphJob the operator starts, to watch from here
 class WatchedJob(ops_morph.MorphJob):
     def __init__(self, *args, **kwargs):
         if state.get("hold"):  # the core waits there (its test hold), whatever the machine's speed
-            kwargs["test_hold"] = state["hold"]
+            kwargs["test_hold"], kwargs["method"] = state["hold"], HELD_METHOD
         super().__init__(*args, **kwargs)
         jobs.append(self)
 
