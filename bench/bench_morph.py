@@ -19,8 +19,8 @@ curved genus-3 slab of 1,596 vertices, a stand-in whose figures are not the 3hol
 
 What is compared
 ----------------
-* Ours: ``am.morph(sphere, genus3, method=...)`` (default "skeleton" when
-  ``METHODS`` has it, else "strip"). Every stage the core
+* Ours: ``am.morph(sphere, genus3, method=...)`` (the seed's skeleton method
+  unless --method names another). Every stage the core
   reports in ``validity["stage_seconds"]`` is printed under its own name, with
   the total (the stages' sum and the wall time of the call), the size of the
   4D fill (vertices, simplices, stripped simplices), and:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 import time
@@ -30,9 +31,10 @@ for p in (str(ROOT / "python"), str(ROOT / "addon"), str(HERE)):
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-from build_demo_scene import DEMO_NAME, MORPH_SOURCE, MORPH_TARGET, build_demo_scene  # noqa: E402
+from build_demo_scene import DEMO_NAME, MORPH_LOCATION, MORPH_SOURCE, MORPH_TARGET, build_demo_scene  # noqa: E402
 
 CONTACT_FRAMES = (1, 7, 12, 18, 24, 30, 36, 48)  # the keyframes, and both ends of the morph
+MORPH_SHEET_FRAMES = (1, 8, 15, 21, 28, 34, 41, 48)  # the morph's ends and 6 in-betweens, evenly
 
 
 def _args():
@@ -106,8 +108,8 @@ def morph_demo(bake_kwargs, method: str | None = None) -> dict:
     return report
 
 
-def render_contact_sheet(scene, frames, out: Path, resolution, samples) -> Path:
-    """Renders each frame (Cycles, CPU) and tiles them into out/contact_sheet.png."""
+def render_contact_sheet(scene, frames, out: Path, resolution, samples, name: str = "contact_sheet") -> Path:
+    """Renders each frame (Cycles, CPU) into out/<name>_frames/ and tiles them into out/<name>.png."""
     w, h = resolution
     scene.render.engine = "CYCLES"
     scene.cycles.device = "CPU"
@@ -121,7 +123,7 @@ def render_contact_sheet(scene, frames, out: Path, resolution, samples) -> Path:
     scene.render.threads = 2
     scene.render.image_settings.file_format = "PNG"
     scene.render.image_settings.color_mode = "RGBA"
-    frame_dir = out / "frames"
+    frame_dir = out / ("frames" if name == "contact_sheet" else f"{name}_frames")
     frame_dir.mkdir(parents=True, exist_ok=True)
     tiles = []
     for f in frames:
@@ -142,14 +144,40 @@ def render_contact_sheet(scene, frames, out: Path, resolution, samples) -> Path:
         # images are stored bottom-up: the first frame goes top-left
         y0 = (rows - 1 - r) * h
         sheet[y0:y0 + h, c * w:(c + 1) * w] = tile
-    image = bpy.data.images.new("contact_sheet", cols * w, rows * h, alpha=True)
+    image = bpy.data.images.new(name, cols * w, rows * h, alpha=True)
     image.pixels.foreach_set(sheet.reshape(-1))
-    target = out / "contact_sheet.png"
+    target = out / f"{name}.png"
     image.filepath_raw = str(target)
     image.file_format = "PNG"
     image.save()
     bpy.data.images.remove(image)
     return target
+
+
+def render_morph_sheet(scene, out: Path, resolution, samples) -> Path:
+    """The morph's in-betweens alone, close up (out/morph_sheet.png): MORPH_SHEET_FRAMES through a
+    camera that the morph fills, the other objects left out of the render. The scene is left as it
+    was (camera, what renders)."""
+    morph = next(o for o in scene.objects if o.animanifold.is_manifold and o.name.startswith(MORPH_SOURCE))
+    camera_data = bpy.data.cameras.new("MorphCloseUp")
+    camera = bpy.data.objects.new("MorphCloseUp", camera_data)
+    scene.collection.objects.link(camera)
+    centre = np.array(MORPH_LOCATION)
+    camera.location = tuple(centre + [0.0, -4.6, 0.5])
+    camera.rotation_euler = (math.radians(84), 0.0, 0.0)
+    others = [o for o in scene.objects if o.type == "MESH" and o is not morph and not o.hide_render]
+    kept_camera = scene.camera
+    try:
+        scene.camera = camera
+        for obj in others:
+            obj.hide_render = True
+        return render_contact_sheet(scene, MORPH_SHEET_FRAMES, out, resolution, samples, name="morph_sheet")
+    finally:
+        scene.camera = kept_camera
+        for obj in others:
+            obj.hide_render = False
+        bpy.data.objects.remove(camera)
+        bpy.data.cameras.remove(camera_data)
 
 
 def main() -> int:
@@ -201,6 +229,9 @@ def main() -> int:
 
         t = time.perf_counter()
         sheet = render_contact_sheet(scene, frames, out, (w, h), args.samples)
+        if args.morph:
+            report["morph"]["sheet"] = {"frames": list(MORPH_SHEET_FRAMES),
+                                        "path": str(render_morph_sheet(scene, out, (w, h), args.samples))}
         report["render"] = {"seconds": round(time.perf_counter() - t, 3), "frames": frames, "contact_sheet": str(sheet),
                             "engine": "CYCLES (CPU)", "samples": args.samples, "resolution": [w, h]}
         report["seconds"] = round(time.perf_counter() - began, 3)
