@@ -374,3 +374,31 @@ def test_frames_at_an_animators_frame_times_are_closed_surfaces():
         faces = np.ascontiguousarray(manifold.slice(k / 48).faces, dtype=np.int32)
         report = _core.check_manifold(faces)
         assert report.is_oriented_manifold and report.boundary_facets == 0, (f"frame {k + 1} of 49", report)
+
+
+def test_the_same_surface_twice_is_swept_so_every_frame_is_it_and_no_simplex_is_flat():
+    """The same cube (planar quads, each split in two) as source and target, the target's points
+    and faces listed in another order and its faces from another corner: the field is the same at
+    every time, and the morph is the cube swept over the range (`inputs_coincide`). Every frame is
+    the cube (within rounding), closed and outward, and no simplex is flat, where an extraction
+    from the lattice leaves flat ones over the planar sides. A target moved by 1e-9 of its size is
+    another surface, and is morphed."""
+    from helpers.shapes import cube
+
+    v, f = cube()
+    order = np.random.default_rng(3).permutation(len(v))
+    where = np.argsort(order)  # the source's point i is the target's where[i]
+    target = (v[order], np.roll(where[f], 1, axis=1)[::-1].copy())
+    manifold = am.morph((v, f), target, t0=2.0, t1=5.0)
+    report = manifold.validity
+    assert manifold.metadata["morph"]["method"] == "field" and report["inputs_coincide"], report
+    assert report["degenerate_simplices"] == report["inverted_simplices"] == 0, report
+    assert report["ends_reproduced"] and report["crossings_certified"] and not report["noise_frames"], report
+    assert manifold.check().is_oriented_manifold
+    for t in np.linspace(2.0, 5.0, 13):
+        frame = manifold.slice(float(t))
+        assert max(_core.distances_to_surface(np.ascontiguousarray(frame.vertices), v, f).max(),
+                   _core.distances_to_surface(v, frame.vertices, frame.faces).max()) <= 1e-12, t
+        assert shell_volumes(frame.vertices, frame.faces) == pytest.approx([8.0], rel=1e-12), t
+    moved = (target[0] + [0.0, 0.0, 2e-9], target[1])
+    assert not am.morph((v, f), moved, method="field").validity["inputs_coincide"]

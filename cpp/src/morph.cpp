@@ -630,7 +630,18 @@ constexpr int kConfirmingCrossingFrames = 1;
 Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
                    const MorphOptions& options) {
   StageClock clock(options);
-  FieldMorph field = field_morph(VS, FS, VT, FT, options, clock);
+  FieldMorph field;
+  SpaceTimeCertificate certificate;
+  std::optional<Complex> swept = swept_when_same(VS, FS, VT, FT, options.t0, options.t1);
+  if (swept) {
+    clock.begin("sweep", 0.1);
+    field.morph.manifold = std::move(*swept);
+    field.morph.report.inputs_coincide = true;
+    // Every frame is S, which morph()'s input checks found free of crossings.
+    certificate.embedded = true;
+  } else {
+    field = field_morph(VS, FS, VT, FT, options, clock);
+  }
   Morph result = std::move(field.morph);
   clock.begin("validity", 0.9);
   const double size = std::max((VS.colwise().maxCoeff() - VS.colwise().minCoeff()).norm(),
@@ -638,10 +649,11 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
   // The checks of the simplices, the ends and the space-time triangulation
   // write other fields of the report than the frames' checks, which they run
   // beside.
-  SpaceTimeCertificate certificate;
   check_frames(
       result.manifold, options.t0, options.t1, VS, FS, VT, FT, result.report,
-      {[&] { certificate = certify_space_time(field.space_time); },
+      {[&] {
+         if (!swept) certificate = certify_space_time(field.space_time);
+       },
        [&] { zero_set_validity(result.manifold, result.report); },
        [&] { end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report); }},
       kConfirmingCrossingFrames, [&] { return !certificate.embedded; });

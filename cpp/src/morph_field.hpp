@@ -38,6 +38,7 @@
 #include "animanifold/morph.hpp"
 #include "morph_stages.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,17 @@ struct SpaceTimeTriangulation {
   // rounding (the extraction counts them).
   Index flat_crossed_simplices = 0;
 };
+
+// Where S and T are the same surface (the same points, and the same faces
+// in any order and from any corner: an object and its unmoved duplicate,
+// Figure 8.9's case), the blended field is the same at every time and its
+// zero set is S swept from t0 to t1. That sweep, S x [t0, t1] stitched as two
+// equal keyframes (stitch.hpp), is returned instead of an extraction of it:
+// every frame is S exactly, and no simplex is flat (the lattice's zero set
+// there runs along S's faces, and on flat parts of S its tets are flat).
+// nullopt where the surfaces differ.
+std::optional<Complex> swept_when_same(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
+                                       const SimplexMatrix& FT, double t0, double t1);
 
 struct FieldMorph {
   Morph morph;

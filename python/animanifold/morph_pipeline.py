@@ -150,7 +150,9 @@ def morph(
     Where the inputs coincide (`inputs_coincide`: the same shape, Figure 8.9),
     the skeleton method removes what lies outside both instead of pushing it,
     every frame is the input, and the result keeps no hole space (no frame
-    enters it; `shared_hole_volume` still reports it).
+    enters it; `shared_hole_volume` still reports it). The field method, where
+    both are the same surface (the same points and faces, in any order), sweeps
+    it over the range: every frame is the input, no simplex flat.
     """
     arrays = _input_arrays(source, target)
     method = default_method(arrays[0].shape[1]) if method is None else method
