@@ -115,14 +115,14 @@ def test_reports_name_the_method_the_stages_and_a_change_of_topology(empty_scene
         assert "'Sphere' (Euler characteristic 2) and 'Torus' (0) differ in topology" in out, out
 
 
-def test_the_field_method_morphs_blender_primitives_and_says_what_each_frame_is(empty_scene, capfd):
-    """Method: Field on Blender's UV sphere and torus: both ends reproduced where the range starts
-    and ends, no hole space, and a report of the frames checked, the topology changes between them
-    and whether every check passed."""
+def test_the_default_method_is_the_field_method_and_says_what_each_frame_is(empty_scene, capfd):
+    """Morph Selected with its default method (Field) on Blender's UV sphere and torus: both ends
+    reproduced where the range starts and ends, no hole space, and a report of the frames checked,
+    the topology changes between them and whether every check passed."""
     source, target = add_sphere_and_torus()
     select(source, target)
     capfd.readouterr()
-    assert bpy.ops.animanifold.morph_selected(method="FIELD") == {"FINISHED"}
+    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
     out = capfd.readouterr().out
     morph = bpy.context.active_object
     from animanifold_blender import object_manifold
