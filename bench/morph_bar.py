@@ -216,7 +216,9 @@ CHECKS_BUDGET = 0.25  # the morph's checks may take this share of its own time (
 
 
 def checks_notes(report: dict) -> list[str]:
-    """What the morph's own checks cost against their budget, and how they covered crossings."""
+    """What the morph's own checks cost against their budget, what its own frames showed (they
+    bisect towards changes of topology, so they see frames between the bar's), and how they
+    covered crossings."""
     seconds = dict(report.get("stage_seconds", []))
     if "validity" not in seconds:
         return []
@@ -226,6 +228,11 @@ def checks_notes(report: dict) -> list[str]:
     met = "within" if share <= CHECKS_BUDGET else "over"
     notes = [f"checks {checks:.2f} s = {100 * share:.0f} % of the morph's own {own:.2f} s "
              f"({met} the {100 * CHECKS_BUDGET:.0f} % budget)"]
+    if "frames_checked" in report:  # the morph's own frames (24 spread, then bisecting towards changes)
+        noise, bubbles = report["noise_frames"], report["bubble_frames"]
+        shown = ", ".join(f"{t:.4g}" for t in noise[:6]) + (", ..." if len(noise) > 6 else "")
+        notes.append(f"own frame checks: {report['frames_checked']} frames; topological noise at {len(noise)}"
+                     + (f" (t = {shown})" if noise else "") + f", bubbles at {len(bubbles)}")
     if report.get("crossings_certified"):
         notes.append(f"crossings: space-time triangulation certified for every time; "
                      f"CGAL confirms on {report.get('crossing_frames_checked', 0)} frame(s)")
