@@ -626,6 +626,21 @@ Complex lateral_boundary(SeedMorph& m) {
 // the quarters' two more a tenth, against the 25 % all checks may take.
 constexpr int kConfirmingCrossingFrames = 1;
 
+// Frames the field method checks inside its fill slab, beside the spread
+// ones: the Delaunay fill joins two samplings of the field there, in less
+// than the spread frames' spacing, and can change the frames' topology
+// between them (pieces, handles for a moment) where neither does.
+constexpr int kFillSlabFrames = 7;
+
+// kFillSlabFrames times evenly inside the fill slab (none for a sweep).
+std::vector<double> fill_slab_frames(const SpaceTimeTriangulation& space_time) {
+  if (space_time.source.times.empty() || space_time.target.times.empty()) return {};
+  const double from = space_time.source.times.back(), to = space_time.target.times.back();
+  std::vector<double> times;
+  for (int k = 1; k <= kFillSlabFrames; ++k) times.push_back(from + (to - from) * k / (kFillSlabFrames + 1));
+  return times;
+}
+
 // The field method (morph_field.hpp) and its checks (morph_validity.hpp).
 Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
                    const MorphOptions& options) {
@@ -656,7 +671,7 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
        },
        [&] { zero_set_validity(result.manifold, result.report); },
        [&] { end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report); }},
-      kConfirmingCrossingFrames, [&] { return !certificate.embedded; });
+      kConfirmingCrossingFrames, [&] { return !certificate.embedded; }, fill_slab_frames(field.space_time));
   result.report.crossings_certified = certificate.embedded;
   result.report.certificate_failure = certificate.failure;
   clock.finish();

@@ -277,13 +277,14 @@ std::vector<double> spread_times(double t0, double t1) {
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
                   const std::vector<std::function<void()>>& alongside, int crossing_frames,
-                  const std::function<bool()>& check_the_rest) {
+                  const std::function<bool()>& check_the_rest, const std::vector<double>& closer) {
   FrameChecks checks(manifold, VS, FS, VT, FT, report);
   const std::vector<double> spread = spread_times(t0, t1);
   const long crossing_count = std::clamp(crossing_frames, 0, kSpreadFrames);
   checks.check(spread, crossing_count, alongside);
   if (crossing_count < kSpreadFrames && check_the_rest && check_the_rest())
     checks.check_crossings(std::vector<double>(spread.begin() + crossing_count, spread.end()));
+  if (!closer.empty()) checks.check(closer, 0);
   checks.bisect_changes();
   checks.finish();
 }

@@ -2,18 +2,22 @@
 // work runs once on any thread count, the frame checks report what they
 // report without it, and what the work throws reaches the caller; crossings
 // are checked on the spread frames asked for, and on the rest when asked
-// once the work is done.
+// once the work is done; frames asked for closer together find what falls
+// between the spread ones.
 #include "animanifold/morph.hpp"
 #include "animanifold/morph_validity.hpp"
+#include "animanifold/stitch.hpp"
 #include "animanifold/threads.hpp"
 
 #include "fixtures.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <stdexcept>
+#include <tuple>
 
 using namespace animanifold;
 
@@ -99,4 +103,57 @@ TEST(MorphValidity, CrossingsAreCheckedOnTheFramesAskedAndOnTheRestWhenAskedAfte
   MorphReport none;
   check_frames(in.morph.manifold, 0.0, 1.0, in.VS, in.FS, in.VT, in.FT, none, {}, 0);
   EXPECT_EQ(none.crossing_frames_checked, 0);
+}
+
+namespace {
+
+// An octahedron held over [0, 1], and beside it a small one that lasts only
+// over [from, to]: two keyframes each, stitched (stitch.hpp) into one complex.
+Complex octahedron_with_a_moment_of_company(double from, double to) {
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  Complex out;
+  const Index k = V.rows();
+  for (const auto& [offset, scale, t0, t1] : {std::tuple{0.0, 1.0, 0.0, 1.0}, std::tuple{5.0, 0.2, from, to}}) {
+    StitchInput held;
+    held.frames.resize(2 * k, 3);
+    held.frames << (scale * V).array() + offset, (scale * V).array() + offset;
+    held.faces = F;
+    held.times.resize(2);
+    held.times << t0, t1;
+    const Complex part = stitch(held);
+    const Index base = out.V.rows();
+    out.V.conservativeResize(base + part.V.rows(), 4);
+    out.V.bottomRows(part.V.rows()) = part.V;
+    const Index first = out.S.rows();
+    out.S.conservativeResize(first + part.S.rows(), 4);
+    out.S.bottomRows(part.S.rows()) = part.S.array() + base;
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MorphValidity, CloserFramesFindWhatLastsLessThanTheSpreadFramesSpacing) {
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  // The spread frames are 1/25 apart (0.48, 0.52 about the middle): an
+  // island from 0.49 to 0.51 falls between them.
+  const Complex manifold = octahedron_with_a_moment_of_company(0.49, 0.51);
+  MorphReport spread;
+  check_frames(manifold, 0.0, 1.0, V, F, V, F, spread);
+  EXPECT_TRUE(spread.noise_frames.empty());
+  EXPECT_EQ(spread.frames_checked, 24);
+  MorphReport closer;
+  check_frames(manifold, 0.0, 1.0, V, F, V, F, closer, {}, 24, {}, {0.485, 0.495, 0.5, 0.505, 0.515});
+  // The three closer frames inside the island's moment, and the bisections
+  // towards where it comes and goes: every noise frame inside it.
+  ASSERT_GE(closer.noise_frames.size(), 3u);
+  for (const double t : {0.495, 0.5, 0.505})
+    EXPECT_NE(std::find(closer.noise_frames.begin(), closer.noise_frames.end(), t), closer.noise_frames.end()) << t;
+  for (const double t : closer.noise_frames) EXPECT_TRUE(t >= 0.49 && t <= 0.51) << t;
+  EXPECT_GT(closer.frames_checked, 24 + 5);
+  EXPECT_EQ(closer.topology_changes, 2);
 }

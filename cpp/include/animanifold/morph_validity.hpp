@@ -11,7 +11,8 @@
 // Frames: 24 evenly spread inside the range, each given every check (the
 // crossings on the first `crossing_frames` of them in coarse-to-fine order:
 // the middle, the quarters, the eighths, ...; all 24 by default, and the
-// rest too when `check_the_rest()` says so once `alongside` is done). Then,
+// rest too when `check_the_rest()` says so once `alongside` is done). Then
+// the `closer` frames the caller asks for, checked like the bisections. Then,
 // between two checked frames whose topology differs, frames bisecting
 // towards the change, so that the frames where the topology changes are
 // looked at too: up to 5 rounds and 24 frames in all (`frames_capped` when
@@ -46,6 +47,11 @@ namespace animanifold {
 //   check_the_rest  optional; asked once the spread frames and `alongside`
 //                   are done: true checks the other spread frames for
 //                   crossings too
+//   closer          optional; more frames checked like the bisections'
+//                   (topology, cavities), before them: where the
+//                   construction can change between two spread frames
+//                   (the field method's fill slab, shorter than their
+//                   spacing)
 // Outputs:
 //   report's frame checks (frames_checked, crossing_frames, bubble_frames, ...)
 // Throws: what an `alongside` item or the slicing of a frame throws (the
@@ -54,6 +60,6 @@ namespace animanifold {
 void check_frames(const Complex& manifold, double t0, double t1, const PointMatrix& VS, const SimplexMatrix& FS,
                   const PointMatrix& VT, const SimplexMatrix& FT, MorphReport& report,
                   const std::vector<std::function<void()>>& alongside = {}, int crossing_frames = 24,
-                  const std::function<bool()>& check_the_rest = {});
+                  const std::function<bool()>& check_the_rest = {}, const std::vector<double>& closer = {});
 
 }  // namespace animanifold
