@@ -6,8 +6,8 @@ Frames are checked for running through themselves (`crossing_frames`), for bubbl
 the solid that neither input has (`bubble_frames` lists [time, bubbles] where there are,
 `largest_bubble_fraction` their largest share of a frame's volume) and, in 3D, for leaving the
 inputs' topology (`noise_frames`): in 3D by the core, for every method, on 24 frames spread
-over the range (crossings on these) and up to 24 frames bisecting towards the changes of
-topology, the same frames on any machine (`frames_checked`, `frames_capped` when changes were
+over the range (crossings on these), for the field method 7 inside its fill slab, and up to 24
+frames bisecting towards the changes of topology, the same frames on any machine (`frames_checked`, `frames_capped` when changes were
 left unbisected at that limit, `topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for
 crossings (their frames hold no cavities).
 
