@@ -370,6 +370,24 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path, sphe
     assert last_euler == 0  # a torus
 
 
+def test_the_default_morph_of_shapes_apart_says_nothing_travels_between_them(capsys, tmp_path):
+    """No --method: the field method. A sphere and a torus 4 units apart (their files place them) do not
+    overlap: the morph shrinks one away and grows the other, and the command says so; the same shapes
+    one over the other do not get the warning."""
+    from helpers.shapes import torus
+
+    v, f = icosphere(1)
+    am.write_mesh(tmp_path / "s.obj", v, f)
+    tv, tf = torus(minor_radius=0.3, major=12, minor=6)
+    for name, offset in (("apart", 4.0), ("over", 0.0)):
+        am.write_mesh(tmp_path / f"{name}.obj", tv + [offset, 0.0, 0.0], tf)
+        out, err, m, _ = morph_in_three_frames(capsys, (tmp_path / "s.obj", tmp_path / f"{name}.obj"),
+                                               tmp_path / name, "-q")
+        assert m.metadata["morph"]["method"] == "field" and "morph: field method" in out
+        assert m.validity["inputs_apart"] == (name == "apart"), name
+        assert ("do not overlap where they are" in err) == (name == "apart"), err
+
+
 def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(capsys, tmp_path, monkeypatch):
     from helpers.shapes import torus
 

@@ -136,6 +136,11 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
         report({"WARNING"}, f"'{new.name}': the morph is not fully valid: end frames off by "
                                  f"{validity['source_distance']:.2g} / {validity['target_distance']:.2g} of the size, "
                                  f"{validity['inverted_simplices']} inverted simplices{hint}")
+    if validity.get("inputs_apart"):
+        report({"WARNING"}, f"'{new.name}': '{source.name}' and '{target.name}' do not overlap where they stand: the "
+                                 f"{method} morph shrinks one away and grows the other in its place, nothing travels "
+                                 "between them; to morph one into the other, move the target onto the source (their "
+                                 "transforms place them)")
     limit = "a known limit of the skeleton push; " if method == "skeleton" else ""
     if validity.get("frames_cross_themselves"):
         report({"WARNING"}, f"'{new.name}': in-between frames run through themselves at "

@@ -460,6 +460,11 @@ SpaceTimeTriangulation::Side side_of(Half&& half, SimplexMatrix&& transition) {
           std::move(half.times)};
 }
 
+// Whether some point lies inside both inputs (both its distances negative).
+bool inside_both(const EndDistances& distances) {
+  return ((distances.s.array() < 0) && (distances.t.array() < 0)).any();
+}
+
 // The zero set of the field over the whole space-time triangulation.
 class Extraction {
  public:
@@ -635,6 +640,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
     distances_through_inputs(split[side].cells, split[side].points, lattice.spacing, split[side].distances.s,
                              split[side].distances.t);
   });
+  report.inputs_apart = !inside_both(distances[0]) && !inside_both(distances[1]);
   const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, split[0].cells, split[1].cells, split[0].points,
                                                  split[1].points, split[0].distances.s, split[0].distances.t,
                                                  split[1].distances.s, split[1].distances.t, kScheduleSamples);

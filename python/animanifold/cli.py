@@ -410,6 +410,10 @@ def run_morph(args: argparse.Namespace) -> int:
           f"({report['degenerate_simplices']} flat at the exact coordinates); " + _method_summary(method, report))
     if not report["ends_reproduced"]:
         print(f"{PROG}: warning: the end frames are not the inputs (see the distances above)", file=sys.stderr)
+    if report.get("inputs_apart"):
+        print(f"{PROG}: warning: the source and the target do not overlap where they are: the {method} morph "
+              "shrinks one away and grows the other in its place, nothing travels between them; move one onto "
+              "the other to morph it into the other", file=sys.stderr)
     if manifold.hole_space is not None:
         print(f"shared holes (§8.6.5): volume {report['shared_hole_volume']:.6g}; raw frames fill up to "
               f"{report['hole_overlap_volume']:.3g} of it, cut away; kept in the checked frames: "

@@ -147,6 +147,24 @@ def test_the_default_method_is_the_field_method_and_says_what_each_frame_is(empt
     assert frame_matches(compare_with(morph, target))
 
 
+def test_objects_that_do_not_overlap_are_morphed_with_a_warning_that_nothing_travels(empty_scene, capfd):
+    """A UV sphere and a torus side by side, 4 units apart: the default (field) morph shrinks one away
+    and grows the other where it stands, and Morph Selected says so, naming both objects."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add(major_segments=16, minor_segments=8, location=(4.0, 0.0, 0.0))
+    target = bpy.context.active_object
+    select(source, target)
+    capfd.readouterr()
+    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    out = capfd.readouterr().out
+    from animanifold_blender import object_manifold
+
+    assert object_manifold.manifold_for(bpy.context.active_object).validity["inputs_apart"]
+    warning = next(line for line in out.splitlines() if "do not overlap" in line)
+    assert warning.startswith("Warning:") and "'Sphere' and 'Torus'" in warning, warning
+
+
 def textured(obj, name: str):
     """Gives `obj` a material of its own (its UV map comes with the primitive)."""
     material = bpy.data.materials.new(name)

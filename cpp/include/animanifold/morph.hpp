@@ -136,6 +136,12 @@ struct MorphReport {
   // to their triangulations' Steiner points), every frame is the input, and
   // no frame enters the hole space.
   bool inputs_coincide = false;
+  // Field method: no point of its ends' tetrahedralizations lies inside both
+  // inputs, so they do not overlap where they are (their transforms place
+  // them): the blend then shrinks the source away where it stands and grows
+  // the target where it stands, nothing travels between them. False for the
+  // seed's methods, which do not look.
+  bool inputs_apart = false;
   // Skeleton method: skeleton points given per input, free vertices of the
   // conforming fills (skeleton points and the mesher's Steiner points off the
   // surface), and in the layers (PlaneLayer): faces outside an input without
@@ -228,6 +234,7 @@ void for_each_entry(const MorphReport& report, Visit&& visit) {
   visit("simplices", report.simplices);
   visit("shared_stripped_simplices", report.shared_stripped_simplices);
   visit("inputs_coincide", report.inputs_coincide);
+  visit("inputs_apart", report.inputs_apart);
   visit("source_skeleton_points", report.source_skeleton_points);
   visit("target_skeleton_points", report.target_skeleton_points);
   visit("source_cap_points", report.source_cap_points);
