@@ -404,3 +404,14 @@ def test_the_same_surface_twice_is_swept_so_every_frame_is_it_and_no_simplex_is_
         assert shell_volumes(frame.vertices, frame.faces) == pytest.approx([8.0], rel=1e-12), t
     moved = (target[0] + [0.0, 0.0, 2e-9], target[1])
     assert not am.morph((v, f), moved, method="field").validity["inputs_coincide"]
+
+
+def test_blenders_cylinder_into_a_torus_meets_the_bar():
+    """Blender's cylinder (32 sides, its caps fans of long thin triangles, its sides tall ones) into
+    a torus through its middle: free points come within a lattice spacing and a quarter of faces
+    several spacings across (the mesher splits those), so the field is sampled beside the cylinder's
+    sides and the frames leaving them are whole; at the faces' own clearance they came apart in
+    shreds (a noise frame, pop 4.2)."""
+    from helpers.shapes import cylinder, torus
+
+    assert_the_bar(cylinder(32), torus(minor_radius=0.25, major=24, minor=12))

@@ -48,7 +48,8 @@ struct Lattice {
 // and outside the other, or near either: the convex blend is of one sign
 // elsewhere) and sparse elsewhere; each end keeps the points clear of its
 // input (outside the diametral spheres of its faces, which the conforming
-// mesher would otherwise split).
+// mesher would otherwise split; from faces several lattice spacings across,
+// only a spacing and a quarter: those it splits).
 Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
                        const SimplexMatrix& FT, const SignedDistance& dT, double spacing, double size);
 

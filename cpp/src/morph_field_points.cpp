@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <limits>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -24,6 +25,17 @@ constexpr double kBoxPad = 0.15;
 // the input (a point inside a face's diametral sphere would make the
 // conforming mesher split that face).
 constexpr double kClearance = 1.1;
+// The lattice's points keep only this many lattice spacings from faces whose
+// clearance would be more than kCapBeyond spacings: beside faces that much
+// larger than the lattice (a cylinder's sides, a cube's) the clearance would
+// leave a void as wide as the face, where the field is sampled only by the
+// face's corners and points far off it, and the frames leaving the face come
+// apart in shreds (Blender's cylinder into its torus). The mesher splits such
+// faces instead (Steiner points on them, reported; the end frame is still the
+// input). Faces up to a few spacings keep their clearance, and the end frame
+// its triangles.
+constexpr double kClearanceCap = 1.25;
+constexpr double kCapBeyond = 4.0;
 // The surface shell's points sit this many circumradii off the input,
 // jittered by this share of one.
 constexpr double kShell = 1.3;
@@ -33,11 +45,13 @@ constexpr double kShellJitter = 0.2;
 constexpr int kCoarse = 3;
 
 // Whether `p` (the query's row in `projection`) is clear of the surface's
-// faces nearest to it.
-bool clear_of(const SurfaceProjection& projection, Index row, const SimplexMatrix& F, const Eigen::VectorXd& radius) {
+// faces nearest to it: kClearance circumradii, or `cap` where that is more
+// than `cap_beyond`.
+bool clear_of(const SurfaceProjection& projection, Index row, const SimplexMatrix& F, const Eigen::VectorXd& radius,
+              double cap = std::numeric_limits<double>::infinity(), double cap_from = 0.0) {
   const Index f = projection.face(row);
-  return std::abs(projection.distance(row)) >=
-         kClearance * std::max({radius(F(f, 0)), radius(F(f, 1)), radius(F(f, 2))});
+  const double clearance = kClearance * std::max({radius(F(f, 0)), radius(F(f, 1)), radius(F(f, 2))});
+  return std::abs(projection.distance(row)) >= (clearance > cap_from ? std::min(cap, clearance) : clearance);
 }
 
 }  // namespace
@@ -105,8 +119,9 @@ Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const Sig
     const double s = ps.distance(r), t = pt.distance(r);
     const bool band = s * t <= 0 || std::min(std::abs(s), std::abs(t)) <= 2 * spacing;
     if (!band && !coarse[r]) continue;
-    if (clear_of(ps, r, FS, rS)) keep_source.push_back(r);
-    if (clear_of(pt, r, FT, rT)) keep_target.push_back(r);
+    const double cap = kClearanceCap * spacing, cap_beyond = kCapBeyond * spacing;
+    if (clear_of(ps, r, FS, rS, cap, cap_beyond)) keep_source.push_back(r);
+    if (clear_of(pt, r, FT, rT, cap, cap_beyond)) keep_target.push_back(r);
   }
   out.source = candidates(keep_source, Eigen::all);
   out.target = candidates(keep_target, Eigen::all);
