@@ -228,7 +228,7 @@ def checks_notes(report: dict) -> list[str]:
     met = "within" if share <= CHECKS_BUDGET else "over"
     notes = [f"checks {checks:.2f} s = {100 * share:.0f} % of the morph's own {own:.2f} s "
              f"({met} the {100 * CHECKS_BUDGET:.0f} % budget)"]
-    if "frames_checked" in report:  # the morph's own frames (24 spread, then bisecting towards changes)
+    if "frames_checked" in report:  # its own frames: 24 spread, the field's 7 in its fill slab, the bisections
         noise, bubbles = report["noise_frames"], report["bubble_frames"]
         shown = ", ".join(f"{t:.4g}" for t in noise[:6]) + (", ..." if len(noise) > 6 else "")
         notes.append(f"own frame checks: {report['frames_checked']} frames; topological noise at {len(noise)}"

@@ -7,11 +7,11 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <limits>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <limits>
 #include <system_error>
 
 namespace animanifold::morph_field {
@@ -48,10 +48,10 @@ constexpr int kCoarse = 3;
 // faces nearest to it: kClearance circumradii, or `cap` where that is more
 // than `cap_beyond`.
 bool clear_of(const SurfaceProjection& projection, Index row, const SimplexMatrix& F, const Eigen::VectorXd& radius,
-              double cap = std::numeric_limits<double>::infinity(), double cap_from = 0.0) {
+              double cap = std::numeric_limits<double>::infinity(), double cap_beyond = 0.0) {
   const Index f = projection.face(row);
   const double clearance = kClearance * std::max({radius(F(f, 0)), radius(F(f, 1)), radius(F(f, 2))});
-  return std::abs(projection.distance(row)) >= (clearance > cap_from ? std::min(cap, clearance) : clearance);
+  return std::abs(projection.distance(row)) >= (clearance > cap_beyond ? std::min(cap, clearance) : clearance);
 }
 
 }  // namespace

@@ -7,9 +7,10 @@ the solid that neither input has (`bubble_frames` lists [time, bubbles] where th
 `largest_bubble_fraction` their largest share of a frame's volume) and, in 3D, for leaving the
 inputs' topology (`noise_frames`): in 3D by the core, for every method, on 24 frames spread
 over the range (crossings on these), for the field method 7 inside its fill slab, and up to 24
-frames bisecting towards the changes of topology, the same frames on any machine (`frames_checked`, `frames_capped` when changes were
-left unbisected at that limit, `topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for
-crossings (their frames hold no cavities).
+frames bisecting towards the changes of topology, the same frames on any machine
+(`frames_checked`, `frames_capped` when changes were left unbisected at that limit,
+`topology_changes`); 2D morphs check `hole_checks` evenly spaced frames for crossings (their
+frames hold no cavities).
 
 Validity 3 (shared holes are kept): the hole spaces H_S = CH(S) \\ S and
 H_T of the inputs (§8.6.5) are intersected into H = H_S ∩ H_T, which the

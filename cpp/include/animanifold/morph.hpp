@@ -186,9 +186,10 @@ struct MorphReport {
   double lattice_spacing = 0.0;
   // The frames' checks (morph_validity.hpp): how many frames were looked at
   // (24 spread over the range, the field method's 7 in its fill slab, then
-  // up to 24 towards the changes of topology), whether changes were left unbisected at that limit, and the
-  // times of frames that run through themselves (checked on the spread
-  // frames), hold a bubble neither input has, or leave the inputs' topology.
+  // up to 24 towards the changes of topology), whether changes were left
+  // unbisected at that limit, and the times of frames that run through
+  // themselves (checked on the spread frames), hold a bubble neither input
+  // has, or leave the inputs' topology.
   Index frames_checked = 0;
   bool frames_capped = false;
   // Crossings: how many of the spread frames were checked for them (the
