@@ -203,7 +203,7 @@ def test_the_python_stages_come_in_order_and_a_cancel_stops_them_before_the_next
     finished = []
     with pytest.raises(_core.Cancelled):
         skeleton_morph(source, target, progress=lambda stage, fraction: finished.append(stage) or True,
-                 interrupted=lambda: "validity" in finished)
+                       interrupted=lambda: "validity" in finished)
     assert finished[-1] == "validity" and sliced == []
 
 

@@ -383,8 +383,8 @@ def test_the_same_surface_twice_is_swept_so_every_frame_is_it_and_no_simplex_is_
     and faces listed in another order and its faces from another corner: the field is the same at
     every time, and the morph is the cube swept over the range (`inputs_coincide`). Every frame is
     the cube (within rounding), closed and outward, and no simplex is flat, where an extraction
-    from the lattice leaves flat ones over the planar sides. A target moved by 1e-9 of its size is
-    another surface, and is morphed."""
+    from the lattice leaves flat ones over the planar sides. The target moved by 2e-9 (its sides are
+    2 long) is another surface, and is morphed."""
     from helpers.shapes import cube
 
     v, f = cube()
