@@ -73,6 +73,17 @@ def _activate(*objects):
     view_layer.objects.active = objects[-1]
 
 
+def _frames_showing_noise(manifold) -> list[float]:
+    """Of the whole frames next to the topological noise the morph's checks found, those that show
+    it; the end frames stand for the inputs (their topology is the inputs')."""
+    from animanifold_blender import morph_object
+
+    if not manifold.validity["noise_frames"]:
+        return []
+    ends = [(frame.vertices, frame.faces) for frame in manifold.slices(list(manifold.time_range))]
+    return morph_object.noise_on_whole_frames(manifold, *ends).noisy
+
+
 def morph_demo(bake_kwargs, method: str | None = None) -> dict:
     """Morph Selected from the sphere to the torus over the scene range (with `method`, else the
     add-on's default), then Bake; the report."""
@@ -99,7 +110,9 @@ def morph_demo(bake_kwargs, method: str | None = None) -> dict:
               # between the frames checked, and whether every check passed
               "frames_checked": int(validity["frames_checked"]),
               "topology_changes": int(validity["topology_changes"]),
-              "all_checks_passed": morph_object.all_checks_passed(validity)}
+              "all_checks_passed": morph_object.all_checks_passed(validity),
+              # the whole frames next to the noise the checks found (between frames, too) that show it
+              "frames_showing_noise": _frames_showing_noise(manifold)}
     t = time.perf_counter()
     _activate(morph)
     _run(bpy.ops.animanifold.bake, **bake_kwargs)

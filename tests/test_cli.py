@@ -370,6 +370,36 @@ def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path, sphe
     assert last_euler == 0  # a torus
 
 
+def test_the_morph_command_says_which_written_frames_show_the_noise_its_checks_found(capsys, tmp_path,
+                                                                                       sphere_and_torus, monkeypatch):
+    """Where the checks report topological noise (injected here at two times between the first two
+    of the 3 written frames), the command names the written frames next to it and says which of them
+    show it, as their own topology says."""
+    import animanifold.cli as cli
+
+    real = cli.morph
+
+    def with_noise(*args, **kwargs):
+        manifold = real(*args, **kwargs)
+        manifold.metadata["validity"]["noise_frames"] = [0.2, 0.3]
+        return manifold
+
+    monkeypatch.setattr(cli, "morph", with_noise)
+    out, err, m, _ = morph_in_three_frames(capsys, sphere_and_torus, tmp_path / "m")
+    line = next(line for line in err.splitlines() if "topological noise" in line)
+    assert line.startswith("animanifold: warning: topological noise at 2 checked times from 0.2 to 0.3"), line
+    ends = [euler_characteristic(*am.read_mesh(path)[:2]) for path in sphere_and_torus]
+    frames = [am.read_mesh(tmp_path / "m" / "frames" / f"frame_000{i}.obj") for i in (0, 1)]
+    showing = [t for t, (v, f) in zip((0, 0.5), frames) if not min(ends) <= euler_characteristic(v, f) <= max(ends)
+               or am.frame_quality.pieces(v, f) > 1]
+    if showing:
+        assert line.endswith(f"of the written frames next to it (0, 0.5), {', '.join(map(str, showing))} "
+                             f"{'shows' if len(showing) == 1 else 'show'} it"), line
+    else:
+        assert line.endswith("lasting less than a written frame: the written frames next to it (0, 0.5) do not "
+                             "show it"), line
+
+
 def test_the_default_morph_of_shapes_apart_says_nothing_travels_between_them(capsys, tmp_path):
     """No --method: the field method. A sphere and a torus 4 units apart (their files place them) do not
     overlap: the morph shrinks one away and grows the other, and the command says so; the same shapes

@@ -5,6 +5,7 @@ nothing is left behind. Then what the validity checks (§8.3) found, as warnings
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 
@@ -176,3 +177,16 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
                     f"{'yes' if passed else 'no'} ({crossing_note}, "
                     f"{len(validity['bubble_frames'])} with bubbles, {len(validity['noise_frames'])} with "
                     f"topological noise, {validity['degenerate_simplices']} flat simplices)")
+        if validity["noise_frames"]:
+            found = noise_on_whole_frames(manifold, source_mesh, target_mesh)
+            report({"WARNING"}, f"'{new.name}': {am.morph_noise.noise_summary(validity['noise_frames'], found)}")
+
+
+def noise_on_whole_frames(manifold, source_mesh, target_mesh):
+    """Which whole frames (the morph's t0 and t1 are frames) next to the topological noise the
+    checks found show it: they look between frames too, where it may last less than a frame
+    (am.morph_noise.NoiseOnFrames)."""
+    start, end = manifold.time_range
+    frames = np.arange(math.ceil(start), math.floor(end) + 1, dtype=np.float64)
+    return am.morph_noise.noise_on_frames(manifold, manifold.validity["noise_frames"], frames, source_mesh,
+                                          target_mesh)

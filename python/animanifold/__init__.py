@@ -47,6 +47,7 @@ from .welding import weld
 from . import mesh_export  # noqa: E402,F401  (frame files with UVs, normals and materials)
 from . import display  # noqa: E402,F401  (how slices are shown as frames: the add-on's playback)
 from . import frame_quality  # noqa: E402,F401  (frames' topology and pieces: the add-on's morph report)
+from . import morph_noise  # noqa: E402,F401  (which whole frames show a morph's noise: the add-on's report)
 # Live playback's bpy-free parts, for the add-on: an interval's cut and its frames, the
 # memory-bounded cache of them, making them ahead, and the subdivisions kept per manifold.
 from . import interval_cuts, cut_cache, cut_prefetch, subdivision_cache  # noqa: E402,F401

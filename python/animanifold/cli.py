@@ -38,6 +38,7 @@ from .cache import load, save
 from .demo import run_demo as build_demo
 from .manifold import AXES, AnimationManifold, axis_index
 from .meshio import read_mesh, write_mesh
+from .morph_noise import noise_on_frames, noise_summary
 from .morph_pipeline import METHODS, cut_frame_warnings, default_method, morph
 from .stitching import stitch
 
@@ -433,6 +434,11 @@ def run_morph(args: argparse.Namespace) -> int:
         print(f"{PROG}: warning: some in-between frames pinch (not a clean surface)" +
               ("; the skeleton method (--method skeleton) avoids that" if method == "strip" else ""),
               file=sys.stderr)
+    if args.frames and report.get("noise_frames"):
+        # the checks also look between the frames written: say which of those show the noise
+        found = noise_on_frames(manifold, report["noise_frames"], np.linspace(args.t0, args.t1, args.frames),
+                                source, target)
+        print(f"{PROG}: warning: {noise_summary(report['noise_frames'], found, 'written frame')}", file=sys.stderr)
     if args.frames:
         frames = folder / "frames"
         frames.mkdir(exist_ok=True)

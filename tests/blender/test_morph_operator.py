@@ -147,6 +147,42 @@ def test_the_default_method_is_the_field_method_and_says_what_each_frame_is(empt
     assert frame_matches(compare_with(morph, target))
 
 
+def test_noise_the_checks_found_is_reported_with_the_whole_frames_that_show_it(empty_scene, capfd, monkeypatch):
+    """Where the checks report topological noise (injected here at two times between frames 6 and 7
+    of 1..12), Morph Selected names the whole frames next to it and says which of them show it, as
+    those frames' own topology says: the checks look between frames too, and an artist renders
+    whole frames."""
+    from animanifold_blender import object_manifold, ops_morph
+    from animanifold.frame_quality import euler_characteristic, pieces
+
+    real = ops_morph.am.morph
+
+    def with_noise(*args, **kwargs):
+        manifold = real(*args, **kwargs)
+        manifold.metadata["validity"]["noise_frames"] = [6.3, 6.6]
+        return manifold
+
+    monkeypatch.setattr(ops_morph.am, "morph", with_noise)
+    source, target = add_sphere_and_torus()
+    select(source, target)
+    capfd.readouterr()
+    assert bpy.ops.animanifold.morph_selected(use_scene_range=False, frame_start=1, frame_end=12) == {"FINISHED"}
+    line = next(line for line in capfd.readouterr().out.splitlines() if "topological noise at" in line)
+    assert line.startswith("Warning:") and "topological noise at 2 checked times from 6.3 to 6.6" in line, line
+    manifold = object_manifold.manifold_for(bpy.context.active_object)
+    showing = []
+    for frame in (6, 7):
+        shown = manifold.slice(float(frame))
+        chi = euler_characteristic(shown.vertices, shown.faces)
+        if not 0 <= chi <= 2 or pieces(shown.vertices, shown.faces) > 1:  # between the torus and the sphere
+            showing.append(frame)
+    if showing:
+        verb = "shows" if len(showing) == 1 else "show"
+        assert line.endswith(f"of the frames next to it (6, 7), {', '.join(map(str, showing))} {verb} it"), line
+    else:
+        assert line.endswith("lasting less than a frame: the frames next to it (6, 7) do not show it"), line
+
+
 def test_objects_that_do_not_overlap_are_morphed_with_a_warning_that_nothing_travels(empty_scene, capfd):
     """A UV sphere and a torus side by side, 4 units apart: the default (field) morph shrinks one away
     and grows the other where it stands, and Morph Selected says so, naming both objects."""

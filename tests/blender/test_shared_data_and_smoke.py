@@ -142,6 +142,9 @@ def test_the_readme_main_job_runs_end_to_end(tmp_path):
     assert report["convert"]["sampling"] == "ADAPTIVE" and 0 <= report["convert"]["deviation_percent"] <= 0.2
     morph = report["morph"]
     assert morph["ends_reproduced"] and morph["oriented_manifold"] and morph["inverted_simplices"] == 0
+    # whole frames showing noise are listed (1..48 here), and there are none where every check passed
+    shown = morph["frames_showing_noise"]
+    assert all(float(f).is_integer() and 1 < f < 48 for f in shown) and not (shown and morph["all_checks_passed"])
     assert (tmp_path / "contact_sheet.png").stat().st_size > 0 and (tmp_path / "animanifold_demo.blend").is_file()
 
 

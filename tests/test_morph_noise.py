@@ -1,0 +1,71 @@
+"""Which rendered frames show the topological noise a morph's checks found (am.morph_noise), on a
+stand-in whose noise is known: a tetrahedron's surface swept over [0, 1] with an island, the boundary
+of a small 4-simplex, that lives only between two times."""
+
+import numpy as np
+import pytest
+
+import animanifold as am
+from animanifold.frame_quality import pieces
+from animanifold.morph_noise import frames_next_to, noise_on_frames, noise_summary
+
+TETRAHEDRON = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float),
+               np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]))
+
+
+def swept_with_island(start: float, end: float) -> am.AnimationManifold:
+    """The tetrahedron swept from t = 0 to 1, and beside it the boundary of a 4-simplex whose time
+    extent is [start, end]: every frame strictly between them holds a second piece."""
+    swept = am.stitch([TETRAHEDRON[0]] * 2, TETRAHEDRON[1], [0.0, 1.0])
+    middle = 0.5 * (start + end)
+    corners = np.array([[5, 0, 0, start], [6, 0, 0, middle], [5, 1, 0, middle], [5, 0, 1, middle],
+                        [5.3, 0.3, 0.3, end]], float)
+    if np.linalg.det(corners[1:] - corners[0]) < 0:
+        corners[[1, 2]] = corners[[2, 1]]
+    # the facets of a positive 4-simplex, each oriented (-1)^i
+    facets = [[j for j in range(5) if j != i] for i in range(5)]
+    for i in (1, 3):
+        facets[i][0], facets[i][1] = facets[i][1], facets[i][0]
+    n = len(swept.points)
+    return am.AnimationManifold.from_arrays(np.vstack([swept.points, corners]),
+                                            np.vstack([swept.simplices, np.array(facets) + n]))
+
+
+def test_the_stand_in_has_its_island_only_between_its_times():
+    manifold = swept_with_island(0.49, 0.51)
+    for t, expected in [(0.3, 1), (0.485, 1), (0.495, 2), (0.5, 2), (0.505, 2), (0.52, 1)]:
+        frame = manifold.slice(t)
+        assert pieces(frame.vertices, frame.faces) == expected, t
+
+
+def test_frames_next_to_a_time_are_the_one_at_or_before_it_and_the_one_after():
+    frames = [0.0, 0.25, 0.5, 0.75, 1.0]
+    assert frames_next_to([0.3], frames) == [0.25, 0.5]
+    assert frames_next_to([0.5], frames) == [0.5, 0.75]
+    assert frames_next_to([0.3, 0.45, 0.6], frames) == [0.25, 0.5, 0.75]
+    assert frames_next_to([1.0], frames) == [1.0]
+    assert frames_next_to([], frames) == []
+
+
+@pytest.mark.parametrize("frame_times, near, noisy", [
+    (np.linspace(0, 1, 5), [0.25, 0.5, 0.75], [0.5]),           # a rendered frame lands on the island
+    ([0.0, 0.25, 0.48, 0.52, 0.75, 1.0], [0.48, 0.52], []),     # the island lasts less than a frame
+    (np.linspace(0, 1, 201), [0.49, 0.495, 0.5, 0.505, 0.51], [0.495, 0.5, 0.505]),
+])
+def test_the_frames_next_to_the_noise_that_show_it_are_found(frame_times, near, noisy):
+    manifold = swept_with_island(0.49, 0.51)
+    found = noise_on_frames(manifold, [0.4925, 0.5, 0.5075], frame_times, TETRAHEDRON, TETRAHEDRON)
+    assert found.near == pytest.approx(near) and found.noisy == pytest.approx(noisy)
+
+
+def test_the_summary_says_where_the_noise_is_and_which_frames_show_it():
+    manifold = swept_with_island(0.49, 0.51)
+    times = [0.4925, 0.5, 0.5075]
+    shown = noise_summary(times, noise_on_frames(manifold, times, np.linspace(0, 1, 5), TETRAHEDRON, TETRAHEDRON))
+    assert shown == ("topological noise at 3 checked times from 0.4925 to 0.5075; of the frames next to it "
+                     "(0.25, 0.5, 0.75), 0.5 shows it")
+    found = noise_on_frames(manifold, times, [0.0, 0.48, 0.52, 1.0], TETRAHEDRON, TETRAHEDRON)
+    assert noise_summary(times, found, "written frame") == (
+        "topological noise at 3 checked times from 0.4925 to 0.5075, lasting less than a written frame: the "
+        "written frames next to it (0.48, 0.52) do not show it")
+    assert noise_summary([], found) == "no topological noise in the frames checked"
