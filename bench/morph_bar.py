@@ -242,6 +242,25 @@ def checks_notes(report: dict) -> list[str]:
     return notes
 
 
+RENDERED_FRAMES = 48  # Morph Selected's default range: frames 1-48
+
+
+def rendered_noise_notes(manifold, pair: Pair) -> list[str]:
+    """Of RENDERED_FRAMES frames spread over the range (as Morph Selected's default 1-48 renders
+    them), those next to the topological noise the morph's own checks found, and those of them
+    that show it (am.morph_noise): the checks look between frames too, where noise may last less
+    than a frame."""
+    noise = (manifold.validity or {}).get("noise_frames") or []
+    if not noise:
+        return []
+    t0, t1 = manifold.time_range
+    found = am.morph_noise.noise_on_frames(manifold, noise, np.linspace(t0, t1, RENDERED_FRAMES), pair.source,
+                                           pair.target)
+    frame = lambda t: str(int(round((t - t0) / (t1 - t0) * (RENDERED_FRAMES - 1))) + 1)  # noqa: E731
+    return [f"at {RENDERED_FRAMES} frames: frames next to the noise {', '.join(map(frame, found.near))}; "
+            f"showing it: {', '.join(map(frame, found.noisy)) or 'none'}"]
+
+
 def run_method(pair: Pair, method: str, count: int) -> Row:
     """One method's row; an exception anywhere (the morph or its frames) is the row's error."""
     start = time.perf_counter()
@@ -252,7 +271,7 @@ def run_method(pair: Pair, method: str, count: int) -> Row:
         report = manifold.validity
         flat = int(report.get("inverted_simplices", 0)) + int(report.get("degenerate_simplices", 0))
         row = measure_row(method, seconds, frames, times, quarter, pair, flat)
-        row.notes += checks_notes(report)
+        row.notes += checks_notes(report) + rendered_noise_notes(manifold, pair)
         return row
     except Exception as error:  # noqa: BLE001  (the bench goes on with the next row)
         message = str(error).strip().splitlines()[0] if str(error).strip() else ""

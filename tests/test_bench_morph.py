@@ -135,6 +135,22 @@ def test_the_bar_table_of_a_tiny_pair_holds_real_measures():
     assert bar.summary_line(pair, rows).startswith("sphere->torus: meets the bar: ")
 
 
+@pytest.mark.parametrize("start, end, showing", [(0.49, 0.51, "none"), (0.48, 0.52, "24, 25")])
+def test_the_notes_say_which_of_48_frames_next_to_the_noise_show_it(start, end, showing):
+    """At 48 frames over [0, 1], frames 24 and 25 are at 0.489 and 0.511: an island living from 0.49
+    to 0.51 (noise the checks found at three times inside it) falls between them, one living from
+    0.48 to 0.52 shows on both."""
+    from helpers.noise_stand_in import TETRAHEDRON, swept_with_island
+
+    bar = bench.morph_bar
+    manifold = swept_with_island(start, end)
+    manifold.metadata["validity"] = {"noise_frames": [0.4925, 0.5, 0.5075]}
+    notes = bar.rendered_noise_notes(manifold, bar.Pair("stand-in", TETRAHEDRON, TETRAHEDRON))
+    assert notes == [f"at 48 frames: frames next to the noise 24, 25; showing it: {showing}"]
+    manifold.metadata["validity"] = {"noise_frames": []}
+    assert bar.rendered_noise_notes(manifold, bar.Pair("stand-in", TETRAHEDRON, TETRAHEDRON)) == []
+
+
 def test_pair_names_are_matched_without_punctuation():
     assert [p.name for p in bench.morph_bar.load_pairs(["icosphere-ring_of_holes"])] == ["icosphere->ring_of_holes"]
     with pytest.raises(SystemExit):
