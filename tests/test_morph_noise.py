@@ -4,6 +4,8 @@ stand-in whose noise is known (helpers/noise_stand_in.py)."""
 import numpy as np
 import pytest
 
+import animanifold as am
+
 from animanifold.frame_quality import pieces
 from animanifold.morph_noise import frames_next_to, noise_on_frames, noise_summary
 from helpers.noise_stand_in import TETRAHEDRON, swept_with_island
@@ -14,6 +16,8 @@ def test_the_stand_in_has_its_island_only_between_its_times():
     for t, expected in [(0.3, 1), (0.485, 1), (0.495, 2), (0.5, 2), (0.505, 2), (0.52, 1)]:
         frame = manifold.slice(t)
         assert pieces(frame.vertices, frame.faces) == expected, t
+        # the island is an outer shell (positive volume), as the swept tetrahedron
+        assert (am.cavities.shell_volumes(frame.vertices, frame.faces) > 0).all(), t
 
 
 def test_frames_next_to_a_time_are_the_one_at_or_before_it_and_the_one_after():
@@ -47,3 +51,19 @@ def test_the_summary_says_where_the_noise_is_and_which_frames_show_it():
         "topological noise at 3 checked times from 0.4925 to 0.5075, lasting less than a written frame: the "
         "written frames next to it (0.48, 0.52) do not show it")
     assert noise_summary([], found) == "no topological noise in the frames checked"
+
+
+def test_a_bubble_is_not_counted_as_a_piece():
+    """A bubble inside a torus for a while: its frames have chi 0 + 2, within the range of a torus and
+    a sphere, and one outer shell, so they show no noise (the core reports bubbles on their own);
+    the same simplex outside the torus is an island, a second piece."""
+    from helpers.shapes import torus
+
+    ring = torus(major_radius=1.0, minor_radius=0.3, major=16, minor=8)
+    ends = (TETRAHEDRON, ring)
+    inside = swept_with_island(0.4, 0.6, ring, corner=(0.95, -0.04, -0.04), size=0.08, bubble=True)
+    frame = inside.slice(0.5)
+    assert sorted(np.sign(am.cavities.shell_volumes(frame.vertices, frame.faces))) == [-1, 1]
+    assert noise_on_frames(inside, [0.5], [0.0, 0.5, 1.0], *ends).noisy == []
+    beside = swept_with_island(0.4, 0.6, ring, corner=(3.0, 0.0, 0.0), size=0.08)
+    assert noise_on_frames(beside, [0.5], [0.0, 0.5, 1.0], *ends).noisy == [0.5]

@@ -15,7 +15,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .frame_quality import euler_characteristic, pieces
+from .cavities import shell_volumes
+from .frame_quality import euler_characteristic
 
 
 @dataclass(frozen=True)
@@ -37,19 +38,25 @@ def frames_next_to(times: Sequence[float], frame_times: Sequence[float]) -> list
     return sorted(near)
 
 
+def outer_shells(vertices: np.ndarray, faces: np.ndarray) -> int:
+    """The pieces of a closed surface as the core's checks count them: shells enclosing positive
+    volume (a bubble's shell encloses negative volume and is a cavity, not a piece)."""
+    return int((shell_volumes(vertices, faces) > 0).sum())
+
+
 def noise_on_frames(manifold, noise_times: Sequence[float], frame_times: Sequence[float], source_mesh,
                     target_mesh) -> NoiseOnFrames:
     """Which of the rendered `frame_times` next to `noise_times` show topological noise: an Euler
     characteristic outside the ends' (`source_mesh`, `target_mesh`: (vertices, faces)) or more
-    pieces than the ends have."""
-    ends = [(euler_characteristic(*mesh), pieces(*mesh)) for mesh in (source_mesh, target_mesh)]
+    pieces (outer shells) than the ends have."""
+    ends = [(euler_characteristic(*mesh), outer_shells(*mesh)) for mesh in (source_mesh, target_mesh)]
     least, most = min(e for e, _ in ends), max(e for e, _ in ends)
     most_pieces = max(p for _, p in ends)
     near = frames_next_to(noise_times, frame_times)
     noisy = []
     for t in near:
         frame = manifold.slice(t)
-        chi, parts = euler_characteristic(frame.vertices, frame.faces), pieces(frame.vertices, frame.faces)
+        chi, parts = euler_characteristic(frame.vertices, frame.faces), outer_shells(frame.vertices, frame.faces)
         if not least <= chi <= most or parts > most_pieces:
             noisy.append(t)
     return NoiseOnFrames(near, noisy)
