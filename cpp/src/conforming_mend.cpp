@@ -5,9 +5,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <set>
+#include <tuple>
 #include <utility>
 
 namespace animanifold {
@@ -143,6 +145,48 @@ void plan_face(const ConstraintSurface& surface, ParentPieces& parents, Index s,
   plan.centres.emplace_back(holder, c);
 }
 
+// Points nearer each other than this share of the diagonal of their
+// bounding box are one point to TetGen: it merges them and numbers its
+// output without the second, and its points no longer match ours. Two bad
+// faces of nearly one circle (a cylinder's cocircular cap) ask for
+// circumcentres 2e-8 apart; a flat cell's diagonal can be split next to one.
+constexpr double kCoincident = 1e-6;
+
+// The points of a surface and those planned for it so far, hashed on a grid
+// of kCoincident cells, to find a planned point that would coincide with one.
+class CoincidentPoints {
+ public:
+  explicit CoincidentPoints(const PointMatrix& P) {
+    const double diagonal = P.rows() > 0 ? (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm() : 0.0;
+    cell_ = std::max(kCoincident * diagonal, std::numeric_limits<double>::min());
+    for (Index r = 0; r < P.rows(); ++r) add(row(P, r));
+  }
+
+  bool near(const Vec& x) const {
+    const Key k = key(x);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
+          if (it == cells_.end()) continue;
+          for (const Vec& p : it->second)
+            if ((p - x).norm() <= cell_) return true;
+        }
+    return false;
+  }
+
+  void add(const Vec& x) { cells_[key(x)].push_back(x); }
+
+ private:
+  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
+  Key key(const Vec& x) const {
+    return {static_cast<std::int64_t>(std::floor(x(0) / cell_)), static_cast<std::int64_t>(std::floor(x(1) / cell_)),
+            static_cast<std::int64_t>(std::floor(x(2) / cell_))};
+  }
+  double cell_ = 0;
+  std::map<Key, std::vector<Vec>> cells_;
+};
+
 // The planned points appended to the surface's points (edge points first,
 // then circumcentres): the point each split edge takes, and per face its
 // inner points. A circumcentre is deferred when its piece is being split.
@@ -156,7 +200,11 @@ AddedPoints add_points(ConstraintSurface& surface, const MendPlan& plan, MendRep
   AddedPoints out;
   Index next = static_cast<Index>(P.rows());
   std::vector<Vec> added;
-  for (const auto& [e, at] : plan.split) out.split_point.emplace(e, next++), added.push_back(at);
+  CoincidentPoints taken(P);
+  for (const auto& [e, at] : plan.split) {
+    if (taken.near(at)) continue;  // the edge stays whole: both faces beside it see no split
+    out.split_point.emplace(e, next++), added.push_back(at), taken.add(at);
+  }
   std::set<Index> splitting;
   for (Index f = 0; f < static_cast<Index>(faces.size()); ++f)
     for (int i = 0; i < 3; ++i)
@@ -169,16 +217,12 @@ AddedPoints add_points(ConstraintSurface& surface, const MendPlan& plan, MendRep
       continue;
     }
     // Faces that share a circumcircle (cocircular corners) ask for one point.
-    const double tiny = 1e-9 * (row(P, faces[f][1]) - row(P, faces[f][0])).norm();
-    bool duplicate = false;
-    for (const Index p : out.inner[f])
-      duplicate = duplicate || (p < P.rows() ? (row(P, p) - c).norm() : (added[p - P.rows()] - c).norm()) <= tiny;
-    if (duplicate) continue;
+    if (taken.near(c)) continue;
     out.inner[f].push_back(next++);
-    added.push_back(c);
+    added.push_back(c), taken.add(c);
     ++report.inner_points;
   }
-  report.edge_points = static_cast<Index>(plan.split.size());
+  report.edge_points = static_cast<Index>(out.split_point.size());
   const Index old_rows = static_cast<Index>(P.rows());
   P.conservativeResize(next, 3);
   for (size_t k = 0; k < added.size(); ++k) P.row(old_rows + static_cast<Index>(k)) = added[k].transpose();

@@ -102,6 +102,44 @@ TEST(ConformingMend, AnEncroachedEdgeIsSplitInBothTrianglesBesideIt) {
   EXPECT_EQ(pieces[1], 2);
 }
 
+// TetGen takes points nearer each other than a few 1e-9 of their bounding
+// box for one, drops the second and numbers its output without it. Blender's
+// cylinder -> cube met this: two bad faces on the cocircular cap asked for
+// circumcentres 2e-8 apart, and the morph failed.
+TEST(ConformingMend, NoPointGoesWhereTetGenWouldTakeItForOneAlreadyThere) {
+  ConstraintSurface probe = fanned_triangle();
+  mend_non_delaunay_faces(probe, {2});
+  const Eigen::Vector3d centre = at(probe.points, 16);  // piece 2's circumcentre, (2, 0.51)
+  for (const double apart : {2e-8, 1e-3}) {
+    // A point of an earlier round lies `apart` from where piece 2 asks for one.
+    ConstraintSurface s = fanned_triangle();
+    s.points.conservativeResize(17, 3);
+    s.points.row(16) = (centre + Eigen::Vector3d(apart, 0, 0)).transpose();
+    s.inner[2] = {16};
+    const MendReport report = mend_non_delaunay_faces(s, {2});
+    const bool one_point_to_tetgen = apart < 1e-6;
+    EXPECT_EQ(report.inner_points, one_point_to_tetgen ? 0 : 1) << apart << " from a point there";
+    EXPECT_EQ(s.points.rows(), one_point_to_tetgen ? 17 : 18);
+  }
+}
+
+TEST(ConformingMend, AnEdgeWhoseMiddleHoldsAPointAlreadyStaysWhole) {
+  // Two triangles on edge 0-1, and a point of an earlier round 2e-8 from
+  // the edge's middle (1, 0, 0): splitting there would give TetGen the same
+  // point twice, so neither triangle is split.
+  ConstraintSurface s;
+  s.points.resize(5, 3);
+  s.points << 0, 0, 0, 2, 0, 0, 1, 0.8, 0, 1, -1, 0, 1 + 2e-8, 0, 0;
+  s.faces = {{0, 1, 2}, {1, 0, 3}};
+  s.parent = {0, 1};
+  s.inner = {{}, {}};
+  const auto faces = s.faces;
+  const MendReport report = split_surface_edges(s, {{0, 1}});
+  EXPECT_EQ(report.added(), 0);
+  EXPECT_EQ(s.points.rows(), 5);
+  EXPECT_EQ(s.faces, faces);
+}
+
 // A unit square a b c d in z = 0 (its corners cocircular), surface faces
 // abc and acd on diagonal ac, and points 4 and 5 above and below it.
 PointMatrix square_with_apexes() {
