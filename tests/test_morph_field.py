@@ -406,6 +406,19 @@ def test_the_same_surface_twice_is_swept_so_every_frame_is_it_and_no_simplex_is_
     assert not am.morph((v, f), moved, method="field").validity["inputs_coincide"]
 
 
+def test_how_flat_a_frames_tet_is_does_not_depend_on_the_frame_range():
+    """A tet of the manifold is flat or not by its volume over its longest edge cubed, with time
+    scaled by the shapes' size over the range: over Blender's frames 1-250 a tet's longest edge
+    would otherwise be its time extent, and Blender's cylinder -> cone reported 3 flat tets over
+    frames 1-48 and none over 0-1, the same manifold."""
+    from helpers.shapes import cone, cylinder
+
+    reports = [am.morph(cylinder(32), cone(32), t0, t1, method="field").validity
+               for t0, t1 in ((0.0, 1.0), (1.0, 250.0))]
+    assert reports[0]["degenerate_simplices"] == reports[1]["degenerate_simplices"]
+    assert reports[1]["min_relative_volume"] == pytest.approx(reports[0]["min_relative_volume"], rel=1e-6)
+
+
 def test_blenders_cylinder_into_a_torus_meets_the_bar():
     """Blender's cylinder (32 sides, its caps fans of long thin triangles, its sides tall ones) into
     a torus through its middle: free points come within a lattice spacing and a quarter of faces

@@ -174,8 +174,11 @@ void end_distances(const Complex& manifold, const PointMatrix& VS, const Simplex
 // closed oriented manifold but for its ends, and no tet is flat (its volume
 // relative to its longest edge cubed). One pass over the tets, nothing kept:
 // the volume from the wedge product's length (as simplex_normals), not the
-// Gram determinant, whose square loses half the digits of a thin tet.
-void zero_set_validity(const Complex& manifold, MorphReport& report) {
+// Gram determinant, whose square loses half the digits of a thin tet. Time is
+// scaled by `time_scale` (the shapes' size over the range), so that a tet's
+// flatness does not depend on the frame range the user morphs over: over
+// frames 1-250 a tet's longest edge would be its time extent.
+void zero_set_validity(const Complex& manifold, double time_scale, MorphReport& report) {
   const ManifoldReport check = check_manifold(manifold.S);
   report.inverted_simplices = check.misoriented_facets + check.nonmanifold_facets;
   const PointMatrix& V = manifold.V;
@@ -188,6 +191,7 @@ void zero_set_validity(const Complex& manifold, MorphReport& report) {
     const Index* c = S.row(s).data();
     Eigen::Matrix<double, 4, 4> corner;
     for (int k = 0; k < 4; ++k) corner.row(k) = V.row(c[k]);
+    corner.col(3) *= time_scale;
     Eigen::Matrix<double, 3, 4> edges;
     for (int k = 0; k < 3; ++k) edges.row(k) = corner.row(k + 1) - corner.row(0);
     Eigen::Vector4d normal;
@@ -669,7 +673,7 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
       {[&] {
          if (!swept) certificate = certify_space_time(field.space_time);
        },
-       [&] { zero_set_validity(result.manifold, result.report); },
+       [&] { zero_set_validity(result.manifold, size / (options.t1 - options.t0), result.report); },
        [&] { end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report); }},
       kConfirmingCrossingFrames, [&] { return !certificate.embedded; }, fill_slab_frames(field.space_time));
   result.report.crossings_certified = certificate.embedded;

@@ -625,6 +625,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
                              options.mesher_time_limit);
   report.source_steiner_points = S.steiner_points, report.target_steiner_points = T.steiner_points;
   report.flat_cell_points = S.flat_cell_points + T.flat_cell_points;
+  report.shared_points = share_coincident_points(S, T);
   report.source_conforming = report.target_conforming = true;
 
   clock.begin("schedule", 0.25);

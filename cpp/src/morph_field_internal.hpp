@@ -71,6 +71,7 @@ struct EndMesh {
   SimplexMatrix constraints;      // the input's faces refined (S'), oriented as the input's
   IndexVector constraint_parent;  // the input face each lies in
   std::vector<bool> on_surface;   // vertices of S': where the field is exactly zero at the end
+  Index input_points = 0;  // the input's vertices: the first rows of `points`, never moved
   Index free_points = 0, steiner_points = 0;
   Index flat_cell_points = 0, flat_cells = 0;  // ConformingDelaunay's
 };
@@ -100,6 +101,18 @@ struct EndInput {
 // when the two run in turn.
 void side_by_side(const std::function<void(const std::function<void()>&)>& beside, const std::function<void()>& here,
                   const std::function<void()>& poll);
+
+// Gives points of the two ends that coincide but for rounding (at most
+// 1e-12 of the size apart: Steiner points the mesher placed on a face the
+// inputs share, computed from different neighbours) one position. Two such
+// pairs are the corners of a quad in space-time that is flat but for
+// rounding, and the fill's 4-simplices over it are flat too: the zero set
+// there has no certificate. The target's points move onto the source's, or
+// (where that costs the target a face, cocircular points on the shared face
+// tying the other way) the source's onto the target's; an input's own
+// vertices never move. Where either way costs an end a face, nothing moves.
+// Returns how many points moved.
+Index share_coincident_points(EndMesh& source, EndMesh& target);
 
 // Both ends' conforming tetrahedralizations (conform_end), the source's (0)
 // beside the target's (1) (side_by_side): each is the same serial work

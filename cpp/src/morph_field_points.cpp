@@ -10,8 +10,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <future>
 #include <limits>
+#include <map>
 #include <system_error>
 
 namespace animanifold::morph_field {
@@ -43,6 +45,9 @@ constexpr double kShellJitter = 0.2;
 // Outside the band the surface sweeps, one lattice point in kCoarse^3 is kept
 // (space is filled, not resolved, there).
 constexpr int kCoarse = 3;
+// Points of the two ends this share of the size apart are one point rounded
+// two ways (share_coincident_points).
+constexpr double kCoincidentShare = 1e-12;
 
 // Whether `p` (the query's row in `projection`) is clear of the surface's
 // faces nearest to it: kClearance circumradii, or `cap` where that is more
@@ -187,6 +192,7 @@ EndMesh conform_end(const PointMatrix& V, const SimplexMatrix& F, const PointMat
   end.points = std::move(c.points);
   end.constraints = std::move(c.constraints);
   end.constraint_parent = std::move(c.constraint_parent);
+  end.input_points = static_cast<Index>(V.rows());
   end.free_points = static_cast<Index>(free.rows());
   end.steiner_points = static_cast<Index>(end.points.rows() - points.rows());
   end.flat_cell_points = c.flat_cell_points, end.flat_cells = c.flat_cells;
@@ -237,6 +243,73 @@ void side_by_side(const std::function<void(const std::function<void()>&)>& besid
     if (!stopped) throw;  // beside's own failure comes first
   }
   if (failure) std::rethrow_exception(failure);
+}
+
+namespace {
+
+double size_of_points(const PointMatrix& P) {
+  return P.rows() ? (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm() : 0.0;
+}
+
+// Pairs (row of A, row of B) of distinct points at most `tolerance` apart.
+std::vector<std::array<Index, 2>> nearly_coincident(const PointMatrix& A, const PointMatrix& B, double tolerance) {
+  using Key = std::array<std::int64_t, 3>;
+  auto key = [tolerance](const auto& p) {
+    return Key{static_cast<std::int64_t>(std::floor(p(0) / tolerance)),
+               static_cast<std::int64_t>(std::floor(p(1) / tolerance)),
+               static_cast<std::int64_t>(std::floor(p(2) / tolerance))};
+  };
+  std::map<Key, std::vector<Index>> cells;
+  for (Index r = 0; r < A.rows(); ++r) cells[key(A.row(r))].push_back(r);
+  std::vector<std::array<Index, 2>> pairs;
+  for (Index r = 0; r < B.rows(); ++r) {
+    const Key k = key(B.row(r));
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
+          if (it == cells.end()) continue;
+          for (const Index a : it->second) {
+            const double d = (A.row(a) - B.row(r)).norm();
+            if (d > 0 && d <= tolerance) pairs.push_back({a, r});
+          }
+        }
+  }
+  return pairs;
+}
+
+// Whether `end` still conforms to its input with its points moved as `moves`
+// says (row, position), Theorem 5.2.1's check on the Delaunay triangulation
+// the fill's end facet will be.
+bool conforms_with(const EndMesh& end, const std::vector<std::pair<Index, Eigen::RowVector3d>>& moves) {
+  if (moves.empty()) return true;
+  PointMatrix points = end.points;
+  for (const auto& [row, to] : moves) points.row(row) = to;
+  return missing_facets(delaunay_exact(points).simplices, end.constraints).size() == 0;
+}
+
+}  // namespace
+
+Index share_coincident_points(EndMesh& source, EndMesh& target) {
+  const double size = std::max(size_of_points(source.points), size_of_points(target.points));
+  const auto pairs = nearly_coincident(source.points, target.points, kCoincidentShare * size);
+  // Per direction, the moves of each end: the moving end's point onto the
+  // other's, or the other way where the moving end's point is an input vertex.
+  for (const bool target_moves : {true, false}) {
+    std::vector<std::pair<Index, Eigen::RowVector3d>> source_moves, target_moves_list;
+    bool possible = true;
+    for (const auto& [s, t] : pairs) {
+      const bool s_fixed = s < source.input_points, t_fixed = t < target.input_points;
+      if (s_fixed && t_fixed) possible = false;
+      else if (target_moves ? !t_fixed : s_fixed) target_moves_list.emplace_back(t, source.points.row(s));
+      else source_moves.emplace_back(s, target.points.row(t));
+    }
+    if (!possible || !conforms_with(source, source_moves) || !conforms_with(target, target_moves_list)) continue;
+    for (const auto& [row, to] : source_moves) source.points.row(row) = to;
+    for (const auto& [row, to] : target_moves_list) target.points.row(row) = to;
+    return static_cast<Index>(pairs.size());
+  }
+  return 0;
 }
 
 std::array<EndMesh, 2> conform_ends(const EndInput& source, const EndInput& target, const PointMatrix& corners,

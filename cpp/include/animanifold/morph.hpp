@@ -182,6 +182,9 @@ struct MorphReport {
   // refinement_points): each a fold of zero thickness wherever the frames
   // pass it.
   Index flat_cell_points = 0, flat_cells = 0;
+  // Points of one end moved (by at most 1e-12 of the size) onto the other's
+  // where the two coincided but for rounding (share_coincident_points).
+  Index shared_points = 0;
   int field_layers = 0;
   double lattice_spacing = 0.0;
   // The frames' checks (morph_validity.hpp): how many frames were looked at
@@ -261,6 +264,7 @@ void for_each_entry(const MorphReport& report, Visit&& visit) {
   visit("source_steiner_points", report.source_steiner_points);
   visit("target_steiner_points", report.target_steiner_points);
   visit("flat_cell_points", report.flat_cell_points);
+  visit("shared_points", report.shared_points);
   visit("flat_cells", report.flat_cells);
   visit("field_layers", report.field_layers);
   visit("lattice_spacing", report.lattice_spacing);
