@@ -12,8 +12,10 @@ BLAS CHOLMOD loads, threads, Python, numpy and bpy) at the top of each.
 
 --full adds the ~100k-vertex manifold in R^4 to the Laplacian (minutes); --threads N sets
 OMP_NUM_THREADS and OPENBLAS_NUM_THREADS for the scripts. Not run: bench_uv_blend.py (it
-compares design candidates of issue 3 one per fresh process) and bench_morph.py
---seed-report (the §8.7.1 report; the bar mode is the table's morph row).
+compares design candidates of issue 3 one per fresh process), bench_morph.py
+--seed-report (the §8.7.1 report; the bar mode is the table's morph row) and
+bench_morph_primitives.py (a survey of the morph's own checks on Blender's primitives, with no
+peer and no figure to compare).
 """
 
 from __future__ import annotations
@@ -160,6 +162,8 @@ def main() -> int:
     rows, runs = [], {}
     rows.append(Row("bench_uv_blend.py", "", note="not run: it compares issue 3's design candidates, one per fresh "
                                                     "process on an idle machine (see its docstring)"))
+    rows.append(Row("bench_morph_primitives.py", "", note="not run: a survey of the morph's own checks on Blender's "
+                                                            "primitives, with no peer and no figure to compare"))
     start = time.perf_counter()
     for job in chosen:
         job_rows, runs[job.name] = run_job(job, args.out, env, args.full)
