@@ -54,8 +54,14 @@ constexpr Index kMendingSlack = 2000;
 // spot.obj, 2 on 3holes.off. On a bare surface they cascade instead: with no
 // point inside a torus's tube, the pieces of a split quad make flat cells
 // with their neighbours' corners, 240 -> 218 -> 496 -> 1385 over the
-// rounds. Flat cells left after these rounds are reported, not chased.
+// rounds. After these rounds, further ones (up to kMoreFlatCellRounds in
+// all) only while each leaves fewer flat cells than the one before: on
+// Blender's cube, cylinder and cone turned by arbitrary angles
+// (bench_morph_primitives.py), three rounds left 1 and 5 flat cells on the
+// cylinder's and the cone's sides and the further rounds leave none. Flat
+// cells left then are reported, not chased.
 constexpr Index kFlatCellRounds = 3;
+constexpr Index kMoreFlatCellRounds = 8;
 
 struct TetgenSurface {
   PointMatrix points;            // the points given, in order, then TetGen's Steiner points
@@ -278,8 +284,10 @@ ConformingDelaunay conforming_delaunay_3d(const PointMatrix& points, const Simpl
     tetgen = run_tetgen(surface, while_meshing, time_limit);
     dt = delaunay_exact(tetgen.points);
     missing = missing_facets(dt.simplices, tetgen.subfaces);
+    const Index flat_before = flat.cells;
     if (mend_flat_cells) flat = flat_surface_cells(dt.simplices, tetgen.points, tetgen.subfaces);
-    if (rounds >= kFlatCellRounds) flat.diagonals.clear();
+    const bool flat_falling = rounds > 0 && flat.cells < flat_before;
+    if (rounds >= kMoreFlatCellRounds || (rounds >= kFlatCellRounds && !flat_falling)) flat.diagonals.clear();
     if ((missing.size() == 0 && flat.diagonals.empty()) || rounds == kMaxMendingRounds) break;
     if (rounds == 0) first_faces = tetgen.subfaces.rows();
     if (tetgen.subfaces.rows() > kMaxMendingGrowth * static_cast<double>(first_faces) + kMendingSlack)
