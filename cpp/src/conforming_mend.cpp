@@ -1,15 +1,14 @@
 // Points on the input surface for refined constraint faces that are not
 // Delaunay (see conforming_mend.hpp).
 #include "animanifold/conforming_mend.hpp"
+#include "point_grid.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <map>
 #include <set>
-#include <tuple>
 #include <utility>
 
 namespace animanifold {
@@ -152,39 +151,26 @@ void plan_face(const ConstraintSurface& surface, ParentPieces& parents, Index s,
 // circumcentres 2e-8 apart; a flat cell's diagonal can be split next to one.
 constexpr double kCoincident = 1e-6;
 
-// The points of a surface and those planned for it so far, hashed on a grid
-// of kCoincident cells, to find a planned point that would coincide with one.
+// The points of a surface and those planned for it so far, to find a
+// planned point that would coincide with one.
 class CoincidentPoints {
  public:
-  explicit CoincidentPoints(const PointMatrix& P) {
-    const double diagonal = P.rows() > 0 ? (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm() : 0.0;
-    cell_ = std::max(kCoincident * diagonal, std::numeric_limits<double>::min());
+  explicit CoincidentPoints(const PointMatrix& P)
+      : grid_(std::max(kCoincident * (P.rows() ? (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm() : 0.0),
+                       std::numeric_limits<double>::min())) {
     for (Index r = 0; r < P.rows(); ++r) add(row(P, r));
   }
 
   bool near(const Vec& x) const {
-    const Key k = key(x);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find({std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
-          if (it == cells_.end()) continue;
-          for (const Vec& p : it->second)
-            if ((p - x).norm() <= cell_) return true;
-        }
-    return false;
+    bool found = false;
+    grid_.near(x, [&found](Index, double) { found = true; });
+    return found;
   }
 
-  void add(const Vec& x) { cells_[key(x)].push_back(x); }
+  void add(const Vec& x) { grid_.add(x, 0); }
 
  private:
-  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
-  Key key(const Vec& x) const {
-    return {static_cast<std::int64_t>(std::floor(x(0) / cell_)), static_cast<std::int64_t>(std::floor(x(1) / cell_)),
-            static_cast<std::int64_t>(std::floor(x(2) / cell_))};
-  }
-  double cell_ = 0;
-  std::map<Key, std::vector<Vec>> cells_;
+  PointGrid grid_;
 };
 
 // The planned points appended to the surface's points (edge points first,

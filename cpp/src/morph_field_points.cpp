@@ -4,6 +4,7 @@
 #include "animanifold/isolated.hpp"
 #include "animanifold/threads.hpp"
 #include "morph_field_internal.hpp"
+#include "point_grid.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -13,7 +14,6 @@
 #include <cstdint>
 #include <future>
 #include <limits>
-#include <map>
 #include <system_error>
 
 namespace animanifold::morph_field {
@@ -253,28 +253,13 @@ double size_of_points(const PointMatrix& P) {
 
 // Pairs (row of A, row of B) of distinct points at most `tolerance` apart.
 std::vector<std::array<Index, 2>> nearly_coincident(const PointMatrix& A, const PointMatrix& B, double tolerance) {
-  using Key = std::array<std::int64_t, 3>;
-  auto key = [tolerance](const auto& p) {
-    return Key{static_cast<std::int64_t>(std::floor(p(0) / tolerance)),
-               static_cast<std::int64_t>(std::floor(p(1) / tolerance)),
-               static_cast<std::int64_t>(std::floor(p(2) / tolerance))};
-  };
-  std::map<Key, std::vector<Index>> cells;
-  for (Index r = 0; r < A.rows(); ++r) cells[key(A.row(r))].push_back(r);
+  PointGrid grid(tolerance);
+  for (Index r = 0; r < A.rows(); ++r) grid.add(A.row(r).transpose(), r);
   std::vector<std::array<Index, 2>> pairs;
-  for (Index r = 0; r < B.rows(); ++r) {
-    const Key k = key(B.row(r));
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells.find({k[0] + dx, k[1] + dy, k[2] + dz});
-          if (it == cells.end()) continue;
-          for (const Index a : it->second) {
-            const double d = (A.row(a) - B.row(r)).norm();
-            if (d > 0 && d <= tolerance) pairs.push_back({a, r});
-          }
-        }
-  }
+  for (Index r = 0; r < B.rows(); ++r)
+    grid.near(B.row(r).transpose(), [&](Index a, double distance) {
+      if (distance > 0) pairs.push_back({a, r});
+    });
   return pairs;
 }
 
