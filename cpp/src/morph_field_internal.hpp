@@ -110,8 +110,9 @@ void side_by_side(const std::function<void(const std::function<void()>&)>& besid
 // there has no certificate. The target's points move onto the source's, or
 // (where that costs the target a face, cocircular points on the shared face
 // tying the other way) the source's onto the target's; an input's own
-// vertices never move. Where either way costs an end a face, nothing moves.
-// Returns how many points moved.
+// vertices never move (the other end's point moves onto one, and two input
+// vertices stay as they are). Where either way costs an end a face, nothing
+// moves. Returns how many points moved.
 Index share_coincident_points(EndMesh& source, EndMesh& target);
 
 // Both ends' conforming tetrahedralizations (conform_end), the source's (0)

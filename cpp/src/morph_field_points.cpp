@@ -278,21 +278,22 @@ bool conforms_with(const EndMesh& end, const std::vector<std::pair<Index, Eigen:
 Index share_coincident_points(EndMesh& source, EndMesh& target) {
   const double size = std::max(size_of_points(source.points), size_of_points(target.points));
   const auto pairs = nearly_coincident(source.points, target.points, kCoincidentShare * size);
-  // Per direction, the moves of each end: the moving end's point onto the
-  // other's, or the other way where the moving end's point is an input vertex.
-  for (const bool target_moves : {true, false}) {
-    std::vector<std::pair<Index, Eigen::RowVector3d>> source_moves, target_moves_list;
-    bool possible = true;
+  // Per direction, each end's moves: one end's point onto the other's, or
+  // the other way where it is an input vertex (two input vertices stay).
+  for (const bool onto_source : {true, false}) {
+    std::vector<std::pair<Index, Eigen::RowVector3d>> source_moves, target_moves;
+    Index moved = 0;
     for (const auto& [s, t] : pairs) {
       const bool s_fixed = s < source.input_points, t_fixed = t < target.input_points;
-      if (s_fixed && t_fixed) possible = false;
-      else if (target_moves ? !t_fixed : s_fixed) target_moves_list.emplace_back(t, source.points.row(s));
+      if (s_fixed && t_fixed) continue;
+      ++moved;
+      if (onto_source ? !t_fixed : s_fixed) target_moves.emplace_back(t, source.points.row(s));
       else source_moves.emplace_back(s, target.points.row(t));
     }
-    if (!possible || !conforms_with(source, source_moves) || !conforms_with(target, target_moves_list)) continue;
+    if (!conforms_with(source, source_moves) || !conforms_with(target, target_moves)) continue;
     for (const auto& [row, to] : source_moves) source.points.row(row) = to;
-    for (const auto& [row, to] : target_moves_list) target.points.row(row) = to;
-    return static_cast<Index>(pairs.size());
+    for (const auto& [row, to] : target_moves) target.points.row(row) = to;
+    return moved;
   }
   return 0;
 }

@@ -57,13 +57,16 @@ TEST(SharedPoints, AnInputsVertexStaysAndTheOtherEndsPointMovesOntoIt) {
   EXPECT_EQ(Eigen::RowVector3d(source.points.row(12)), apex);
 }
 
-TEST(SharedPoints, TwoInputVerticesRoundedApartStayAsTheyAre) {
+TEST(SharedPoints, TwoInputVerticesRoundedApartStayAsTheyAreAndTheRestIsShared) {
+  // The apexes (input vertices of both) 2e-16 apart, and the Steiner points too.
+  const Eigen::RowVector3d steiner(std::nextafter(0.3, 1.0), 0.3, 0.0);
   EndMesh source = tetrahedron_end({0, 0, 1}, PointMatrix(0, 3), kSteiner);
-  EndMesh target = tetrahedron_end({0, 0, std::nextafter(1.0, 2.0)}, PointMatrix(0, 3), kSteiner);
+  EndMesh target = tetrahedron_end({0, 0, std::nextafter(1.0, 2.0)}, PointMatrix(0, 3), steiner);
   const PointMatrix source_before = source.points, target_before = target.points;
-  EXPECT_EQ(share_coincident_points(source, target), 0);
+  EXPECT_EQ(share_coincident_points(source, target), 1);
   EXPECT_EQ(source.points, source_before);
-  EXPECT_EQ(target.points, target_before);
+  EXPECT_EQ(target.points.topRows(12), target_before.topRows(12));
+  EXPECT_EQ(Eigen::RowVector3d(target.points.row(12)), kSteiner);
 }
 
 TEST(SharedPoints, PointsFartherApartThanRoundingAreNotMoved) {
