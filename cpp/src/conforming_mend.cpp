@@ -144,11 +144,12 @@ void plan_face(const ConstraintSurface& surface, ParentPieces& parents, Index s,
   plan.centres.emplace_back(holder, c);
 }
 
-// Points nearer each other than this share of the diagonal of their
-// bounding box are one point to TetGen: it merges them and numbers its
-// output without the second, and its points no longer match ours. Two bad
-// faces of nearly one circle (a cylinder's cocircular cap) ask for
-// circumcentres 2e-8 apart; a flat cell's diagonal can be split next to one.
+// TetGen takes points a few 1e-9 of their bounding box's diagonal apart for
+// one: it merges them and numbers its output without the second, and its
+// points no longer match ours. Two bad faces of nearly one circle (a
+// cylinder's cocircular cap) ask for circumcentres 2e-8 apart; a flat cell's
+// diagonal can be split next to one. No point is planned within this share
+// of the diagonal of one there, well clear of TetGen's tolerance.
 constexpr double kCoincident = 1e-6;
 
 // The points of a surface and those planned for it so far, to find a

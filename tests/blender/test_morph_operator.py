@@ -353,12 +353,12 @@ def test_blenders_default_primitives_that_share_a_cap_or_a_hole_morph(empty_scen
     with "TetGen moved input point". The cylinder and the cone share their base: the two ends'
     Steiner points on it coincided but for rounding (1e-16 apart), and the fill's 4-simplices over
     them were flat, so there was no certificate."""
+    from animanifold_blender import object_manifold
+
     getattr(bpy.ops.mesh, source_op)()
     source = bpy.context.active_object
     getattr(bpy.ops.mesh, target_op)()
     target = bpy.context.active_object
-    from animanifold_blender import object_manifold
-
     validity = morph_with_clean_frames(source, target)
     assert validity["inverted_simplices"] == 0 and validity["crossings_certified"], validity
     assert object_manifold.manifold_for(bpy.context.active_object).metadata["morph"]["method"] == best_method()
