@@ -70,6 +70,7 @@ def turned_pairs(count: int, seed: int):
 
 
 def survey_row(label: str, source, target) -> str:
+    """One pair's line of the table (or its error), morphed over FRAMES with the default method."""
     start = time.perf_counter()
     try:
         manifold = am.morph(source, target, *FRAMES)
