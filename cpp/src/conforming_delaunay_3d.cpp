@@ -57,7 +57,7 @@ constexpr Index kMendingSlack = 2000;
 // rounds. After these rounds, further ones (up to kMoreFlatCellRounds in
 // all) only while each leaves fewer flat cells than the one before: on
 // Blender's cube, cylinder and cone turned by arbitrary angles
-// (bench_morph_primitives.py), three rounds left 1 and 5 flat cells on the
+// (bench_morph_primitives.py), three rounds left 5 and 1 flat cells on the
 // cylinder's and the cone's sides and the further rounds leave none. Flat
 // cells left then are reported, not chased.
 constexpr Index kFlatCellRounds = 3;
