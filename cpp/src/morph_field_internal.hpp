@@ -210,12 +210,14 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
 PointMatrix points_off_flat_cells(const SimplexMatrix& cells, const PointMatrix& points,
                                   const std::vector<bool>& on_surface, double reach);
 
-// A half's tetrahedralization refined by stellar splits of its chords
-// (chapter 6), for the stacks of prisms of that half (morph_field.hpp).
+// A half's tetrahedralization refined by stellar splits of its chords and
+// of its curved edges (chapter 6), for the stacks of prisms of that half
+// (morph_field.hpp).
 struct RefinedCells {
   SimplexMatrix cells;                      // over the points, then the new ones
   PointMatrix new_points;                   // #new by 3: ids n, n+1, ...
   std::vector<std::vector<Index>> splits;   // per new point, the face it split (ids then)
+  std::vector<std::vector<double>> shares;  // per new point, its barycentric coordinates in that face
   Index outside_chords = 0, flat_chords = 0;  // chords left as they are
 };
 
@@ -227,6 +229,29 @@ struct RefinedCells {
 // distance.
 RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points, const std::vector<bool>& on_surface,
                           const SimplexMatrix& constraints, const SignedDistance& own);
+
+// Splits at their middles, in up to `rounds` rounds, the edges of
+// `refined` (over `points`, then its new points) from a point of the input
+// to one off it, no shorter than `shortest`, along which the blend at one
+// of `weights` bends: where the zero set passes the edge or both its ends
+// are within half its length of zero at that weight, and the blend at its
+// middle is more than `tolerance` off the mean of its ends', and at each of
+// `slaved` (the weights of the layers where the splits' points take the
+// unsplit cells' values, slave_split_points) on the same side of zero as
+// that mean: slaving them then changes no sign, so no topology. The frames
+// near an end are offsets of the input, and they run through the tets its
+// faces bound; a big flat face leaves those tets a lattice spacing deep
+// (free points keep clear of its diametral sphere), and inside an input
+// with sharp edges the distance is creased along the medial planes from
+// them. Sampled only at the tets' corners, an offset's rim is then cut
+// into a saw-tooth a lattice spacing deep (Blender's cube into its
+// cylinder, frame after frame). The splits are stellar (chapter 6), so the
+// input's faces stay; `distances` holds those at all points and gets the
+// middles'. Returns how many points were added.
+Index split_curved_edges(RefinedCells& refined, const PointMatrix& points, const std::vector<bool>& on_surface,
+                         const std::vector<double>& weights, const std::vector<double>& slaved,
+                         const SignedDistance& dS, const SignedDistance& dT, EndDistances& distances, double tolerance,
+                         double shortest, int rounds);
 
 // Free points at the middles of the chords split_chords() would split
 // (`cells` over `points`, the conforming end), where the unsplit cells

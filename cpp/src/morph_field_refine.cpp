@@ -2,6 +2,7 @@
 // refined half to the fill (morph_field_internal.hpp).
 #include "animanifold/errors.hpp"
 #include "morph_field_internal.hpp"
+#include "point_grid.hpp"
 #include "stellar_complex.hpp"
 
 #include <Eigen/Geometry>
@@ -28,6 +29,9 @@ constexpr double kFlatChord = 1e-9;
 // A crossed edge longer than this many lattice spacings is split.
 constexpr double kCoarseEdge = 1.5;
 constexpr double kMiddleJitter = 0.05;
+// A curved edge's middle within this share of the input's extent from a
+// point already there is that point but for rounding, and is not added.
+constexpr double kCoincidentMiddle = 1e-9;
 
 using Tets = StellarComplex<4>;
 
@@ -203,6 +207,7 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
         tets.split(chord.data(), static_cast<int>(chord.size()), n + static_cast<Index>(added.size()));
         added.push_back(centre);
         out.splits.push_back(chord);
+        out.shares.emplace_back(chord.size(), 1.0 / static_cast<double>(chord.size()));
       }
     }
   const auto live = tets.live();
@@ -212,6 +217,102 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
   out.new_points.resize(static_cast<Index>(added.size()), 3);
   for (size_t j = 0; j < added.size(); ++j) out.new_points.row(static_cast<Index>(j)) = added[j];
   return out;
+}
+
+namespace {
+
+// The edges of `tets` from a point of the input to one off it, no shorter
+// than `shortest`, where the blend at one of `weights` changes sign along
+// them or both ends are within half the edge of zero: where the zero set
+// runs at one of those layers, in the tets the input's faces bound.
+std::vector<std::array<Index, 2>> edges_off_input_near_zero(const Tets& tets, const std::vector<Eigen::RowVector3d>& position,
+                                                            const std::function<bool(Index)>& on_input,
+                                                            const std::vector<double>& weights,
+                                                            const EndDistances& distances, double shortest) {
+  std::unordered_set<std::uint64_t> seen;
+  std::vector<std::array<Index, 2>> out;
+  for (const auto& tet : tets.live())
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const Index u = tet[a], v = tet[b];
+        if (on_input(u) == on_input(v) || !seen.insert(edge_key(u, v)).second) continue;
+        const double length = (position[u] - position[v]).norm();
+        if (length < shortest) continue;
+        for (const double w : weights) {
+          const double pu = (1 - w) * distances.s(u) + w * distances.t(u);
+          const double pv = (1 - w) * distances.s(v) + w * distances.t(v);
+          if ((pu < 0) != (pv < 0) || (std::abs(pu) < 0.5 * length && std::abs(pv) < 0.5 * length)) {
+            out.push_back({u, v});
+            break;
+          }
+        }
+      }
+  return out;
+}
+
+}  // namespace
+
+Index split_curved_edges(RefinedCells& refined, const PointMatrix& points, const std::vector<bool>& on_surface,
+                         const std::vector<double>& weights, const std::vector<double>& slaved,
+                         const SignedDistance& dS, const SignedDistance& dT, EndDistances& distances, double tolerance,
+                         double shortest, int rounds) {
+  const Index n = static_cast<Index>(points.rows());
+  const Index before = n + refined.new_points.rows();
+  if (distances.s.size() != before || distances.t.size() != before)
+    fail<InputError>("split_curved_edges needs the distances at all ", before, " points, got ", distances.s.size());
+  std::vector<Tets::Simplex> simplices(static_cast<size_t>(refined.cells.rows()));
+  for (Index c = 0; c < refined.cells.rows(); ++c)
+    simplices[c] = {refined.cells(c, 0), refined.cells(c, 1), refined.cells(c, 2), refined.cells(c, 3)};
+  Tets tets(std::move(simplices), before);
+  std::vector<Eigen::RowVector3d> position;
+  for (Index v = 0; v < n; ++v) position.push_back(points.row(v));
+  for (Index j = 0; j < refined.new_points.rows(); ++j) position.push_back(refined.new_points.row(j));
+  const std::function<bool(Index)> on_input = [&](Index v) { return v < n && on_surface[v]; };
+  // The two diagonals of a parallelogram (a flat cell) share their middle:
+  // a middle is not added where a point is already (but for rounding).
+  double extent = 0;
+  for (Index v = 0; v < n; ++v) extent = std::max(extent, points.row(v).cwiseAbs().maxCoeff());
+  PointGrid taken(kCoincidentMiddle * std::max(extent, 1e-300));
+  for (size_t v = 0; v < position.size(); ++v) taken.add(position[v].transpose(), static_cast<Index>(v));
+  Index count = before;
+  for (int round = 0; round < rounds; ++round) {
+    const auto edges = edges_off_input_near_zero(tets, position, on_input, weights, distances, shortest);
+    PointMatrix middles(static_cast<Index>(edges.size()), 3);
+    for (size_t e = 0; e < edges.size(); ++e)
+      middles.row(static_cast<Index>(e)) = 0.5 * (position[edges[e][0]] + position[edges[e][1]]);
+    const Eigen::VectorXd ms = dS.distances(middles), mt = dT.distances(middles);
+    const Index split_before = count;
+    for (size_t e = 0; e < edges.size(); ++e) {
+      const auto [u, v] = edges[e];
+      const Index r = static_cast<Index>(e);
+      auto mean = [&](double w) {
+        return 0.5 * ((1 - w) * (distances.s(u) + distances.s(v)) + w * (distances.t(u) + distances.t(v)));
+      };
+      bool curved = false, keeps_sign = true;
+      for (const double w : weights) curved = curved || std::abs((1 - w) * ms(r) + w * mt(r) - mean(w)) > tolerance;
+      for (const double w : slaved) keeps_sign = keeps_sign && ((1 - w) * ms(r) + w * mt(r) < 0) == (mean(w) < 0);
+      if (!curved || !keeps_sign) continue;
+      bool coincides = false;
+      taken.near(middles.row(r).transpose(), [&](Index, double) { coincides = true; });
+      if (coincides) continue;
+      taken.add(middles.row(r).transpose(), count);
+      const Index edge[2] = {u, v};
+      tets.split(edge, 2, count++);
+      position.push_back(middles.row(r));
+      distances.s.conservativeResize(count), distances.t.conservativeResize(count);
+      distances.s(count - 1) = ms(r), distances.t(count - 1) = mt(r);
+      refined.splits.push_back({u, v});
+      refined.shares.push_back({0.5, 0.5});
+    }
+    if (count == split_before) break;
+  }
+  refined.new_points.conservativeResize(count - n, 3);
+  for (Index v = before; v < count; ++v) refined.new_points.row(v - n) = position[v];
+  const auto live = tets.live();
+  refined.cells.resize(static_cast<Index>(live.size()), 4);
+  for (size_t c = 0; c < live.size(); ++c)
+    for (int k = 0; k < 4; ++k) refined.cells(static_cast<Index>(c), k) = live[c][k];
+  return count - before;
 }
 
 PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& points,

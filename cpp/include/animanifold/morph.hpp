@@ -149,7 +149,10 @@ struct MorphReport {
   // on a hull left out, how far the free vertices were pushed (fractions of
   // t1 - t0: smallest, mean, largest), how many the levelling moved off the
   // heights of their distance from the input, and how many lie in regions
-  // that do not reach a hull.
+  // that do not reach a hull. Field method: split_faces counts the stellar
+  // splits of the halves' cells (chords inside an input, and edges from an
+  // input along which the blend bends), refinement_points the free points
+  // added where the zero set needs them.
   Index source_skeleton_points = 0, target_skeleton_points = 0;
   Index source_cap_points = 0, target_cap_points = 0;  // of those, over flat sides of the hulls (hull_cap_points)
   Index source_fanned_polygons = 0, target_fanned_polygons = 0;  // MorphOptions::fan_flat_polygons
