@@ -235,10 +235,16 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
 // to one off it, no shorter than `shortest`, along which the blend at one
 // of `weights` bends: where the zero set passes the edge or both its ends
 // are within half its length of zero at that weight, and the blend at its
-// middle is more than `tolerance` off the mean of its ends', and at each of
-// `slaved` (the weights of the layers where the splits' points take the
-// unsplit cells' values, slave_split_points) on the same side of zero as
-// that mean: slaving them then changes no sign, so no topology. The frames
+// middle is more than `tolerance` off the mean of its ends' but on the same
+// side of zero, at each of `weights` and of `slaved` (the layers where the
+// splits' points take the unsplit cells' values, slave_split_points). So a
+// split moves the zero set within the cells it splits and changes the
+// topology of no layer: preserve_topology sees the changes it saw without
+// it, and slaving changes no sign. (Splits that took the sign the blend
+// has at the middle made the topology finer than the layers can follow:
+// Blender's cylinder into a torus grew held spikes at its rims that went
+// at once, a pop of 3.2; and the turned cone -> torus of the primitives
+// survey held two pieces from the layer before the fill on.) The frames
 // near an end are offsets of the input, and they run through the tets its
 // faces bound; a big flat face leaves those tets a lattice spacing deep
 // (free points keep clear of its diametral sphere), and inside an input

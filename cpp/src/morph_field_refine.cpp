@@ -290,7 +290,8 @@ Index split_curved_edges(RefinedCells& refined, const PointMatrix& points, const
       };
       bool curved = false, keeps_sign = true;
       for (const double w : weights) curved = curved || std::abs((1 - w) * ms(r) + w * mt(r) - mean(w)) > tolerance;
-      for (const double w : slaved) keeps_sign = keeps_sign && ((1 - w) * ms(r) + w * mt(r) < 0) == (mean(w) < 0);
+      for (const auto* layers : {&weights, &slaved})
+        for (const double w : *layers) keeps_sign = keeps_sign && ((1 - w) * ms(r) + w * mt(r) < 0) == (mean(w) < 0);
       if (!curved || !keeps_sign) continue;
       bool coincides = false;
       taken.near(middles.row(r).transpose(), [&](Index, double) { coincides = true; });

@@ -205,7 +205,8 @@ Bends bends(const Octahedra& o, const Split& s, double tolerance, double shortes
     auto mean = [&](double w) { return 0.5 * (blend(s.distances, u, w) + blend(s.distances, v, w)); };
     bool over = false, keeps_sign = true;
     for (const double w : kWeights) over = over || std::abs((1 - w) * ms + w * mt - mean(w)) > tolerance;
-    for (const double w : kSlaved) keeps_sign = keeps_sign && (((1 - w) * ms + w * mt < 0) == (mean(w) < 0));
+    for (const auto* weights : {&kWeights, &kSlaved})
+      for (const double w : *weights) keeps_sign = keeps_sign && (((1 - w) * ms + w * mt < 0) == (mean(w) < 0));
     if (!over) continue;
     ++out.bent;
     // A middle that is a point already there but for rounding is not added
@@ -231,17 +232,18 @@ TEST(CurvedEdges, AfterEnoughRoundsTheBlendIsLinearEnoughAlongEveryEdgeItLooksAt
   EXPECT_LT(after.bent, after.looked_at / 10);
 }
 
-TEST(CurvedEdges, NoSplitChangesTheSignOfTheBlendWhereItsPointWillBeSlaved) {
+TEST(CurvedEdges, NoSplitPutsAPointOnTheOtherSideOfZeroFromTheUnsplitCells) {
   const Octahedra o;
   const Split s = split(o, 0.02 * kSpacing, 0.1 * kSpacing, 5);
   ASSERT_GT(s.added, 0);
   const Index n = o.points.rows();
   for (Index j = 0; j < s.added; ++j) {
     const std::vector<Index>& edge = s.refined.splits[static_cast<size_t>(j)];
-    for (const double w : kSlaved) {
-      const double slaved = 0.5 * (blend(s.distances, edge[0], w) + blend(s.distances, edge[1], w));
-      EXPECT_EQ(blend(s.distances, n + j, w) < 0, slaved < 0) << "split " << j;
-    }
+    for (const auto* weights : {&kWeights, &kSlaved})
+      for (const double w : *weights) {
+        const double unsplit = 0.5 * (blend(s.distances, edge[0], w) + blend(s.distances, edge[1], w));
+        EXPECT_EQ(blend(s.distances, n + j, w) < 0, unsplit < 0) << "split " << j << " at " << w;
+      }
   }
 }
 
