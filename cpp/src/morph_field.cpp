@@ -28,9 +28,9 @@ constexpr int kScheduleSamples = 24;
 constexpr int kRefineRounds = 2;
 // The halves' curved edges (split_curved_edges): split where the blend at
 // their middle is this share of the lattice spacing off linear, in up to
-// this many rounds, down to this share of the spacing. On Blender's cube
-// into its cylinder, 0.05 left a third of the rims' teeth; 0.02 adds about
-// 1k and 3k points there and 3k and 2.5k on bunny -> torus-800 (+0.6 s).
+// this many rounds, down to this share of the spacing. At 0.05 a share of
+// the teeth on a cube's rims stayed (they reach a lattice spacing down the
+// sides); at 0.02 they are gone, for a few thousand points per half.
 constexpr double kCurveTolerance = 0.02;
 constexpr int kCurveRounds = 5;
 constexpr double kCurveShortest = 0.1;
@@ -319,9 +319,9 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   distances.extend(half.points, dS, dT);
   // The blend layers up to the one before the fill's, where the splits'
   // points are slaved to the unsplit cells (slave_split_points).
-  const size_t slaved = std::max<size_t>(half.weights.size(), 4) - 2;
-  const std::vector<double> blend(half.weights.begin() + 2, half.weights.begin() + static_cast<std::ptrdiff_t>(slaved));
-  const std::vector<double> slaved_weights(half.weights.begin() + static_cast<std::ptrdiff_t>(slaved), half.weights.end());
+  const auto slaved_layer = static_cast<std::ptrdiff_t>(std::max<size_t>(half.weights.size(), 4) - 2);
+  const std::vector<double> blend(half.weights.begin() + 2, half.weights.begin() + slaved_layer);
+  const std::vector<double> slaved_weights(half.weights.begin() + slaved_layer, half.weights.end());
   split_curved_edges(half.refined, end.points, end.on_surface, blend, slaved_weights, dS, dT, distances,
                      kCurveTolerance * spacing, kCurveShortest * spacing, kCurveRounds);
   half.points.conservativeResize(half.plain + half.refined.new_points.rows(), 3);

@@ -240,11 +240,10 @@ RefinedCells split_chords(const SimplexMatrix& cells, const PointMatrix& points,
 // splits' points take the unsplit cells' values, slave_split_points). So a
 // split moves the zero set within the cells it splits and changes the
 // topology of no layer: preserve_topology sees the changes it saw without
-// it, and slaving changes no sign. (Splits that took the sign the blend
-// has at the middle made the topology finer than the layers can follow:
-// Blender's cylinder into a torus grew held spikes at its rims that went
-// at once, a pop of 3.2; and the turned cone -> torus of the primitives
-// survey held two pieces from the layer before the fill on.) The frames
+// it, and slaving changes no sign. (A point put on the other side would
+// make a layer's topology finer than preserve_topology follows from layer
+// to layer: held spikes at a cylinder's rims that go at once, a pop; or
+// two pieces held from the slaved layer to the fill.) The frames
 // near an end are offsets of the input, and they run through the tets its
 // faces bound; a big flat face leaves those tets a lattice spacing deep
 // (free points keep clear of its diametral sphere), and inside an input
