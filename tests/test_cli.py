@@ -418,6 +418,22 @@ def test_the_default_morph_of_shapes_apart_says_nothing_travels_between_them(cap
         assert ("do not overlap where they are" in err) == (name == "apart"), err
 
 
+def test_a_morph_whose_inputs_barely_meet_says_it_widened_the_middle(capsys, tmp_path):
+    """Blender's cone in its torus's hole, both at the origin: they touch nowhere, yet lie too close
+    to be dissolved where each stands. The command says the middle was widened (by how much), and
+    does not warn that nothing travels between them."""
+    from helpers.shapes import cone, torus
+
+    am.write_mesh(tmp_path / "cone.obj", *cone(32))
+    am.write_mesh(tmp_path / "torus.obj", *torus(minor_radius=0.25, major=48, minor=12))
+    out, err, m, _ = morph_in_three_frames(capsys, (tmp_path / "cone.obj", tmp_path / "torus.obj"), tmp_path / "m",
+                                           "-q")
+    widening = m.validity["middle_widening"]
+    assert widening > 0 and not m.validity["inputs_apart"]
+    assert f"the blend is widened at the middle by {100 * widening:.2g} % of the size" in out, out
+    assert "do not overlap where they are" not in err, err
+
+
 def test_a_shape_cgal_cannot_cut_ends_the_morph_with_one_line_and_exit_code_3(capsys, tmp_path, monkeypatch):
     from helpers.shapes import torus
 

@@ -142,6 +142,10 @@ def report_validity(report, new, manifold, method: str, source, target, source_m
                                  f"{method} morph shrinks one away and grows the other in its place, nothing travels "
                                  "between them; to morph one into the other, move the target onto the source (their "
                                  "transforms place them)")
+    if validity.get("middle_widening"):
+        report({"INFO"}, f"'{new.name}': '{source.name}' and '{target.name}' barely meet, so the blend of their "
+                              f"distances is widened at the middle (by {100 * validity['middle_widening']:.2g} % of the "
+                              "size): the shape passes through the space between them instead of vanishing there")
     limit = "a known limit of the skeleton push; " if method == "skeleton" else ""
     if validity.get("frames_cross_themselves"):
         report({"WARNING"}, f"'{new.name}': in-between frames run through themselves at "

@@ -116,9 +116,9 @@ void half_layers(Half& half, bool is_source, int m, int slabs, const BlendSchedu
 // (those through the inputs, build_half: of the signed distances' signs): at
 // the end the input's own, exactly zero on it; at the collar the same off
 // the input and a small positive lift on it (kCollar); then the blend
-// (1 - w) s + w t.
+// (blend(), widened by `widening`).
 void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMatrix& surface,
-                const Eigen::VectorXd& s, const Eigen::VectorXd& t, bool is_source, double floor) {
+                const Eigen::VectorXd& s, const Eigen::VectorXd& t, double widening, bool is_source, double floor) {
   const Index n = static_cast<Index>(half.points.rows());
   const Eigen::VectorXd& own = is_source ? s : t;
   const Eigen::VectorXd radius = vertex_circumradius(half.points.topRows(half.plain), surface);
@@ -137,7 +137,7 @@ void half_field(Half& half, const std::vector<bool>& on_surface, const SimplexMa
   for (size_t layer = 2; layer < half.weights.size(); ++layer) {
     const double w = half.weights[layer];
     Eigen::VectorXd value(n);
-    for (Index v = 0; v < n; ++v) value(v) = jittered(floored((1 - w) * s(v) + w * t(v), floor), v, static_cast<int>(layer));
+    for (Index v = 0; v < n; ++v) value(v) = jittered(floored(blend(s(v), t(v), w, widening), floor), v, static_cast<int>(layer));
     half.field.push_back(value);
   }
 }
@@ -320,15 +320,15 @@ Half build_half(const EndMesh& end, const SimplexMatrix& cells, const SignedDist
   // The blend layers up to the one before the fill's, where the splits'
   // points are slaved to the unsplit cells (slave_split_points).
   const auto slaved_layer = static_cast<std::ptrdiff_t>(std::max<size_t>(half.weights.size(), 4) - 2);
-  const std::vector<double> blend(half.weights.begin() + 2, half.weights.begin() + slaved_layer);
+  const std::vector<double> blend_weights(half.weights.begin() + 2, half.weights.begin() + slaved_layer);
   const std::vector<double> slaved_weights(half.weights.begin() + slaved_layer, half.weights.end());
-  split_curved_edges(half.refined, end.points, end.on_surface, blend, slaved_weights, dS, dT, distances,
+  split_curved_edges(half.refined, end.points, end.on_surface, blend_weights, slaved_weights, dS, dT, distances,
                      kCurveTolerance * spacing, kCurveShortest * spacing, kCurveRounds);
   half.points.conservativeResize(half.plain + half.refined.new_points.rows(), 3);
   half.points.bottomRows(half.refined.new_points.rows()) = half.refined.new_points;
   Eigen::VectorXd s = distances.s, t = distances.t;
   distances_through_inputs(half.refined.cells, half.points, spacing, s, t);
-  half_field(half, end.on_surface, end.constraints, s, t, is_source, floor);
+  half_field(half, end.on_surface, end.constraints, s, t, distances.widening, is_source, floor);
   return half;
 }
 
@@ -654,16 +654,18 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   on_both_sides([&](int side) {
     const EndMesh& end = side == 0 ? S : T;
     cells[side] = delaunay_tetrahedra(end.points);
+    distances[side].widening = lattice.widening;
     distances[side].extend(end.points, dS, dT);
     split[side] = chords_split(end, cells[side], distances[side], side == 0 ? dS : dT, dS, dT);
     // The schedule measures the blend the halves will have.
     distances_through_inputs(split[side].cells, split[side].points, lattice.spacing, split[side].distances.s,
                              split[side].distances.t);
   });
-  report.inputs_apart = !inside_both(distances[0]) && !inside_both(distances[1]);
+  report.inputs_apart = !inside_both(distances[0]) && !inside_both(distances[1]) && lattice.widening == 0;
   const BlendSchedule schedule = motion_schedule(VS, FS, VT, FT, split[0].cells, split[1].cells, split[0].points,
                                                  split[1].points, split[0].distances.s, split[0].distances.t,
-                                                 split[1].distances.s, split[1].distances.t, kScheduleSamples);
+                                                 split[1].distances.s, split[1].distances.t, kScheduleSamples,
+                                                 lattice.widening);
 
   clock.begin("refinement", 0.3);
   const int m = (slabs - 1) / 2;
@@ -715,6 +717,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   report.simplices = static_cast<Index>(result.manifold.S.rows());
   report.field_layers = slabs;
   report.lattice_spacing = lattice.spacing / size;
+  report.middle_widening = lattice.widening / size;
   out.space_time = {side_of(std::move(source), std::move(extraction.source_transition)),
                     side_of(std::move(target), std::move(extraction.target_transition)),
                     extraction.flat_crossed()};

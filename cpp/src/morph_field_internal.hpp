@@ -32,6 +32,44 @@ inline double jittered(double value, Index point, int layer, std::int64_t salt =
   return value * (1.0 + kValueJitter * jitter(point, layer, salt, 0));
 }
 
+// The blend at weight w of the distances s to S and t to T: (1 - w) s + w t,
+// less `widening` x 4 w (1 - w) (middle_widening()): zero at the ends, the
+// whole widening at the middle.
+inline double blend(double s, double t, double w, double widening) {
+  return (1 - w) * s + w * t - 4 * widening * w * (1 - w);
+}
+
+// How deep the middle frame is at least, as a share of the thinner input's
+// depth. A cone inside a torus's hole (Blender's primitives as added) or
+// two inputs that barely meet have a convex blend that is empty, or all but
+// empty, around the middle (its zero set is where s + t = 0, which needs
+// points inside one input as deep as they are far from the other): the
+// shape shrank to a thread and vanished for a quarter of the range before
+// the other grew from it. Deep enough, the middle's zero set also keeps off
+// the floor of the valley s + t has between two inputs, where the
+// distances' slopes cancel and a level set is sampled as crumpled sheets.
+constexpr double kMiddleDepth = 0.5;
+
+// Inputs farther apart than twice this share of the thinner input's depth
+// are not widened: the middle would be a sheet along the valley's floor
+// between them; such inputs are dissolved where each stands
+// (MorphReport::inputs_apart).
+constexpr double kMiddleReach = 1.0;
+
+// How much the blend is widened at the middle (blend()), from the distances
+// s to S and t to T at points spread evenly over the box (the lattice's
+// candidates, each standing for the same volume): the least that takes the
+// middle's depth (the deepest -(s + t) / 2, plus the widening) to
+// kMiddleDepth x the thinner input's (the deepest -s, -t), but not past
+// taking as many of the points inside the middle ((s + t) / 2 below the
+// widening) as the larger input holds. 0 where the middle is that deep
+// already (inputs that overlap well; a middle that holds less than either
+// input but is deep keeps its shape) and where the inputs lie too far
+// apart (kMiddleReach). Points outside both inputs within twice the
+// widening of the two together are inside the frames around the middle:
+// the shape passes through the space between the inputs.
+double middle_widening(const Eigen::VectorXd& s, const Eigen::VectorXd& t);
+
 // Per vertex, the largest circumradius of the triangles around it.
 Eigen::VectorXd vertex_circumradius(const PointMatrix& V, const SimplexMatrix& F);
 
@@ -41,12 +79,14 @@ struct Lattice {
   PointMatrix source, target;  // the free points each end keeps
   PointMatrix corners;         // the box's, in both
   double spacing = 0;
+  double widening = 0;         // middle_widening() of the distances at the lattice
 };
 
 // A jittered body-centred cubic lattice at `spacing` over a box around both
 // inputs: dense where the zero set passes at some time (inside one input
 // and outside the other, or near either: the convex blend is of one sign
-// elsewhere) and sparse elsewhere; each end keeps the points clear of its
+// elsewhere; where it is widened, also outside both within reach of the
+// middle's widening) and sparse elsewhere; each end keeps the points clear of its
 // input (outside the diametral spheres of its faces, which the conforming
 // mesher would otherwise split; from faces several lattice spacings across,
 // only a spacing and a quarter: those it splits).
@@ -179,6 +219,10 @@ Fill fill_slab(const PointMatrix& PS, const PointMatrix& PT, double thickness);
 // each point's pair is measured once.
 struct EndDistances {
   Eigen::VectorXd s, t;
+  double widening = 0;  // the blend's (blend(), middle_widening())
+  // The blend at point v, or of a pair of distances, at weight w.
+  double blend(Index v, double w) const { return morph_field::blend(s(v), t(v), w, widening); }
+  double blend(double sv, double tv, double w) const { return morph_field::blend(sv, tv, w, widening); }
   // Measures the points of `points` beyond those measured so far.
   void extend(const PointMatrix& points, const SignedDistance& dS, const SignedDistance& dT);
 };
@@ -404,11 +448,11 @@ struct BlendSchedule {
 // ones, accumulated, and its inverse.
 // `source_cells` over `PS` and `target_cells` over `PT` are the halves'
 // tetrahedralizations; sS, tS (sT, tT) the signed distances to S and T at PS
-// (PT).
+// (PT); `widening` the blend's (blend()).
 BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT,
                               const SimplexMatrix& FT, const SimplexMatrix& source_cells,
                               const SimplexMatrix& target_cells, const PointMatrix& PS, const PointMatrix& PT,
                               const Eigen::VectorXd& sS, const Eigen::VectorXd& tS, const Eigen::VectorXd& sT,
-                              const Eigen::VectorXd& tT, int samples);
+                              const Eigen::VectorXd& tT, int samples, double widening = 0);
 
 }  // namespace animanifold::morph_field

@@ -91,6 +91,21 @@ Eigen::VectorXd vertex_circumradius(const PointMatrix& V, const SimplexMatrix& F
 }
 
 
+double middle_widening(const Eigen::VectorXd& s, const Eigen::VectorXd& t) {
+  const Index inside_S = (s.array() < 0).count(), inside_T = (t.array() < 0).count();
+  if (std::min(inside_S, inside_T) == 0) return 0;
+  std::vector<double> middle(static_cast<size_t>(s.size()));
+  for (Index r = 0; r < s.size(); ++r) middle[static_cast<size_t>(r)] = 0.5 * (s(r) + t(r));
+  std::sort(middle.begin(), middle.end());
+  const double thinner = std::min(-s.minCoeff(), -t.minCoeff());
+  // The valley's floor: half the gap between inputs apart.
+  const double floor = middle.front();
+  if (floor > kMiddleReach * thinner) return 0;
+  // The widening that takes as many points inside the middle as the larger input holds.
+  const double larger = middle[static_cast<size_t>(std::max(inside_S, inside_T) - 1)];
+  return std::max(0.0, std::min(kMiddleDepth * thinner + floor, larger));
+}
+
 Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
                        const SimplexMatrix& FT, const SignedDistance& dT, double spacing, double size) {
   Eigen::RowVector3d lo = VS.colwise().minCoeff().cwiseMin(VT.colwise().minCoeff());
@@ -118,11 +133,15 @@ Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const Sig
         }
   const PointMatrix candidates = Eigen::Map<const PointMatrix>(xyz.data(), static_cast<Index>(coarse.size()), 3);
   const SurfaceProjection ps = dS(candidates), pt = dT(candidates);
+  out.widening = middle_widening(ps.distance, pt.distance);
   const Eigen::VectorXd rS = vertex_circumradius(VS, FS), rT = vertex_circumradius(VT, FT);
   std::vector<Index> keep_source, keep_target;
   for (Index r = 0; r < candidates.rows(); ++r) {
     const double s = ps.distance(r), t = pt.distance(r);
-    const bool band = s * t <= 0 || std::min(std::abs(s), std::abs(t)) <= 2 * spacing;
+    // Outside both, the widened blend is below zero at the middle where
+    // s + t < 2 widening: the zero set sweeps there on the way.
+    const bool widened = out.widening > 0 && s + t <= 2 * out.widening + 4 * spacing;
+    const bool band = s * t <= 0 || std::min(std::abs(s), std::abs(t)) <= 2 * spacing || widened;
     if (!band && !coarse[r]) continue;
     const double cap = kClearanceCap * spacing, cap_beyond = kCapBeyond * spacing;
     if (clear_of(ps, r, FS, rS, cap, cap_beyond)) keep_source.push_back(r);

@@ -89,8 +89,7 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
                               const std::vector<double>& weights, double spacing) {
   if (at_points.s.size() != points.rows() || at_points.t.size() != points.rows())
     fail<InputError>("refinement_points needs the distances at all ", points.rows(), " points, got ", at_points.s.size());
-  const Eigen::VectorXd &s = at_points.s, &t = at_points.t;
-  auto field = [&](Index v, double w) { return (1 - w) * s(v) + w * t(v); };
+  auto field = [&](Index v, double w) { return at_points.blend(v, w); };
   std::unordered_set<std::uint64_t> seen;
   std::vector<std::array<Index, 2>> candidates;
   std::vector<double> xyz;
@@ -121,7 +120,7 @@ PointMatrix refinement_points(const SimplexMatrix& cells, const PointMatrix& poi
   for (size_t e = 0; e < candidates.size(); ++e) {
     const Index u = candidates[e][0], r = static_cast<Index>(e);
     for (const double w : weights)
-      if ((field(u, w) < 0) != ((1 - w) * ms(r) + w * mt(r) < 0)) {
+      if ((field(u, w) < 0) != (at_points.blend(ms(r), mt(r), w) < 0)) {
         xyz.insert(xyz.end(), {middles(r, 0), middles(r, 1), middles(r, 2)});
         break;
       }
@@ -239,8 +238,7 @@ std::vector<std::array<Index, 2>> edges_off_input_near_zero(const Tets& tets, co
         const double length = (position[u] - position[v]).norm();
         if (length < shortest) continue;
         for (const double w : weights) {
-          const double pu = (1 - w) * distances.s(u) + w * distances.t(u);
-          const double pv = (1 - w) * distances.s(v) + w * distances.t(v);
+          const double pu = distances.blend(u, w), pv = distances.blend(v, w);
           if ((pu < 0) != (pv < 0) || (std::abs(pu) < 0.5 * length && std::abs(pv) < 0.5 * length)) {
             out.push_back({u, v});
             break;
@@ -286,12 +284,12 @@ Index split_curved_edges(RefinedCells& refined, const PointMatrix& points, const
       const auto [u, v] = edges[e];
       const Index r = static_cast<Index>(e);
       auto mean = [&](double w) {
-        return 0.5 * ((1 - w) * (distances.s(u) + distances.s(v)) + w * (distances.t(u) + distances.t(v)));
+        return 0.5 * (distances.blend(u, w) + distances.blend(v, w));
       };
       bool curved = false, keeps_sign = true;
-      for (const double w : weights) curved = curved || std::abs((1 - w) * ms(r) + w * mt(r) - mean(w)) > tolerance;
+      for (const double w : weights) curved = curved || std::abs(distances.blend(ms(r), mt(r), w) - mean(w)) > tolerance;
       for (const auto* layers : {&weights, &slaved})
-        for (const double w : *layers) keeps_sign = keeps_sign && ((1 - w) * ms(r) + w * mt(r) < 0) == (mean(w) < 0);
+        for (const double w : *layers) keeps_sign = keeps_sign && (distances.blend(ms(r), mt(r), w) < 0) == (mean(w) < 0);
       if (!curved || !keeps_sign) continue;
       bool coincides = false;
       taken.near(middles.row(r).transpose(), [&](Index, double) { coincides = true; });
@@ -331,9 +329,9 @@ PointMatrix undersampled_chords(const SimplexMatrix& cells, const PointMatrix& p
     bool undersampled = false;
     for (const double w : weights) {
       double interpolated = 0;  // the unsplit cells' field at the chord's middle: the mean of its corners'
-      for (const Index v : corners) interpolated += (1 - w) * at_points.s(v) + w * at_points.t(v);
+      for (const Index v : corners) interpolated += at_points.blend(v, w);
       interpolated /= static_cast<double>(corners.size());
-      undersampled = undersampled || (interpolated < 0) != ((1 - w) * ms(j) + w * mt(j) < 0);
+      undersampled = undersampled || (interpolated < 0) != (at_points.blend(ms(j), mt(j), w) < 0);
     }
     if (!undersampled) continue;
     // Off the middle by a little, within its depth in the input: middles

@@ -99,15 +99,18 @@ BlendSchedule motion_schedule(const PointMatrix& VS, const SimplexMatrix& FS, co
                               const SimplexMatrix& FT, const SimplexMatrix& source_cells,
                               const SimplexMatrix& target_cells, const PointMatrix& PS, const PointMatrix& PT,
                               const Eigen::VectorXd& sS, const Eigen::VectorXd& tS, const Eigen::VectorXd& sT,
-                              const Eigen::VectorXd& tT, int samples) {
+                              const Eigen::VectorXd& tT, int samples, double widening) {
   if (samples < 2) fail<InputError>("the motion schedule needs at least 2 samples");
   auto surface_at = [&](double w) -> Surface {
     if (w <= 0) return {VS, FS};
     if (w >= 1) return {VT, FT};
     const bool source_half = w <= 0.5;
-    Eigen::VectorXd value = (1 - w) * (source_half ? sS : sT) + w * (source_half ? tS : tT);
-    for (Index v = 0; v < value.size(); ++v)
+    const Eigen::VectorXd &s = source_half ? sS : sT, &t = source_half ? tS : tT;
+    Eigen::VectorXd value(s.size());
+    for (Index v = 0; v < value.size(); ++v) {
+      value(v) = blend(s(v), t(v), w, widening);
       if (value(v) == 0.0) value(v) = 1e-300;  // zero counts as outside (zero_set.hpp)
+    }
     return level_set(source_half ? source_cells : target_cells, source_half ? PS : PT, value);
   };
   // Weights in increasing order, each with its surface and the motion from

@@ -415,6 +415,9 @@ def run_morph(args: argparse.Namespace) -> int:
         print(f"{PROG}: warning: the source and the target do not overlap where they are: the {method} morph "
               "shrinks one away and grows the other in its place, nothing travels between them; move one onto "
               "the other to morph it into the other", file=sys.stderr)
+    if report.get("middle_widening"):
+        print(f"the inputs barely meet: the blend is widened at the middle by {100 * report['middle_widening']:.2g} % "
+              "of the size, so the shape passes through the space between them instead of vanishing there")
     if manifold.hole_space is not None:
         print(f"shared holes (§8.6.5): volume {report['shared_hole_volume']:.6g}; raw frames fill up to "
               f"{report['hole_overlap_volume']:.3g} of it, cut away; kept in the checked frames: "

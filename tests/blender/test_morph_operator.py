@@ -17,6 +17,7 @@ from helpers.blender_helpers import select_pair as select  # noqa: E402
 from helpers.morph_scenes import (add_sphere_and_torus, add_sphere_and_turned_mirrored_cube,  # noqa: E402
                                   assert_morph_shows, compare_with)
 from helpers.surface_checks import frame_matches  # noqa: E402
+from animanifold.cavities import shell_volumes  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -199,6 +200,31 @@ def test_objects_that_do_not_overlap_are_morphed_with_a_warning_that_nothing_tra
     assert object_manifold.manifold_for(bpy.context.active_object).validity["inputs_apart"]
     warning = next(line for line in out.splitlines() if "do not overlap" in line)
     assert warning.startswith("Warning:") and "'Sphere' and 'Torus'" in warning, warning
+
+
+def test_a_cone_in_its_toruss_hole_is_morphed_through_the_gap_and_says_so(empty_scene, capfd):
+    """Blender's cone and torus as added, both at the origin: the cone stands in the torus's hole and
+    touches it nowhere. The default (field) morph widens the blend at the middle, so the shape
+    passes through the gap instead of vanishing (the middle frame keeps at least half the torus's
+    volume), and Morph Selected says so instead of warning that nothing travels."""
+    bpy.ops.mesh.primitive_cone_add()
+    source = bpy.context.active_object
+    bpy.ops.mesh.primitive_torus_add()
+    target = bpy.context.active_object
+    select(source, target)
+    capfd.readouterr()
+    assert bpy.ops.animanifold.morph_selected() == {"FINISHED"}
+    out = capfd.readouterr().out
+    from animanifold_blender import object_manifold
+
+    manifold = object_manifold.manifold_for(bpy.context.active_object)
+    assert manifold.validity["middle_widening"] > 0 and not manifold.validity["inputs_apart"]
+    assert not any("do not overlap" in line for line in out.splitlines()), out
+    line = next(line for line in out.splitlines() if "barely meet" in line)
+    assert line.startswith("Info:") and "'Cone' and 'Torus'" in line, line
+    torus_volume = 2 * np.pi ** 2 * 1.0 * 0.25 ** 2
+    middle = manifold.slice(0.5 * sum(manifold.time_range))
+    assert shell_volumes(np.asarray(middle.vertices), np.asarray(middle.faces)).sum() >= 0.5 * torus_volume
 
 
 def textured(obj, name: str):

@@ -138,9 +138,10 @@ struct MorphReport {
   bool inputs_coincide = false;
   // Field method: no point of its ends' tetrahedralizations lies inside both
   // inputs, so they do not overlap where they are (their transforms place
-  // them): the blend then shrinks the source away where it stands and grows
-  // the target where it stands, nothing travels between them. False for the
-  // seed's methods, which do not look.
+  // them), and they lie too far apart for the blend to be widened between
+  // them (middle_widening below): the blend then shrinks the source away
+  // where it stands and grows the target where it stands, nothing travels
+  // between them. False for the seed's methods, which do not look.
   bool inputs_apart = false;
   // Skeleton method: skeleton points given per input, free vertices of the
   // conforming fills (skeleton points and the mesher's Steiner points off the
@@ -190,6 +191,11 @@ struct MorphReport {
   Index shared_points = 0;
   int field_layers = 0;
   double lattice_spacing = 0.0;
+  // Field method: how much the blend was lowered at the middle, of the size
+  // (0 where the inputs overlap well; morph_field_internal.hpp's
+  // middle_widening): inputs that barely meet pass through the space
+  // between them instead of shrinking to nothing there.
+  double middle_widening = 0.0;
   // The frames' checks (morph_validity.hpp): how many frames were looked at
   // (24 spread over the range, the field method's 7 in its fill slab, then
   // up to 24 towards the changes of topology), whether changes were left
@@ -271,6 +277,7 @@ void for_each_entry(const MorphReport& report, Visit&& visit) {
   visit("flat_cells", report.flat_cells);
   visit("field_layers", report.field_layers);
   visit("lattice_spacing", report.lattice_spacing);
+  visit("middle_widening", report.middle_widening);
   visit("frames_checked", report.frames_checked);
   visit("frames_capped", report.frames_capped);
   visit("crossing_frames_checked", report.crossing_frames_checked);
