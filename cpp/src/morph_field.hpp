@@ -26,16 +26,16 @@
 // The field: signed distance to S at t0 and to T at t1 (exactly zero on
 // their vertices and Steiner points), and in between the convex blend
 // (1 - w) d_S + w d_T, with w following the zero set's measured motion
-// (motion_schedule). Where the inputs barely meet or lie apart, that blend
-// is (all but) empty around the middle; it is then lowered there by up to
-// a widening (morph_field_internal.hpp's blend and middle_widening), so
-// that the shape passes through the space between them. Inside T but outside S, d_S is the longer of the
-// straight distance and the path inside T from where the two overlap, and
-// d_T likewise inside S only (distances_through_inputs): a limb grows from
-// its root and retracts from its tip. A point inside both inputs is inside
-// every frame; one outside both is outside every frame unless the blend is
-// widened, and then only if it lies within twice the widening of the two
-// together. Its zero set
+// (motion_schedule). Where the inputs barely meet or touch nowhere but lie
+// close, that blend is (all but) empty around the middle; it is then
+// lowered there by up to a widening (morph_field_internal.hpp's blend and
+// middle_widening), so that the shape passes through the space between
+// them. Inside T but outside S, d_S is the longer of the straight distance
+// and the path inside T from where the two overlap, and d_T likewise
+// inside S only (distances_through_inputs): a limb grows from its root and
+// retracts from its tip. A point inside both inputs is inside every frame;
+// one outside both is outside every frame unless the blend is widened, and
+// then only if it lies within the widening of one of them. Its zero set
 // (zero_set.hpp) is a closed 3-manifold whose boundary is S at t0 and T at
 // t1: every frame is a level set, so none runs through itself.
 #pragma once

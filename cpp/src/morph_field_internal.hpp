@@ -66,8 +66,11 @@ constexpr double kMiddleReach = 1.0;
 // already (inputs that overlap well; a middle that holds less than either
 // input but is deep keeps its shape) and where the inputs lie too far
 // apart (kMiddleReach). Points outside both inputs within twice the
-// widening of the two together are inside the frames around the middle:
-// the shape passes through the space between the inputs.
+// widening of the two together are inside the middle frame: the shape
+// passes through the space between the inputs. A point outside both is
+// inside a frame only if it lies within the widening of one of them
+// ((1 - w) s + w t is at least the smaller of s, t, and 4 w (1 - w) at
+// most 1).
 double middle_widening(const Eigen::VectorXd& s, const Eigen::VectorXd& t);
 
 // Per vertex, the largest circumradius of the triangles around it.
@@ -86,10 +89,10 @@ struct Lattice {
 // inputs: dense where the zero set passes at some time (inside one input
 // and outside the other, or near either: the convex blend is of one sign
 // elsewhere; where it is widened, also outside both within reach of the
-// middle's widening) and sparse elsewhere; each end keeps the points clear of its
-// input (outside the diametral spheres of its faces, which the conforming
-// mesher would otherwise split; from faces several lattice spacings across,
-// only a spacing and a quarter: those it splits).
+// middle's widening) and sparse elsewhere; each end keeps the points clear
+// of its input (outside the diametral spheres of its faces, which the
+// conforming mesher would otherwise split; from faces several lattice
+// spacings across, only a spacing and a quarter: those it splits).
 Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
                        const SimplexMatrix& FT, const SignedDistance& dT, double spacing, double size);
 

@@ -99,11 +99,11 @@ double middle_widening(const Eigen::VectorXd& s, const Eigen::VectorXd& t) {
   std::sort(middle.begin(), middle.end());
   const double thinner = std::min(-s.minCoeff(), -t.minCoeff());
   // The valley's floor: half the gap between inputs apart.
-  const double floor = middle.front();
-  if (floor > kMiddleReach * thinner) return 0;
+  const double valley_floor = middle.front();
+  if (valley_floor > kMiddleReach * thinner) return 0;
   // The widening that takes as many points inside the middle as the larger input holds.
   const double larger = middle[static_cast<size_t>(std::max(inside_S, inside_T) - 1)];
-  return std::max(0.0, std::min(kMiddleDepth * thinner + floor, larger));
+  return std::max(0.0, std::min(kMiddleDepth * thinner + valley_floor, larger));
 }
 
 Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const SignedDistance& dS, const PointMatrix& VT,
@@ -138,9 +138,9 @@ Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const Sig
   std::vector<Index> keep_source, keep_target;
   for (Index r = 0; r < candidates.rows(); ++r) {
     const double s = ps.distance(r), t = pt.distance(r);
-    // Outside both, the widened blend is below zero at the middle where
-    // s + t < 2 widening: the zero set sweeps there on the way.
-    const bool widened = out.widening > 0 && s + t <= 2 * out.widening + 4 * spacing;
+    // Outside both, the widened blend reaches below zero only within the
+    // widening of one input (middle_widening): the zero set sweeps there.
+    const bool widened = out.widening > 0 && std::min(s, t) <= out.widening + 2 * spacing;
     const bool band = s * t <= 0 || std::min(std::abs(s), std::abs(t)) <= 2 * spacing || widened;
     if (!band && !coarse[r]) continue;
     const double cap = kClearanceCap * spacing, cap_beyond = kCapBeyond * spacing;

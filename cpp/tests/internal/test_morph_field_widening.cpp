@@ -59,6 +59,20 @@ TEST(MorphFieldWidening, TheWidenedBlendIsEachInputsDistanceExactlyAtItsEnd) {
       }
 }
 
+TEST(MorphFieldWidening, APointOutsideBothIsInsideAFrameOnlyWithinTheWideningOfOne) {
+  const double widening = 0.4;
+  for (const double s : {0.0, 0.1, 0.39, 0.41, 1.0, 3.0})
+    for (const double t : {0.0, 0.2, 0.39, 0.41, 0.7, 5.0})
+      for (int k = 0; k <= 100; ++k) {
+        const double w = k / 100.0, value = blend(s, t, w, widening);
+        if (std::min(s, t) > widening) EXPECT_GT(value, 0.0) << s << ", " << t << " at " << w;
+      }
+  // Within it, the middle takes in what lies within twice the widening of the two together.
+  EXPECT_LT(blend(0.39, 0.39, 0.5, widening), 0.0);
+  EXPECT_LT(blend(0.0, 0.7, 0.5, widening), 0.0);
+  EXPECT_GT(blend(0.1, 0.71, 0.5, widening), 0.0);
+}
+
 TEST(MorphFieldWidening, InputsThatOverlapWellAreNotWidened) {
   const TwoBalls same = two_balls(-2.0);  // one ball twice
   EXPECT_EQ(middle_widening(same.s, same.t), 0.0);
