@@ -127,8 +127,10 @@ def morph(
     method "field": the zero set of a signed-distance field blended over a space-time
     triangulation of a box around both inputs (the core's morph_field.hpp): every frame is a level
     set, so it is embedded and holes open and close cleanly, and the ends are the inputs exactly.
-    No hole space is cut (a point outside both inputs stays outside every frame by construction);
-    its frames are checked as above.
+    No hole space is cut (a point outside both inputs stays outside every frame by construction,
+    unless the inputs barely meet and the blend is widened at the middle, `middle_widening`: then
+    only points within the widening of one input may be inside a frame); its frames are checked as
+    above.
     perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
 
     source_attributes, target_attributes: the inputs' UV maps (per face corner) and material indices
