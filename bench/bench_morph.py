@@ -6,6 +6,7 @@ says what is compared and how):
 
     python3 bench/bench_morph.py [--bar] [--methods field,skeleton] [--pairs spot->3holes,...]
                                  [--frames 24] [--vdb-resolution 128] [--no-peer]
+                                 [--field-resolution 24]
 
 --seed-report: chapter 8, §8.7.1: sphere -> a genus-3 model, next to the dissertation's seed
 figures and, in the same run, OpenVDB's level-set morph (what follows describes this mode):
@@ -419,6 +420,8 @@ def build_parser() -> argparse.ArgumentParser:
     bar.add_argument("--pairs", default=None, help=f"comma-separated pairs (default all: {', '.join(morph_bar.PAIRS)})")
     bar.add_argument("--frames", type=int, default=24, help="in-between frames, spread over the range (default 24)")
     bar.add_argument("--vdb-resolution", type=float, default=128, help="the peer's voxels per diagonal (default 128)")
+    bar.add_argument("--field-resolution", type=float, default=None,
+                     help="the field method's lattice cells across the shapes' size (default: am.morph's, 24)")
     seed = parser.add_argument_group("--seed-report")
     default_method = "skeleton" if "skeleton" in METHODS else "strip"
     seed.add_argument("--method", default=default_method,
@@ -448,11 +451,12 @@ def bar_mode(args) -> int:
         exe, why = vdb_executable(args.build)
     work = Path(tempfile.mkdtemp(prefix="bench_morph_bar_"))
     try:
+        options = {} if args.field_resolution is None else {"field": {"field_resolution": args.field_resolution}}
         results = morph_bar.run_bar(pairs, methods, args.frames, work, exe, why,
-                                    None if args.no_peer else args.vdb_resolution)
+                                    None if args.no_peer else args.vdb_resolution, options)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    write_json(args.json, {"frames": args.frames, "peer_unavailable": why,
+    write_json(args.json, {"frames": args.frames, "peer_unavailable": why, "field_resolution": args.field_resolution,
                            "pairs": {pair.name: [dataclasses.asdict(row) for row in rows] for pair, rows in results}})
     return 0
 

@@ -261,11 +261,12 @@ def rendered_noise_notes(manifold, pair: Pair) -> list[str]:
             f"showing it: {', '.join(map(frame, found.noisy)) or 'none'}"]
 
 
-def run_method(pair: Pair, method: str, count: int) -> Row:
-    """One method's row; an exception anywhere (the morph or its frames) is the row's error."""
+def run_method(pair: Pair, method: str, count: int, options: dict | None = None) -> Row:
+    """One method's row (am.morph with `options` as keywords); an exception anywhere (the morph or
+    its frames) is the row's error."""
     start = time.perf_counter()
     try:
-        manifold = am.morph(pair.source, pair.target, method=method)
+        manifold = am.morph(pair.source, pair.target, method=method, **(options or {}))
         seconds = time.perf_counter() - start
         times, frames, quarter = ours_frames(manifold, count)
         report = manifold.validity
@@ -364,12 +365,16 @@ def summary_line(pair: Pair, rows: list[Row]) -> str:
 
 
 def bar_rows(pair: Pair, methods: list[str], count: int, peer: Callable[[Pair], Row] | None = None,
-             progress: Callable[[str], None] = lambda line: None) -> list[Row]:
-    """The rows of one pair: each method, then the peer (when given)."""
+             progress: Callable[[str], None] = lambda line: None,
+             options: dict[str, dict] | None = None) -> list[Row]:
+    """The rows of one pair: each method (am.morph with options.get(method) as keywords), then the
+    peer (when given)."""
     rows = []
     for method in methods:
-        progress(f"{pair.name}: am.morph(method={method!r}) ...")
-        rows.append(run_method(pair, method, count))
+        chosen = (options or {}).get(method, {})
+        shown = "".join(f", {key}={value!r}" for key, value in chosen.items())
+        progress(f"{pair.name}: am.morph(method={method!r}{shown}) ...")
+        rows.append(run_method(pair, method, count, chosen))
         progress(f"{pair.name}: {method} {'raised' if rows[-1].error else 'done'} after {rows[-1].seconds:.1f} s")
     if peer is not None:
         progress(f"{pair.name}: OpenVDB peer ...")
@@ -378,16 +383,18 @@ def bar_rows(pair: Pair, methods: list[str], count: int, peer: Callable[[Pair], 
 
 
 def run_bar(pairs: list[str] | None, methods: list[str], count: int, work: Path, peer_exe: Path | None = None,
-            peer_unavailable: str | None = None, resolution: float | None = 128) -> list[tuple[Pair, list[Row]]]:
+            peer_unavailable: str | None = None, resolution: float | None = 128,
+            options: dict[str, dict] | None = None) -> list[tuple[Pair, list[Row]]]:
     """Every pair's rows, each pair's table printed as soon as it is measured and all of them
-    again at the end with a summary line each. resolution=None: no peer row."""
+    again at the end with a summary line each. resolution=None: no peer row. options: per
+    method, keywords for its am.morph."""
     say = lambda line: print(f"bench_morph: {line}", flush=True)  # noqa: E731
     peer = None
     if resolution is not None:
         peer = lambda pair: run_peer(peer_exe, pair, resolution, count, work, peer_unavailable)  # noqa: E731
     results = []
     for pair in load_pairs(pairs):
-        rows = bar_rows(pair, methods, count, peer, say)
+        rows = bar_rows(pair, methods, count, peer, say, options)
         results.append((pair, rows))
         print("\n" + format_table(pair, rows, count) + "\n", flush=True)
     print(f"\n=== the bar, {count} frames + ends: ours ({', '.join(methods)})"

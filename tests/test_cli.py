@@ -353,6 +353,20 @@ def test_morph_of_different_genus_with_the_skeleton_method(capsys, tmp_path, sph
     assert_user_error(code, err, "--max-push must lie between 0 and 0.5")
 
 
+def test_morph_takes_the_field_methods_resolution_and_refuses_it_elsewhere(capsys, tmp_path, sphere_and_torus):
+    out, err, m, last_euler = morph_in_three_frames(capsys, sphere_and_torus, tmp_path / "m",
+                                                    "--field-resolution", "12")
+    assert m.metadata["morph"]["method"] == "field" and m.validity["ends_reproduced"]
+    assert m.validity["lattice_spacing"] == pytest.approx(1 / 12, rel=1e-12)
+    assert last_euler == 0  # a torus
+    code, out, err = run(capsys, "morph", *sphere_and_torus, "-o", tmp_path / "x", "--field-resolution", "1")
+    assert_user_error(code, err, "--field-resolution must be at least 2 lattice cells, got 1.0")
+    code, out, err = run(capsys, "morph", *sphere_and_torus, "-o", tmp_path / "y", "--method", "skeleton",
+                         "--field-resolution", "12")
+    assert_user_error(code, err, "--field-resolution applies to the field method only")
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
 def test_morph_with_the_field_method_says_what_it_checked(capsys, tmp_path, sphere_and_torus):
     out, err, m, last_euler = morph_in_three_frames(capsys, sphere_and_torus, tmp_path / "m", "--method", "field")
     assert m.metadata["morph"]["method"] == "field" and m.validity["ends_reproduced"]

@@ -267,6 +267,32 @@ def test_a_cone_in_a_toruss_hole_passes_through_the_gap_and_never_vanishes():
         assert volume >= least, f"the frame at {t:.3f} holds {volume:.4f}, under {least:.4f}"
 
 
+def test_the_field_resolution_sets_the_lattice_and_the_ends_stay_exact():
+    """am.morph(field_resolution=N): the lattice has N cells across the shapes' size (the report's
+    lattice_spacing is 1 / N of it), a coarser lattice gives a smaller space-time triangulation, and
+    the ends are the inputs at any resolution."""
+    from helpers.shapes import icosphere, torus
+
+    source, target = icosphere(2), torus(minor_radius=0.35, major=24, minor=12)
+    coarse, default = (am.morph(source, target, method="field", field_resolution=r) for r in (12, 24))
+    assert coarse.validity["lattice_spacing"] == pytest.approx(1 / 12, rel=1e-12)
+    assert default.validity["lattice_spacing"] == pytest.approx(1 / 24, rel=1e-12)
+    assert len(coarse.simplices) < len(default.simplices)
+    diagonal = float(np.linalg.norm(np.ptp(target[0], axis=0)))
+    for manifold in (coarse, default):
+        for t, mesh in ((0.0, source), (1.0, target)):
+            end = manifold.slice(t)
+            assert_end_is_the_input((np.asarray(end.vertices), np.asarray(end.faces)), mesh, diagonal)
+
+
+@pytest.mark.parametrize("resolution", [1.5, 0, -24, float("nan"), "24", True])
+def test_a_field_resolution_that_is_not_a_number_of_cells_is_refused_by_name(resolution):
+    from helpers.shapes import icosphere
+
+    with pytest.raises(am.InputError, match="field_resolution must be a number of lattice cells >= 2"):
+        am.morph(icosphere(1), icosphere(1), method="field", field_resolution=resolution)
+
+
 def test_the_ends_meshed_side_by_side_do_not_hang_beside_scipys_openblas():
     """Each end's TetGen runs in a child process, the two side by side. scipy's OpenBLAS, loaded in
     the same process with its thread pool started, shuts that pool down before every fork, and two

@@ -375,6 +375,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-push", type=float, default=0.45,
                    help="skeleton method: how far into the morph holes close and open, as a fraction of t1 - t0 "
                         "(default 0.45)")
+    p.add_argument("--field-resolution", type=float, default=None,
+                   help="field method: lattice cells across the shapes' size (default 24); finer resolves thinner "
+                        "parts and smaller holes in between, at a cost growing with its cube")
 
     cli_subdivide.add_parser(commands)
     cli_deform.add_parser(commands)
@@ -398,8 +401,15 @@ def run_morph(args: argparse.Namespace) -> int:
     source, target = read_mesh(args.source), read_mesh(args.target)
     if not 0 < args.max_push < 0.5:
         raise UserError(f"--max-push must lie between 0 and 0.5, got {args.max_push}")
+    field = {}
+    if args.field_resolution is not None:
+        if (args.method or default_method(source[0].shape[1])) != "field":
+            raise UserError("--field-resolution applies to the field method only (--method field)")
+        if not args.field_resolution >= 2:
+            raise UserError(f"--field-resolution must be at least 2 lattice cells, got {args.field_resolution}")
+        field["field_resolution"] = args.field_resolution
     manifold = morph(source, target, t0=args.t0, t1=args.t1, method=args.method, max_push=args.max_push,
-                     progress=StepPrinter(args.quiet, ended=True))
+                     progress=StepPrinter(args.quiet, ended=True), **field)
     folder = Path(args.output)
     folder.mkdir(parents=True, exist_ok=True)
     save(manifold, folder / "morph.amf")

@@ -71,6 +71,7 @@ def morph(
     fan_flat_polygons: bool = True,
     test_hold: tuple[str, float] | None = None,
     mesher_time_limit: float = 0.0,
+    field_resolution: float = _DEFAULTS.field_resolution,
     source_attributes: SurfaceAttributes | None = None,
     target_attributes: SurfaceAttributes | None = None,
 ) -> AnimationManifold:
@@ -132,6 +133,10 @@ def morph(
     only points within the widening of one input may be inside a frame); its frames are checked as
     above.
     perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
+    field_resolution: its lattice's cells across the shapes' size (default 24; report:
+    `lattice_spacing`, its spacing as a share of the size). Finer resolves thinner parts and
+    smaller holes in the frames between the ends, at a cost that grows with its cube; the ends are
+    the inputs at any resolution.
 
     source_attributes, target_attributes: the inputs' UV maps (per face corner) and material indices
     (per face), as animanifold.morph_surface.SurfaceAttributes, in the order of the faces given
@@ -159,10 +164,12 @@ def morph(
     """
     arrays = _input_arrays(source, target)
     method = default_method(arrays[0].shape[1]) if method is None else method
-    _check_options(method, hole_checks, mesher_time_limit, fill, perturbation)
+    _check_options(method, hole_checks, mesher_time_limit, fill, perturbation, field_resolution)
     hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
-    if mesher_time_limit:  # the core's options beside the test hold (both passed to _core.morph as keywords)
+    if mesher_time_limit:  # the core's options beside the test hold (all passed to _core.morph as keywords)
         hold["mesher_time_limit"] = float(mesher_time_limit)
+    if method == "field":
+        hold["field_resolution"] = float(field_resolution)
     looks = (source_attributes, target_attributes)
     if any(look is not None for look in looks):
         if arrays[0].shape[1] != 3:
@@ -185,7 +192,8 @@ def default_method(dimension: int) -> str:
     return _DEFAULTS.method.name if dimension == 3 else "skeleton"
 
 
-def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill: str, perturbation: str) -> None:
+def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill: str, perturbation: str,
+                   field_resolution: float) -> None:
     """InputError naming the first of morph()'s options that is not one it takes."""
     if method not in METHODS:
         raise InputError(f"unknown morph method {method!r}: available are {', '.join(METHODS)}")
@@ -193,6 +201,9 @@ def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill
         raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
     if isinstance(mesher_time_limit, bool) or not (float(mesher_time_limit) >= 0):
         raise InputError(f"mesher_time_limit must be a number of seconds >= 0, got {mesher_time_limit!r}")
+    if isinstance(field_resolution, bool) or not isinstance(field_resolution, (int, float)) or \
+            not (float(field_resolution) >= 2):
+        raise InputError(f"field_resolution must be a number of lattice cells >= 2, got {field_resolution!r}")
     if fill not in FILLS:
         raise InputError(f"unknown fill {fill!r}: use one of {', '.join(FILLS)}")
     if perturbation not in PERTURBATIONS:

@@ -435,6 +435,22 @@ def test_only_the_selected_meshes_take_part(empty_scene):
     assert bpy.context.active_object.name == "Icosphere_to_Cube"
 
 
+@pytest.mark.xfail(best_method() == "strip", reason=STRIP_ONLY_REASON, strict=True)
+def test_field_resolution_sets_the_field_methods_lattice(empty_scene):
+    """Field Resolution reaches am.morph: 12 cells across the size, and the ends stay the inputs."""
+    source, target = add_sphere_and_torus()
+    select(source, target)
+    assert bpy.ops.animanifold.morph_selected(method="FIELD", field_resolution=12) == {"FINISHED"}
+    morph = bpy.context.active_object
+    from animanifold_blender import object_manifold
+
+    validity = object_manifold.manifold_for(morph).validity
+    assert validity["lattice_spacing"] == pytest.approx(1 / 12, rel=1e-12) and validity["ends_reproduced"]
+    scene = bpy.context.scene
+    scene.frame_set(scene.frame_end)
+    assert frame_matches(compare_with(morph, target))
+
+
 def test_method_defaults_to_the_best_available_and_strip_is_always_there(empty_scene):
     import importlib
 
