@@ -274,7 +274,7 @@ def test_the_field_resolution_sets_the_lattice_and_the_ends_stay_exact():
     from helpers.shapes import icosphere, torus
 
     source, target = icosphere(2), torus(minor_radius=0.35, major=24, minor=12)
-    coarse, default = (am.morph(source, target, method="field", field_resolution=r) for r in (12, 24))
+    coarse, default = (am.morph(source, target, method="field", field_resolution=r) for r in (np.int64(12), 24.0))
     assert coarse.validity["lattice_spacing"] == pytest.approx(1 / 12, rel=1e-12)
     assert default.validity["lattice_spacing"] == pytest.approx(1 / 24, rel=1e-12)
     assert len(coarse.simplices) < len(default.simplices)

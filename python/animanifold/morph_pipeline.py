@@ -35,6 +35,7 @@ between its frames.
 from __future__ import annotations
 
 import functools
+import numbers
 import time
 from typing import Callable
 
@@ -201,7 +202,7 @@ def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill
         raise InputError(f"hole_checks must be a non-negative integer, got {hole_checks!r}")
     if isinstance(mesher_time_limit, bool) or not (float(mesher_time_limit) >= 0):
         raise InputError(f"mesher_time_limit must be a number of seconds >= 0, got {mesher_time_limit!r}")
-    if isinstance(field_resolution, bool) or not isinstance(field_resolution, (int, float)) or \
+    if isinstance(field_resolution, bool) or not isinstance(field_resolution, numbers.Real) or \
             not (float(field_resolution) >= 2):
         raise InputError(f"field_resolution must be a number of lattice cells >= 2, got {field_resolution!r}")
     if fill not in FILLS:
