@@ -166,17 +166,10 @@ def morph(
     arrays = _input_arrays(source, target)
     method = default_method(arrays[0].shape[1]) if method is None else method
     _check_options(method, hole_checks, mesher_time_limit, fill, perturbation, field_resolution)
-    hold = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
-    if mesher_time_limit:  # the core's options beside the test hold (all passed to _core.morph as keywords)
-        hold["mesher_time_limit"] = float(mesher_time_limit)
-    if method == "field":
-        hold["field_resolution"] = float(field_resolution)
+    hold = _core_keywords(method, test_hold, mesher_time_limit, field_resolution)
     looks = (source_attributes, target_attributes)
     if any(look is not None for look in looks):
-        if arrays[0].shape[1] != 3:
-            raise InputError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
-        for name, mesh, look in (("source", source, source_attributes), ("target", target, target_attributes)):
-            check_surface_attributes(name, mesh, look)  # before minutes of morphing
+        _check_looks(arrays[0].shape[1], source, target, *looks)  # before minutes of morphing
     manifold = (_field_morph(arrays, float(t0), float(t1), progress, interrupted, hold) if method == "field" else
                 _seed_morph(arrays, float(t0), float(t1), method, progress, max_push, fill, hole_checks, perturbation,
                             interrupted, fan_flat_polygons, hold))
@@ -191,6 +184,26 @@ def default_method(dimension: int) -> str:
     surfaces (its in-betweens are level sets: embedded, and they change from the first frame to the
     last); the skeleton method for 2D polygons, which the field method does not morph."""
     return _DEFAULTS.method.name if dimension == 3 else "skeleton"
+
+
+def _core_keywords(method: str, test_hold: tuple[str, float] | None, mesher_time_limit: float,
+                   field_resolution: float) -> dict:
+    """The core's options that morph() passes to _core.morph as keywords: the test hold, the
+    mesher's time limit (when set) and the field method's lattice resolution."""
+    keywords = dict(hold_stage=str(test_hold[0]), hold_seconds=float(test_hold[1])) if test_hold else {}
+    if mesher_time_limit:
+        keywords["mesher_time_limit"] = float(mesher_time_limit)
+    if method == "field":
+        keywords["field_resolution"] = float(field_resolution)
+    return keywords
+
+
+def _check_looks(dimension: int, source, target, source_look, target_look) -> None:
+    """InputError where UV maps or materials come with 2D inputs, or do not fit their mesh."""
+    if dimension != 3:
+        raise InputError("UV maps and materials are carried onto 3D morphs (triangle meshes) only")
+    for name, mesh, look in (("source", source, source_look), ("target", target, target_look)):
+        check_surface_attributes(name, mesh, look)
 
 
 def _check_options(method: str, hole_checks: int, mesher_time_limit: float, fill: str, perturbation: str,
