@@ -55,7 +55,7 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
                               description="Skeleton method: the share of the range over which the source's holes "
                                           "and dents close after the start and the target's open before the end "
                                           "(max_push)")
-    field_resolution: IntProperty(name="Field Resolution", default=24, min=8, soft_max=48, max=96,
+    field_resolution: IntProperty(name="Field Resolution", default=24, min=8, soft_max=40, max=48,
                                   description="Field method: lattice cells across the shapes' size. Finer resolves "
                                               "thinner parts and smaller holes in between, at a cost growing with "
                                               "its cube (field_resolution)")
