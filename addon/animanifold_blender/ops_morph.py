@@ -57,8 +57,8 @@ class ANIMANIFOLD_OT_morph_selected(CoreJobModal, Operator):
                                           "(max_push)")
     field_resolution: IntProperty(name="Field Resolution", default=24, min=8, soft_max=40, max=48,
                                   description="Field method: lattice cells across the shapes' size. Finer resolves "
-                                              "thinner parts and smaller holes in between, at a cost growing with "
-                                              "its cube (field_resolution)")
+                                              "thinner parts and smaller holes in between, in more time and "
+                                              "memory (field_resolution)")
 
     @classmethod
     def poll(cls, context):

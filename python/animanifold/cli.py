@@ -377,7 +377,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default 0.45)")
     p.add_argument("--field-resolution", type=float, default=None,
                    help="field method: lattice cells across the shapes' size (default 24); finer resolves thinner "
-                        "parts and smaller holes in between, at a cost growing with its cube")
+                        "parts and smaller holes in between, in more time and memory")
 
     cli_subdivide.add_parser(commands)
     cli_deform.add_parser(commands)

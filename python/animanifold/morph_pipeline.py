@@ -136,8 +136,8 @@ def morph(
     perturbation, max_push, fill, hole_checks and fan_flat_polygons do not apply to it.
     field_resolution: its lattice's cells across the shapes' size (default 24; report:
     `lattice_spacing`, its spacing as a share of the size). Finer resolves thinner parts and
-    smaller holes in the frames between the ends, at a cost that grows with its cube; the ends are
-    the inputs at any resolution.
+    smaller holes in between, in more time and memory (the lattice is dense only near the surfaces,
+    so both grow about as fast as it does); the ends are the inputs at any resolution.
 
     source_attributes, target_attributes: the inputs' UV maps (per face corner) and material indices
     (per face), as animanifold.morph_surface.SurfaceAttributes, in the order of the faces given

@@ -1,7 +1,8 @@
 // The blend widened at the middle (blend, middle_widening in
 // morph_field_internal.hpp): exact at the ends, zero where the inputs
-// overlap well, and where they barely meet or lie apart, just enough that
-// the middle holds the smaller input's volume and is deep enough.
+// overlap well, and where they barely meet or lie apart, enough that the
+// middle is half the thinner input's depth, holding no more than the
+// larger input.
 #include "morph_field_internal.hpp"
 
 #include <gtest/gtest.h>
