@@ -161,6 +161,33 @@ def test_pair_lists_in_csv_and_their_errors(tmp_path, capsys):
     assert "--index 3 is outside the list's pairs 1..2" in capsys.readouterr().err
 
 
+def test_a_pair_list_sets_the_field_methods_resolution_per_pair(tmp_path):
+    """A `field_resolution` column sets the field method's lattice for its pair: the report's
+    lattice_spacing is 1/N of the shapes' size and the summary names it. An empty cell is the
+    default; a bad value, or one given to another method, fails the list before any morph."""
+    am.write_mesh(tmp_path / "sphere.off", *shapes.icosphere(1))
+    am.write_mesh(tmp_path / "cube.off", *shapes.cube())
+    csv_path = tmp_path / "pairs.csv"
+    csv_path.write_text("source,target,frames,method,field_resolution\n"
+                        "sphere.off,cube.off,3,field,8\nsphere.off,cube.off,3,strip,\n")
+    pairs = morph_batch.read_pairs(csv_path)
+    assert pairs[0]["field_resolution"] == 8.0 and "field_resolution" not in pairs[1]
+    out = tmp_path / "out"
+    assert cli.main(["farm", "morph", str(csv_path), "--index", "1", "-o", str(out)]) == 0
+    report = json.loads((out / pairs[0]["name"] / "report.json").read_text())
+    assert report["status"] == "ok", report.get("error")
+    assert report["validity"]["lattice_spacing"] == pytest.approx(1 / 8, rel=1e-12)
+    assert morph_batch.summary_rows(pairs[:1], out)[0]["method"] == "field (8 cells)"
+    bad = tmp_path / "bad.json"
+    for row, message in (({"method": "strip", "field_resolution": 12}, "applies to the field method only, not 'strip'"),
+                         ({"method": "field", "field_resolution": "fine"}, "lattice cells >= 2, got 'fine'"),
+                         ({"method": "field", "field_resolution": 1}, "lattice cells >= 2, got 1"),
+                         ({"method": "field", "field_resolution": True}, "lattice cells >= 2, got True")):
+        bad.write_text(json.dumps([dict(row, source="a.off", target="b.off")]))
+        with pytest.raises(morph_batch.PairListError, match=f"pair 1: field_resolution .*{message}"):
+            morph_batch.read_pairs(bad)
+
+
 def test_obj_and_ply_frames_carry_uvs_normals_and_materials(tmp_path):
     v, f = shapes.icosphere(1)
     uv = (v[:, :2] + 1) / 2

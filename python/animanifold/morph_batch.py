@@ -2,7 +2,8 @@
 pairs, each morphed into a folder of its own with a validity report, and a summary table.
 
 The list is JSON (a list of objects) or CSV with a header, each pair having `source`, `target`,
-`frames` and `method` (and optionally `name`); relative paths are relative to the list's folder.
+`frames` and `method` (and optionally `name`, and `field_resolution` for the field method's
+lattice); relative paths are relative to the list's folder.
 A pair's results go to OUT/<name>/ (morph.amf, frames/, contact_sheet.png) and its report,
 written last, to OUT/<name>/report.json. Every file is written under a temporary name and
 renamed, so a preempted task leaves no half-written file, and a pair whose report is there with
@@ -86,8 +87,29 @@ def _checked_pair(path: Path, row, index: int) -> dict:
     if method not in METHODS:
         raise PairListError(f"{where}: unknown method {method!r} (choose from {', '.join(METHODS)})")
     resolve = lambda p: str(p if os.path.isabs(p) else (path.parent / p))  # noqa: E731
-    return {"name": _pair_name(row, index), "source": resolve(row["source"]), "target": resolve(row["target"]),
+    pair = {"name": _pair_name(row, index), "source": resolve(row["source"]), "target": resolve(row["target"]),
             "frames": frames, "method": method}
+    resolution = _field_resolution(row, method, where)
+    if resolution is not None:  # absent from pairs without it, so their finished reports still match
+        pair["field_resolution"] = resolution
+    return pair
+
+
+def _field_resolution(row: dict, method: str, where: str) -> float | None:
+    """The pair's optional `field_resolution` (an empty CSV cell is no value), checked here so that
+    a bad list fails before the farm starts rather than pair by pair."""
+    value = row.get("field_resolution")
+    if value is None or value == "":
+        return None
+    if method != "field":
+        raise PairListError(f"{where}: field_resolution applies to the field method only, not {method!r}")
+    try:
+        resolution = float(value) if not isinstance(value, bool) else math.nan
+    except (TypeError, ValueError):
+        resolution = math.nan
+    if not resolution >= 2 or not math.isfinite(resolution):
+        raise PairListError(f"{where}: field_resolution must be a number of lattice cells >= 2, got {value!r}")
+    return resolution
 
 
 def json_safe(value):
@@ -115,7 +137,8 @@ def _morph_pair(pair: dict, folder: Path, fmt: str) -> dict:
     """Morphs one pair into `folder`; the report (validity, timings, files)."""
     seconds, files = {}, []
     start = time.perf_counter()
-    manifold = morph(read_mesh(pair["source"]), read_mesh(pair["target"]), method=pair["method"])
+    options = {"field_resolution": pair["field_resolution"]} if "field_resolution" in pair else {}
+    manifold = morph(read_mesh(pair["source"]), read_mesh(pair["target"]), method=pair["method"], **options)
     seconds["morph"] = time.perf_counter() - start
     save(manifold, folder / "morph.amf")
     files.append("morph.amf")
@@ -159,7 +182,7 @@ def summary_rows(pairs: list[dict], output: Path) -> list[dict]:
             report = {"status": "missing"}
         v = report.get("validity", {})
         rows.append({
-            "pair": pair["name"], "method": pair["method"], "status": report["status"],
+            "pair": pair["name"], "method": _method_cell(pair), "status": report["status"],
             "ends_reproduced": v.get("ends_reproduced"), "inverted_simplices": v.get("inverted_simplices"),
             "frames_cross_themselves": v.get("frames_cross_themselves"),
             "bubble_frames": len(v.get("bubble_frames") or []) if v else None,
@@ -169,6 +192,11 @@ def summary_rows(pairs: list[dict], output: Path) -> list[dict]:
             "error": report.get("error"),
         })
     return rows
+
+
+def _method_cell(pair: dict) -> str:
+    resolution = pair.get("field_resolution")
+    return pair["method"] if resolution is None else f"{pair['method']} ({resolution:g} cells)"
 
 
 COLUMNS = ("pair", "method", "status", "ends_reproduced", "inverted_simplices", "frames_cross_themselves",
