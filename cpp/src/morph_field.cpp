@@ -8,10 +8,15 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
+#include <condition_variable>
 #include <cstdlib>
 #include <exception>
+#include <functional>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -241,6 +246,49 @@ void on_both_sides(Work&& work) {
   }
   for (const std::exception_ptr& e : failure)
     if (e) std::rethrow_exception(e);
+}
+
+// Runs lead() on one thread and beside() on the other, then the `after`
+// tasks (which need lead()'s results; each writes its own), each on
+// whichever thread is free first, when the thread setting allows two (else
+// lead, the tasks in order, then beside: the same work, so the same bits).
+// A failure of lead() skips the tasks; the first failure is thrown once
+// both threads are done.
+template <class Lead, class Beside>
+void lead_and_beside(Lead&& lead, Beside&& beside, const std::vector<std::function<void()>>& after) {
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool lead_finished = false, lead_succeeded = false;
+  auto finish = [&](bool succeeded) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      lead_finished = true, lead_succeeded = succeeded;
+    }
+    finished.notify_all();
+  };
+  std::atomic<size_t> next{0};
+  auto run_after = [&] {
+    for (size_t task = next++; task < after.size(); task = next++) after[task]();
+  };
+  on_both_sides([&](int side) {
+    if (side == 0) {
+      try {
+        lead();
+      } catch (...) {
+        finish(false);
+        throw;
+      }
+      finish(true);
+      run_after();
+      return;
+    }
+    beside();
+    std::unique_lock<std::mutex> lock(mutex);
+    finished.wait(lock, [&] { return lead_finished; });
+    const bool succeeded = lead_succeeded;
+    lock.unlock();
+    if (succeeded) run_after();
+  });
 }
 
 // An end's tetrahedralization with its chords split, as build_half() splits
@@ -484,14 +532,21 @@ bool inside_both(const EndDistances& distances) {
   return ((distances.s.array() < 0) && (distances.t.array() < 0)).any();
 }
 
-// The zero set of the field over the whole space-time triangulation.
+// The zero set of the field over the whole space-time triangulation: each
+// half's stacks and transition slab (add_source_stacks, add_target_stacks),
+// then the fill's (add_fill). The halves share no edge, so each has a
+// builder of its own and the two can be extracted at once; the fill joins
+// them. The stacks need only the fill's end facets, which are the ends' own
+// cells but for cospherical ties (field_morph), so they are extracted beside
+// the fill's Delaunay triangulation.
 class Extraction {
  public:
   // `time_scale`: the shapes' size over the range (flat_to_rounding).
-  Extraction(const Half& source, const Half& target, const Fill& fill, double time_scale)
-      : source_(source), target_(target), fill_(fill), nS_(static_cast<Index>(source.points.rows())),
+  Extraction(const Half& source, const Half& target, double time_scale)
+      : source_(source), target_(target), nS_(static_cast<Index>(source.points.rows())),
         nT_(static_cast<Index>(target.points.rows())), JS_(static_cast<int>(source.times.size())),
-        JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_), zero_(5, 4 * static_cast<size_t>(nS_)),
+        JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_),
+        zero_{ZeroSetBuilder(5, 4 * static_cast<size_t>(nS_)), ZeroSetBuilder(5, 4 * static_cast<size_t>(nT_))},
         time_scale_(time_scale) {
     X_.resize(target_base_ + JT_ * nT_, 4);
     phi_.resize(X_.rows());
@@ -504,37 +559,51 @@ class Extraction {
   Index source_id(int layer, Index v) const { return layer * nS_ + v; }
   Index target_id(int layer, Index v) const { return target_base_ + layer * nT_ + v; }
 
-  void run() {
-    // The source's stack over its refined cells, then the slab to the fill.
+  // The source's stack over its refined cells, then the slab from it to the
+  // fill's end facet `cells` (over the source's unrefined points).
+  void add_source_stacks(const SimplexMatrix& cells) {
     const SimplexMatrix& KS = source_.refined.cells;
-    for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0));
-    add_transition(fill_.source_cells, source_, [&](Index local) {
+    for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0), 0);
+    add_transition(cells, source_, [&](Index local) {
       return local < nS_ ? source_id(JS_ - 2, local) : source_id(JS_ - 1, local - nS_);
     }, true);
-    for (Index s = 0; s < fill_.simplices.rows(); ++s) {
-      Simplex4 simplex;
-      for (int c = 0; c < 5; ++c) {
-        const Index v = fill_.simplices(s, c);
-        simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
-      }
-      add(simplex);
-    }
-    add_transition(fill_.target_cells, target_, [&](Index local) {
+  }
+
+  // The slab from the fill's end facet `cells` (over the target's unrefined
+  // points) to the target's stack, then that stack.
+  void add_target_stacks(const SimplexMatrix& cells) {
+    add_transition(cells, target_, [&](Index local) {
       return local < nT_ ? target_id(1, local) : target_id(0, local - nT_);
     }, false);
     const SimplexMatrix& KT = target_.refined.cells;
-    for (int j = 1; j + 1 < JT_; ++j) add_stack(KT, target_id(j, 0), target_id(j + 1, 0));
+    for (int j = 1; j + 1 < JT_; ++j) add_stack(KT, target_id(j, 0), target_id(j + 1, 0), 1);
   }
 
+  // The fill's 4-simplices (over the source's unrefined points, then the
+  // target's), after both halves' stacks.
+  void add_fill(const Fill& fill) {
+    zero_[0].append(zero_[1]);
+    zero_[1] = ZeroSetBuilder(5, 0);
+    for (Index s = 0; s < fill.simplices.rows(); ++s) {
+      Simplex4 simplex;
+      for (int c = 0; c < 5; ++c) {
+        const Index v = fill.simplices(s, c);
+        simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
+      }
+      add(simplex, 0);
+    }
+  }
+
+  // The zero set, once add_fill() has joined the halves'.
   Complex manifold() const {
     Complex out;
-    const auto& cuts = zero_.cuts();
+    const auto& cuts = zero_[0].cuts();
     out.V.resize(static_cast<Index>(cuts.size()), 4);
     for (size_t c = 0; c < cuts.size(); ++c) {
       const ZeroCut& p = cuts[c];
       out.V.row(static_cast<Index>(c)) = p.a == p.b ? X_.row(p.a) : ((1 - p.s) * X_.row(p.a) + p.s * X_.row(p.b)).eval();
     }
-    out.S = Eigen::Map<const SimplexMatrix>(zero_.pieces().data(), static_cast<Index>(zero_.piece_count()), 4);
+    out.S = Eigen::Map<const SimplexMatrix>(zero_[0].pieces().data(), static_cast<Index>(zero_[0].piece_count()), 4);
     return out;
   }
 
@@ -542,7 +611,7 @@ class Extraction {
   // certificate (SpaceTimeTriangulation).
   SimplexMatrix source_transition, target_transition;
   // The 4-simplices the zero set passes through that are flat but for rounding.
-  Index flat_crossed() const { return flat_crossed_; }
+  Index flat_crossed() const { return flat_crossed_[0] + flat_crossed_[1]; }
 
  private:
   // Layer `layer` of `half` (its own numbering, end first) at global `base`.
@@ -552,17 +621,19 @@ class Extraction {
     phi_.segment(base, n) = half.field[layer];
   }
 
-  void add(const Simplex4& s) {
+  // Adds the zero set of `s` to builder `part` (0 the source's, 1 the target's).
+  void add(const Simplex4& s, int part) {
     std::array<double, 5> value;
     for (int c = 0; c < 5; ++c) value[c] = phi_(s[c]);
-    const size_t pieces = zero_.piece_count();
-    zero_.add(s.data(), value.data(), 0);
-    if (zero_.piece_count() != pieces && flat_to_rounding(X_, s, time_scale_)) ++flat_crossed_;
+    ZeroSetBuilder& zero = zero_[part];
+    const size_t pieces = zero.piece_count();
+    zero.add(s.data(), value.data(), 0);
+    if (zero.piece_count() != pieces && flat_to_rounding(X_, s, time_scale_)) ++flat_crossed_[part];
   }
 
   // Prisms over `cells` between two layers, skipping those the zero set
   // misses, each split by the staircase in staircase_rank()'s order.
-  void add_stack(const SimplexMatrix& cells, Index bottom, Index top) {
+  void add_stack(const SimplexMatrix& cells, Index bottom, Index top, int part) {
     std::array<Simplex4, 4> prism;
     const Index n = cells.maxCoeff() + 1;
     const std::vector<double> rank = staircase_rank(cells, phi_.segment(bottom, n), phi_.segment(top, n));
@@ -575,7 +646,7 @@ class Extraction {
       }
       if (!negative || !positive) continue;
       prism_simplices(t, bottom, top, prism.data(), rank.data());
-      for (const Simplex4& s : prism) add(s);
+      for (const Simplex4& s : prism) add(s, part);
     }
   }
 
@@ -599,20 +670,19 @@ class Extraction {
       Simplex4 s = slab[r];
       for (int c = 0; c < 5; ++c) local(static_cast<Index>(r), c) = s[c];
       for (Index& v : s) v = global(v);
-      add(s);
+      add(s, refined_at_bottom ? 0 : 1);
     }
   }
 
   const Half &source_, &target_;
-  const Fill& fill_;
   Index nS_, nT_;
   int JS_, JT_;
   Index target_base_;
   PointMatrix X_;
   Eigen::VectorXd phi_;
-  ZeroSetBuilder zero_;
+  ZeroSetBuilder zero_[2];
   double time_scale_;
-  Index flat_crossed_ = 0;
+  Index flat_crossed_[2] = {0, 0};
 };
 
 }  // namespace
@@ -689,14 +759,21 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // one thread), on the ends' own Delaunay cells: those are the fill's end
   // facets (Theorem 5.2.1) unless cospherical points break their ties
   // another way there, and then the halves are shaped again on the fill's.
+  // Their stacks' zero set is extracted as soon as they are shaped, each
+  // half's on whichever thread is free first.
   const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing,
                           lattice.spacing};
+  const double time_scale = size / (options.t1 - options.t0);
   Fill fill;
   Halves halves;
-  on_both_sides([&](int side) {
-    if (side == 0) fill = fill_slab(S.points, T.points, lattice.spacing);
-    else halves = shaped_halves(inputs, cells[0], cells[1], distances);
-  });
+  std::optional<Extraction> extraction;
+  lead_and_beside(
+      [&] {
+        halves = shaped_halves(inputs, cells[0], cells[1], distances);
+        extraction.emplace(halves.source, halves.target, time_scale);
+      },
+      [&] { fill = fill_slab(S.points, T.points, lattice.spacing); },
+      {[&] { extraction->add_source_stacks(cells[0]); }, [&] { extraction->add_target_stacks(cells[1]); }});
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
   report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
   report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
@@ -704,23 +781,27 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
     fail<MeshingError>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
                              report.missing_source_faces, " source and ", report.missing_target_faces,
                              " target faces are missing");
-  if (!same_cells(fill.source_cells, cells[0]) || !same_cells(fill.target_cells, cells[1]))
+  if (!same_cells(fill.source_cells, cells[0]) || !same_cells(fill.target_cells, cells[1])) {
+    extraction.reset();
     halves = shaped_halves(inputs, fill.source_cells, fill.target_cells, distances);
+    extraction.emplace(halves.source, halves.target, time_scale);
+    extraction->add_source_stacks(fill.source_cells);
+    extraction->add_target_stacks(fill.target_cells);
+  }
   for (const Half* half : {&halves.source, &halves.target})
     report.split_faces += static_cast<Index>(half->refined.splits.size());
   Half &source = halves.source, &target = halves.target;
 
   clock.begin("shape", 0.6);
-  Extraction extraction(source, target, fill, size / (options.t1 - options.t0));
-  extraction.run();
-  result.manifold = extraction.manifold();
+  extraction->add_fill(fill);
+  result.manifold = extraction->manifold();
   report.simplices = static_cast<Index>(result.manifold.S.rows());
   report.field_layers = slabs;
   report.lattice_spacing = lattice.spacing / size;
   report.middle_widening = lattice.widening / size;
-  out.space_time = {side_of(std::move(source), std::move(extraction.source_transition)),
-                    side_of(std::move(target), std::move(extraction.target_transition)),
-                    extraction.flat_crossed()};
+  out.space_time = {side_of(std::move(source), std::move(extraction->source_transition)),
+                    side_of(std::move(target), std::move(extraction->target_transition)),
+                    extraction->flat_crossed()};
   return out;
 }
 

@@ -102,6 +102,10 @@ Index ZeroSetBuilder::cut(Index a, Index b, double va, double vb) {
     const double from_a = va / (va - vb);  // in (0, 1): va < 0 < vb
     point = a < b ? ZeroCut{a, b, from_a} : ZeroCut{b, a, 1.0 - from_a};
   }
+  return intern(point);
+}
+
+Index ZeroSetBuilder::intern(const ZeroCut& point) {
   const std::uint64_t key = edge_key(point.a, point.b);
   size_t slot = slot_of(key, mask_);
   while (keys_[slot] != kEmpty) {
@@ -117,6 +121,16 @@ Index ZeroSetBuilder::cut(Index a, Index b, double va, double vb) {
   slots_[slot] = static_cast<Index>(cuts_.size());
   cuts_.push_back(point);
   return slots_[slot];
+}
+
+void ZeroSetBuilder::append(const ZeroSetBuilder& other) {
+  if (other.corners_ != corners_)
+    fail<InputError>("cannot append a zero set of ", other.corners_, "-corner simplices to one of ", corners_);
+  std::vector<Index> index(other.cuts_.size());
+  for (size_t c = 0; c < other.cuts_.size(); ++c) index[c] = intern(other.cuts_[c]);
+  pieces_.reserve(pieces_.size() + other.pieces_.size());
+  for (const Index c : other.pieces_) pieces_.push_back(index[static_cast<size_t>(c)]);
+  sources_.insert(sources_.end(), other.sources_.begin(), other.sources_.end());
 }
 
 void ZeroSetBuilder::add(const Index* ids, const double* value, Index source) {

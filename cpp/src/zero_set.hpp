@@ -55,6 +55,12 @@ class ZeroSetBuilder {
   // caller's to refuse.
   void add(const Index* ids, const double* value, Index source);
 
+  // Appends the cuts and pieces of `other`, a builder over the same vertex
+  // ids and values (one part of a complex, extracted beside this one): a cut
+  // on an edge both hold is this one's, so the pieces on either side of the
+  // parts' seam share it. Throws InputError for another corners().
+  void append(const ZeroSetBuilder& other);
+
   int corners() const { return corners_; }
   const std::vector<ZeroCut>& cuts() const { return cuts_; }
   // corners()-1 cut indices per piece, piece after piece.
@@ -64,6 +70,8 @@ class ZeroSetBuilder {
 
  private:
   Index cut(Index a, Index b, double va, double vb);
+  // The index of `point` (a cut on an edge), added unless its edge has one.
+  Index intern(const ZeroCut& point);
   void grow();
 
   int corners_;

@@ -3,6 +3,7 @@
 // layer out of time order, a cell turned over, a simplex missing from a
 // transition slab) is found and named. morph() reports the
 // certificate and then checks crossings on the middle frame only.
+#include "animanifold/complex.hpp"
 #include "animanifold/errors.hpp"
 #include "animanifold/morph.hpp"
 #include "animanifold/threads.hpp"
@@ -269,4 +270,34 @@ TEST(MorphFieldEnds, BothEndsMeshedSideBySideAreTheEndsMeshedInTurn) {
   // Each end is its own input's: the source's points start with its vertices.
   EXPECT_EQ(PointMatrix(ends[1][0].points.topRows(VS.rows())), VS);
   EXPECT_EQ(PointMatrix(ends[1][1].points.topRows(VT.rows())), VT);
+}
+
+// The fill is built beside the halves, and each half's stacks are extracted
+// by whichever thread is free first: on two threads the morph is the one
+// built in turn on one, bit for bit, its certificate included.
+TEST(MorphFieldThreads, AFieldMorphOnTwoThreadsIsTheMorphOnOne) {
+  PointMatrix VS;
+  SimplexMatrix FS;
+  fixtures::octahedron(VS, FS);
+  const PointMatrix VT = 2.0 * VS + PointMatrix::Constant(VS.rows(), 3, 0.3);
+  const int before = thread_count();
+  FieldMorph morphs[2];
+  for (const int threads : {1, 2}) {
+    set_thread_count(threads);
+    const MorphOptions options = small_field_morph();
+    StageClock clock(options);
+    morphs[threads - 1] = field_morph(VS, FS, VT, FS, options, clock);
+  }
+  set_thread_count(before);
+  const Complex &one = morphs[0].morph.manifold, &two = morphs[1].morph.manifold;
+  ASSERT_GT(one.S.rows(), 0);
+  EXPECT_EQ(one.V, two.V);
+  EXPECT_EQ(one.S, two.S);
+  EXPECT_TRUE(check_manifold(one.S).is_oriented_manifold());
+  for (const FieldMorph& morph : morphs) {
+    const SpaceTimeCertificate certificate = certify_space_time(morph.space_time);
+    EXPECT_TRUE(certificate.embedded) << certificate.failure;
+  }
+  EXPECT_EQ(morphs[0].space_time.source.transition, morphs[1].space_time.source.transition);
+  EXPECT_EQ(morphs[0].space_time.target.transition, morphs[1].space_time.target.transition);
 }

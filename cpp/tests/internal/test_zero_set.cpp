@@ -4,6 +4,7 @@
 // whose boundary is the zero set of the triangulation's boundary.
 #include "animanifold/complex.hpp"
 #include "animanifold/delaunay.hpp"
+#include "animanifold/errors.hpp"
 #include "zero_set.hpp"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <tuple>
 #include <vector>
 
 namespace animanifold {
@@ -214,6 +216,44 @@ TEST(ZeroSet, RandomFieldsGiveAClosedManifoldUpToTheDomainsBoundary) {
     }
     EXPECT_EQ(boundary, as_edge_sets(on_hull, pieces_of(on_hull))) << seed;
   }
+}
+
+// A complex extracted in two parts, each by a builder of its own, then one
+// appended to the other, is the complex extracted whole: the same cut points,
+// each once (those on the seam between the parts welded), and the same
+// pieces over them.
+TEST(ZeroSet, TwoPartsExtractedApartThenAppendedAreTheWhole) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  PointMatrix X(150, 4);
+  for (Index i = 0; i < X.rows(); ++i)
+    for (int k = 0; k < 4; ++k) X(i, k) = unit(rng);
+  const DelaunayTriangulation dt = delaunay_exact(X);
+  Eigen::VectorXd phi(X.rows());
+  for (Index i = 0; i < X.rows(); ++i) phi(i) = (X.row(i) - Row::Constant(1, 4, 0.5)).norm() - 0.35;
+  const ZeroSetBuilder whole = zero_set_of(dt.simplices, phi);
+  // The parts: simplices whose centroid lies left or right of x = 0.5.
+  ZeroSetBuilder left(5), right(5);
+  Index on_seam = 0;
+  for (Index s = 0; s < dt.simplices.rows(); ++s) {
+    double value[5], x = 0;
+    for (int c = 0; c < 5; ++c) value[c] = phi(dt.simplices(s, c)), x += X(dt.simplices(s, c), 0) / 5;
+    (x < 0.5 ? left : right).add(dt.simplices.row(s).data(), value, s);
+  }
+  const size_t left_cuts = left.cuts().size(), right_cuts = right.cuts().size();
+  left.append(right);
+  on_seam = static_cast<Index>(left_cuts + right_cuts - left.cuts().size());
+  ASSERT_GT(whole.piece_count(), 50u);
+  EXPECT_GT(on_seam, 0) << "the parts share no cut: the test splits nothing";
+  EXPECT_EQ(left.cuts().size(), whole.cuts().size());
+  EXPECT_EQ(left.piece_count(), whole.piece_count());
+  EXPECT_EQ(as_edge_sets(left, pieces_of(left)), as_edge_sets(whole, pieces_of(whole)));
+  std::set<std::tuple<Index, Index, double>> cuts_whole, cuts_parts;
+  for (const ZeroCut& c : whole.cuts()) cuts_whole.insert({c.a, c.b, c.s});
+  for (const ZeroCut& c : left.cuts()) cuts_parts.insert({c.a, c.b, c.s});
+  EXPECT_EQ(cuts_parts, cuts_whole);
+  EXPECT_TRUE(check_manifold(pieces_of(left)).is_oriented_manifold());
+  EXPECT_THROW(left.append(ZeroSetBuilder(4)), InputError);
 }
 
 // An end facet: points at t = 0 and t = 1 with the field exactly zero on a sphere's points at t = 0.
