@@ -181,9 +181,13 @@ void for_each_facet_group(const SimplexMatrix& S, int ranges, Visit visit) {
   }
   const size_t buckets = static_cast<size_t>(spread);
   // Facets whose smallest vertex is a simplex's smallest, and the one facet
-  // (without it) whose smallest is the simplex's second smallest.
-  const SimplicesBy by_first = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).first; });
-  const SimplicesBy by_second = simplices_by(S, lowest, buckets, [&](Index s) { return smallest_two(S, s).second; });
+  // (without it) whose smallest is the simplex's second smallest. Each
+  // simplex's two are found once: the passes that bucket by them read them.
+  std::vector<SmallestTwo> smallest(static_cast<size_t>(S.rows()));
+#pragma omp parallel for schedule(static) num_threads(thread_count())
+  for (Index s = 0; s < S.rows(); ++s) smallest[s] = smallest_two(S, s);
+  const SimplicesBy by_first = simplices_by(S, lowest, buckets, [&](Index s) { return smallest[s].first; });
+  const SimplicesBy by_second = simplices_by(S, lowest, buckets, [&](Index s) { return smallest[s].second; });
 #pragma omp parallel for schedule(static, 1) num_threads(std::min(ranges, thread_count()))
   for (int range = 0; range < ranges; ++range) {
     std::vector<FacetRecord> bucket;
