@@ -13,7 +13,7 @@ bash scripts/check-complexity.sh  # after the build, which installs lizard
 bash scripts/check-stubs.sh
 ctest --test-dir build --output-on-failure
 # Two worker processes (pytest-xdist): much of a test's time is single-threaded (Python, TetGen's
-# child, CGAL's fill), so the suite takes about 10 minutes on 2 cores instead of 14. pytest-benchmark,
+# child, CGAL's fill), which one process would leave the second core idle through. pytest-benchmark,
 # where installed, would warn that xdist disables it (an error under filterwarnings); no test uses it.
 python3 -m pytest -n 2 -p no:benchmark "$@"
 if [ -n "$SANITIZED_TESTS" ]; then  # a fast subset again, with the sanitized module
