@@ -83,6 +83,9 @@ if(ANIMANIFOLD_SANITIZED_MODULE)
   # NO_EXTRAS: no link-time optimisation, whose link would compile the whole module again.
   pybind11_add_module(_core_sanitized NO_EXTRAS ${ANIMANIFOLD_BINDINGS})
   target_compile_options(_core_sanitized PRIVATE ${_sanitize_flags})
+  # The bindings compiled as two units, not one per file: instrumented, pybind11's and Eigen's
+  # templates, instantiated again in every file, are most of what compiling them costs.
+  set_target_properties(_core_sanitized PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   target_link_libraries(_core_sanitized PRIVATE animanifold_core_sanitized)
   set_target_properties(_core_sanitized PROPERTIES OUTPUT_NAME _core
                         LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/sanitized/python/animanifold)

@@ -19,7 +19,7 @@ if(NOT ANIMANIFOLD_THREAD_SANITIZED_TESTS)
   return()
 endif()
 
-set(_tsan_units slice slice_cut slice_weld interval_index interval_frame laplacian deformer_response
+set(_tsan_units slice slice_cut slice_weld interval_index interval_frame deformer deformer_response
     # the field morph's own stages, the TetGen runner and its child process, and the frame checks
     morph morph_stages morph_field morph_field_points morph_field_refine morph_field_slabs morph_field_timing
     morph_field_topology morph_field_interior morph_field_certificate convex_cover morph_validity zero_set conforming_delaunay_3d conforming_mend

@@ -15,7 +15,8 @@ ctest --test-dir build --output-on-failure
 # Two worker processes (pytest-xdist): much of a test's time is single-threaded (Python, TetGen's
 # child, CGAL's fill), which one process would leave the second core idle through. pytest-benchmark,
 # where installed, would warn that xdist disables it (an error under filterwarnings); no test uses it.
-python3 -m pytest -n 2 -p no:benchmark "$@"
+# Tests marked with one xdist_group share what they make (a cached morph) and run in one worker.
+python3 -m pytest -n 2 --dist loadgroup -p no:benchmark "$@"
 if [ -n "$SANITIZED_TESTS" ]; then  # a fast subset again, with the sanitized module
   bash scripts/sanitized-pytest.sh build/sanitized/python build/sanitized/logs "$SANITIZED_TESTS"
 fi

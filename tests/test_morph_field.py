@@ -91,6 +91,10 @@ def assert_the_bar(source, target, pop_ratio=POP_RATIO, manifold=None):
     return manifold, measures
 
 
+# The tests reading shared_field_morph's morphs: in one worker process of pytest-xdist (scripts/test.sh
+# distributes by group), so that each morph is made once, not once in every worker.
+SHARED_MORPHS = pytest.mark.xdist_group("shared_field_morphs")
+
 # A pair that misses the bar is marked with what misses it.
 SHARED_PAIRS = [
     pytest.param("bunny.off", "torus-800.off", id="bunny-torus800 (0 to 1)"),
@@ -100,6 +104,7 @@ SHARED_PAIRS = [
 ]
 
 
+@SHARED_MORPHS
 @pytest.mark.slow
 @pytest.mark.data
 @pytest.mark.parametrize("source, target", SHARED_PAIRS)
@@ -109,9 +114,10 @@ def test_the_field_morph_meets_the_bar_on_shared_models(shared_data, source, tar
                    manifold=shared_field_morph(str(meshes / source), str(meshes / target)))
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=len(SHARED_PAIRS))
 def shared_field_morph(source: str, target: str) -> am.AnimationManifold:
-    """The field morph of two normalised shared models, made once for the tests that look at it."""
+    """The field morph of two normalised shared models, made once for the tests that look at it
+    (those marked SHARED_MORPHS, which the test command keeps in one worker process)."""
     return am.morph(normalised(source), normalised(target), method="field")
 
 
@@ -120,6 +126,7 @@ def shared_field_morph(source: str, target: str) -> am.AnimationManifold:
 END_SLABS = (np.linspace(0.002, 0.06, 12), np.linspace(0.94, 0.998, 12))
 
 
+@SHARED_MORPHS
 @pytest.mark.slow
 @pytest.mark.data
 @pytest.mark.parametrize("source, target", [("bunny.off", "torus-800.off"), ("3holes.off", "bunny.off")])
@@ -139,6 +146,7 @@ def test_frames_just_after_an_end_have_no_transient_topology(shared_data, source
         assert pieces(v, f) == 1 and low <= euler_characteristic(v, f) <= high, f"the frame at {t:.3f}"
 
 
+@SHARED_MORPHS
 @pytest.mark.slow
 @pytest.mark.data
 @pytest.mark.xfail(strict=True, reason="a quarter into the slab t = 0.121-0.182 (the frame at 0.135) an island "
@@ -163,6 +171,7 @@ def test_frames_between_layers_do_not_join_what_a_held_point_keeps_apart(shared_
 FILL_SLAB = (0.5 - 0.25 / 17, 0.5 + 0.25 / 17)
 
 
+@SHARED_MORPHS
 @pytest.mark.slow
 @pytest.mark.data
 def test_the_frames_inside_the_fill_slab_keep_the_ends_topology(shared_data):
@@ -189,6 +198,7 @@ def farthest_outside_both(frame, source, target, near_enough) -> float:
     return float(np.minimum(*near)[far][outside].max(initial=0.0))
 
 
+@SHARED_MORPHS
 @pytest.mark.slow
 @pytest.mark.data
 def test_the_bridge_keeps_out_of_the_gap_between_the_inputs(shared_data):

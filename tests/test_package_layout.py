@@ -59,7 +59,8 @@ def test_imports_are_at_module_level():
 
 
 def test_module_imports_have_no_cycle():
-    graph = {name: _relative_imports(tree) & set(_modules()) for name, tree in _modules().items()}
+    modules = _modules()
+    graph = {name: _relative_imports(tree) & set(modules) for name, tree in modules.items()}
     state: dict[str, str] = {}
 
     def visit(name: str, path: list[str]) -> None:

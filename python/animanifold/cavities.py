@@ -9,22 +9,30 @@ from .indices import as_vertex_indices
 
 
 def surface_components(vertex_count: int, faces: np.ndarray) -> np.ndarray:
-    """A component label per face: faces sharing a vertex are in one component (label
-    propagation with pointer jumping; numpy only). Raises InputError for a face index that names
-    no vertex."""
+    """A component label per face: faces sharing a vertex are in one component. Raises
+    InputError for a face index that names no vertex.
+
+    Union by hooking with numpy only: every vertex points at its component's root; each round
+    hooks every root that a face side joins to another root under the smaller of the two, then
+    compresses the pointers until each names a root. Rounds grow with the log of a surface's
+    size, not with its diameter, as propagating labels along the faces would."""
     faces = as_vertex_indices(faces, vertex_count, "the surface's faces").astype(np.int64)
-    labels = np.arange(vertex_count, dtype=np.int64)
     if len(faces) == 0:
         return np.zeros(0, dtype=np.int64)
+    roots = np.arange(vertex_count, dtype=np.int64)
+    one_end, other_end = faces.ravel(), np.roll(faces, -1, axis=1).ravel()  # the faces' sides
     while True:
-        smallest = labels[faces].min(axis=1)
-        before = labels.copy()
-        for c in range(faces.shape[1]):
-            np.minimum.at(labels, faces[:, c], smallest)
-        labels = labels[labels]  # jump towards each component's root
-        if np.array_equal(labels, before):
-            break
-    return labels[faces[:, 0]]
+        first, second = roots[one_end], roots[other_end]
+        apart = first != second
+        if not apart.any():
+            return roots[faces[:, 0]]
+        low, high = np.minimum(first[apart], second[apart]), np.maximum(first[apart], second[apart])
+        np.minimum.at(roots, high, low)  # a root only ever points at a smaller one: no cycle
+        while True:
+            jumped = roots[roots]
+            if np.array_equal(jumped, roots):
+                break
+            roots = jumped
 
 
 def shell_volumes(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

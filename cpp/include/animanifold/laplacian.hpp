@@ -22,6 +22,7 @@
 // features (dual scheme).
 #pragma once
 
+#include "animanifold/affine_maps.hpp"
 #include "animanifold/enum_names.hpp"
 #include "animanifold/progress.hpp"
 #include "animanifold/types.hpp"
@@ -260,18 +261,7 @@ struct DeformerInfo {
   double factorise_seconds = 0;  // CHOLMOD's numerical factorisation
 };
 
-// Inputs:
-//   transform  (D+1) by (D+1) affine map T
-//   s          in [0, 1]
-// Outputs:
-//   (D+1) by (D+1) T^s
-// Throws: InputError for reflections and rotations by exactly π
-//
-// The affine map T^s for s in [0, 1] (T is (D+1) by (D+1) affine): polar
-// factors R^s S^s about T's least-squares fixed point c, plus s times the
-// translation left along the rotation axis: x ↦ R^s S^s (x − c) + c + s·r.
-// T^0 = I, T^1 = T. InputError for reflections and rotations by exactly π.
-Eigen::MatrixXd affine_power(const Eigen::MatrixXd& transform, double s);
+// affine_power (affine_maps.hpp): the increments of Deformer::deform's steps.
 
 // Inputs (constructor):
 //   V, S     #V by D points, #S by D simplices
