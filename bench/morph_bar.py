@@ -234,7 +234,10 @@ def checks_notes(report: dict) -> list[str]:
         notes.append(f"own frame checks: {report['frames_checked']} frames; topological noise at {len(noise)}"
                      + (f" (t = {shown})" if noise else "") + f", bubbles at {len(bubbles)}")
     if report.get("crossings_certified"):
-        notes.append(f"crossings: space-time triangulation certified for every time; "
+        # The field method checks each side's covers for the certificate as soon as the side is
+        # extracted, on the thread the fill leaves free: their time is in the fill stage's, not here.
+        notes.append(f"crossings: space-time triangulation certified for every time (its sides' covers "
+                     f"checked beside the fill, in that stage's seconds); "
                      f"CGAL confirms on {report.get('crossing_frames_checked', 0)} frame(s)")
     elif "crossing_frames_checked" in report:
         failure = report.get("certificate_failure") or "not a field morph"

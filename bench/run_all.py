@@ -55,8 +55,8 @@ class Job:
 
 
 def peer_build() -> Path:
-    """The CMake build holding bench_mcf_skeleton: build/ (scripts/build.sh with benches on),
-    else build-bench/ (where bench_morph.py builds OpenVDB's peer)."""
+    """The CMake build holding bench_mcf_skeleton: build/ or build-bench/ (where bench_morph.py builds
+    OpenVDB's peer), whichever has it; else build/, where bench_skeleton.py builds it."""
     for build in (ROOT / "build", ROOT / "build-bench"):
         if (build / "bench_mcf_skeleton").exists():
             return build

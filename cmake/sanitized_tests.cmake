@@ -67,6 +67,7 @@ target_link_options(animanifold_core_sanitized PUBLIC -fsanitize=${ANIMANIFOLD_S
 
 add_executable(animanifold_tests_sanitized ${_sanitized_test_sources})
 target_compile_options(animanifold_tests_sanitized PRIVATE ${_sanitize_flags})
+target_precompile_headers(animanifold_tests_sanitized PRIVATE ${ANIMANIFOLD_TEST_HEADERS})
 target_link_libraries(animanifold_tests_sanitized PRIVATE animanifold_core_sanitized GTest::gtest_main)
 target_include_directories(animanifold_tests_sanitized PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/cpp/src)
 # halt_on_error: the first finding ends the test, which then fails. Leak checks stay on:

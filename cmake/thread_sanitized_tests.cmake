@@ -37,6 +37,7 @@ add_executable(animanifold_tests_tsan ${_tsan_sources})
 animanifold_core_settings(animanifold_tests_tsan)
 target_include_directories(animanifold_tests_tsan PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/cpp/src)
 target_compile_options(animanifold_tests_tsan PRIVATE -fsanitize=thread -fno-omit-frame-pointer -O1 -g1)
+target_precompile_headers(animanifold_tests_tsan PRIVATE ${ANIMANIFOLD_TEST_HEADERS})
 target_link_options(animanifold_tests_tsan PRIVATE -fsanitize=thread)
 target_link_libraries(animanifold_tests_tsan PRIVATE animanifold_core GTest::gtest_main)
 gtest_discover_tests(animanifold_tests_tsan DISCOVERY_TIMEOUT 120 TEST_PREFIX "tsan."

@@ -671,7 +671,7 @@ Morph field_method(const PointMatrix& VS, const SimplexMatrix& FS, const PointMa
   check_frames(
       result.manifold, options.t0, options.t1, VS, FS, VT, FT, result.report,
       {[&] {
-         if (!swept) certificate = certify_space_time(field.space_time);
+         if (!swept) certificate = certify_space_time(field.space_time, &field.covers);
        },
        [&] { zero_set_validity(result.manifold, size / (options.t1 - options.t0), result.report); },
        [&] { end_distances(result.manifold, VS, FS, VT, FT, options, size, result.report); }},

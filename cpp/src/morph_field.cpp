@@ -521,6 +521,12 @@ bool same_cells(const SimplexMatrix& a, const SimplexMatrix& b) {
   return sorted(a) == sorted(b);
 }
 
+// The certificate's cover checks of a half and its transition slab
+// (morph_field.hpp's check_side_cover).
+SideCover cover_of(const Half& half, const SimplexMatrix& transition) {
+  return check_side_cover(half.points, half.plain, half.refined.cells, transition, half.times);
+}
+
 // What the certificate reads of a half (morph_field.hpp's SpaceTimeTriangulation).
 SpaceTimeTriangulation::Side side_of(Half&& half, SimplexMatrix&& transition) {
   return {std::move(half.points), half.plain, std::move(half.refined.cells), std::move(transition),
@@ -760,20 +766,30 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // facets (Theorem 5.2.1) unless cospherical points break their ties
   // another way there, and then the halves are shaped again on the fill's.
   // Their stacks' zero set is extracted as soon as they are shaped, each
-  // half's on whichever thread is free first.
+  // half's on whichever thread is free first, which then checks the half's
+  // covers for the certificate (its validity check, made here where a
+  // thread is free while the other fills).
   const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing,
                           lattice.spacing};
   const double time_scale = size / (options.t1 - options.t0);
   Fill fill;
   Halves halves;
   std::optional<Extraction> extraction;
+  std::array<SideCover, 2>& covers = out.covers;
   lead_and_beside(
       [&] {
         halves = shaped_halves(inputs, cells[0], cells[1], distances);
         extraction.emplace(halves.source, halves.target, time_scale);
       },
       [&] { fill = fill_slab(S.points, T.points, lattice.spacing); },
-      {[&] { extraction->add_source_stacks(cells[0]); }, [&] { extraction->add_target_stacks(cells[1]); }});
+      {[&] {
+         extraction->add_source_stacks(cells[0]);
+         covers[0] = cover_of(halves.source, extraction->source_transition);
+       },
+       [&] {
+         extraction->add_target_stacks(cells[1]);
+         covers[1] = cover_of(halves.target, extraction->target_transition);
+       }});
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
   report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
   report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
@@ -787,6 +803,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
     extraction.emplace(halves.source, halves.target, time_scale);
     extraction->add_source_stacks(fill.source_cells);
     extraction->add_target_stacks(fill.target_cells);
+    covers[0] = cover_of(halves.source, extraction->source_transition);
+    covers[1] = cover_of(halves.target, extraction->target_transition);
   }
   for (const Half* half : {&halves.source, &halves.target})
     report.split_faces += static_cast<Index>(half->refined.splits.size());

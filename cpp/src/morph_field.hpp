@@ -43,6 +43,7 @@
 #include "animanifold/morph.hpp"
 #include "morph_stages.hpp"
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,12 @@ namespace animanifold {
 // its certificate reads: per end, the points and cells the stacks of prisms
 // stand on (the conforming end, refined by the chords' splits), the slab
 // from them to the fill's end facet, and the times of the layers.
+// What the certificate (certify_space_time) finds of one side's cells and
+// transition slab: "" for each that tiles its region once, else what fails.
+struct SideCover {
+  std::string cells, transition;
+};
+
 struct SpaceTimeTriangulation {
   struct Side {
     PointMatrix points;                      // the conforming end's, then the chords' middles
@@ -81,6 +88,9 @@ std::optional<Complex> swept_when_same(const PointMatrix& VS, const SimplexMatri
 struct FieldMorph {
   Morph morph;
   SpaceTimeTriangulation space_time;
+  // check_side_cover of the source's side and the target's, made as soon as
+  // each side was extracted, beside the fill (certify_space_time reads them).
+  std::array<SideCover, 2> covers;
 };
 
 FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
@@ -109,6 +119,16 @@ struct SpaceTimeCertificate {
   bool embedded = false;
   std::string failure;
 };
-SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time);
+// `covers`: the sides' check_side_cover when already made (field_morph's),
+// else they are made here.
+SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time,
+                                        const std::array<SideCover, 2>* covers = nullptr);
+
+// The costly part of the certificate, one side's: whether its cells (over
+// `points`) and its transition slab tile their regions once. `times` are the
+// side's layers' times (at least two; the certificate refuses fewer before it
+// reads the covers).
+SideCover check_side_cover(const PointMatrix& points, Index plain, const SimplexMatrix& cells,
+                           const SimplexMatrix& transition, const std::vector<double>& times);
 
 }  // namespace animanifold

@@ -3,6 +3,8 @@
 #include "convex_cover.hpp"
 #include "morph_field.hpp"
 
+#include "animanifold/errors.hpp"
+
 #include <algorithm>
 #include <string>
 
@@ -20,13 +22,16 @@ PointMatrix at_time(const PointMatrix& points, double time) {
 // The slab from an end's refined cells to the fill's end facet in R^4, at
 // the layers' times (transition_slab's ids: the refined layer's points, then
 // the fill's).
-ConvexCover transition_cover(const SpaceTimeTriangulation::Side& side) {
-  const Index n = static_cast<Index>(side.points.rows());
-  const size_t layers = side.times.size();
-  PointMatrix points(n + side.plain, 4);
-  points << at_time(side.points, side.times[layers - 2]), at_time(side.points.topRows(side.plain), side.times[layers - 1]);
-  return check_convex_cover(points, side.transition);
+ConvexCover transition_cover(const PointMatrix& side_points, Index plain, const SimplexMatrix& transition,
+                             const std::vector<double>& times) {
+  const Index n = static_cast<Index>(side_points.rows());
+  const size_t layers = times.size();
+  PointMatrix points(n + plain, 4);
+  points << at_time(side_points, times[layers - 2]), at_time(side_points.topRows(plain), times[layers - 1]);
+  return check_convex_cover(points, transition);
 }
+
+std::string failure_of(const ConvexCover& cover) { return cover.covers_once() ? "" : cover.failure(); }
 
 bool strictly_monotone(const std::vector<double>& times, bool increasing) {
   for (size_t i = 1; i < times.size(); ++i)
@@ -36,7 +41,8 @@ bool strictly_monotone(const std::vector<double>& times, bool increasing) {
 
 }  // namespace
 
-SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time) {
+SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time,
+                                        const std::array<SideCover, 2>* covers) {
   const auto& S = space_time.source;
   const auto& T = space_time.target;
   SpaceTimeCertificate out;
@@ -50,16 +56,26 @@ SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time
                   " simplices the zero set passes through are flat but for rounding";
     return out;
   }
-  auto check = [&](const char* part, const ConvexCover& cover) {
-    if (!out.failure.empty() || cover.covers_once()) return;
-    out.failure = std::string(part) + " does not tile its region once (" + cover.failure() + ")";
+  auto cover_of = [&](const SpaceTimeTriangulation::Side& side, int index) {
+    return covers ? (*covers)[index] : check_side_cover(side.points, side.plain, side.cells, side.transition, side.times);
   };
-  check("the source's cells", check_convex_cover(S.points, S.cells));
-  check("the target's cells", check_convex_cover(T.points, T.cells));
-  check("the source's transition slab", transition_cover(S));
-  check("the target's transition slab", transition_cover(T));
+  const SideCover source = cover_of(S, 0), target = cover_of(T, 1);
+  auto check = [&](const char* part, const std::string& failure) {
+    if (!out.failure.empty() || failure.empty()) return;
+    out.failure = std::string(part) + " does not tile its region once (" + failure + ")";
+  };
+  check("the source's cells", source.cells);
+  check("the target's cells", target.cells);
+  check("the source's transition slab", source.transition);
+  check("the target's transition slab", target.transition);
   out.embedded = out.failure.empty();
   return out;
+}
+
+SideCover check_side_cover(const PointMatrix& points, Index plain, const SimplexMatrix& cells,
+                           const SimplexMatrix& transition, const std::vector<double>& times) {
+  if (times.size() < 2) fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
+  return {failure_of(check_convex_cover(points, cells)), failure_of(transition_cover(points, plain, transition, times))};
 }
 
 }  // namespace animanifold

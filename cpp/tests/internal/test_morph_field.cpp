@@ -34,15 +34,18 @@ MorphOptions small_field_morph() {
   return options;
 }
 
-// The space-time triangulation of an octahedron growing to twice its size.
-SpaceTimeTriangulation growing_octahedron() {
+// The field morph of an octahedron growing to twice its size.
+FieldMorph growing_octahedron_morph() {
   PointMatrix VS;
   SimplexMatrix FS;
   fixtures::octahedron(VS, FS);
   const MorphOptions options = small_field_morph();
   StageClock clock(options);
-  return field_morph(VS, FS, 2.0 * VS, FS, options, clock).space_time;
+  return field_morph(VS, FS, 2.0 * VS, FS, options, clock);
 }
+
+// Its space-time triangulation.
+SpaceTimeTriangulation growing_octahedron() { return growing_octahedron_morph().space_time; }
 
 SimplexMatrix without_first_row(const SimplexMatrix& S) { return S.bottomRows(S.rows() - 1); }
 
@@ -58,6 +61,24 @@ TEST(MorphFieldCertificate, AFieldMorphsSpaceTimeIsCertifiedEmbedded) {
   const SpaceTimeCertificate certificate = certify_space_time(space_time);
   EXPECT_TRUE(certificate.embedded) << certificate.failure;
   EXPECT_EQ(certificate.failure, "");
+}
+
+TEST(MorphFieldCertificate, TheCoversCheckedBesideTheFillAreThoseOfTheSidesItReturns) {
+  const FieldMorph morph = growing_octahedron_morph();
+  const SpaceTimeTriangulation& space_time = morph.space_time;
+  for (const auto& [side, cover] : {std::pair{&space_time.source, &morph.covers[0]},
+                                    std::pair{&space_time.target, &morph.covers[1]}}) {
+    const SideCover again = check_side_cover(side->points, side->plain, side->cells, side->transition, side->times);
+    EXPECT_EQ(cover->cells, again.cells);
+    EXPECT_EQ(cover->transition, again.transition);
+  }
+  EXPECT_TRUE(certify_space_time(morph.space_time, &morph.covers).embedded);
+  // What the covers say is what the certificate reports.
+  std::array<SideCover, 2> covers = morph.covers;
+  covers[1].transition = "3 simplices: 1 flat or inverted;";
+  const SpaceTimeCertificate certificate = certify_space_time(morph.space_time, &covers);
+  EXPECT_TRUE(names(certificate, "the target's transition slab does not tile its region once (3 simplices"))
+      << certificate.failure;
 }
 
 TEST(MorphFieldCertificate, ALayerOutOfTimeOrderIsFound) {
