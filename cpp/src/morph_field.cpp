@@ -691,6 +691,22 @@ class Extraction {
   Index flat_crossed_[2] = {0, 0};
 };
 
+// The flat cells a conforming end left that the free points beside them did not break.
+Index flat_cells_left(const EndMesh& end, const SimplexMatrix& cells) {
+  return points_off_flat_cells(cells, end.points, end.on_surface, 1.0).rows() / 2;
+}
+
+// Reports the input faces missing from the fill's end facets, and refuses a
+// fill that misses any (Theorem 5.2.1).
+void check_fill_conforms(const Fill& fill, const EndMesh& S, const EndMesh& T, MorphReport& report) {
+  report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
+  report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
+  if (report.missing_source_faces || report.missing_target_faces)
+    fail<MeshingError>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
+                       report.missing_source_faces, " source and ", report.missing_target_faces,
+                       " target faces are missing");
+}
+
 }  // namespace
 
 FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const PointMatrix& VT, const SimplexMatrix& FT,
@@ -752,12 +768,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
                              dS, dT, is_source, m, slabs, schedule, options, lattice.spacing);
   });
   report.refinement_points = added[0] + added[1];
-  // The flat cells the conforming ends left and the free points beside them did not break.
-  report.flat_cells = 0;
-  for (int side = 0; side < 2; ++side) {
-    const EndMesh& end = side == 0 ? S : T;
-    report.flat_cells += points_off_flat_cells(cells[side], end.points, end.on_surface, 1.0).rows() / 2;
-  }
+  report.flat_cells = flat_cells_left(S, cells[0]) + flat_cells_left(T, cells[1]);
   report.source_free_vertices = S.free_points, report.target_free_vertices = T.free_points;
 
   clock.begin("fill", 0.35);
@@ -791,12 +802,7 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
          covers[1] = cover_of(halves.target, extraction->target_transition);
        }});
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
-  report.missing_source_faces = static_cast<Index>(missing_facets(fill.source_cells, S.constraints).size());
-  report.missing_target_faces = static_cast<Index>(missing_facets(fill.target_cells, T.constraints).size());
-  if (report.missing_source_faces || report.missing_target_faces)
-    fail<MeshingError>("the space-time fill does not conform to the inputs (Theorem 5.2.1): ",
-                             report.missing_source_faces, " source and ", report.missing_target_faces,
-                             " target faces are missing");
+  check_fill_conforms(fill, S, T, report);
   if (!same_cells(fill.source_cells, cells[0]) || !same_cells(fill.target_cells, cells[1])) {
     extraction.reset();
     halves = shaped_halves(inputs, fill.source_cells, fill.target_cells, distances);
