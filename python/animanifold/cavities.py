@@ -14,8 +14,9 @@ def surface_components(vertex_count: int, faces: np.ndarray) -> np.ndarray:
 
     Union by hooking with numpy only: every vertex points at its component's root; each round
     hooks every root that a face side joins to another root under the smaller of the two, then
-    compresses the pointers until each names a root. Rounds grow with the log of a surface's
-    size, not with its diameter, as propagating labels along the faces would."""
+    compresses the pointers until each names a root. Components merge in every round or the
+    next, so a frame of 100k faces takes a handful of rounds, where propagating labels along the
+    faces would take as many as the surface is faces across."""
     faces = as_vertex_indices(faces, vertex_count, "the surface's faces").astype(np.int64)
     if len(faces) == 0:
         return np.zeros(0, dtype=np.int64)
