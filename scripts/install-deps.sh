@@ -16,7 +16,7 @@ APT_PACKAGES=(
 )
 PIP_PACKAGES=(
   "numpy<2" pytest hypothesis matplotlib scipy scikit-build-core pybind11
-  pytest-xdist  # scripts/test.sh runs the Python tests on both cores
+  "pytest-xdist>=2.5"  # scripts/test.sh runs the Python tests on both cores (--dist loadgroup: 2.5)
   lizard  # the complexity check (scripts/check-complexity.sh)
   "pybind11-stubgen==3.0.0"  # pinned: its output is compared with the committed _core.pyi
   "bpy>=4.5,<4.6"
@@ -44,7 +44,7 @@ fi
 PYTHON="${PYTHON:-python3}"
 if ! "$PYTHON" - <<'PY' 2>/dev/null
 import importlib.metadata as md, sys
-need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "pytest-xdist": None, "hypothesis": None,
+need = {"numpy": lambda v: int(v.split(".")[0]) < 2, "pytest": None, "pytest-xdist": lambda v: tuple(map(int, v.split(".")[:2])) >= (2, 5), "hypothesis": None,
         "matplotlib": None, "scipy": None, "scikit-build-core": None, "pybind11": None, "lizard": None,
         "pybind11-stubgen": lambda v: v == "3.0.0",
         "bpy": lambda v: v.startswith("4.5"), "openjd-cli": None, "atheris": None}
