@@ -248,46 +248,72 @@ void on_both_sides(Work&& work) {
     if (e) std::rethrow_exception(e);
 }
 
+// A task lead_and_beside() runs after lead(), and the earlier task of the
+// list (its index) that must have finished before it starts, if any.
+struct AfterTask {
+  std::function<void()> run;
+  int needs = -1;
+};
+
 // Runs lead() on one thread and beside() on the other, then the `after`
-// tasks (which need lead()'s results; each writes its own), each on
-// whichever thread is free first, when the thread setting allows two (else
-// lead, the tasks in order, then beside: the same work, so the same bits).
-// A failure of lead() skips the tasks; the first failure is thrown once
-// both threads are done.
+// tasks (which need lead()'s results; each writes its own), in their order,
+// each on whichever thread is free first and once the task it needs is
+// done, when the thread setting allows two (else lead, the tasks in order,
+// then beside: the same work, so the same bits). A task needs one before
+// it, which a thread already runs, so no wait is circular. A failure of
+// lead() or of a task skips the tasks not yet started; the first failure
+// is thrown once both threads are done.
 template <class Lead, class Beside>
-void lead_and_beside(Lead&& lead, Beside&& beside, const std::vector<std::function<void()>>& after) {
+void lead_and_beside(Lead&& lead, Beside&& beside, const std::vector<AfterTask>& after) {
+  for (size_t task = 0; task < after.size(); ++task)
+    if (after[task].needs >= static_cast<int>(task)) fail<InputError>("an after-task may only need an earlier one");
   std::mutex mutex;
-  std::condition_variable finished;
-  bool lead_finished = false, lead_succeeded = false;
-  auto finish = [&](bool succeeded) {
+  std::condition_variable changed;
+  bool lead_finished = false, failed = false;
+  std::vector<char> done(after.size(), 0);
+  auto update = [&](auto&& change) {
     {
       const std::lock_guard<std::mutex> lock(mutex);
-      lead_finished = true, lead_succeeded = succeeded;
+      change();
     }
-    finished.notify_all();
+    changed.notify_all();
   };
   std::atomic<size_t> next{0};
   auto run_after = [&] {
-    for (size_t task = next++; task < after.size(); task = next++) after[task]();
+    for (size_t task = next++; task < after.size(); task = next++) {
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        const int needs = after[task].needs;
+        changed.wait(lock, [&] { return failed || needs < 0 || done[static_cast<size_t>(needs)]; });
+        if (failed) return;
+      }
+      try {
+        after[task].run();
+      } catch (...) {
+        update([&] { failed = true; });
+        throw;
+      }
+      update([&] { done[task] = 1; });
+    }
   };
   on_both_sides([&](int side) {
     if (side == 0) {
       try {
         lead();
       } catch (...) {
-        finish(false);
+        update([&] { lead_finished = failed = true; });
         throw;
       }
-      finish(true);
+      update([&] { lead_finished = true; });
       run_after();
       return;
     }
     beside();
-    std::unique_lock<std::mutex> lock(mutex);
-    finished.wait(lock, [&] { return lead_finished; });
-    const bool succeeded = lead_succeeded;
-    lock.unlock();
-    if (succeeded) run_after();
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      changed.wait(lock, [&] { return lead_finished; });
+    }
+    run_after();
   });
 }
 
@@ -472,38 +498,59 @@ struct Halves {
   Half source, target;
 };
 
-// Both halves on the ends' cells (`source_cells`, `target_cells`), with
-// their fields, and their topology kept: each half's only sheds, from its
-// end towards the middle, what the other end does not have. `distances`
+// Both halves on the ends' cells, with their fields, before their
+// topology is kept (keep_half_topology): what that needs of both.
+struct HalvesToShape {
+  Halves halves;
+  EndDistances own[2];  // the distances at each half's points, its chords' middles included
+  Bridge bridge;
+  std::array<Index, 3> least, most;  // the ends' least and largest Betti numbers
+};
+
+// The halves on the ends' cells (`source_cells`, `target_cells`) with their
+// fields, the ends' Betti numbers, and one bridge for both halves. `distances`
 // (the ends' points') are copied: the chords' middles are each call's own.
-Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, const SimplexMatrix& target_cells,
-                     const EndDistances (&distances)[2]) {
-  EndDistances own[2] = {distances[0], distances[1]};
-  Halves halves{build_half(in.source, source_cells, in.dS, in.dT, own[0], true, in.m, in.slabs, in.schedule,
-                           in.options, in.floor, in.spacing),
-                build_half(in.target, target_cells, in.dS, in.dT, own[1], false, in.m, in.slabs, in.schedule,
-                           in.options, in.floor, in.spacing)};
+HalvesToShape halves_to_shape(const HalfInputs& in, const SimplexMatrix& source_cells,
+                              const SimplexMatrix& target_cells, const EndDistances (&distances)[2]) {
+  HalvesToShape out{{}, {distances[0], distances[1]}, {}, {}, {}};
+  out.halves.source = build_half(in.source, source_cells, in.dS, in.dT, out.own[0], true, in.m, in.slabs,
+                                 in.schedule, in.options, in.floor, in.spacing);
+  out.halves.target = build_half(in.target, target_cells, in.dS, in.dT, out.own[1], false, in.m, in.slabs,
+                                 in.schedule, in.options, in.floor, in.spacing);
   std::array<Index, 3> betti[2];
   on_both_sides([&](int side) {
-    const Half& half = side == 0 ? halves.source : halves.target;
+    const Half& half = side == 0 ? out.halves.source : out.halves.target;
     betti[side] = betti_numbers(half.refined.cells, half.field.front());
   });
-  std::array<Index, 3> least, most;
-  for (int i = 0; i < 3; ++i) least[i] = std::min(betti[0][i], betti[1][i]), most[i] = std::max(betti[0][i], betti[1][i]);
+  for (int i = 0; i < 3; ++i)
+    out.least[i] = std::min(betti[0][i], betti[1][i]), out.most[i] = std::max(betti[0][i], betti[1][i]);
   // One bridge for both halves, found on the source's cells (the blend at
   // the middle is one function, sampled by either), so that both lay the
   // same necks.
-  const Bridge bridge = bridge_between_pieces(halves.source.refined.cells, halves.source.points,
-                                              halves.source.field.back(), least[0]);
+  out.bridge = bridge_between_pieces(out.halves.source.refined.cells, out.halves.source.points,
+                                     out.halves.source.field.back(), out.least[0]);
+  return out;
+}
+
+// Keeps the topology of one half (0 the source's, 1 the target's): each
+// half only sheds, from its end towards the middle, what the other end does
+// not have. The two sides write nothing in common.
+void keep_half_topology(HalvesToShape& shaping, int side, const HalfInputs& in) {
   const OutsideBoth outside_both = [&](const PointMatrix& points) -> Eigen::Array<bool, Eigen::Dynamic, 1> {
     return !in.dS.inside(points) && !in.dT.inside(points);
   };
-  on_both_sides([&](int side) {
-    Half& half = side == 0 ? halves.source : halves.target;
-    keep_topology(half, own[side], outside_both, bridge, least, most, in.floor, in.spacing);
-    order_the_collar(half, (side == 0 ? in.source : in.target).on_surface);
-  });
-  return halves;
+  Half& half = side == 0 ? shaping.halves.source : shaping.halves.target;
+  keep_topology(half, shaping.own[side], outside_both, shaping.bridge, shaping.least, shaping.most, in.floor,
+                in.spacing);
+  order_the_collar(half, (side == 0 ? in.source : in.target).on_surface);
+}
+
+// Both halves on the ends' cells, with their fields and their topology kept.
+Halves shaped_halves(const HalfInputs& in, const SimplexMatrix& source_cells, const SimplexMatrix& target_cells,
+                     const EndDistances (&distances)[2]) {
+  HalvesToShape shaping = halves_to_shape(in, source_cells, target_cells, distances);
+  on_both_sides([&](int side) { keep_half_topology(shaping, side, in); });
+  return std::move(shaping.halves);
 }
 
 // Whether two tetrahedralizations have the same cells, in any order.
@@ -556,8 +603,6 @@ class Extraction {
         time_scale_(time_scale) {
     X_.resize(target_base_ + JT_ * nT_, 4);
     phi_.resize(X_.rows());
-    for (int j = 0; j < JS_; ++j) place(source, j, source_id(j, 0));
-    for (int j = 0; j < JT_; ++j) place(target, JT_ - 1 - j, target_id(j, 0));
   }
 
   // Layers of the source go from its end (0) to the fill (JS-1); the
@@ -567,7 +612,10 @@ class Extraction {
 
   // The source's stack over its refined cells, then the slab from it to the
   // fill's end facet `cells` (over the source's unrefined points).
+  // Reads the source's field then (its topology kept), and writes only the
+  // source's rows and builder: add_target_stacks() may run at once.
   void add_source_stacks(const SimplexMatrix& cells) {
+    for (int j = 0; j < JS_; ++j) place(source_, j, source_id(j, 0));
     const SimplexMatrix& KS = source_.refined.cells;
     for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0), 0);
     add_transition(cells, source_, [&](Index local) {
@@ -577,7 +625,9 @@ class Extraction {
 
   // The slab from the fill's end facet `cells` (over the target's unrefined
   // points) to the target's stack, then that stack.
+  // As add_source_stacks(), for the target.
   void add_target_stacks(const SimplexMatrix& cells) {
+    for (int j = 0; j < JT_; ++j) place(target_, JT_ - 1 - j, target_id(j, 0));
     add_transition(cells, target_, [&](Index local) {
       return local < nT_ ? target_id(1, local) : target_id(0, local - nT_);
     }, false);
@@ -743,11 +793,16 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   SimplexMatrix cells[2];
   EndDistances distances[2];
   ChordsSplit split[2];
+  // The distances at the ends' points first, each end's on all threads: the
+  // two ends' costs differ with their sizes, and what is left of each
+  // side's work is shorter and serial.
+  for (int side = 0; side < 2; ++side) {
+    distances[side].widening = lattice.widening;
+    distances[side].extend((side == 0 ? S : T).points, dS, dT);
+  }
   on_both_sides([&](int side) {
     const EndMesh& end = side == 0 ? S : T;
     cells[side] = delaunay_tetrahedra(end.points);
-    distances[side].widening = lattice.widening;
-    distances[side].extend(end.points, dS, dT);
     split[side] = chords_split(end, cells[side], distances[side], side == 0 ? dS : dT, dS, dT);
     // The schedule measures the blend the halves will have.
     distances_through_inputs(split[side].cells, split[side].points, lattice.spacing, split[side].distances.s,
@@ -776,34 +831,37 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // one thread), on the ends' own Delaunay cells: those are the fill's end
   // facets (Theorem 5.2.1) unless cospherical points break their ties
   // another way there, and then the halves are shaped again on the fill's.
-  // Their stacks' zero set is extracted as soon as they are shaped, each
-  // half's on whichever thread is free first, which then checks the half's
-  // covers for the certificate (its validity check, made here where a
-  // thread is free while the other fills).
+  // Each half's topology is kept, its stacks' zero set extracted and its
+  // covers checked for the certificate (its validity check, made here where
+  // a thread is free while the other fills) on whichever thread is free
+  // first, so that the thread the fill frees takes its share.
   const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing,
                           lattice.spacing};
   const double time_scale = size / (options.t1 - options.t0);
   Fill fill;
-  Halves halves;
+  bool fill_has_ends_cells = false;
+  HalvesToShape shaping;
+  Halves& halves = shaping.halves;
   std::optional<Extraction> extraction;
   std::array<SideCover, 2>& covers = out.covers;
   lead_and_beside(
       [&] {
-        halves = shaped_halves(inputs, cells[0], cells[1], distances);
+        shaping = halves_to_shape(inputs, cells[0], cells[1], distances);
         extraction.emplace(halves.source, halves.target, time_scale);
       },
-      [&] { fill = fill_slab(S.points, T.points, lattice.spacing); },
-      {[&] {
-         extraction->add_source_stacks(cells[0]);
-         covers[0] = cover_of(halves.source, extraction->source_transition);
-       },
-       [&] {
-         extraction->add_target_stacks(cells[1]);
-         covers[1] = cover_of(halves.target, extraction->target_transition);
-       }});
+      [&] {
+        fill = fill_slab(S.points, T.points, lattice.spacing);
+        check_fill_conforms(fill, S, T, report);
+        fill_has_ends_cells = same_cells(fill.source_cells, cells[0]) && same_cells(fill.target_cells, cells[1]);
+      },
+      {{[&] { keep_half_topology(shaping, 0, inputs); }},
+       {[&] { keep_half_topology(shaping, 1, inputs); }},
+       {[&] { extraction->add_source_stacks(cells[0]); }, 0},
+       {[&] { extraction->add_target_stacks(cells[1]); }, 1},
+       {[&] { covers[0] = cover_of(halves.source, extraction->source_transition); }, 2},
+       {[&] { covers[1] = cover_of(halves.target, extraction->target_transition); }, 3}});
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
-  check_fill_conforms(fill, S, T, report);
-  if (!same_cells(fill.source_cells, cells[0]) || !same_cells(fill.target_cells, cells[1])) {
+  if (!fill_has_ends_cells) {
     extraction.reset();
     halves = shaped_halves(inputs, fill.source_cells, fill.target_cells, distances);
     extraction.emplace(halves.source, halves.target, time_scale);
