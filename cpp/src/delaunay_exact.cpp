@@ -1,8 +1,11 @@
 // Delaunay triangulations in R^3 and R^4 through CGAL's dD Triangulation
-// package (exact predicates, symbolic perturbation): see delaunay.hpp.
+// package (exact predicates, symbolic perturbation): see delaunay.hpp. Its
+// predicates are Epick_d's, tried first in double precision
+// (semi_static_kernel_d.hpp).
 #include "animanifold/delaunay.hpp"
 #include "animanifold/errors.hpp"
 #include "cgal_failures.hpp"
+#include "semi_static_kernel_d.hpp"
 
 #include <CGAL/Delaunay_triangulation.h>
 #include <CGAL/Epick_d.h>
@@ -22,7 +25,7 @@ namespace {
 
 template <int D>
 DelaunayTriangulation triangulate(const PointMatrix& points) {
-  using Kernel = CGAL::Epick_d<CGAL::Dimension_tag<D>>;
+  using Kernel = SemiStaticKernel<D>;
   using Vertex = CGAL::Triangulation_vertex<Kernel, Index>;
   using Cell = CGAL::Triangulation_full_cell<Kernel>;
   using Structure = CGAL::Triangulation_data_structure<CGAL::Dimension_tag<D>, Vertex, Cell>;
