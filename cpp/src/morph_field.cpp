@@ -4,6 +4,7 @@
 #include "animanifold/errors.hpp"
 #include "animanifold/threads.hpp"
 #include "morph_field_internal.hpp"
+#include "two_thread_work.hpp"
 #include "zero_set.hpp"
 
 #include <Eigen/Dense>
@@ -227,94 +228,6 @@ void slave_split_points(Half& half, Eigen::VectorXd& value) {
       sum += half.refined.shares[j][k] * value(half.refined.splits[j][k]);
     value(half.plain + static_cast<Index>(j)) = sum;
   }
-}
-
-// Runs work(0) and work(1) (the source's side and the target's), each on a
-// thread of its own when the thread setting allows two: the sides share
-// nothing they write, and each side's work is the same serial work either
-// way (OpenMP inside it runs on its one thread), so the bits are too.
-template <class Work>
-void on_both_sides(Work&& work) {
-  std::exception_ptr failure[2];
-#pragma omp parallel for schedule(static, 1) num_threads(std::min(2, thread_count()))
-  for (int side = 0; side < 2; ++side) {
-    try {
-      work(side);
-    } catch (...) {
-      failure[side] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& e : failure)
-    if (e) std::rethrow_exception(e);
-}
-
-// A task lead_and_beside() runs after lead(), and the earlier task of the
-// list (its index) that must have finished before it starts, if any.
-struct AfterTask {
-  std::function<void()> run;
-  int needs = -1;
-};
-
-// Runs lead() on one thread and beside() on the other, then the `after`
-// tasks (which need lead()'s results; each writes its own), in their order,
-// each on whichever thread is free first and once the task it needs is
-// done, when the thread setting allows two (else lead, the tasks in order,
-// then beside: the same work, so the same bits). A task needs one before
-// it, which a thread already runs, so no wait is circular. A failure of
-// lead() or of a task skips the tasks not yet started; the first failure
-// is thrown once both threads are done.
-template <class Lead, class Beside>
-void lead_and_beside(Lead&& lead, Beside&& beside, const std::vector<AfterTask>& after) {
-  for (size_t task = 0; task < after.size(); ++task)
-    if (after[task].needs >= static_cast<int>(task)) fail<InputError>("an after-task may only need an earlier one");
-  std::mutex mutex;
-  std::condition_variable changed;
-  bool lead_finished = false, failed = false;
-  std::vector<char> done(after.size(), 0);
-  auto update = [&](auto&& change) {
-    {
-      const std::lock_guard<std::mutex> lock(mutex);
-      change();
-    }
-    changed.notify_all();
-  };
-  std::atomic<size_t> next{0};
-  auto run_after = [&] {
-    for (size_t task = next++; task < after.size(); task = next++) {
-      {
-        std::unique_lock<std::mutex> lock(mutex);
-        const int needs = after[task].needs;
-        changed.wait(lock, [&] { return failed || needs < 0 || done[static_cast<size_t>(needs)]; });
-        if (failed) return;
-      }
-      try {
-        after[task].run();
-      } catch (...) {
-        update([&] { failed = true; });
-        throw;
-      }
-      update([&] { done[task] = 1; });
-    }
-  };
-  on_both_sides([&](int side) {
-    if (side == 0) {
-      try {
-        lead();
-      } catch (...) {
-        update([&] { lead_finished = failed = true; });
-        throw;
-      }
-      update([&] { lead_finished = true; });
-      run_after();
-      return;
-    }
-    beside();
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      changed.wait(lock, [&] { return lead_finished; });
-    }
-    run_after();
-  });
 }
 
 // An end's tetrahedralization with its chords split, as build_half() splits
@@ -586,20 +499,28 @@ bool inside_both(const EndDistances& distances) {
 }
 
 // The zero set of the field over the whole space-time triangulation: each
-// half's stacks and transition slab (add_source_stacks, add_target_stacks),
-// then the fill's (add_fill). The halves share no edge, so each has a
-// builder of its own and the two can be extracted at once; the fill joins
-// them. The stacks need only the fill's end facets, which are the ends' own
+// half's stack and transition slab, then the fill's (add_fill). Each of the
+// four parts has a builder of its own, so they can be extracted at once; the
+// builders are joined in one order (a cut on an edge two parts share is the
+// earlier one's), so the zero set is the same whichever part is extracted
+// first. The parts need only the fill's end facets, which are the ends' own
 // cells but for cospherical ties (field_morph), so they are extracted beside
 // the fill's Delaunay triangulation.
 class Extraction {
  public:
+  // Its builders, appended in this order (the order the zero set's
+  // vertices and pieces come in): the source's stack, its transition slab,
+  // the target's transition slab, the target's stack. Each is written by
+  // one call at a time; calls for different parts may run at once.
+  enum Part { kSourceStack, kSourceTransition, kTargetTransition, kTargetStack, kParts };
+
   // `time_scale`: the shapes' size over the range (flat_to_rounding).
   Extraction(const Half& source, const Half& target, double time_scale)
       : source_(source), target_(target), nS_(static_cast<Index>(source.points.rows())),
         nT_(static_cast<Index>(target.points.rows())), JS_(static_cast<int>(source.times.size())),
         JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_),
-        zero_{ZeroSetBuilder(5, 4 * static_cast<size_t>(nS_)), ZeroSetBuilder(5, 4 * static_cast<size_t>(nT_))},
+        zero_{ZeroSetBuilder(5, 4 * static_cast<size_t>(nS_)), ZeroSetBuilder(5, static_cast<size_t>(nS_)),
+              ZeroSetBuilder(5, static_cast<size_t>(nT_)), ZeroSetBuilder(5, 4 * static_cast<size_t>(nT_))},
         time_scale_(time_scale) {
     X_.resize(target_base_ + JT_ * nT_, 4);
     phi_.resize(X_.rows());
@@ -610,56 +531,81 @@ class Extraction {
   Index source_id(int layer, Index v) const { return layer * nS_ + v; }
   Index target_id(int layer, Index v) const { return target_base_ + layer * nT_ + v; }
 
-  // The source's stack over its refined cells, then the slab from it to the
-  // fill's end facet `cells` (over the source's unrefined points).
-  // Reads the source's field then (its topology kept), and writes only the
-  // source's rows and builder: add_target_stacks() may run at once.
-  void add_source_stacks(const SimplexMatrix& cells) {
+  // Writes the source's layers: its field as it is then (its topology
+  // kept), which the source's parts read. Only the source's rows.
+  void place_source() {
     for (int j = 0; j < JS_; ++j) place(source_, j, source_id(j, 0));
+  }
+  // As place_source(), for the target.
+  void place_target() {
+    for (int j = 0; j < JT_; ++j) place(target_, JT_ - 1 - j, target_id(j, 0));
+  }
+
+  // The source's stack over its refined cells.
+  void add_source_stack() {
     const SimplexMatrix& KS = source_.refined.cells;
-    for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0), 0);
+    for (int j = 0; j + 2 < JS_; ++j) add_stack(KS, source_id(j, 0), source_id(j + 1, 0), kSourceStack);
+  }
+  // The slab from the source's stack to the fill's end facet `cells` (over
+  // the source's unrefined points); sets source_transition.
+  void add_source_transition(const SimplexMatrix& cells) {
     add_transition(cells, source_, [&](Index local) {
       return local < nS_ ? source_id(JS_ - 2, local) : source_id(JS_ - 1, local - nS_);
     }, true);
   }
-
   // The slab from the fill's end facet `cells` (over the target's unrefined
-  // points) to the target's stack, then that stack.
-  // As add_source_stacks(), for the target.
-  void add_target_stacks(const SimplexMatrix& cells) {
-    for (int j = 0; j < JT_; ++j) place(target_, JT_ - 1 - j, target_id(j, 0));
+  // points) to the target's stack; sets target_transition.
+  void add_target_transition(const SimplexMatrix& cells) {
     add_transition(cells, target_, [&](Index local) {
       return local < nT_ ? target_id(1, local) : target_id(0, local - nT_);
     }, false);
+  }
+  // The target's stack over its refined cells.
+  void add_target_stack() {
     const SimplexMatrix& KT = target_.refined.cells;
-    for (int j = 1; j + 1 < JT_; ++j) add_stack(KT, target_id(j, 0), target_id(j + 1, 0), 1);
+    for (int j = 1; j + 1 < JT_; ++j) add_stack(KT, target_id(j, 0), target_id(j + 1, 0), kTargetStack);
+  }
+
+  // All of one side's, in turn.
+  void add_source_stacks(const SimplexMatrix& cells) {
+    place_source();
+    add_source_stack();
+    add_source_transition(cells);
+  }
+  void add_target_stacks(const SimplexMatrix& cells) {
+    place_target();
+    add_target_transition(cells);
+    add_target_stack();
   }
 
   // The fill's 4-simplices (over the source's unrefined points, then the
-  // target's), after both halves' stacks.
+  // target's), after both halves' parts, which it joins.
   void add_fill(const Fill& fill) {
-    zero_[0].append(zero_[1]);
-    zero_[1] = ZeroSetBuilder(5, 0);
+    for (int part = kSourceTransition; part < kParts; ++part) {
+      zero_[kSourceStack].append(zero_[part]);
+      zero_[part] = ZeroSetBuilder(5, 0);
+    }
     for (Index s = 0; s < fill.simplices.rows(); ++s) {
       Simplex4 simplex;
       for (int c = 0; c < 5; ++c) {
         const Index v = fill.simplices(s, c);
         simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
       }
-      add(simplex, 0);
+      add(simplex, kSourceStack);
     }
   }
 
   // The zero set, once add_fill() has joined the halves'.
   Complex manifold() const {
     Complex out;
-    const auto& cuts = zero_[0].cuts();
+    const ZeroSetBuilder& zero = zero_[kSourceStack];
+    const auto& cuts = zero.cuts();
     out.V.resize(static_cast<Index>(cuts.size()), 4);
     for (size_t c = 0; c < cuts.size(); ++c) {
       const ZeroCut& p = cuts[c];
       out.V.row(static_cast<Index>(c)) = p.a == p.b ? X_.row(p.a) : ((1 - p.s) * X_.row(p.a) + p.s * X_.row(p.b)).eval();
     }
-    out.S = Eigen::Map<const SimplexMatrix>(zero_[0].pieces().data(), static_cast<Index>(zero_[0].piece_count()), 4);
+    out.S = Eigen::Map<const SimplexMatrix>(zero.pieces().data(), static_cast<Index>(zero.piece_count()), 4);
     return out;
   }
 
@@ -667,7 +613,11 @@ class Extraction {
   // certificate (SpaceTimeTriangulation).
   SimplexMatrix source_transition, target_transition;
   // The 4-simplices the zero set passes through that are flat but for rounding.
-  Index flat_crossed() const { return flat_crossed_[0] + flat_crossed_[1]; }
+  Index flat_crossed() const {
+    Index sum = 0;
+    for (const Index n : flat_crossed_) sum += n;
+    return sum;
+  }
 
  private:
   // Layer `layer` of `half` (its own numbering, end first) at global `base`.
@@ -677,7 +627,7 @@ class Extraction {
     phi_.segment(base, n) = half.field[layer];
   }
 
-  // Adds the zero set of `s` to builder `part` (0 the source's, 1 the target's).
+  // Adds the zero set of `s` to builder `part`.
   void add(const Simplex4& s, int part) {
     std::array<double, 5> value;
     for (int c = 0; c < 5; ++c) value[c] = phi_(s[c]);
@@ -726,7 +676,7 @@ class Extraction {
       Simplex4 s = slab[r];
       for (int c = 0; c < 5; ++c) local(static_cast<Index>(r), c) = s[c];
       for (Index& v : s) v = global(v);
-      add(s, refined_at_bottom ? 0 : 1);
+      add(s, refined_at_bottom ? kSourceTransition : kTargetTransition);
     }
   }
 
@@ -736,9 +686,9 @@ class Extraction {
   Index target_base_;
   PointMatrix X_;
   Eigen::VectorXd phi_;
-  ZeroSetBuilder zero_[2];
+  ZeroSetBuilder zero_[kParts];
   double time_scale_;
-  Index flat_crossed_[2] = {0, 0};
+  Index flat_crossed_[kParts] = {0, 0, 0, 0};
 };
 
 // The flat cells a conforming end left that the free points beside them did not break.
@@ -854,12 +804,33 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
         check_fill_conforms(fill, S, T, report);
         fill_has_ends_cells = same_cells(fill.source_cells, cells[0]) && same_cells(fill.target_cells, cells[1]);
       },
-      {{[&] { keep_half_topology(shaping, 0, inputs); }},
-       {[&] { keep_half_topology(shaping, 1, inputs); }},
-       {[&] { extraction->add_source_stacks(cells[0]); }, 0},
-       {[&] { extraction->add_target_stacks(cells[1]); }, 1},
-       {[&] { covers[0] = cover_of(halves.source, extraction->source_transition); }, 2},
-       {[&] { covers[1] = cover_of(halves.target, extraction->target_transition); }, 3}});
+      // A priority only (the result is the same in any order): the
+      // target's tasks first, whose chain was the longer on the shapes
+      // measured (the target the larger shape).
+      {{[&] {
+         keep_half_topology(shaping, 1, inputs);
+         extraction->place_target();
+       }},
+       {[&] {
+         keep_half_topology(shaping, 0, inputs);
+         extraction->place_source();
+       }},
+       {[&] { extraction->add_target_transition(cells[1]); }, 0},
+       {[&] {
+          covers[1].transition = check_transition_cover(halves.target.points, halves.target.plain,
+                                                        extraction->target_transition, halves.target.times);
+        },
+        2},
+       {[&] { extraction->add_target_stack(); }, 0},
+       {[&] { extraction->add_source_transition(cells[0]); }, 1},
+       {[&] {
+          covers[0].transition = check_transition_cover(halves.source.points, halves.source.plain,
+                                                        extraction->source_transition, halves.source.times);
+        },
+        5},
+       {[&] { extraction->add_source_stack(); }, 1},
+       {[&] { covers[1].cells = check_cells_cover(halves.target.points, halves.target.refined.cells); }},
+       {[&] { covers[0].cells = check_cells_cover(halves.source.points, halves.source.refined.cells); }}});
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
   if (!fill_has_ends_cells) {
     extraction.reset();

@@ -130,5 +130,11 @@ SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time
 // reads the covers).
 SideCover check_side_cover(const PointMatrix& points, Index plain, const SimplexMatrix& cells,
                            const SimplexMatrix& transition, const std::vector<double>& times);
+// Its two checks apart ("" where the part tiles its region once): the
+// cells' (ready once the half is built) and the transition slab's (once the
+// slab is extracted), which field_morph makes on whichever thread is free.
+std::string check_cells_cover(const PointMatrix& points, const SimplexMatrix& cells);
+std::string check_transition_cover(const PointMatrix& points, Index plain, const SimplexMatrix& transition,
+                                   const std::vector<double>& times);
 
 }  // namespace animanifold

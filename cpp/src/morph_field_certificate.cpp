@@ -72,10 +72,20 @@ SpaceTimeCertificate certify_space_time(const SpaceTimeTriangulation& space_time
   return out;
 }
 
+std::string check_cells_cover(const PointMatrix& points, const SimplexMatrix& cells) {
+  return failure_of(check_convex_cover(points, cells));
+}
+
+std::string check_transition_cover(const PointMatrix& points, Index plain, const SimplexMatrix& transition,
+                                   const std::vector<double>& times) {
+  if (times.size() < 2) fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
+  return failure_of(transition_cover(points, plain, transition, times));
+}
+
 SideCover check_side_cover(const PointMatrix& points, Index plain, const SimplexMatrix& cells,
                            const SimplexMatrix& transition, const std::vector<double>& times) {
   if (times.size() < 2) fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
-  return {failure_of(check_convex_cover(points, cells)), failure_of(transition_cover(points, plain, transition, times))};
+  return {check_cells_cover(points, cells), check_transition_cover(points, plain, transition, times)};
 }
 
 }  // namespace animanifold
