@@ -12,7 +12,6 @@
 #include <atomic>
 #include <array>
 #include <cmath>
-#include <condition_variable>
 #include <cstdlib>
 #include <exception>
 #include <functional>
@@ -228,6 +227,31 @@ void slave_split_points(Half& half, Eigen::VectorXd& value) {
       sum += half.refined.shares[j][k] * value(half.refined.splits[j][k]);
     value(half.plain + static_cast<Index>(j)) = sum;
   }
+}
+
+// The signed distances to S and T at a conforming end's points: at its
+// lattice points (rows `first` on, where conform_end() keeps its free points,
+// unless moved since) those lattice_points() measured (`s`, `t`), the
+// others measured here.
+EndDistances end_distances(const PointMatrix& points, Index first, const PointMatrix& lattice,
+                           const Eigen::VectorXd& s, const Eigen::VectorXd& t, const SignedDistance& dS,
+                           const SignedDistance& dT) {
+  const Index n = static_cast<Index>(points.rows());
+  EndDistances out;
+  out.s.resize(n), out.t.resize(n);
+  std::vector<Index> unknown;
+  for (Index r = 0; r < n; ++r) {
+    const Index k = r - first;
+    if (k >= 0 && k < lattice.rows() && points.row(r) == lattice.row(k)) {
+      out.s(r) = s(k), out.t(r) = t(k);
+    } else {
+      unknown.push_back(r);
+    }
+  }
+  const PointMatrix rest = points(unknown, Eigen::all);
+  const Eigen::VectorXd rest_s = dS.distances(rest), rest_t = dT.distances(rest);
+  for (size_t i = 0; i < unknown.size(); ++i) out.s(unknown[i]) = rest_s(static_cast<Index>(i)), out.t(unknown[i]) = rest_t(static_cast<Index>(i));
+  return out;
 }
 
 // An end's tetrahedralization with its chords split, as build_half() splits
@@ -691,6 +715,58 @@ class Extraction {
   Index flat_crossed_[kParts] = {0, 0, 0, 0};
 };
 
+// The tasks that follow the halves' lead in the fill stage
+// (lead_and_beside): each half's topology kept, its transition slab and its
+// stack extracted, and its covers checked for the certificate (its validity
+// check, made here where a thread is free while the other fills).
+std::vector<AfterTask> tasks_after_the_halves(HalvesToShape& shaping, const HalfInputs& in,
+                                              std::optional<Extraction>& extraction,
+                                              const SimplexMatrix (&cells)[2], std::array<SideCover, 2>& covers) {
+  const Half &source = shaping.halves.source, &target = shaping.halves.target;
+  // A priority only (the result is the same in any order): the target's
+  // tasks first, whose chain was the longer on the shapes measured (the
+  // target the larger shape).
+  return {{[&] {
+            keep_half_topology(shaping, 1, in);
+            extraction->place_target();
+          }},
+          {[&] {
+            keep_half_topology(shaping, 0, in);
+            extraction->place_source();
+          }},
+          {[&] { extraction->add_target_transition(cells[1]); }, 0},
+          {[&] {
+             covers[1].transition =
+                 check_transition_cover(target.points, target.plain, extraction->target_transition, target.times);
+           },
+           2},
+          {[&] { extraction->add_target_stack(); }, 0},
+          {[&] { extraction->add_source_transition(cells[0]); }, 1},
+          {[&] {
+             covers[0].transition =
+                 check_transition_cover(source.points, source.plain, extraction->source_transition, source.times);
+           },
+           5},
+          {[&] { extraction->add_source_stack(); }, 1},
+          {[&] { covers[1].cells = check_cells_cover(target.points, target.refined.cells); }},
+          {[&] { covers[0].cells = check_cells_cover(source.points, source.refined.cells); }}};
+}
+
+// The halves shaped again and extracted on the fill's end facets, where
+// cospherical points broke their ties another way than the ends' own
+// Delaunay cells (field_morph).
+void extract_on_the_fills_cells(const HalfInputs& in, const Fill& fill, const EndDistances (&distances)[2],
+                                double time_scale, Halves& halves, std::optional<Extraction>& extraction,
+                                std::array<SideCover, 2>& covers) {
+  extraction.reset();
+  halves = shaped_halves(in, fill.source_cells, fill.target_cells, distances);
+  extraction.emplace(halves.source, halves.target, time_scale);
+  extraction->add_source_stacks(fill.source_cells);
+  extraction->add_target_stacks(fill.target_cells);
+  covers[0] = cover_of(halves.source, extraction->source_transition);
+  covers[1] = cover_of(halves.target, extraction->target_transition);
+}
+
 // The flat cells a conforming end left that the free points beside them did not break.
 Index flat_cells_left(const EndMesh& end, const SimplexMatrix& cells) {
   return points_off_flat_cells(cells, end.points, end.on_surface, 1.0).rows() / 2;
@@ -746,10 +822,9 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // The distances at the ends' points first, each end's on all threads: the
   // two ends' costs differ with their sizes, and what is left of each
   // side's work is shorter and serial.
-  for (int side = 0; side < 2; ++side) {
-    distances[side].widening = lattice.widening;
-    distances[side].extend((side == 0 ? S : T).points, dS, dT);
-  }
+  distances[0] = end_distances(S.points, VS.rows(), lattice.source, lattice.source_s, lattice.source_t, dS, dT);
+  distances[1] = end_distances(T.points, VT.rows(), lattice.target, lattice.target_s, lattice.target_t, dS, dT);
+  distances[0].widening = distances[1].widening = lattice.widening;
   on_both_sides([&](int side) {
     const EndMesh& end = side == 0 ? S : T;
     cells[side] = delaunay_tetrahedra(end.points);
@@ -781,10 +856,8 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
   // one thread), on the ends' own Delaunay cells: those are the fill's end
   // facets (Theorem 5.2.1) unless cospherical points break their ties
   // another way there, and then the halves are shaped again on the fill's.
-  // Each half's topology is kept, its stacks' zero set extracted and its
-  // covers checked for the certificate (its validity check, made here where
-  // a thread is free while the other fills) on whichever thread is free
-  // first, so that the thread the fill frees takes its share.
+  // What follows the halves (tasks_after_the_halves) goes to whichever
+  // thread is free first, so that the thread the fill frees takes its share.
   const HalfInputs inputs{S, T, dS, dT, m, slabs, schedule, options, kFieldFloor * lattice.spacing,
                           lattice.spacing};
   const double time_scale = size / (options.t1 - options.t0);
@@ -804,43 +877,9 @@ FieldMorph field_morph(const PointMatrix& VS, const SimplexMatrix& FS, const Poi
         check_fill_conforms(fill, S, T, report);
         fill_has_ends_cells = same_cells(fill.source_cells, cells[0]) && same_cells(fill.target_cells, cells[1]);
       },
-      // A priority only (the result is the same in any order): the
-      // target's tasks first, whose chain was the longer on the shapes
-      // measured (the target the larger shape).
-      {{[&] {
-         keep_half_topology(shaping, 1, inputs);
-         extraction->place_target();
-       }},
-       {[&] {
-         keep_half_topology(shaping, 0, inputs);
-         extraction->place_source();
-       }},
-       {[&] { extraction->add_target_transition(cells[1]); }, 0},
-       {[&] {
-          covers[1].transition = check_transition_cover(halves.target.points, halves.target.plain,
-                                                        extraction->target_transition, halves.target.times);
-        },
-        2},
-       {[&] { extraction->add_target_stack(); }, 0},
-       {[&] { extraction->add_source_transition(cells[0]); }, 1},
-       {[&] {
-          covers[0].transition = check_transition_cover(halves.source.points, halves.source.plain,
-                                                        extraction->source_transition, halves.source.times);
-        },
-        5},
-       {[&] { extraction->add_source_stack(); }, 1},
-       {[&] { covers[1].cells = check_cells_cover(halves.target.points, halves.target.refined.cells); }},
-       {[&] { covers[0].cells = check_cells_cover(halves.source.points, halves.source.refined.cells); }}});
+      tasks_after_the_halves(shaping, inputs, extraction, cells, covers));
   report.fill_simplices = static_cast<Index>(fill.simplices.rows());
-  if (!fill_has_ends_cells) {
-    extraction.reset();
-    halves = shaped_halves(inputs, fill.source_cells, fill.target_cells, distances);
-    extraction.emplace(halves.source, halves.target, time_scale);
-    extraction->add_source_stacks(fill.source_cells);
-    extraction->add_target_stacks(fill.target_cells);
-    covers[0] = cover_of(halves.source, extraction->source_transition);
-    covers[1] = cover_of(halves.target, extraction->target_transition);
-  }
+  if (!fill_has_ends_cells) extract_on_the_fills_cells(inputs, fill, distances, time_scale, halves, extraction, covers);
   for (const Half* half : {&halves.source, &halves.target})
     report.split_faces += static_cast<Index>(half->refined.splits.size());
   Half &source = halves.source, &target = halves.target;

@@ -80,6 +80,9 @@ Eigen::VectorXd vertex_circumradius(const PointMatrix& V, const SimplexMatrix& F
 
 struct Lattice {
   PointMatrix source, target;  // the free points each end keeps
+  // The signed distances to S and to T at each kept point (the lattice's
+  // test measured them), per end.
+  Eigen::VectorXd source_s, source_t, target_s, target_t;
   PointMatrix corners;         // the box's, in both
   double spacing = 0;
   double widening = 0;         // middle_widening() of the distances at the lattice

@@ -149,6 +149,8 @@ Lattice lattice_points(const PointMatrix& VS, const SimplexMatrix& FS, const Sig
   }
   out.source = candidates(keep_source, Eigen::all);
   out.target = candidates(keep_target, Eigen::all);
+  out.source_s = ps.distance(keep_source), out.source_t = pt.distance(keep_source);
+  out.target_s = ps.distance(keep_target), out.target_t = pt.distance(keep_target);
   return out;
 }
 
