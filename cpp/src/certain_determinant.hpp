@@ -26,7 +26,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <optional>
 
@@ -71,7 +70,8 @@ struct Expansion {
         if (__builtin_popcount(rows) != column + 1) continue;
         int position = 0;
         for (int r = 0; r < N; ++r)
-          if (rows & (1u << r)) terms[t++] = {rows, rows & ~(1u << r), r, column, (position++ + column) % 2 ? -1.0 : 1.0};
+          if (rows & (1u << r))
+            terms[t++] = {rows, rows & ~(1u << r), r, column, (position++ + column) % 2 ? -1.0 : 1.0};
       }
   }
 };

@@ -250,7 +250,8 @@ EndDistances end_distances(const PointMatrix& points, Index first, const PointMa
   }
   const PointMatrix rest = points(unknown, Eigen::all);
   const Eigen::VectorXd rest_s = dS.distances(rest), rest_t = dT.distances(rest);
-  for (size_t i = 0; i < unknown.size(); ++i) out.s(unknown[i]) = rest_s(static_cast<Index>(i)), out.t(unknown[i]) = rest_t(static_cast<Index>(i));
+  for (size_t i = 0; i < unknown.size(); ++i)
+    out.s(unknown[i]) = rest_s(static_cast<Index>(i)), out.t(unknown[i]) = rest_t(static_cast<Index>(i));
   return out;
 }
 

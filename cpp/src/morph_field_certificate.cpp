@@ -78,13 +78,15 @@ std::string check_cells_cover(const PointMatrix& points, const SimplexMatrix& ce
 
 std::string check_transition_cover(const PointMatrix& points, Index plain, const SimplexMatrix& transition,
                                    const std::vector<double>& times) {
-  if (times.size() < 2) fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
+  if (times.size() < 2)
+    fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
   return failure_of(transition_cover(points, plain, transition, times));
 }
 
 SideCover check_side_cover(const PointMatrix& points, Index plain, const SimplexMatrix& cells,
                            const SimplexMatrix& transition, const std::vector<double>& times) {
-  if (times.size() < 2) fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
+  if (times.size() < 2)
+    fail<InputError>("a side of the space-time triangulation has ", times.size(), " layers, not 2 or more");
   return {check_cells_cover(points, cells), check_transition_cover(points, plain, transition, times)};
 }
 

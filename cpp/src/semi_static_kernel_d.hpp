@@ -15,7 +15,7 @@
 #include <CGAL/Epick_d.h>
 
 #include <array>
-#include <iterator>
+#include <optional>
 
 namespace animanifold {
 
@@ -61,13 +61,16 @@ struct SemiStaticKernel : CGAL::Epick_d<CGAL::Dimension_tag<D>> {
         }
         m[row][D] = lifted;
       }
-      if (const std::optional<int> sign = certain_sign<D + 1>(m, Columns::Lifted)) return CGAL::Oriented_side(D % 2 ? -*sign : *sign);
+      if (const std::optional<int> sign = certain_sign<D + 1>(m, Columns::Lifted))
+        return CGAL::Oriented_side(D % 2 ? -*sign : *sign);
       return exact(first, last, query);
     }
   };
 
   Orientation_d orientation_d_object() const { return {Exact::orientation_d_object()}; }
-  Side_of_oriented_sphere_d side_of_oriented_sphere_d_object() const { return {Exact::side_of_oriented_sphere_d_object()}; }
+  Side_of_oriented_sphere_d side_of_oriented_sphere_d_object() const {
+    return {Exact::side_of_oriented_sphere_d_object()};
+  }
 };
 
 }  // namespace animanifold
