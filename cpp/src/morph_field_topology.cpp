@@ -99,6 +99,8 @@ class SimplePoints {
     for (int a = 0; a < n; ++a) ++parts.vertices[sign(a)];
     Components components(n);
     std::vector<std::pair<int, int>> seen;
+    std::array<int, 2> edge_sides{0, 0};  // a link edge's sides: one per link triangle it bounds
+    const Index link_triangles = stars_.offset[v + 1] - stars_.offset[v];
     for (Index i = stars_.offset[v]; i < stars_.offset[v + 1]; ++i) {
       std::array<int, 3> t{};
       for (int k = 0, j = 0; k < 4; ++k)
@@ -107,13 +109,21 @@ class SimplePoints {
       for (int a = 0; a < 3; ++a) {
         const int p = std::min(t[a], t[(a + 1) % 3]), q = std::max(t[a], t[(a + 1) % 3]);
         if (sign(p) != sign(q)) continue;
+        ++edge_sides[sign(p)];
         seen.emplace_back(p, q);
         components.join(p, q);
       }
     }
-    std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    for (const auto& [p, q] : seen) ++edges[sign(p)];
+    // The link of an interior point is a triangulated sphere (T = 2V - 4):
+    // each of its edges bounds two of its triangles, so the edges are half
+    // their sides. Any other link has its edges told apart one by one.
+    if (link_triangles == 2 * static_cast<Index>(n) - 4) {
+      for (int s = 0; s < 2; ++s) edges[s] = edge_sides[s] / 2;
+    } else {
+      std::sort(seen.begin(), seen.end());
+      seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+      for (const auto& [p, q] : seen) ++edges[sign(p)];
+    }
     for (int s = 0; s < 2; ++s) parts.chi[s] = parts.vertices[s] - edges[s] + triangles[s];
     for (int a = 0; a < n; ++a)
       if (components.find(a) == a) ++parts.components[sign(a)];
