@@ -535,9 +535,9 @@ class Extraction {
  public:
   // Its builders, appended in this order (the order the zero set's
   // vertices and pieces come in): the source's stack, its transition slab,
-  // the target's transition slab, the target's stack. Each is written by
-  // one call at a time; calls for different parts may run at once.
-  enum Part { kSourceStack, kSourceTransition, kTargetTransition, kTargetStack, kParts };
+  // the target's transition slab, the target's stack, the fill. Each is
+  // written by one call at a time; calls for different parts may run at once.
+  enum Part { kSourceStack, kSourceTransition, kTargetTransition, kTargetStack, kFill, kParts };
 
   // `time_scale`: the shapes' size over the range (flat_to_rounding).
   Extraction(const Half& source, const Half& target, double time_scale)
@@ -545,7 +545,8 @@ class Extraction {
         nT_(static_cast<Index>(target.points.rows())), JS_(static_cast<int>(source.times.size())),
         JT_(static_cast<int>(target.times.size())), target_base_(JS_ * nS_),
         zero_{ZeroSetBuilder(5, 4 * static_cast<size_t>(nS_)), ZeroSetBuilder(5, static_cast<size_t>(nS_)),
-              ZeroSetBuilder(5, static_cast<size_t>(nT_)), ZeroSetBuilder(5, 4 * static_cast<size_t>(nT_))},
+              ZeroSetBuilder(5, static_cast<size_t>(nT_)), ZeroSetBuilder(5, 4 * static_cast<size_t>(nT_)),
+              ZeroSetBuilder(5, static_cast<size_t>(nS_ + nT_))},
         time_scale_(time_scale) {
     X_.resize(target_base_ + JT_ * nT_, 4);
     phi_.resize(X_.rows());
@@ -604,20 +605,28 @@ class Extraction {
   }
 
   // The fill's 4-simplices (over the source's unrefined points, then the
-  // target's), after both halves' parts, which it joins.
+  // target's), after both halves' parts, and the parts joined: the fill's
+  // zero set is extracted while the halves' are joined, then joined last.
   void add_fill(const Fill& fill) {
-    for (int part = kSourceTransition; part < kParts; ++part) {
-      zero_[kSourceStack].append(zero_[part]);
-      zero_[part] = ZeroSetBuilder(5, 0);
-    }
-    for (Index s = 0; s < fill.simplices.rows(); ++s) {
-      Simplex4 simplex;
-      for (int c = 0; c < 5; ++c) {
-        const Index v = fill.simplices(s, c);
-        simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
+    on_both_sides([&](int side) {
+      if (side == 0) {
+        for (int part = kSourceTransition; part < kFill; ++part) {
+          zero_[kSourceStack].append(zero_[part]);
+          zero_[part] = ZeroSetBuilder(5, 0);
+        }
+        return;
       }
-      add(simplex, kSourceStack);
-    }
+      for (Index s = 0; s < fill.simplices.rows(); ++s) {
+        Simplex4 simplex;
+        for (int c = 0; c < 5; ++c) {
+          const Index v = fill.simplices(s, c);
+          simplex[c] = v < source_.plain ? source_id(JS_ - 1, v) : target_id(0, v - source_.plain);
+        }
+        add(simplex, kFill);
+      }
+    });
+    zero_[kSourceStack].append(zero_[kFill]);
+    zero_[kFill] = ZeroSetBuilder(5, 0);
   }
 
   // The zero set, once add_fill() has joined the halves'.
@@ -713,7 +722,7 @@ class Extraction {
   Eigen::VectorXd phi_;
   ZeroSetBuilder zero_[kParts];
   double time_scale_;
-  Index flat_crossed_[kParts] = {0, 0, 0, 0};
+  Index flat_crossed_[kParts] = {0, 0, 0, 0, 0};
 };
 
 // The tasks that follow the halves' lead in the fill stage
