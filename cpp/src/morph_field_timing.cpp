@@ -82,7 +82,7 @@ Sampled sampled(Surface s) {
 
 double two_sided(const Sampled& a, const Sampled& b) {
   if (a.surface.F.rows() == 0 || b.surface.F.rows() == 0) return 0.0;  // a frame with nothing in it: no measure
-  return std::max((*b.distance)(a.samples).maxCoeff(), (*a.distance)(b.samples).maxCoeff());
+  return std::max(b.distance->farthest(a.samples), a.distance->farthest(b.samples));
 }
 
 }  // namespace

@@ -76,6 +76,36 @@ Eigen::VectorXd TriangleDistance::operator()(const PointMatrix& points) const {
   return out;
 }
 
+double TriangleDistance::farthest(const PointMatrix& points) const {
+  if (points.rows() == 0) return 0.0;
+  if (!tree_->tree) return std::numeric_limits<double>::infinity();
+  if (points.cols() != 3) fail<InputError>("distance to a triangle mesh needs 3D query points, got ", points.cols(), "D");
+  // A point is passed over only when a face lies within a radius a hair
+  // short of the largest distance (in squares, a millionth): its own
+  // distance is then below that one by more than the rounding of either
+  // (a few units in the last place of the coordinates' squares), unless the
+  // largest is below about 1e-5 of the coordinates, where rounding and not
+  // distance tells the points apart. Every k-th point is measured first, so
+  // that the largest is soon large.
+  constexpr double kShorter = 1.0 - 1e-6;
+  constexpr Index kFirstStride = 32;
+  double largest = 0.0;  // squared
+  translating_cgal_failures(
+      "measuring the farthest of " + std::to_string(points.rows()) + " points from " +
+          std::to_string(tree_->triangles.size()) + " triangles",
+      [&] {
+        auto at = [&](Index p) { return Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2)); };
+        for (Index p = 0; p < points.rows(); p += kFirstStride) largest = std::max(largest, tree_->tree->squared_distance(at(p)));
+        for (Index p = 0; p < points.rows(); ++p) {
+          if (p % kFirstStride == 0) continue;
+          const Kernel::Point_3 q = at(p);
+          if (largest > 0 && tree_->tree->do_intersect(Kernel::Sphere_3(q, kShorter * largest))) continue;
+          largest = std::max(largest, tree_->tree->squared_distance(q));
+        }
+      });
+  return std::sqrt(largest);
+}
+
 Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
   const int d = static_cast<int>(vertices.cols());
   Eigen::VectorXd out = Eigen::VectorXd::Constant(points.rows(), std::numeric_limits<double>::infinity());

@@ -8,7 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <numeric>
+#include <random>
+#include <vector>
 
 using namespace animanifold;
 
@@ -46,4 +51,92 @@ TEST(SurfaceDistance, BadInputIsRefused) {
   EXPECT_THROW(TriangleDistance(V, outside), InputError);
   EXPECT_THROW(TriangleDistance(V.leftCols(2), F), InputError);
   EXPECT_THROW(TriangleDistance(V, F)(PointMatrix::Zero(1, 2)), InputError);
+}
+
+namespace {
+
+// A bumpy closed surface: the octahedron's faces split in four `rounds`
+// times, each vertex pushed out to a random radius in [0.7, 1.3].
+void bumpy_sphere(int rounds, unsigned seed, PointMatrix& V, SimplexMatrix& F) {
+  fixtures::octahedron(V, F);
+  for (int round = 0; round < rounds; ++round) {
+    std::map<std::pair<Index, Index>, Index> middle;
+    std::vector<Eigen::RowVector3d> points;
+    for (Index v = 0; v < V.rows(); ++v) points.push_back(V.row(v));
+    auto split = [&](Index a, Index b) {
+      const auto key = std::minmax(a, b);
+      const auto [it, added] = middle.emplace(key, static_cast<Index>(points.size()));
+      if (added) points.push_back(0.5 * (points[a] + points[b]));
+      return it->second;
+    };
+    SimplexMatrix finer(4 * F.rows(), 3);
+    for (Index f = 0; f < F.rows(); ++f) {
+      const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
+      const Index ab = split(a, b), bc = split(b, c), ca = split(c, a);
+      finer.middleRows(4 * f, 4) << a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca;
+    }
+    V.resize(static_cast<Index>(points.size()), 3);
+    for (size_t v = 0; v < points.size(); ++v) V.row(static_cast<Index>(v)) = points[v];
+    F = finer;
+  }
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> radius(0.7, 1.3);
+  for (Index v = 0; v < V.rows(); ++v) V.row(v) *= radius(random) / V.row(v).norm();
+}
+
+}  // namespace
+
+TEST(SurfaceDistance, TheFarthestIsTheLargestDistanceToTheBit) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    PointMatrix V;
+    SimplexMatrix F;
+    bumpy_sphere(3, seed, V, F);
+    const TriangleDistance distance(V, F);
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<double> coordinate(-2.0, 2.0), share(0.0, 1.0);
+    // Points anywhere, and points on the surface (distance about 0).
+    PointMatrix points(3000, 3);
+    for (Index p = 0; p < points.rows(); ++p) {
+      if (p % 3) {
+        points.row(p) << coordinate(random), coordinate(random), coordinate(random);
+        continue;
+      }
+      const Index f = static_cast<Index>(random() % F.rows());
+      const double u = share(random), v = share(random) * (1 - u);
+      points.row(p) = (1 - u - v) * V.row(F(f, 0)) + u * V.row(F(f, 1)) + v * V.row(F(f, 2));
+    }
+    const Eigen::VectorXd d = distance(points);
+    EXPECT_EQ(distance.farthest(points), d.maxCoeff()) << "seed " << seed;
+    // Nearest first: every point may raise the largest, the farthest comes
+    // last (not among the points measured first); and farthest first.
+    std::vector<Index> order(static_cast<size_t>(points.rows()));
+    std::iota(order.begin(), order.end(), Index{0});
+    std::sort(order.begin(), order.end(), [&](Index a, Index b) { return d(a) < d(b); });
+    PointMatrix nearest_first(points.rows(), 3), farthest_first(points.rows(), 3);
+    for (Index i = 0; i < points.rows(); ++i) {
+      nearest_first.row(i) = points.row(order[i]);
+      farthest_first.row(points.rows() - 1 - i) = points.row(order[i]);
+    }
+    EXPECT_EQ(distance.farthest(nearest_first), d.maxCoeff()) << "seed " << seed;
+    EXPECT_EQ(distance.farthest(farthest_first), d.maxCoeff()) << "seed " << seed;
+  }
+}
+
+TEST(SurfaceDistance, TheFarthestOfPointsAtOneDistanceIsThatDistance) {
+  PointMatrix V;
+  SimplexMatrix F;
+  fixtures::octahedron(V, F);
+  // Two beyond each of the six vertices, and the centre (1 / sqrt 3 from every face).
+  PointMatrix points(7, 3);
+  points << 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3, 0, 0, 0, 3, 0, 0, -3;
+  const TriangleDistance distance(V, F);
+  EXPECT_EQ(distance.farthest(points), distance(points).maxCoeff());
+  EXPECT_NEAR(distance.farthest(points), 2.0, 1e-15);
+  EXPECT_EQ(distance.farthest(PointMatrix(0, 3)), 0.0);
+  PointMatrix flat(3, 3);
+  flat << 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  SimplexMatrix one_face(1, 3);
+  one_face << 0, 1, 2;
+  EXPECT_TRUE(std::isinf(TriangleDistance(flat, one_face).farthest(PointMatrix::Zero(2, 3))));
+  EXPECT_THROW(distance.farthest(PointMatrix::Zero(1, 2)), InputError);
 }

@@ -37,6 +37,12 @@ class TriangleDistance {
   // The distance from each of `points` (#P by 3) to the mesh; +infinity
   // for all when it has no proper face.
   Eigen::VectorXd operator()(const PointMatrix& points) const;
+  // The largest of those distances, operator()(points).maxCoeff(), but
+  // faster: a point with a face within the largest found so far is passed
+  // over without its distance. The same value to the bit unless that
+  // largest distance is below about 1e-5 of the coordinates' magnitude
+  // (then within rounding of it). 0 for no points.
+  double farthest(const PointMatrix& points) const;
 
  private:
   struct Tree;
