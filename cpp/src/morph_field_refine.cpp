@@ -223,12 +223,14 @@ namespace {
 // The edges of `tets` from a point of the input to one off it, no shorter
 // than `shortest`, where the blend at one of `weights` changes sign along
 // them or both ends are within half the edge of zero: where the zero set
-// runs at one of those layers, in the tets the input's faces bound.
+// runs at one of those layers, in the tets the input's faces bound. Edges
+// in `seen` are passed over, and those looked at are added to it: whether
+// an edge is one of these depends only on its ends.
 std::vector<std::array<Index, 2>> edges_off_input_near_zero(const Tets& tets, const std::vector<Eigen::RowVector3d>& position,
                                                             const std::function<bool(Index)>& on_input,
                                                             const std::vector<double>& weights,
-                                                            const EndDistances& distances, double shortest) {
-  std::unordered_set<std::uint64_t> seen;
+                                                            const EndDistances& distances, double shortest,
+                                                            std::unordered_set<std::uint64_t>& seen) {
   std::vector<std::array<Index, 2>> out;
   for (const auto& tet : tets.live())
     for (int a = 0; a < 4; ++a)
@@ -273,8 +275,13 @@ Index split_curved_edges(RefinedCells& refined, const PointMatrix& points, const
   PointGrid taken(kCoincidentMiddle * std::max(extent, 1e-300));
   for (size_t v = 0; v < position.size(); ++v) taken.add(position[v].transpose(), static_cast<Index>(v));
   Index count = before;
+  // An edge's judgement (near the zero set, curved, keeping its sign, its
+  // middle free) depends only on its ends and the points taken, which only
+  // grow: an edge left whole in one round stays whole, and each round looks
+  // only at the edges the splits before it made.
+  std::unordered_set<std::uint64_t> judged;
   for (int round = 0; round < rounds; ++round) {
-    const auto edges = edges_off_input_near_zero(tets, position, on_input, weights, distances, shortest);
+    const auto edges = edges_off_input_near_zero(tets, position, on_input, weights, distances, shortest, judged);
     PointMatrix middles(static_cast<Index>(edges.size()), 3);
     for (size_t e = 0; e < edges.size(); ++e)
       middles.row(static_cast<Index>(e)) = 0.5 * (position[edges[e][0]] + position[edges[e][1]]);
