@@ -129,6 +129,7 @@ Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatri
 
 double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
   if (points.rows() == 0) return 0.0;
+  if (vertices.cols() == 3 && points.cols() == 3 && faces.cols() == 3) return TriangleDistance(vertices, faces).farthest(points);
   return distances_to_surface(points, vertices, faces).maxCoeff();
 }
 
