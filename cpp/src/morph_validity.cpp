@@ -39,59 +39,75 @@ struct FrameTopology {
   }
 };
 
-// The number of distinct edges of the triangles F over #V vertices: each
-// edge is counted at its smaller vertex (a counting sort by it), and each
-// vertex's few edges are told apart by their other end.
-Index distinct_edges(const SimplexMatrix& F, Index vertex_count) {
-  std::vector<Index> start(vertex_count + 1, 0);
-  for (Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++start[std::min(F(f, k), F(f, (k + 1) % 3)) + 1];
-  for (Index v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
-  std::vector<Index> next(start.begin(), start.end() - 1), other(static_cast<size_t>(start.back()));
-  for (Index f = 0; f < F.rows(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Index a = F(f, k), b = F(f, (k + 1) % 3);
-      other[next[std::min(a, b)]++] = std::max(a, b);
-    }
-  Index edges = 0;
-  for (Index v = 0; v < vertex_count; ++v) {
-    const auto first = other.begin() + start[v], last = other.begin() + start[v + 1];
-    std::sort(first, last);
-    edges += std::unique(first, last) - first;
+// The number of distinct values among `other[0..count)`, the larger ends
+// of one vertex's edges: a handful, where a pairwise count beats a sort's
+// setup; more (a fan's hub) are sorted.
+Index distinct_among(Index* other, Index count) {
+  constexpr Index kPairwise = 16;
+  if (count > kPairwise) {
+    std::sort(other, other + count);
+    return static_cast<Index>(std::unique(other, other + count) - other);
   }
-  return edges;
+  Index distinct = 0;
+  for (Index i = 0; i < count; ++i) {
+    bool earlier = false;
+    for (Index j = 0; j < i && !earlier; ++j) earlier = other[j] == other[i];
+    distinct += !earlier;
+  }
+  return distinct;
 }
 
 // Euler characteristic, outer shells (pieces) and cavities (shells whose
 // signed volume is negative: their faces point into a bubble) of a closed
-// triangle mesh.
+// triangle mesh. One pass over the faces joins each face's corners (union-
+// find) and counts its edges at their smaller end; a second lists each
+// edge's larger end there (a counting sort), where a vertex's few edges are
+// told apart; a third sums each shell's signed volume.
 FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
   FrameTopology out;
   if (F.rows() == 0) return out;
-  std::vector<Index> parent(V.rows());
+  const Index n = static_cast<Index>(V.rows());
+  std::vector<Index> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](Index a) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::vector<char> used(V.rows(), 0);
+  std::vector<Index> start(static_cast<size_t>(n) + 1, 0);
+  std::vector<char> used(n, 0);
   for (Index f = 0; f < F.rows(); ++f) {
     const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
     used[a] = used[b] = used[c] = 1;
     parent[find(a)] = find(b);  // two unions join all three corners
     parent[find(b)] = find(c);
+    ++start[std::min(a, b) + 1], ++start[std::min(b, c) + 1], ++start[std::min(c, a) + 1];
   }
-  const Index vertices = static_cast<Index>(std::count(used.begin(), used.end(), 1));
-  out.euler = vertices - distinct_edges(F, V.rows()) + static_cast<Index>(F.rows());
-  std::vector<double> volume(V.rows(), 0.0);
-  std::vector<char> shell(V.rows(), 0);
+  for (Index v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<Index> other(static_cast<size_t>(start.back()));
+  {
+    std::vector<Index> next(start.begin(), start.end() - 1);
+    for (Index f = 0; f < F.rows(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const Index a = F(f, k), b = F(f, (k + 1) % 3);
+        other[next[std::min(a, b)]++] = std::max(a, b);
+      }
+  }
+  Index vertices = 0, edges = 0;
+  for (Index v = 0; v < n; ++v) {
+    vertices += used[v];
+    edges += distinct_among(other.data() + start[v], start[v + 1] - start[v]);
+    parent[v] = find(v);  // every vertex straight to its root, for the volumes' pass
+  }
+  out.euler = vertices - edges + static_cast<Index>(F.rows());
+  std::vector<double> volume(n, 0.0);
+  std::vector<char> shell(n, 0);
   for (Index f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    const Index root = find(F(f, 0));
+    const Index root = parent[F(f, 0)];
     volume[root] += a.dot(b.cross(c)) / 6.0;
     shell[root] = 1;
   }
-  for (Index root = 0; root < V.rows(); ++root) {
+  for (Index root = 0; root < n; ++root) {
     if (!shell[root]) continue;
     const double v = volume[root];
     (v < 0 ? out.cavities : out.pieces)++;
