@@ -297,10 +297,13 @@ void check_frames(const Complex& manifold, double t0, double t1, const PointMatr
   FrameChecks checks(manifold, VS, FS, VT, FT, report);
   const std::vector<double> spread = spread_times(t0, t1);
   const long crossing_count = std::clamp(crossing_frames, 0, kSpreadFrames);
-  checks.check(spread, crossing_count, alongside);
+  // The closer frames in the same loop as the spread ones (after them: the
+  // first crossing_count are the spread's), so that no core waits between.
+  std::vector<double> first = spread;
+  first.insert(first.end(), closer.begin(), closer.end());
+  checks.check(first, crossing_count, alongside);
   if (crossing_count < kSpreadFrames && check_the_rest && check_the_rest())
     checks.check_crossings(std::vector<double>(spread.begin() + crossing_count, spread.end()));
-  if (!closer.empty()) checks.check(closer, 0);
   checks.bisect_changes();
   checks.finish();
 }
