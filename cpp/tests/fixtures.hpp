@@ -6,7 +6,11 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <array>
+#include <map>
+#include <utility>
+#include <vector>
 #include <random>
 #include <string>
 
@@ -42,6 +46,30 @@ inline void octahedron(PointMatrix& V, SimplexMatrix& F) {
   V << 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1;
   F.resize(8, 3);
   F << 0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5;
+}
+
+// Each face of (V, F) split into four at its edges' middles, `levels` times
+// (the shape stays the same).
+inline void subdivide(PointMatrix& V, SimplexMatrix& F, int levels) {
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<Index, Index>, Index> middle;
+    std::vector<Eigen::RowVector3d> points;
+    for (Index v = 0; v < V.rows(); ++v) points.push_back(V.row(v));
+    auto at = [&](Index a, Index b) {
+      const auto key = std::minmax(a, b);
+      const auto [it, added] = middle.emplace(key, static_cast<Index>(points.size()));
+      if (added) points.push_back(0.5 * (points[a] + points[b]));
+      return it->second;
+    };
+    SimplexMatrix finer(4 * F.rows(), 3);
+    for (Index f = 0; f < F.rows(); ++f) {
+      const Index a = F(f, 0), b = F(f, 1), c = F(f, 2), ab = at(a, b), bc = at(b, c), ca = at(c, a);
+      finer.middleRows(4 * f, 4) << a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca;
+    }
+    V.resize(static_cast<Index>(points.size()), 3);
+    for (size_t r = 0; r < points.size(); ++r) V.row(static_cast<Index>(r)) = points[r];
+    F = finer;
+  }
 }
 
 // The octahedron through three keyframes: keyframe i is `scale[i]` times the

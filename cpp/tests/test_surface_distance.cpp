@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -59,26 +58,7 @@ namespace {
 // times, each vertex pushed out to a random radius in [0.7, 1.3].
 void bumpy_sphere(int rounds, unsigned seed, PointMatrix& V, SimplexMatrix& F) {
   fixtures::octahedron(V, F);
-  for (int round = 0; round < rounds; ++round) {
-    std::map<std::pair<Index, Index>, Index> middle;
-    std::vector<Eigen::RowVector3d> points;
-    for (Index v = 0; v < V.rows(); ++v) points.push_back(V.row(v));
-    auto split = [&](Index a, Index b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, added] = middle.emplace(key, static_cast<Index>(points.size()));
-      if (added) points.push_back(0.5 * (points[a] + points[b]));
-      return it->second;
-    };
-    SimplexMatrix finer(4 * F.rows(), 3);
-    for (Index f = 0; f < F.rows(); ++f) {
-      const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
-      const Index ab = split(a, b), bc = split(b, c), ca = split(c, a);
-      finer.middleRows(4 * f, 4) << a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca;
-    }
-    V.resize(static_cast<Index>(points.size()), 3);
-    for (size_t v = 0; v < points.size(); ++v) V.row(static_cast<Index>(v)) = points[v];
-    F = finer;
-  }
+  fixtures::subdivide(V, F, rounds);
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> radius(0.7, 1.3);
   for (Index v = 0; v < V.rows(); ++v) V.row(v) *= radius(random) / V.row(v).norm();

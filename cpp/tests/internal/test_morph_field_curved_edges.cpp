@@ -24,29 +24,6 @@ constexpr double kSpacing = 0.25;
 const std::vector<double> kWeights{0.3, 0.6};
 const std::vector<double> kSlaved{0.8};
 
-// Each face of (V, F) split into four at its edges' middles, `levels` times
-// (the shape stays the same).
-void subdivide(PointMatrix& V, SimplexMatrix& F, int levels) {
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<Index, Index>, Index> middle;
-    std::vector<Eigen::RowVector3d> points;
-    for (Index v = 0; v < V.rows(); ++v) points.push_back(V.row(v));
-    auto at = [&](Index a, Index b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, added] = middle.emplace(key, static_cast<Index>(points.size()));
-      if (added) points.push_back(0.5 * (points[a] + points[b]));
-      return it->second;
-    };
-    SimplexMatrix finer(4 * F.rows(), 3);
-    for (Index f = 0; f < F.rows(); ++f) {
-      const Index a = F(f, 0), b = F(f, 1), c = F(f, 2), ab = at(a, b), bc = at(b, c), ca = at(c, a);
-      finer.middleRows(4 * f, 4) << a, ab, ca, ab, b, bc, ca, bc, c, ab, bc, ca;
-    }
-    V.resize(static_cast<Index>(points.size()), 3);
-    for (size_t r = 0; r < points.size(); ++r) V.row(static_cast<Index>(r)) = points[r];
-    F = finer;
-  }
-}
 
 // An octahedron with its faces subdivided (S; its edges crease the
 // distance inside it along the medial planes) and T, S at half its size and
@@ -59,7 +36,7 @@ struct Octahedra {
   std::vector<bool> on_surface;
   Octahedra() {
     fixtures::octahedron(VS, F);
-    subdivide(VS, F, 2);
+    fixtures::subdivide(VS, F, 2);
     VT = 0.5 * VS;
     VT.col(0).array() += 0.3;
     const SignedDistance dS(VS, F);
