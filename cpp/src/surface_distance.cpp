@@ -79,7 +79,8 @@ Eigen::VectorXd TriangleDistance::operator()(const PointMatrix& points) const {
 double TriangleDistance::farthest(const PointMatrix& points) const {
   if (points.rows() == 0) return 0.0;
   if (!tree_->tree) return std::numeric_limits<double>::infinity();
-  if (points.cols() != 3) fail<InputError>("distance to a triangle mesh needs 3D query points, got ", points.cols(), "D");
+  if (points.cols() != 3)
+    fail<InputError>("distance to a triangle mesh needs 3D query points, got ", points.cols(), "D");
   // A point is passed over only when a face lies within a radius a hair
   // short of the largest distance (in squares, a millionth): its own
   // distance is then below that one by more than the rounding of either
@@ -95,7 +96,8 @@ double TriangleDistance::farthest(const PointMatrix& points) const {
           std::to_string(tree_->triangles.size()) + " triangles",
       [&] {
         auto at = [&](Index p) { return Kernel::Point_3(points(p, 0), points(p, 1), points(p, 2)); };
-        for (Index p = 0; p < points.rows(); p += kFirstStride) largest = std::max(largest, tree_->tree->squared_distance(at(p)));
+        for (Index p = 0; p < points.rows(); p += kFirstStride)
+          largest = std::max(largest, tree_->tree->squared_distance(at(p)));
         for (Index p = 0; p < points.rows(); ++p) {
           if (p % kFirstStride == 0) continue;
           const Kernel::Point_3 q = at(p);
@@ -129,7 +131,8 @@ Eigen::VectorXd distances_to_surface(const PointMatrix& points, const PointMatri
 
 double max_distance_to_surface(const PointMatrix& points, const PointMatrix& vertices, const SimplexMatrix& faces) {
   if (points.rows() == 0) return 0.0;
-  if (vertices.cols() == 3 && points.cols() == 3 && faces.cols() == 3) return TriangleDistance(vertices, faces).farthest(points);
+  if (vertices.cols() == 3 && points.cols() == 3 && faces.cols() == 3)
+    return TriangleDistance(vertices, faces).farthest(points);
   return distances_to_surface(points, vertices, faces).maxCoeff();
 }
 
