@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <array>
 #include <map>
-#include <utility>
-#include <vector>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace animanifold::fixtures {
 

@@ -1,5 +1,6 @@
 // TriangleDistance (surface_distance.hpp): one search tree answers many
-// queries with the distances distances_to_surface gives; an empty mesh is
+// queries with the distances distances_to_surface gives; the farthest of
+// many points is their largest distance, to the bit; an empty mesh is
 // infinitely far; bad input is refused.
 #include "animanifold/errors.hpp"
 #include "animanifold/surface_distance.hpp"

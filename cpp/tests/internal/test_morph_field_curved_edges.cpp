@@ -11,7 +11,6 @@
 #include <array>
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <set>
 #include <vector>
 
@@ -23,7 +22,6 @@ namespace {
 constexpr double kSpacing = 0.25;
 const std::vector<double> kWeights{0.3, 0.6};
 const std::vector<double> kSlaved{0.8};
-
 
 // An octahedron with its faces subdivided (S; its edges crease the
 // distance inside it along the medial planes) and T, S at half its size and
