@@ -164,7 +164,7 @@ void end_distances(const Complex& manifold, const PointMatrix& VS, const Simplex
     return std::max(max_distance_to_surface(with_face_centres(s.vertices, s.faces), V, F),
                     max_distance_to_surface(with_face_centres(V, F), s.vertices, s.faces)) / diagonal;
   };
-  const Slice start = slice(manifold, d, options.t0), end = slice(manifold, d, options.t1);
+  const Slice start = slice_shape(manifold, d, options.t0), end = slice_shape(manifold, d, options.t1);
   report.source_distance = two_sided(start, VS, FS);
   report.target_distance = two_sided(end, VT, FT);
   report.ends_reproduced = report.source_distance <= 1e-9 && report.target_distance <= 1e-9;

@@ -177,7 +177,7 @@ class FrameChecks {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
     for (long i = 0; i < static_cast<long>(times.size()); ++i) {
       try {
-        crossing[i] = crosses(slicer_.slice(axis_, times[i]));
+        crossing[i] = crosses(slicer_.slice_shape(axis_, times[i]));
       } catch (...) {
         failure[i] = std::current_exception();
       }
@@ -232,7 +232,7 @@ class FrameChecks {
   Frame examine(double t, bool look_for_crossings) {
     Frame out;
     index();
-    const Slice frame = slicer_.slice(axis_, t);
+    const Slice frame = slicer_.slice_shape(axis_, t);
     out.topology = topology_of(frame.vertices, frame.faces);
     out.crossing = look_for_crossings && crosses(frame);
     return out;

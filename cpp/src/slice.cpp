@@ -116,11 +116,11 @@ double snapped_value(const Complex& m, int axis, double value, const Stabber& st
   return value;
 }
 
-// Inputs: m, axis; cut, the welded faces of a slice
+// Inputs: m, axis; cut, the welded faces of a slice; with_attributes
 // Outputs: the Slice without normals: the points the faces use, their edges,
-//   coordinates and interpolated attributes; the faces and their simplices'
-//   attributes
-Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
+//   coordinates and (with_attributes) interpolated attributes; the faces and
+//   (with_attributes) their simplices' attributes
+Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut, bool with_attributes) {
   // Only the cut points that corners of the frame use: on a vertex plane,
   // a simplex whose faces there are degenerate (or cancelled) registers its
   // corners too, and where the manifold holds copies of a vertex (split at a
@@ -137,11 +137,12 @@ Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
     out.vertex_edges(p, 0) = c.a, out.vertex_edges(p, 1) = c.b;
     out.edge_parameter(p) = c.s;
   }
-  slice_points::interpolate_points(m, axis, out);
+  slice_points::interpolate_points(m, axis, out, with_attributes);
 
   const Index F = static_cast<Index>(cut.simplex.size());
   out.faces = Eigen::Map<const SimplexMatrix>(cut.corners.data(), F, cut.n);
   out.face_simplex = Eigen::Map<const IndexVector>(cut.simplex.data(), F);
+  if (!with_attributes) return out;
   for (const auto& [name, table] : m.simplex_attributes) {
     SimplexMatrix values(F, table.cols());
 #pragma omp parallel for schedule(static) num_threads(thread_count()) if (F > kParallelItems)
@@ -155,7 +156,7 @@ Slice frame_of_cuts(const Complex& m, int axis, slice_cut::CutFaces& cut) {
 
 namespace slice_points {
 
-void interpolate_points(const Complex& m, int axis, Slice& out) {
+void interpolate_points(const Complex& m, int axis, Slice& out, bool with_attributes) {
   const int D = m.ambient_dimension();
   const Index P = out.vertex_edges.rows();
   const auto& edges = out.vertex_edges;
@@ -170,6 +171,7 @@ void interpolate_points(const Complex& m, int axis, Slice& out) {
       out.vertices(p, o++) = a == b ? m.V(a, d) : (1.0 - s(p)) * m.V(a, d) + s(p) * m.V(b, d);
     }
   }
+  if (!with_attributes) return;
   for (const auto& [name, table] : m.vertex_attributes) {
     PointMatrix values(P, table.cols());
 #pragma omp parallel for schedule(static) num_threads(thread_count()) if (P > kParallelItems)
@@ -183,7 +185,11 @@ void interpolate_points(const Complex& m, int axis, Slice& out) {
 
 }  // namespace slice_points
 
-Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index, SliceStages* stages) {
+namespace {
+
+// slice() without the normals; the attributes only when with_attributes.
+Slice slice_without_normals(const Complex& m, int axis, double value, const IntervalIndex* index, SliceStages* stages,
+                            bool with_attributes) {
   check_slice_request(m, axis, value, index);
   const int D = m.ambient_dimension();
   StageClock clock(stages);
@@ -194,7 +200,7 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   slice_cut::CutFaces cut = slice_cut::cut_and_weld(m, axis, value, value >= stabber.highest, candidates, stages);
   clock.restart();
   slice_cut::cancel_opposite_pairs(cut);
-  Slice out = frame_of_cuts(m, axis, cut);
+  Slice out = frame_of_cuts(m, axis, cut, with_attributes);
 
   // Dropping coordinate `axis` instead of the last one permutes the remaining
   // coordinates' orientation by (-1)^(D-1-axis): the table's faces would then
@@ -202,9 +208,21 @@ Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index
   // turned, so keyframes keep their orientation.
   if ((D - 1 - axis) % 2 == 1) out.faces.col(0).swap(out.faces.col(1));
   clock.lap(&SliceStages::output);
+  return out;
+}
+
+}  // namespace
+
+Slice slice(const Complex& m, int axis, double value, const IntervalIndex* index, SliceStages* stages) {
+  Slice out = slice_without_normals(m, axis, value, index, stages, true);
+  StageClock clock(stages);
   out.normals = frame_vertex_normals_unchecked(out.vertices, out.faces);
   clock.lap(&SliceStages::normals);
   return out;
+}
+
+Slice slice_shape(const Complex& m, int axis, double value, const IntervalIndex* index) {
+  return slice_without_normals(m, axis, value, index, nullptr, false);
 }
 
 }  // namespace animanifold
@@ -230,6 +248,10 @@ const IntervalIndex& Slicer::index(int axis) {
 
 Slice Slicer::slice(int axis, double value, bool use_index, SliceStages* stages) {
   return animanifold::slice(*manifold_, axis, value, use_index ? &index(axis) : nullptr, stages);
+}
+
+Slice Slicer::slice_shape(int axis, double value) {
+  return animanifold::slice_shape(*manifold_, axis, value, &index(axis));
 }
 
 }  // namespace animanifold

@@ -36,7 +36,8 @@ inline double edge_parameter(const PointMatrix& V, int axis, double value, Index
 // Outputs:
 //   out.vertices: the coordinates other than `axis` of each point on its edge
 //   (copied for a manifold vertex, a == b, so keyframes come back exactly);
-//   out.vertex_attributes: every vertex attribute interpolated the same way.
-void interpolate_points(const Complex& m, int axis, Slice& out);
+//   out.vertex_attributes: every vertex attribute interpolated the same way,
+//   unless with_attributes is false (a frame's shape only: slice_shape())
+void interpolate_points(const Complex& m, int axis, Slice& out, bool with_attributes = true);
 
 }  // namespace animanifold::slice_points

@@ -178,6 +178,38 @@ TEST(IntervalFrame, MovedVerticesAreTheSlicesInsideTheInterval) {
   }
 }
 
+TEST(Slice, AShapeSliceIsTheSliceWithoutNormalsOrAttributes) {
+  auto m = octahedron_animation();
+  Complex with_face_data = *m;
+  SimplexMatrix material(with_face_data.S.rows(), 1);
+  for (Index s = 0; s < material.rows(); ++s) material(s, 0) = s % 3;
+  with_face_data.simplex_attributes["material"] = material;
+  m = std::make_shared<const Complex>(std::move(with_face_data));
+  Slicer slicer(m);
+  for (int axis : {3, 0}) {  // time, and a sweep view (its faces turned over)
+    for (double value : {0.0, 0.2, 0.4, 0.9, 1.5}) {
+      if (axis == 0 && value > 0.5) continue;
+      // Through the index and without it (a scan): their face orders differ.
+      const std::pair<Slice, Slice> pairs[] = {{slice(*m, axis, value), slice_shape(*m, axis, value)},
+                                               {slicer.slice(axis, value), slicer.slice_shape(axis, value)}};
+      for (const auto& [full, shape] : pairs) {
+        ASSERT_GT(full.faces.rows(), 0) << "axis " << axis << " at " << value;
+        ASSERT_GT(full.normals.rows(), 0);
+        ASSERT_FALSE(full.vertex_attributes.empty());
+        ASSERT_FALSE(full.face_attributes.empty());
+        EXPECT_TRUE(same(shape.vertices, full.vertices)) << "axis " << axis << " at " << value;
+        EXPECT_TRUE(same(shape.faces, full.faces)) << "axis " << axis << " at " << value;
+        EXPECT_TRUE(same(shape.vertex_edges, full.vertex_edges)) << "axis " << axis << " at " << value;
+        EXPECT_TRUE(same(shape.edge_parameter, full.edge_parameter)) << "axis " << axis << " at " << value;
+        EXPECT_TRUE(same(shape.face_simplex, full.face_simplex)) << "axis " << axis << " at " << value;
+        EXPECT_EQ(shape.normals.rows(), 0);
+        EXPECT_TRUE(shape.vertex_attributes.empty());
+        EXPECT_TRUE(shape.face_attributes.empty());
+      }
+    }
+  }
+}
+
 TEST(IntervalFrame, TheIntervalEndsWhereTheFacesChange) {
   const auto m = octahedron_animation();
   Slicer slicer(m);

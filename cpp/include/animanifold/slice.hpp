@@ -168,6 +168,15 @@ struct SliceStages {
 Slice slice(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr,
             SliceStages* stages = nullptr);
 
+// Inputs: as slice() (without stages)
+// Outputs: slice()'s vertices, faces, vertex_edges, edge_parameter and
+//   face_simplex, bit for bit; no normals, no vertex or face attributes
+// Throws: as slice()
+//
+// A frame's shape only: what checks of its topology or crossings read,
+// without the cost of the normals and the attributes no check looks at.
+Slice slice_shape(const Complex& manifold, int axis, double value, const IntervalIndex* index = nullptr);
+
 }  // namespace animanifold
 
 namespace animanifold {
@@ -216,6 +225,11 @@ class Slicer {
   // Outputs: the free slice()'s Slice
   // Throws: InputError as the free slice(), and for an axis outside 0..D-1
   Slice slice(int axis, double value, bool use_index = true, SliceStages* stages = nullptr);
+
+  // Inputs: axis, value as slice()
+  // Outputs: the free slice_shape(), through the axis's interval index
+  // Throws: as slice()
+  Slice slice_shape(int axis, double value);
 
   // Inputs:
   //   axis   0..D-1
