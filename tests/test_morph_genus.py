@@ -540,9 +540,9 @@ def test_the_frame_checks_bisect_towards_a_change_of_topology():
 
 
 def test_the_frame_checks_stop_bisecting_at_their_limit_whatever_the_threads():
-    """Twenty spheres vanishing in twenty different gaps between spread frames: the first round
-    of bisection adds twenty frames and the second stops at the limit of 24 in all. The frames
-    checked depend on the manifold only: the same report on one thread and on two."""
+    """Twenty spheres vanishing in twenty different gaps between spread frames: each gap's
+    bisection adds one frame, the first four gaps' two, and they stop at the limit of 24 in all.
+    The frames checked depend on the manifold only: the same report on one thread and on two."""
     v, f = icosphere(1)
     manifold = shrinking_spheres([(i + 2.5) / 25 for i in range(20)])
     pieces = [np.vstack([v + [3.0 * i, 0, 0] for i in range(20)]), np.vstack([f + i * len(v) for i in range(20)])]
@@ -555,6 +555,26 @@ def test_the_frame_checks_stop_bisecting_at_their_limit_whatever_the_threads():
         am.set_threads(previous)
     assert reports[0]["frames_checked"] == 24 + 24 and reports[0]["frames_capped"]
     assert reports[0] == reports[1]
+
+
+def test_the_frame_checks_share_their_bisection_limit_between_the_changes():
+    """Thirteen spheres, each vanishing 0.3 of the way through its own gap between spread frames,
+    checked against inputs holding all thirteen, so that every frame short of a sphere is noise
+    and the noise lists every frame checked after the first sphere is gone. The limit of 24
+    frames is shared between the thirteen changes: 24 // 13 = 1 each, and the first 24 % 13 = 11
+    take one more. Those are bisected twice (at 0.5 of the gap, then at 0.25), the last two
+    once; the others' second frames are not traded for the later ones'."""
+    v, f = icosphere(1)
+    gaps = range(2, 15)
+    manifold = shrinking_spheres([(g + 0.3) / 25 for g in gaps])
+    spheres = [np.vstack([v + [3.0 * i, 0, 0] for i in range(13)]), np.vstack([f + i * len(v) for i in range(13)])]
+    report = _core._testing.check_morph_frames(manifold, 0.0, 1.0, *spheres, *spheres).to_dict()
+    assert report["frames_checked"] == 24 + 24 and report["frames_capped"]
+    assert report["topology_changes"] == 13
+    # the first gap's frame at 0.25 still holds every sphere: the one frame checked not noise
+    bisections = sorted({g + 0.5 for g in gaps} | {g + 0.25 for g in list(gaps)[1:11]})
+    spread = list(range(3, 25))  # every spread frame from the first after a sphere is gone
+    assert report["noise_frames"] == pytest.approx(sorted(t / 25 for t in bisections + spread))
 
 
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <map>
@@ -23,7 +24,7 @@ namespace {
 
 // Evenly spread frames checked first.
 constexpr int kSpreadFrames = 24;
-// Rounds of bisection towards each change of topology between checked
+// Levels of bisection towards each change of topology between checked
 // frames, and the most frames they may add in all.
 constexpr int kBisections = 5;
 constexpr int kBisectionFrames = 24;
@@ -73,13 +74,21 @@ FrameTopology topology_of(const PointMatrix& V, const SimplexMatrix& F) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
+  // The larger root goes under the smaller: every root is its shell's
+  // least vertex, and the trees stay shallow where the faces, in the order
+  // the slicer met them, would otherwise chain long paths.
+  auto join = [&](Index a, Index b) {
+    a = find(a), b = find(b);
+    if (a < b) parent[b] = a;
+    else parent[a] = b;
+  };
   std::vector<Index> start(static_cast<size_t>(n) + 1, 0);
   std::vector<char> used(n, 0);
   for (Index f = 0; f < F.rows(); ++f) {
     const Index a = F(f, 0), b = F(f, 1), c = F(f, 2);
     used[a] = used[b] = used[c] = 1;
-    parent[find(a)] = find(b);  // two unions join all three corners
-    parent[find(b)] = find(c);
+    join(a, b);  // two unions join all three corners
+    join(b, c);
     ++start[std::min(a, b) + 1], ++start[std::min(b, c) + 1], ++start[std::min(c, a) + 1];
   }
   for (Index v = 0; v < n; ++v) start[v + 1] += start[v];
@@ -189,21 +198,39 @@ class FrameChecks {
     report_.crossing_frames_checked += static_cast<Index>(times.size());
   }
 
-  // Towards every change of topology between neighbouring checked frames,
-  // in time order: up to kBisections rounds, kBisectionFrames frames.
+  // Towards every change of topology between neighbouring checked frames.
+  // Each such pair of frames is bisected on its own, level by level: up to
+  // kBisections levels, and first its share of kBisectionFrames frames (the
+  // same for every pair, the earlier pairs taking what does not divide).
+  // The pairs are independent, so their frames are tasks on all cores and
+  // no pair waits for another's level. Then what the pairs left of the
+  // frames goes to the pairs still holding changes, in time order. What
+  // each finds depends only on the manifold, never on the threads.
   void bisect_changes() {
-    int bisection_frames = 0;
-    for (int round = 0; round < kBisections && !report_.frames_capped; ++round) {
-      std::vector<double> middles;
-      for (auto it = checked_.begin(); std::next(it) != checked_.end(); ++it)
-        if (it->second != std::next(it)->second) middles.push_back(0.5 * (it->first + std::next(it)->first));
-      if (middles.empty()) break;
-      if (bisection_frames + static_cast<int>(middles.size()) > kBisectionFrames) {
-        middles.resize(static_cast<size_t>(kBisectionFrames - bisection_frames));
-        report_.frames_capped = true;
+    std::vector<Bisection> bisections;
+    for (auto it = checked_.begin(); std::next(it) != checked_.end(); ++it)
+      if (it->second != std::next(it)->second) bisections.emplace_back().pending.push_back({{*it, *std::next(it)}, 0});
+    const int pairs = static_cast<int>(bisections.size());
+    int left = kBisectionFrames;
+#pragma omp parallel num_threads(thread_count())
+#pragma omp single
+    {
+      std::vector<int> spent(bisections.size(), 0);
+#pragma omp taskgroup
+      for (int p = 0; p < pairs; ++p) {
+        const int share = kBisectionFrames / pairs + (p < kBisectionFrames % pairs ? 1 : 0);
+#pragma omp task firstprivate(p, share) shared(bisections, spent)
+        spent[p] = bisect(bisections[p], share);
       }
-      bisection_frames += static_cast<int>(middles.size());
-      check(middles, 0);
+      for (const int s : spent) left -= s;
+      for (Bisection& b : bisections)
+        if (left > 0 && !b.failure) left -= bisect(b, left);
+    }
+    for (const Bisection& b : bisections)
+      if (b.failure) std::rethrow_exception(b.failure);
+    for (const Bisection& b : bisections) {
+      for (const auto& [t, frame] : b.frames) record(t, frame);
+      report_.frames_capped = report_.frames_capped || !b.pending.empty();
     }
   }
 
@@ -220,6 +247,57 @@ class FrameChecks {
     FrameTopology topology;
     bool crossing = false;
   };
+  // Two checked frames whose topology differs: (time, topology) at each end.
+  using Span = std::pair<std::pair<double, FrameTopology>, std::pair<double, FrameTopology>>;
+  // The bisection of one change: the spans still holding a change, each
+  // with its level (0 for the change itself), in order of level then time;
+  // the frames examined; what examining one threw.
+  struct Bisection {
+    std::deque<std::pair<Span, int>> pending;
+    std::vector<std::pair<double, Frame>> frames;
+    std::exception_ptr failure;
+  };
+
+  // Examines the middles of up to `budget` of b's pending spans, a level at
+  // a time (each level's frames are tasks; the earlier spans of a level
+  // first), and queues the halves that still hold a change, below
+  // kBisections levels. Returns how many frames it examined.
+  int bisect(Bisection& b, int budget) {
+    int spent = 0;
+    while (!b.pending.empty() && spent < budget && !b.failure) {
+      const int level = b.pending.front().second;
+      std::vector<Span> spans;
+      while (!b.pending.empty() && b.pending.front().second == level && spent < budget) {
+        spans.push_back(b.pending.front().first);
+        b.pending.pop_front();
+        ++spent;
+      }
+      std::vector<Frame> frames(spans.size());
+      std::vector<std::exception_ptr> failure(spans.size());
+      auto middle_of = [&](size_t i) { return 0.5 * (spans[i].first.first + spans[i].second.first); };
+#pragma omp taskgroup
+      for (size_t i = 0; i < spans.size(); ++i) {
+#pragma omp task firstprivate(i) shared(spans, frames, failure, middle_of)
+        try {
+          frames[i] = examine(middle_of(i), false);
+        } catch (...) {
+          failure[i] = std::current_exception();
+        }
+      }
+      for (size_t i = 0; i < spans.size(); ++i) {
+        if (failure[i]) {
+          b.failure = failure[i];
+          return spent;
+        }
+        const std::pair<double, FrameTopology> middle{middle_of(i), frames[i].topology};
+        b.frames.emplace_back(middle.first, frames[i]);
+        if (level + 1 >= kBisections) continue;
+        if (spans[i].first.second != middle.second) b.pending.push_back({{spans[i].first, middle}, level + 1});
+        if (middle.second != spans[i].second.second) b.pending.push_back({{middle, spans[i].second}, level + 1});
+      }
+    }
+    return spent;
+  }
 
   bool crosses(const Slice& frame) const {
     try {

@@ -15,9 +15,11 @@
 // the `closer` frames the caller asks for, checked like the bisections. Then,
 // between two checked frames whose topology differs, frames bisecting
 // towards the change, so that the frames where the topology changes are
-// looked at too: up to 5 rounds and 24 frames in all (`frames_capped` when
-// changes were left), each checked for topology, cavities included, but not
-// for crossings, which cost several times a frame's slicing and topology.
+// looked at too: up to 5 levels and 24 frames in all, shared evenly between
+// the changes (`frames_capped` when changes were left), each checked for
+// topology, cavities included, but not for crossings, which cost several
+// times a frame's slicing and topology. Each change is bisected on its own,
+// so that no core waits for another change's level.
 // The frames checked depend only on the manifold, never on the machine's
 // speed or thread count. Frames are checked on all cores (the slicer's index
 // is built first, then only read). morph() runs it on every 3D morph; the
