@@ -211,21 +211,30 @@ class FrameChecks {
     for (auto it = checked_.begin(); std::next(it) != checked_.end(); ++it)
       if (it->second != std::next(it)->second) bisections.emplace_back().pending.push_back({{*it, *std::next(it)}, 0});
     const int pairs = static_cast<int>(bisections.size());
-    int left = kBisectionFrames;
+    std::vector<int> spent(bisections.size(), 0);
+    std::exception_ptr failure;  // nothing thrown may leave a task or the parallel region
 #pragma omp parallel num_threads(thread_count())
 #pragma omp single
     {
-      std::vector<int> spent(bisections.size(), 0);
 #pragma omp taskgroup
       for (int p = 0; p < pairs; ++p) {
         const int share = kBisectionFrames / pairs + (p < kBisectionFrames % pairs ? 1 : 0);
 #pragma omp task firstprivate(p, share) shared(bisections, spent)
-        spent[p] = bisect(bisections[p], share);
+        try {
+          spent[p] = bisect(bisections[p], share);
+        } catch (...) {
+          bisections[p].failure = std::current_exception();
+        }
       }
-      for (const int s : spent) left -= s;
-      for (Bisection& b : bisections)
-        if (left > 0 && !b.failure) left -= bisect(b, left);
+      try {
+        int left = kBisectionFrames - std::accumulate(spent.begin(), spent.end(), 0);
+        for (Bisection& b : bisections)
+          if (left > 0 && !b.failure) left -= bisect(b, left);
+      } catch (...) {
+        failure = std::current_exception();
+      }
     }
+    if (failure) std::rethrow_exception(failure);
     for (const Bisection& b : bisections)
       if (b.failure) std::rethrow_exception(b.failure);
     for (const Bisection& b : bisections) {
