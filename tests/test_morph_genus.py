@@ -563,7 +563,7 @@ def test_the_frame_checks_share_their_bisection_limit_between_the_changes():
     and the noise lists every frame checked after the first sphere is gone. The limit of 24
     frames is shared between the thirteen changes: 24 // 13 = 1 each, and the first 24 % 13 = 11
     take one more. Those are bisected twice (at 0.5 of the gap, then at 0.25), the last two
-    once; the others' second frames are not traded for the later ones'."""
+    once."""
     v, f = icosphere(1)
     gaps = range(2, 15)
     manifold = shrinking_spheres([(g + 0.3) / 25 for g in gaps])
@@ -575,6 +575,21 @@ def test_the_frame_checks_share_their_bisection_limit_between_the_changes():
     bisections = sorted({g + 0.5 for g in gaps} | {g + 0.25 for g in list(gaps)[1:11]})
     spread = list(range(3, 25))  # every spread frame from the first after a sphere is gone
     assert report["noise_frames"] == pytest.approx(sorted(t / 25 for t in bisections + spread))
+
+
+def test_the_frames_a_change_leaves_of_its_share_go_to_a_change_that_needs_them():
+    """Four gaps between spread frames hold changes, and share the 24 bisection frames: 6 each
+    first. Two spheres vanish in one gap (0.3 and 0.7 of the way): bisecting it branches into two
+    chains, 1 + 2 + 2 + 2 + 2 = 9 frames, more than its share. The three other gaps' single
+    changes need 5 each: what they leave (3 frames) goes to the branching gap, which is bisected
+    to its fifth level, and nothing is capped (without that, 45 frames and capped)."""
+    v, f = icosphere(1)
+    apexes = [2.3 / 25, 2.7 / 25, 5.3 / 25, 8.3 / 25, 11.3 / 25]
+    spheres = [np.vstack([v + [3.0 * i, 0, 0] for i in range(len(apexes))]),
+               np.vstack([f + i * len(v) for i in range(len(apexes))])]
+    report = _core._testing.check_morph_frames(shrinking_spheres(apexes), 0.0, 1.0, *spheres, *spheres).to_dict()
+    assert report["frames_checked"] == 24 + 9 + 3 * 5 and not report["frames_capped"]
+    assert report["topology_changes"] == len(apexes)
 
 
 def test_the_frames_into_the_shared_genus_3_model_hold_no_bubble(shared_data):
