@@ -413,12 +413,12 @@ def test_a_thin_box_moves_from_the_start_and_keeps_its_inside_next_to_the_fill()
     assert min(volume[:2]) >= 0.7 * volume[2], volume
 
 
-@pytest.mark.slow
-def test_frames_at_an_animators_frame_times_are_closed_surfaces():
-    """Frame 25 of 49 is t = 0.5, the middle of the fill slab. There the two halves can hold the
-    same point with opposite signs; held at exactly opposite values, the zero set had edges lying in
-    the plane t = 0.5, and the frame there was pinched along them (edges of four faces, on this
-    pair). Every frame of a 49-frame range is an oriented closed surface."""
+# The speed pair icosphere(4) -> ring_of_holes() (genus 4), made once for the tests that read it.
+RING_MORPH = pytest.mark.xdist_group("ring_field_morph")
+
+
+@functools.lru_cache(maxsize=1)
+def ring_field_morph() -> am.AnimationManifold:
     from animanifold import procedural
 
     def normalised_shape(mesh):
@@ -426,12 +426,42 @@ def test_frames_at_an_animators_frame_times_are_closed_surfaces():
         low, high = v.min(axis=0), v.max(axis=0)
         return np.ascontiguousarray((v - (low + high) / 2) * (2 / np.linalg.norm(high - low))), f
 
-    manifold = am.morph(normalised_shape(procedural.icosphere(4)), normalised_shape(procedural.ring_of_holes()),
-                        method="field")
+    return am.morph(normalised_shape(procedural.icosphere(4)), normalised_shape(procedural.ring_of_holes()),
+                    method="field")
+
+
+@RING_MORPH
+@pytest.mark.slow
+def test_frames_at_an_animators_frame_times_are_closed_surfaces():
+    """Frame 25 of 49 is t = 0.5, the middle of the fill slab. There the two halves can hold the
+    same point with opposite signs; held at exactly opposite values, the zero set had edges lying in
+    the plane t = 0.5, and the frame there was pinched along them (edges of four faces, on this
+    pair). Every frame of a 49-frame range is an oriented closed surface."""
+    manifold = ring_field_morph()
     for k in range(1, 48):
         faces = np.ascontiguousarray(manifold.slice(k / 48).faces, dtype=np.int32)
         report = _core.check_manifold(faces)
         assert report.is_oriented_manifold and report.boundary_facets == 0, (f"frame {k + 1} of 49", report)
+
+
+@RING_MORPH
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason="the fill slab trades the halves' topologies at once (the sphere's half "
+                   "meets it at genus 0, holding films across the holes; the ring's at genus 4): its frames "
+                   "reach an Euler characteristic of -30 where the ends have 2 and -6: noise at 54 of 79 times "
+                   "across t = 0.48-0.52, and at all 9 this test looks at")
+def test_frames_inside_the_fill_slab_of_a_sphere_to_a_genus_4_ring_keep_the_ends_topology():
+    """Inside the slab joining the halves (FILL_SLAB), every frame has one piece and an Euler
+    characteristic between the ends' (2 and -6): the topology changes there, but by the ring's four
+    handles only, one at a time."""
+    manifold = ring_field_morph()
+    noisy = []
+    for t in np.linspace(*FILL_SLAB, 11)[1:-1]:
+        frame = manifold.slice(float(t))
+        v, f = np.asarray(frame.vertices), np.asarray(frame.faces)
+        if not (pieces(v, f) == 1 and -6 <= euler_characteristic(v, f) <= 2):
+            noisy.append(round(float(t), 4))
+    assert not noisy, f"topological noise at t = {noisy}"
 
 
 def test_the_same_surface_twice_is_swept_so_every_frame_is_it_and_no_simplex_is_flat():
