@@ -165,12 +165,13 @@ def _simplex_inputs(times: np.ndarray, simplices: np.ndarray, inputs: list[_Inpu
                     t1: float) -> np.ndarray:
     """Whether each simplex belongs to the target (see the module doc)."""
     source, target = inputs
-    tau = np.clip((times[simplices] - t0) / (t1 - t0), 0.0, 1.0) if t1 > t0 else np.zeros(simplices.shape)
-    closer = (tau * source.distance[simplices] - (1 - tau) * target.distance[simplices]).sum(axis=1)
-    to_target = (closer > 0) | ((closer == 0) & (tau.mean(axis=1) >= 0.5))
+    # Each term is the vertex's, so it is computed once per vertex and gathered per simplex.
+    tau = np.clip((times - t0) / (t1 - t0), 0.0, 1.0) if t1 > t0 else np.zeros(times.shape)
+    closer = (tau * source.distance - (1 - tau) * target.distance)[simplices].sum(axis=1)
+    to_target = (closer > 0) | ((closer == 0) & (tau[simplices].mean(axis=1) >= 0.5))
     tolerance = 1e-12 * max(abs(t1 - t0), 1.0)
-    to_target[(np.abs(times[simplices] - t0) <= tolerance).sum(axis=1) >= 3] = False
-    to_target[(np.abs(times[simplices] - t1) <= tolerance).sum(axis=1) >= 3] = True
+    to_target[(np.abs(times - t0) <= tolerance)[simplices].sum(axis=1) >= 3] = False
+    to_target[(np.abs(times - t1) <= tolerance)[simplices].sum(axis=1) >= 3] = True
     return to_target
 
 
@@ -187,7 +188,7 @@ def _simplex_faces(points: np.ndarray, simplices: np.ndarray, inputs: list[_Inpu
         distance = i.distance[corners]
         face[mine] = i.face[corners[np.arange(len(mine)), np.argmin(distance, axis=1)]]
         on = distance <= on_surface
-        at_end = np.abs(points[corners, 3] - ends[k]) <= tolerance
+        at_end = (np.abs(points[:, 3] - ends[k]) <= tolerance)[corners]  # per vertex, then per corner
         on = np.where((at_end.sum(axis=1) >= 3)[:, None], at_end, on)
         lying = np.flatnonzero(on.sum(axis=1) >= 3)
         if len(lying):
