@@ -1,3 +1,4 @@
+#include "animanifold/corner_charts.hpp"
 #include "animanifold/morph.hpp"
 #include "animanifold/morph_validity.hpp"
 #include "animanifold/self_intersection.hpp"
@@ -119,6 +120,27 @@ void bind_morph(py::module_& m, py::module_& testing) {
       py::arg("points"), py::arg("vertices"), py::arg("faces"),
       "(distance, face, barycentric) of the closest point on a closed triangle mesh to each point (#P, 3): "
       "its unsigned distance, the face it lies on, and its barycentric coordinates in that face's corners.");
+  m.def(
+      "vertex_face_pairs",
+      [](SimplicesRef simplices, IndicesRef face, Index vertices) {
+        const SimplexMatrix s = simplices;
+        const IndexVector f = face;
+        VertexFacePairs pairs = without_gil([&] { return vertex_face_pairs(s, f, vertices); });
+        return py::make_tuple(std::move(pairs.vertex), std::move(pairs.face), std::move(pairs.corner_pair));
+      },
+      py::arg("simplices"), py::arg("face"), py::arg("vertices"),
+      "(vertex, face, corner_pair): the distinct (vertex, face) pairs the simplices' corners use, each corner "
+      "taking its simplex's face, ascending by vertex then face, and each corner's pair (corner_charts.hpp).");
+  m.def(
+      "chart_labels",
+      [](const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& owner,
+         const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv, const Eigen::VectorXd& tolerance) {
+        return without_gil([&] { return chart_labels(owner, uv, tolerance); });
+      },
+      py::arg("owner"), py::arg("uv"), py::arg("tolerance"),
+      "Per item, its chart: items of one owner whose UVs agree to the tolerance, neighbours in the order of "
+      "(owner, u, v) and of (owner, v, u), share one; numbered in the order of each chart's first item "
+      "(corner_charts.hpp).");
   testing.def("external_skeleton_points",
         [](const PointMatrix& V, SimplicesRef F, double gap) { return external_skeleton_points(V, F, gap); },
         py::arg("points"), py::arg("faces"), py::arg("gap"),

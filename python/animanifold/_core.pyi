@@ -8,7 +8,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'MAX_THREADS', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'NotManifoldError', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'TimeLimitError', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'set_threads', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'threads', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
+__all__: list[str] = ['BooleanError', 'BoundaryRule', 'Cancelled', 'Complex', 'Deformer', 'DeformerInfo', 'DihedralReport', 'Error', 'FileError', 'FillTriangulation', 'FrameScheme', 'FrameSubdivision', 'InputError', 'IntervalFrame', 'LaplacianMethod', 'MAX_THREADS', 'ManifoldReport', 'ManifoldScheme', 'MemoryLimitError', 'MeshingError', 'MorphMethod', 'MorphOptions', 'MorphReport', 'NotManifoldError', 'Perturbation', 'RefineOrder', 'Refinement', 'RestoreStatus', 'SeparabilityResult', 'SkeletonSide', 'Slice', 'Slicer', 'SubdividedManifold', 'TimeLimitError', 'VoronoiSkeleton', 'WrapShape', 'available_memory', 'boundary_facets', 'chart_labels', 'check_manifold', 'check_morph_input', 'closest_points', 'dihedral_test', 'distances_to_surface', 'encroachments', 'faces_intersecting_mesh', 'frame_vertex_normals', 'hole_space', 'intersect_solids', 'make_voronoi_separable', 'memory_limit', 'memory_limit_setting', 'morph', 'points_inside_solid', 'read_mesh', 'refine', 'self_intersections', 'set_memory_limit', 'set_threads', 'smooth_slice', 'solid_measure', 'stitch', 'subdivide_frame', 'subdivide_manifold', 'subdivide_polyline', 'subtract_solid', 'threads', 'vertex_face_pairs', 'vertex_normals', 'voronoi_skeleton', 'wrap', 'write_mesh']
 class Error(Exception):
     """
     Base of every error the core raises on purpose (animanifold.Error).
@@ -1220,6 +1220,10 @@ def boundary_facets(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.in
     """
     Facets (#B by k) that belong to one simplex only, oriented outward.
     """
+def chart_labels(owner: typing.Annotated[numpy.typing.ArrayLike, numpy.int64, "[m, 1]"], uv: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"], tolerance: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"]:
+    """
+    Per item, its chart: items of one owner whose UVs agree to the tolerance, neighbours in the order of (owner, u, v) and of (owner, v, u), share one; numbered in the order of each chart's first item (corner_charts.hpp).
+    """
 def check_manifold(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> ManifoldReport:
     """
     Facet counts of simplices (#S by k+1): a ManifoldReport.
@@ -1331,6 +1335,10 @@ def subtract_solid(vertices: typing.Annotated[numpy.typing.NDArray[numpy.float64
 def threads() -> int:
     """
     Threads the core's parallel work uses.
+    """
+def vertex_face_pairs(simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"], face: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, 1]"], vertices: typing.SupportsInt | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.int32], "[m, n]"]]:
+    """
+    (vertex, face, corner_pair): the distinct (vertex, face) pairs the simplices' corners use, each corner taking its simplex's face, ascending by vertex then face, and each corner's pair (corner_charts.hpp).
     """
 def vertex_normals(points: typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]", "flags.c_contiguous"], simplices: typing.Annotated[numpy.typing.ArrayLike, numpy.int32, "[m, n]", "flags.c_contiguous"]) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
     """

@@ -204,16 +204,14 @@ def _split_and_map_uv(points: np.ndarray, simplices: np.ndarray, inputs: list[_I
     (simplices over the copies, the vertex each copy is of, (copies, 2) UVs)."""
     # The distinct (vertex, face) pairs the corners use; the target's faces numbered after the source's.
     source_faces = len(inputs[0].faces)
-    faces_in_all = source_faces + len(inputs[1].faces)
-    global_face = face + np.where(to_target, source_faces, 0)
-    pair, corner_pair = np.unique(simplices.astype(np.int64) * faces_in_all + global_face[:, None],
-                                  return_inverse=True)
-    vertex, global_face = pair // faces_in_all, pair % faces_in_all
+    global_face = (face + np.where(to_target, source_faces, 0)).astype(np.int32)
+    vertex, global_face, corner_pair = _core.vertex_face_pairs(simplices, global_face, len(points))
+    vertex, global_face = vertex.astype(np.int64), global_face.astype(np.int64)
     of_target = global_face >= source_faces
     own_face = global_face - np.where(of_target, source_faces, 0)
-    chart_uv, inside_uv, distance = (np.zeros((len(pair), 2)), np.zeros((len(pair), 2)),
-                                     np.zeros(len(pair)))
-    same, tolerance = np.zeros(2), np.zeros(len(pair))
+    chart_uv, inside_uv, distance = (np.zeros((len(vertex), 2)), np.zeros((len(vertex), 2)),
+                                     np.zeros(len(vertex)))
+    same, tolerance = np.zeros(2), np.zeros(len(vertex))
     for k, i in enumerate(inputs):
         mine = np.flatnonzero(of_target == bool(k))
         if i.uv is None or not len(mine):
@@ -305,33 +303,9 @@ def _face_across(faces: np.ndarray, face: np.ndarray, a: np.ndarray, b: np.ndarr
 def _charts(vertex: np.ndarray, of_target: np.ndarray, chart_uv: np.ndarray, tolerance: np.ndarray) -> np.ndarray:
     """Numbers the (vertex, face) pairs so that pairs of one vertex and one input whose chart UVs
     agree (to `tolerance`, per pair) share a number: neighbours in the order of u, then of v, are
-    joined where both coordinates agree. The numbers run over 0..charts-1, in vertex order."""
-    owner = vertex * 2 + of_target  # one vertex's pairs of one input
-    label = np.arange(len(vertex))
-    for first_key, second_key in ((chart_uv[:, 0], chart_uv[:, 1]), (chart_uv[:, 1], chart_uv[:, 0])):
-        order = np.lexsort((second_key, first_key, owner))
-        a, b = order[:-1], order[1:]
-        joined = (owner[a] == owner[b]) & (np.abs(chart_uv[a] - chart_uv[b]).max(axis=1) <= tolerance[a])
-        label = _joined_labels(label, np.column_stack([a[joined], b[joined]]))
-    return np.unique(label, return_inverse=True)[1]
-
-
-def _joined_labels(label: np.ndarray, pairs: np.ndarray) -> np.ndarray:
-    """`label` with the items of every pair given one label (the smallest, spread to a fixed point)."""
-    label = label.copy()
-    while len(pairs):
-        low = np.minimum(label[pairs[:, 0]], label[pairs[:, 1]])
-        before = label.copy()
-        np.minimum.at(label, pairs[:, 0], low)
-        np.minimum.at(label, pairs[:, 1], low)
-        while True:  # pointer jumping: each item to its label's label
-            jumped = label[label]
-            if np.array_equal(jumped, label):
-                break
-            label = jumped
-        if np.array_equal(label, before):
-            break
-    return label
+    joined where both coordinates agree (_core.chart_labels). The numbers run over 0..charts-1, in
+    vertex order."""
+    return _core.chart_labels(vertex * 2 + of_target, np.ascontiguousarray(chart_uv), tolerance).astype(np.int64)
 
 
 def _nearest_own_uv(copy_of_pair: np.ndarray, distance: np.ndarray, inside_uv: np.ndarray,
