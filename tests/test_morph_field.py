@@ -453,7 +453,7 @@ def test_frames_at_an_animators_frame_times_are_closed_surfaces():
 def test_frames_inside_the_fill_slab_of_a_sphere_to_a_genus_4_ring_keep_the_ends_topology():
     """Inside the slab joining the halves (FILL_SLAB), every frame has one piece and an Euler
     characteristic between the ends' (2 and -6): the topology changes there, but by the ring's four
-    handles only, one at a time."""
+    handles only."""
     manifold = ring_field_morph()
     noisy = []
     for t in np.linspace(*FILL_SLAB, 11)[1:-1]:

@@ -1,9 +1,9 @@
 // Corner charts: the bookkeeping that gives a morph's vertices the inputs'
 // UV maps (python/animanifold/morph_surface.py, which documents the rules).
 // Every corner of a simplex reads the UV map in its simplex's face; a vertex
-// is split where the charts its corners read disagree. Sorting a million
-// corners twice over in numpy cost the morph's whole time again; here it is
-// one pass over the corners by vertex and one sort of each vertex's pairs.
+// is split where the charts its corners read disagree. A morph has millions
+// of corners and each vertex only a few pairs, so the corners are counted
+// by vertex and only each vertex's pairs are sorted.
 #pragma once
 
 #include <Eigen/Core>
@@ -30,7 +30,7 @@ VertexFacePairs vertex_face_pairs(const SimplexMatrix& simplices, const IndexVec
 // coordinates differ by at most the first one's `tolerance`; the numbers
 // are the groups those joins make, counted 0, 1, ... in the order of each
 // group's first item. Ties in a sort keep the items' order, and a NaN sorts
-// after every number and joins nothing: numpy's lexsort, as _charts used it.
+// after every number and joins nothing, as in numpy's lexsort.
 IndexVector chart_labels(const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& owner,
                          const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv,
                          const Eigen::VectorXd& tolerance);
