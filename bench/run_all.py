@@ -15,7 +15,8 @@ OMP_NUM_THREADS and OPENBLAS_NUM_THREADS for the scripts. Not run: bench_uv_blen
 compares design candidates of issue 3 one per fresh process), bench_morph.py
 --seed-report (the §8.7.1 report; the bar mode is the table's morph row) and
 bench_morph_primitives.py (a survey of the morph's own checks on Blender's primitives, with no
-peer and no figure to compare).
+peer and no figure to compare) and bench_noise_scan.py (the field morph's noise at hundreds of
+times per pair, for work on the noise; no peer).
 """
 
 from __future__ import annotations
@@ -164,6 +165,8 @@ def main() -> int:
                                                     "process on an idle machine (see its docstring)"))
     rows.append(Row("bench_morph_primitives.py", "", note="not run: a survey of the morph's own checks on Blender's "
                                                             "primitives, with no peer and no figure to compare"))
+    rows.append(Row("bench_noise_scan.py", "", note="not run: the field morph's noise at hundreds of times per pair, "
+                                                      "for work on the noise, with no peer"))
     start = time.perf_counter()
     for job in chosen:
         job_rows, runs[job.name] = run_job(job, args.out, env, args.full)
