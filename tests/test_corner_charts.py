@@ -77,6 +77,11 @@ def test_vertex_face_pairs_are_the_distinct_pairs_of_the_corners_in_order(seed):
     assert np.array_equal(corner_pair, inverse.reshape(simplices.shape))
 
 
-def test_a_corner_out_of_range_is_refused():
-    with pytest.raises(ValueError, match="out of range"):
-        _core.vertex_face_pairs(np.array([[0, 1, 2, 7]], dtype=np.int32), np.array([0], dtype=np.int32), 5)
+def test_bad_input_is_refused_with_what_is_wrong():
+    simplices = np.array([[0, 1, 2, 3], [0, 1, 2, 7]], dtype=np.int32)
+    with pytest.raises(_core.InputError, match="simplex 1 has vertex 7, out of range for 5 vertices"):
+        _core.vertex_face_pairs(simplices, np.array([0, 0], dtype=np.int32), 5)
+    with pytest.raises(_core.InputError, match="one face per simplex: 1 for 2"):
+        _core.vertex_face_pairs(simplices, np.array([0], dtype=np.int32), 8)
+    with pytest.raises(_core.InputError, match="2 UVs and 3 tolerances for 2 items"):
+        _core.chart_labels(np.zeros(2, dtype=np.int64), np.zeros((2, 2)), np.zeros(3))

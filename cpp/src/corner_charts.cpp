@@ -1,10 +1,11 @@
 // Corner charts (corner_charts.hpp).
 #include "animanifold/corner_charts.hpp"
 
+#include "animanifold/errors.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
 #include <vector>
 
 namespace animanifold {
@@ -18,8 +19,10 @@ struct CornersByVertex {
   CornersByVertex(const SimplexMatrix& simplices, Index vertices) : start(static_cast<size_t>(vertices) + 1, 0) {
     const Index* v = simplices.data();
     const Index corners = static_cast<Index>(simplices.size());
+    const Index k = static_cast<Index>(simplices.cols());
     for (Index c = 0; c < corners; ++c) {
-      if (v[c] < 0 || v[c] >= vertices) throw std::invalid_argument("vertex_face_pairs: a simplex's vertex is out of range");
+      if (v[c] < 0 || v[c] >= vertices)
+        fail<InputError>("simplex ", c / k, " has vertex ", v[c], ", out of range for ", vertices, " vertices");
       ++start[static_cast<size_t>(v[c]) + 1];
     }
     std::partial_sum(start.begin(), start.end(), start.begin());
@@ -49,8 +52,9 @@ struct SmallestRoot {
 }  // namespace
 
 VertexFacePairs vertex_face_pairs(const SimplexMatrix& simplices, const IndexVector& face, Index vertices) {
-  if (face.size() != simplices.rows()) throw std::invalid_argument("vertex_face_pairs: one face per simplex");
-  if (vertices < 0) throw std::invalid_argument("vertex_face_pairs: a negative vertex count");
+  if (face.size() != simplices.rows())
+    fail<InputError>("vertex_face_pairs takes one face per simplex: ", face.size(), " for ", simplices.rows());
+  if (vertices < 0) fail<InputError>("vertex_face_pairs: the vertex count is negative (", vertices, ")");
   const Index k = static_cast<Index>(simplices.cols());
   const CornersByVertex by_vertex(simplices, vertices);
   VertexFacePairs out;
@@ -81,7 +85,9 @@ IndexVector chart_labels(const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1>& o
                          const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>& uv,
                          const Eigen::VectorXd& tolerance) {
   const Index n = static_cast<Index>(owner.size());
-  if (uv.rows() != n || tolerance.size() != n) throw std::invalid_argument("chart_labels: one UV and tolerance per item");
+  if (uv.rows() != n || tolerance.size() != n)
+    fail<InputError>("chart_labels takes one UV and one tolerance per item: ", uv.rows(), " UVs and ",
+                     tolerance.size(), " tolerances for ", n, " items");
   SmallestRoot groups(n);
   std::vector<Index> order(static_cast<size_t>(n));
   for (const int first : {0, 1}) {
