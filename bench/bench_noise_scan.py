@@ -5,7 +5,7 @@
 
 The bar (bench_morph.py) looks at 24 frames spread over the range; the morph's own checks add
 the fill slab's and the bisections'. Noise that lives between those frames (the fill slab
-joining the halves at t = 0.5 +- 0.0147 of the range, transients inside a layer's slab) shows
+joining the halves, 0.5 +- 0.0147 of the range at the default 17 layers; transients inside a layer's slab) shows
 only in a denser scan. Per pair of bench/morph_bar.py (all by default), one field morph, then
 `--times` even times over the range and `--middle` times across the middle (0.5 +- 0.02 of the
 range). A frame is noisy by the bar's rule (animanifold.morph_noise): an Euler characteristic
@@ -34,7 +34,7 @@ from animanifold.frame_quality import euler_characteristic  # noqa: E402
 from animanifold.morph_noise import outer_shells  # noqa: E402
 import morph_bar  # noqa: E402
 
-MIDDLE = 0.02  # share of the range each side of its middle scanned densely (the fill slab is 0.0147)
+MIDDLE = 0.02  # share of the range each side of its middle scanned densely (the fill slab: 0.0147 at 17 layers)
 
 
 def scan_times(t0: float, t1: float, count: int, middle: int) -> np.ndarray:
