@@ -13,7 +13,8 @@ outside the ends' or more outer shells than the ends have.
 
 Prints, per pair: the morph's seconds, its own checks' noise and bubble frames, the noisy times
 near the middle (of those scanned there) and elsewhere, the largest excess (of the Euler
-characteristic beyond the ends' range, plus 2 per extra piece), and the first noisy times.
+characteristic beyond the ends' range, plus 2 per extra piece), the topology the two halves meet
+the fill slab with (the frames just inside its ends), and the first noisy times.
 """
 
 from __future__ import annotations
@@ -50,6 +51,21 @@ def noise_excess(chi: int, pieces: int, chi_range: tuple[int, int], most_pieces:
     return max(low - chi, chi - high, 0) + 2 * max(pieces - most_pieces, 0)
 
 
+def fill_ends(t0: float, t1: float, slabs: int) -> list[float]:
+    """Times just inside the two ends of the field morph's fill slab (morph_field.cpp's kFillSlab: half
+    a layer of the `slabs` about the middle), where its frames are the halves' last layers' zero
+    sets; none for another method."""
+    if slabs <= 0:
+        return []
+    centre, half, inside = 0.5 * (t0 + t1), 0.25 / slabs * (t1 - t0), 1e-9 * (t1 - t0)
+    return [centre - half + inside, centre + half - inside]
+
+
+def frame_topology(frame) -> tuple[int, int]:
+    """A frame's Euler characteristic and outer shells."""
+    return euler_characteristic(frame.vertices, frame.faces), outer_shells(frame.vertices, frame.faces)
+
+
 def scan_pair(pair: morph_bar.Pair, count: int, middle: int, options: dict) -> str:
     start = time.perf_counter()
     manifold = am.morph(pair.source, pair.target, method="field", **options)
@@ -70,10 +86,13 @@ def scan_pair(pair: morph_bar.Pair, count: int, middle: int, options: dict) -> s
             (near if in_middle else elsewhere).append(float(t))
             worst = max(worst, excess)
     report = manifold.validity
+    ends_of_fill = [frame_topology(manifold.slice(float(t))) for t in fill_ends(t0, t1, report.get("field_layers", 0))]
     shown = lambda times: ", ".join(f"{t:.4g}" for t in times[:6]) + (", ..." if len(times) > 6 else "")  # noqa: E731
     return (f"{pair.name}: {seconds:.1f} s; own checks: noise at {len(report.get('noise_frames', []))}, "
             f"bubbles at {len(report.get('bubble_frames', []))}; scan: noisy at {len(near)} of {near_count} "
             f"times near the middle, {len(elsewhere)} elsewhere; largest excess {worst}"
+            + (f"; the halves meet the fill at (chi, shells) {ends_of_fill[0]} and {ends_of_fill[1]}"
+               if ends_of_fill else "")
             + (f"; near the middle t = {shown(near)}" if near else "")
             + (f"; elsewhere t = {shown(elsewhere)}" if elsewhere else ""))
 
